@@ -1,0 +1,5 @@
+//! touch-arm core: pure, `no_std` logic shared by the ATmega2560 firmware (f32)
+//! and the desktop tool `armsim` (f64).
+#![no_std]
+
+pub mod real;

@@ -1,0 +1,284 @@
+//! The float abstraction: every formula in the core is written once, generic over
+//! [`Real`], and runs as `f32` on the chip and as `f64` in `armsim` and the tests.
+//!
+//! On AVR the `f32` transcendental functions come from avr-libc's hand-written
+//! assembly libm (linked with `-lm`), which is several times faster than the
+//! portable Rust `libm` crate; on the host both widths use the `libm` crate so the
+//! same code is bit-reproducible everywhere but on the chip.
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// A floating-point scalar the core can compute with.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+{
+    const ZERO: Self;
+    const ONE: Self;
+    const TWO: Self;
+    const HALF: Self;
+    const PI: Self;
+    /// Relative machine precision of the type.
+    const EPSILON: Self;
+
+    /// Converts a compile-time constant (f64 literal). Inlined, so on AVR the
+    /// conversion folds away and no double arithmetic is linked.
+    fn lit(v: f64) -> Self;
+    fn from_f32(v: f32) -> Self;
+    fn to_f64(self) -> f64;
+    fn to_f32(self) -> f32;
+    fn from_u16(v: u16) -> Self;
+
+    fn abs(self) -> Self;
+    fn sqrt(self) -> Self;
+    fn exp(self) -> Self;
+    /// `exp(x) - 1` without cancellation for small `x`.
+    fn expm1(self) -> Self;
+    fn ln(self) -> Self;
+    fn sin(self) -> Self;
+    fn cos(self) -> Self;
+    fn acos(self) -> Self;
+    fn atan2(self, x: Self) -> Self;
+    fn is_finite(self) -> bool;
+
+    #[inline]
+    fn max(self, o: Self) -> Self {
+        if o > self {
+            o
+        } else {
+            self
+        }
+    }
+    #[inline]
+    fn min(self, o: Self) -> Self {
+        if o < self {
+            o
+        } else {
+            self
+        }
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        Self::ONE / self
+    }
+    #[inline]
+    fn powi(self, n: u32) -> Self {
+        let mut r = Self::ONE;
+        let mut i = 0;
+        while i < n {
+            r *= self;
+            i += 1;
+        }
+        r
+    }
+}
+
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+    const HALF: Self = 0.5;
+    const PI: Self = core::f64::consts::PI;
+    const EPSILON: Self = f64::EPSILON;
+
+    #[inline(always)]
+    fn lit(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        v as f64
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self as f32
+    }
+    #[inline(always)]
+    fn from_u16(v: u16) -> Self {
+        v as f64
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        libm::fabs(self)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        libm::sqrt(self)
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        libm::exp(self)
+    }
+    #[inline]
+    fn expm1(self) -> Self {
+        libm::expm1(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        libm::log(self)
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        libm::sin(self)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        libm::cos(self)
+    }
+    #[inline]
+    fn acos(self) -> Self {
+        libm::acos(self)
+    }
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        libm::atan2(self, x)
+    }
+    #[inline]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
+/// avr-libc's libm. On AVR `double` is 32 bits, so these `double` entry points
+/// are the single-precision routines.
+#[cfg(target_arch = "avr")]
+mod avr_libm {
+    extern "C" {
+        pub fn exp(x: f32) -> f32;
+        pub fn log(x: f32) -> f32;
+        pub fn sin(x: f32) -> f32;
+        pub fn cos(x: f32) -> f32;
+        pub fn acos(x: f32) -> f32;
+        pub fn atan2(y: f32, x: f32) -> f32;
+        pub fn sqrt(x: f32) -> f32;
+    }
+}
+
+/// Chooses the f32 backend: avr-libc on the chip, the `libm` crate elsewhere.
+macro_rules! f32_fn {
+    ($avr:ident, $host:ident ( $($a:ident),* )) => {{
+        #[cfg(target_arch = "avr")]
+        // SAFETY: avr-libc's pure math functions take and return floats by value.
+        let r = unsafe { avr_libm::$avr($($a),*) };
+        #[cfg(not(target_arch = "avr"))]
+        let r = libm::$host($($a),*);
+        r
+    }};
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+    const HALF: Self = 0.5;
+    const PI: Self = core::f32::consts::PI;
+    const EPSILON: Self = f32::EPSILON;
+
+    #[inline(always)]
+    fn lit(v: f64) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn from_u16(v: u16) -> Self {
+        v as f32
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        f32::from_bits(self.to_bits() & 0x7fff_ffff)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        f32_fn!(sqrt, sqrtf(self))
+    }
+    #[inline]
+    fn exp(self) -> Self {
+        f32_fn!(exp, expf(self))
+    }
+    #[inline]
+    fn expm1(self) -> Self {
+        expm1_f32(self)
+    }
+    #[inline]
+    fn ln(self) -> Self {
+        f32_fn!(log, logf(self))
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        f32_fn!(sin, sinf(self))
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        f32_fn!(cos, cosf(self))
+    }
+    #[inline]
+    fn acos(self) -> Self {
+        f32_fn!(acos, acosf(self))
+    }
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        f32_fn!(atan2, atan2f(self, x))
+    }
+    #[inline]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+}
+
+/// `expm1` in f32. On the host it is the `libm` crate's. avr-libc has no
+/// `expm1`, so on the chip: for |x| ≥ 0.25, `exp(x) − 1` loses at most a couple of
+/// ulps; below, a degree-7 Taylor polynomial (truncation < 3e-9 relative) avoids
+/// the cancellation that `exp(x) − 1` would suffer.
+#[inline]
+fn expm1_f32(x: f32) -> f32 {
+    #[cfg(not(target_arch = "avr"))]
+    {
+        libm::expm1f(x)
+    }
+    #[cfg(target_arch = "avr")]
+    {
+        if x.abs() >= 0.25 {
+            // SAFETY: see avr_libm.
+            return unsafe { avr_libm::exp(x) } - 1.0;
+        }
+        const C: [f32; 6] = [
+            1.0 / 7.0,
+            1.0 / 6.0,
+            1.0 / 5.0,
+            1.0 / 4.0,
+            1.0 / 3.0,
+            1.0 / 2.0,
+        ];
+        // x(1 + x/2(1 + x/3(1 + ...))) keeps every step well conditioned.
+        let mut p = 1.0f32;
+        for c in C {
+            p = 1.0 + x * c * p;
+        }
+        x * p
+    }
+}
