@@ -2,4 +2,6 @@
 //! and the desktop tool `armsim` (f64).
 #![no_std]
 
+#[cfg(target_arch = "avr")]
+pub mod board;
 pub mod real;

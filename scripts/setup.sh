@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Idempotent set-up for a fresh Debian machine: the AVR cross toolchain, simavr's
+# build needs, and the pinned Rust nightly with rust-src. Fast when all is present.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev libzstd-dev pkg-config clang libclang-dev make avrdude)
+TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
+
+missing=()
+for p in "${APT_PKGS[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    cmd="apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ${missing[*]}"
+    if [ "$(id -u)" -eq 0 ]; then
+        echo "setup: installing ${missing[*]}"
+        bash -c "$cmd" >/tmp/touch-arm-apt.log 2>&1 || { tail -20 /tmp/touch-arm-apt.log; exit 1; }
+    elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+        echo "setup: installing ${missing[*]} (sudo)"
+        sudo bash -c "$cmd" >/tmp/touch-arm-apt.log 2>&1 || { tail -20 /tmp/touch-arm-apt.log; exit 1; }
+    else
+        echo "setup: missing Debian packages: ${missing[*]}" >&2
+        echo "setup: run as root:  sudo bash -c '$cmd'" >&2
+        exit 1
+    fi
+fi
+
+if ! command -v rustup >/dev/null 2>&1; then
+    echo "setup: rustup not found; install Rust via rustup first" >&2
+    exit 1
+fi
+if ! rustup toolchain list | grep -q "^$TOOLCHAIN"; then
+    echo "setup: installing Rust $TOOLCHAIN (+rust-src)"
+    rustup toolchain install "$TOOLCHAIN" --profile minimal --component rust-src
+elif ! rustup component list --toolchain "$TOOLCHAIN" --installed 2>/dev/null | grep -q '^rust-src'; then
+    rustup component add rust-src --toolchain "$TOOLCHAIN"
+fi

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The README's test command: set-up, firmware build, then every host and
+# simulator test (`cargo test` at the root runs the whole workspace).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+echo "== building firmware (cargo avr)"
+cargo avr
+echo "== running tests"
+cargo test "$@"

@@ -1,0 +1,92 @@
+//! Gates on the firmware ELF itself: the memory budgets stated in `memory.x`
+//! and the stack-argument lint (LLVM miscompiles stack-passed arguments on the
+//! ATmega2560). The ELF is built by `scripts/test.sh` (`cargo avr`) before
+//! `cargo test` runs.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn firmware_elf() -> PathBuf {
+    let elf = std::env::var_os("TOUCH_ARM_ELF")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target/avr-none/release/touch-arm.elf"));
+    assert!(
+        elf.exists(),
+        "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
+        elf.display()
+    );
+    elf
+}
+
+/// `__budget_<name> = <n>K;` or `= <n>;` from memory.x.
+fn budget(name: &str) -> u64 {
+    let text = std::fs::read_to_string(root().join("memory.x")).expect("memory.x");
+    let key = format!("__budget_{name}");
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with(&key))
+        .unwrap_or_else(|| panic!("memory.x has no {key}"));
+    let value = line.split('=').nth(1).unwrap().split(';').next().unwrap().trim();
+    match value.strip_suffix('K') {
+        Some(k) => k.parse::<u64>().unwrap() * 1024,
+        None => value.parse().unwrap(),
+    }
+}
+
+/// Section sizes from `avr-size -A`.
+fn sections(elf: &Path) -> Vec<(String, u64)> {
+    let out = Command::new("avr-size").arg("-A").arg(elf).output().expect("avr-size (binutils-avr)");
+    assert!(out.status.success());
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let name = it.next()?;
+            let size = it.next()?.parse().ok()?;
+            name.starts_with('.').then(|| (name.to_string(), size))
+        })
+        .collect()
+}
+
+fn size_of(s: &[(String, u64)], name: &str) -> u64 {
+    s.iter().find(|(n, _)| n == name).map_or(0, |(_, v)| *v)
+}
+
+#[test]
+fn memory_x_states_the_budgets() {
+    assert_eq!(budget("flash"), 120 * 1024);
+    assert_eq!(budget("static_ram"), 2048);
+    assert_eq!(budget("stack"), 2048);
+}
+
+#[test]
+fn firmware_fits_flash_and_static_ram_budgets() {
+    let s = sections(&firmware_elf());
+    let text = size_of(&s, ".text");
+    let data = size_of(&s, ".data");
+    let bss = size_of(&s, ".bss");
+    assert!(text > 0, "no .text in the ELF");
+    let flash = text + data;
+    let ram = data + bss;
+    eprintln!("firmware: flash {flash} B (budget {}), static RAM {ram} B (budget {})", budget("flash"), budget("static_ram"));
+    assert!(flash <= budget("flash"), "flash {flash} B exceeds the memory.x budget {}", budget("flash"));
+    assert!(ram <= budget("static_ram"), "static RAM {ram} B exceeds the memory.x budget {}", budget("static_ram"));
+}
+
+#[test]
+fn firmware_has_no_function_reading_stack_passed_arguments() {
+    let lint = root().join("../shared/tools/stackarg_lint.py");
+    assert!(lint.exists(), "{} missing (shared/ must sit beside the checkout)", lint.display());
+    let out = Command::new("python3").arg(&lint).arg(firmware_elf()).output().expect("python3");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("0 function(s)"),
+        "stack-argument lint failed:\n{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
