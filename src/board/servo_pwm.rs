@@ -1,0 +1,113 @@
+//! Timer5 hardware PWM for the three servos on OC5A/OC5B/OC5C = D46/D45/D44
+//! (PL3/PL4/PL5: base, shoulder, elbow). Timers 1, 3 and 4 sit on the shield's
+//! LCD data and SD pins, so Timer5 is the one clean 16-bit timer left.
+//!
+//! Mode 14 (fast PWM, TOP = ICR5 = 39999) with prescaler 8: 16 MHz / 8 = 2 MHz,
+//! so one tick is 0.5 µs and the period is 40000 ticks = 20 ms (50 Hz). OCR5x
+//! is double-buffered by the hardware and latched at BOTTOM, so a new width
+//! never produces a glitched pulse; the overflow flag marks the start of each
+//! period, which is what the app's 50 Hz frame aligns with.
+
+use avr_device::atmega2560::{PORTL, TC5};
+
+pub const CHANNELS: usize = 3;
+/// PL3, PL4, PL5.
+const SERVO_PINS: u8 = 0b0011_1000;
+/// ICR5: 40000 ticks of 0.5 µs per period.
+pub const TOP: u16 = 39_999;
+
+/// Inclusive compare-value window (ticks) a channel may ever be set to.
+#[derive(Clone, Copy, Debug)]
+pub struct TickLimits {
+    pub min: u16,
+    pub max: u16,
+}
+
+pub struct ServoPwm {
+    tc5: TC5,
+    limits: [TickLimits; CHANNELS],
+    enabled: [bool; CHANNELS],
+}
+
+impl ServoPwm {
+    /// Starts the timer with every output disconnected (the pins driven low):
+    /// no servo sees a pulse until `set` commands a width for it.
+    pub fn new(tc5: TC5, portl: &PORTL, limits: &[TickLimits; CHANNELS]) -> Self {
+        // SAFETY: every bit pattern is valid for the port registers; only the
+        // three servo bits change. No interrupt handler touches port L.
+        portl.portl().modify(|r, w| unsafe { w.bits(r.bits() & !SERVO_PINS) });
+        portl.ddrl().modify(|r, w| unsafe { w.bits(r.bits() | SERVO_PINS) });
+        tc5.tccr5b().write(|w| w.cs5().no_clock());
+        tc5.tccr5a().write(|w| {
+            w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected()
+        });
+        avr_device::interrupt::free(|_| {
+            tc5.icr5().write(|w| w.set(TOP));
+            tc5.tcnt5().write(|w| w.set(0));
+        });
+        tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
+        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS] };
+        for ch in 0..CHANNELS {
+            pwm.limits[ch] = sanitize(limits[ch]);
+        }
+        pwm
+    }
+
+    /// Sets channel `ch`'s pulse width in 0.5 µs ticks, clamped into the
+    /// channel's limits, and connects its output on first use. Returns the
+    /// value actually written. Takes effect at the next period start.
+    pub fn set(&mut self, ch: usize, ticks: u16) -> u16 {
+        let Some(lim) = self.limits.get(ch).copied() else {
+            return 0;
+        };
+        let v = ticks.clamp(lim.min, lim.max);
+        // 16-bit timer registers go through the shared TEMP byte: no interrupt
+        // may touch another 16-bit register between the two byte writes.
+        avr_device::interrupt::free(|_| match ch {
+            0 => self.tc5.ocr5a().write(|w| w.set(v)),
+            1 => self.tc5.ocr5b().write(|w| w.set(v)),
+            _ => self.tc5.ocr5c().write(|w| w.set(v)),
+        });
+        if !self.enabled[ch] {
+            self.enabled[ch] = true;
+            self.tc5.tccr5a().modify(|_, w| match ch {
+                0 => w.com5a().match_clear(),
+                1 => w.com5b().match_clear(),
+                _ => w.com5c().match_clear(),
+            });
+        }
+        v
+    }
+
+    /// Disconnects every output (pins low, no pulses): servos go limp rather
+    /// than being driven somewhere unintended. Used on panic and fault.
+    pub fn disable_all(&mut self) {
+        self.tc5.tccr5a().modify(|_, w| {
+            w.com5a().disconnected().com5b().disconnected().com5c().disconnected()
+        });
+        self.enabled = [false; CHANNELS];
+    }
+
+    /// True once per 20 ms period (at BOTTOM), clearing the flag.
+    pub fn period_started(&mut self) -> bool {
+        if self.tc5.tifr5().read().tov5().bit_is_set() {
+            self.tc5.tifr5().write(|w| w.tov5().set_bit());
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Ticks elapsed in the current period (0..=TOP).
+    pub fn counter(&self) -> u16 {
+        avr_device::interrupt::free(|_| self.tc5.tcnt5().read().bits())
+    }
+}
+
+/// A limit window must lie inside one period and be ordered; anything else is
+/// collapsed to an empty-but-safe window at the lower bound.
+fn sanitize(l: TickLimits) -> TickLimits {
+    let min = l.min.min(TOP);
+    let max = l.max.min(TOP).max(min);
+    TickLimits { min, max }
+}
