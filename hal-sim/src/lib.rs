@@ -1,1 +1,4 @@
-pub use touch_arm;
+//! hal-sim: the host-side twin of the touch-arm hardware, the simavr harness
+//! that runs the real firmware ELF, and the `armsim` desktop tool.
+
+pub mod plot;

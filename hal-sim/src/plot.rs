@@ -1,0 +1,154 @@
+//! Stacked time-series panels (position, velocity, acceleration, jerk), like the
+//! source papers' figures, to PNG or SVG by the output file's extension.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+
+/// One curve in a panel.
+pub struct Curve<'a> {
+    pub label: &'a str,
+    pub y: &'a [f64],
+}
+
+/// One panel: a y-axis label and its curves, all over the shared time axis.
+pub struct Panel<'a> {
+    pub ylabel: &'a str,
+    pub curves: Vec<Curve<'a>>,
+}
+
+#[derive(Debug)]
+pub enum PlotError {
+    /// Neither .png nor .svg.
+    UnknownFormat,
+    NoFont,
+    Empty,
+    Draw(String),
+}
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlotError::UnknownFormat => write!(f, "plot output must end in .png or .svg"),
+            PlotError::NoFont => write!(f, "no TrueType font found (install fonts-dejavu-core)"),
+            PlotError::Empty => write!(f, "nothing to plot"),
+            PlotError::Draw(e) => write!(f, "plot failed: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+const FONT_PATHS: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+/// plotters' ab_glyph backend needs the font bytes registered once per process.
+fn ensure_font() -> Result<(), PlotError> {
+    static FONT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *FONT.get_or_init(|| {
+        FONT_PATHS.iter().any(|p| {
+            std::fs::read(p).ok().is_some_and(|bytes| {
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
+            })
+        })
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(PlotError::NoFont)
+    }
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+];
+
+/// Draws `panels` stacked vertically over the common time axis `t`.
+pub fn panels(out: &Path, title: &str, t: &[f64], panels: &[Panel<'_>]) -> Result<(), PlotError> {
+    if t.is_empty() || panels.is_empty() {
+        return Err(PlotError::Empty);
+    }
+    ensure_font()?;
+    let size = (900, 260 * panels.len() as u32 + 40);
+    match out.extension().and_then(|e| e.to_str()) {
+        Some("png") => draw(BitMapBackend::new(out, size).into_drawing_area(), title, t, panels),
+        Some("svg") => draw(SVGBackend::new(out, size).into_drawing_area(), title, t, panels),
+        _ => Err(PlotError::UnknownFormat),
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    t: &[f64],
+    panels: &[Panel<'_>],
+) -> Result<(), PlotError> {
+    let err = |e: &dyn std::fmt::Debug| PlotError::Draw(format!("{e:?}"));
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let root = root.titled(title, ("sans-serif", 22)).map_err(|e| err(&e))?;
+    let areas = root.split_evenly((panels.len(), 1));
+    let (t0, t1) = range(t.iter().copied());
+    for (area, panel) in areas.iter().zip(panels) {
+        let (lo, hi) = range(panel.curves.iter().flat_map(|c| c.y.iter().copied()));
+        let pad = ((hi - lo) * 0.08).max(1e-9);
+        let mut chart = ChartBuilder::on(area)
+            .margin(8)
+            .x_label_area_size(32)
+            .y_label_area_size(70)
+            .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("t [s]")
+            .y_desc(panel.ylabel)
+            .label_style(("sans-serif", 13))
+            .draw()
+            .map_err(|e| err(&e))?;
+        for (i, c) in panel.curves.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    t.iter().copied().zip(c.y.iter().copied()).filter(|(_, y)| y.is_finite()),
+                    color.stroke_width(2),
+                ))
+                .map_err(|e| err(&e))?
+                .label(c.label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        }
+        if panel.curves.len() > 1 || !panel.curves[0].label.is_empty() {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 13))
+                .draw()
+                .map_err(|e| err(&e))?;
+        }
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// Finite min/max of the values; a flat or empty set gets a unit-wide range.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    if !lo.is_finite() {
+        (0.0, 1.0)
+    } else if hi - lo < 1e-12 {
+        (lo - 0.5, hi + 0.5)
+    } else {
+        (lo, hi)
+    }
+}
