@@ -2,4 +2,7 @@
 //! and the desktop tool `armsim` (f64).
 #![no_std]
 
+pub mod ik;
 pub mod real;
+pub mod touch_map;
+pub mod workspace;
