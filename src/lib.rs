@@ -4,4 +4,7 @@
 
 #[cfg(target_arch = "avr")]
 pub mod board;
+pub mod ik;
 pub mod real;
+pub mod touch_map;
+pub mod workspace;
