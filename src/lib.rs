@@ -5,6 +5,7 @@
 #[cfg(target_arch = "avr")]
 pub mod board;
 pub mod ik;
+pub mod pose;
 pub mod real;
 pub mod touch_map;
 pub mod workspace;

@@ -1,4 +1,6 @@
 //! hal-sim: the host-side twin of the touch-arm hardware, the simavr harness
 //! that runs the real firmware ELF, and the `armsim` desktop tool.
 
+pub mod armsim;
 pub mod plot;
+pub mod report;
