@@ -2,4 +2,9 @@
 //! and the desktop tool `armsim` (f64).
 #![no_std]
 
+pub mod command;
+pub mod config_store;
+pub mod crc;
 pub mod real;
+pub mod servo;
+pub mod touch_filter;
