@@ -4,8 +4,13 @@
 
 #[cfg(target_arch = "avr")]
 pub mod board;
+pub mod command;
+pub mod config_store;
+pub mod crc;
 pub mod ik;
 pub mod pose;
 pub mod real;
+pub mod servo;
+pub mod touch_filter;
 pub mod touch_map;
 pub mod workspace;
