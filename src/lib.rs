@@ -2,4 +2,9 @@
 //! and the desktop tool `armsim` (f64).
 #![no_std]
 
+pub mod laws;
+pub mod motion;
+pub mod plan;
 pub mod real;
+pub mod via;
+pub mod zat;
