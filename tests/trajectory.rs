@@ -345,6 +345,15 @@ fn end_velocity_and_smooth_stop() {
         let s32 = Shape::<f32>::new(&ShapeParams { ts: ts as f32, a: a32, n: n as f32 }).unwrap();
         assert!(s32.end_rate().abs() < 1e-5);
     }
+    // SPEC's admissibility condition is not enough for a usable a*: at tₛ, φ = 0
+    // and φ′(tₛ) ≤ 0 ⇔ L·(tₛ − 1) ≤ 2 decides whether G dips before the end.
+    for &(ts, n, mono) in &[(3.0, 2.6, true), (3.0, 2.8, false), (3.0, 7.7, false), (9.0, 1.3, false), (9.0, 1.28, true)] {
+        let s = shape64(ts, smooth_stop_a(ts, n).unwrap(), n);
+        assert_eq!(s.is_monotone(), mono, "{ts} {n}");
+        assert_eq!(scan_monotone(&s).0, mono, "{ts} {n}");
+        assert_eq!(n.ln() * (ts - 1.0) <= 2.0, mono);
+    }
+    assert!(shape64(3.0, smooth_stop_a(3.0, 7.7).unwrap(), 7.7).peak() > 30.0);
     assert_eq!(smooth_stop_a(1.0, 2.0), None);
     assert_eq!(smooth_stop_a(0.7, 2.0), None);
     // tₛ = 3: needs ln n < ln 3/(√3 − 1)² = 2.0494 → n < 7.76.
