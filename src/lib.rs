@@ -13,6 +13,7 @@ pub mod motion;
 pub mod plan;
 pub mod pose;
 pub mod real;
+pub mod seam;
 pub mod servo;
 pub mod touch_filter;
 pub mod touch_map;
