@@ -154,7 +154,7 @@ fn bad_input_fails_with_one_clear_line() {
 
 #[test]
 fn every_subcommand_has_help() {
-    for cmd in ["map", "ik", "plan"] {
+    for cmd in ["map", "ik", "plan", "traj", "via", "law", "plot"] {
         let (code, out, _) = armsim(&[cmd, "--help"]);
         assert_eq!(code, 0);
         assert!(out.contains("Usage: armsim"), "{cmd}: {out}");
@@ -167,4 +167,206 @@ fn argument_errors_are_a_single_line() {
     assert_eq!(code, 2);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.starts_with("armsim: "), "{err}");
+}
+
+fn csv(args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
+    let (code, out, err) = armsim(args);
+    assert_eq!(code, 0, "armsim {args:?} failed: {err}");
+    let mut lines = out.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines.map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect()).collect();
+    (header, rows)
+}
+
+/// The papers' printed form (SPEC §5), evaluated independently in f64.
+fn printed_zat(q0: f64, sf: f64, ts: f64, a: f64, n: f64, t: f64) -> f64 {
+    if t <= 0.0 {
+        return q0;
+    }
+    if t >= ts {
+        return sf;
+    }
+    let zeta = ts - ((sf - q0).abs() * (n.powf(ts) - n.powf(a))).ln() / n.ln();
+    let m = n.powf(t - zeta) / (n.powf(t + ts / t - 1.0) - n.powf(a)).abs();
+    if sf >= q0 {
+        q0 + m
+    } else {
+        q0 - m
+    }
+}
+
+#[test]
+fn traj_samples_match_the_printed_formula_and_end_exactly() {
+    let (q0, sf, ts, a, n) = (0.2, 1.3, 2.5, 1.1, 3.0);
+    let (h, rows) = csv(&["traj", "--q0", "0.2", "--sf", "1.3", "--ts", "2.5", "--a", "1.1", "--n", "3", "--t", "-1,0,0.3,0.9,1.6,2.2,2.5,4"]);
+    assert_eq!(h, ["t", "s", "v", "acc", "jerk"]);
+    for r in &rows {
+        let expect = printed_zat(q0, sf, ts, a, n, r[0]);
+        assert!((r[1] - expect).abs() < 1e-12, "t={}: {} vs {}", r[0], r[1], expect);
+    }
+    assert_eq!(rows[6][1], sf, "exact at tₛ");
+    assert_eq!(&rows[7][1..], &[sf, 0.0, 0.0, 0.0], "held after tₛ");
+    assert_eq!(&rows[0][1..], &[q0, 0.0, 0.0, 0.0], "held before 0");
+    // Velocity against a central difference of the printed form.
+    let t = 1.6;
+    let h = 1e-6;
+    let fd = (printed_zat(q0, sf, ts, a, n, t + h) - printed_zat(q0, sf, ts, a, n, t - h)) / (2.0 * h);
+    assert!((rows[4][2] - fd).abs() < 1e-7, "{} vs {fd}", rows[4][2]);
+}
+
+#[test]
+fn traj_descending_motion_and_sample_count() {
+    let (_, rows) = csv(&["traj", "--q0", "1", "--sf", "-0.5", "--ts", "0.8", "--a", "0.3", "--n", "2", "--samples", "9"]);
+    assert_eq!(rows.len(), 9);
+    assert_eq!(rows[0][0], 0.0);
+    assert_eq!(rows[8][0], 0.8);
+    assert_eq!(rows[8][1], -0.5);
+    for w in rows.windows(2) {
+        assert!(w[1][1] <= w[0][1], "monotone descent");
+        assert!(w[1][2] <= 1e-12, "velocity is negative for S_f < q0");
+    }
+    for r in &rows {
+        assert!((r[1] - printed_zat(1.0, -0.5, 0.8, 0.3, 2.0, r[0])).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn traj_info_domain_smooth_stop_and_overshoot() {
+    let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "4", "--a", "1", "--n", "2", "--info"]);
+    assert_eq!(f(&v, "u_min"), 2.0 * 4f64.sqrt() - 1.0);
+    assert_eq!(v["admissible"], true);
+    assert!((f(&v, "a_smooth_stop") - (4.0 - 2.0)).abs() < 1e-15, "a* = tₛ − log₂ tₛ");
+    let zeta = 4.0 - (16f64 - 2.0).log2();
+    assert!((f(&v, "zeta") - zeta).abs() < 1e-12);
+    // SPEC §5: S'(tₛ⁻) = Δ·L·[1 − (1 − 1/tₛ)(1 + q(tₛ))], q = 1/(n^(tₛ−a) − 1).
+    let q = 1.0 / (2f64.powf(3.0) - 1.0);
+    let ev = 2f64.ln() * (1.0 - (1.0 - 0.25) * (1.0 + q));
+    assert!((f(&v, "end_velocity") - ev).abs() < 1e-12);
+    assert_eq!(v["monotone"], true);
+
+    // tₛ < 1: u_min = tₛ; no smooth stop exists.
+    let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "0.5", "--a", "0.2", "--n", "2", "--info"]);
+    assert_eq!(f(&v, "u_min"), 0.5);
+    assert!(v["a_smooth_stop"].is_null());
+
+    // SPEC's example of a pole-near shape that overshoots.
+    let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.45", "--n", "2", "--info"]);
+    assert_eq!(v["admissible"], true);
+    assert_eq!(v["monotone"], false);
+
+    // The papers' a < tₛ is not enough: a = 2.9 < tₛ = 3 has a pole.
+    let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.9", "--n", "2", "--info"]);
+    assert_eq!(v["admissible"], false);
+    assert!(v["end_velocity"].is_null());
+}
+
+#[test]
+fn traj_inadmissible_parameters_name_the_bound() {
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.9", "--n", "2", "--t", "1"], "u_min = 2.46410161513775");
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "0", "--a", "-1", "--n", "2", "--t", "1"], "duration");
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "1", "--t", "1"], "n");
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2"], "--samples");
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2", "--samples", "1"], "at least 2");
+    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2", "--t", "0,x"], "not a finite number");
+}
+
+#[test]
+fn via_closed_form_passes_through_the_via_point() {
+    let args = ["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.2", "--ts", "2", "--a", "1", "--n", "2", "--av", "0.8", "--nv", "2"];
+    let v = json(&[&args[..], &["--iterate", "1e-10"]].concat());
+    // r = G(t_v) of the main segment: the printed form with q0 = 0, S_f = 1.
+    let r = printed_zat(0.0, 1.0, 2.0, 1.0, 2.0, 1.2);
+    assert!((f(&v, "r") - r).abs() < 1e-12);
+    let sv = (0.5 - r * 1.0) / (1.0 - r);
+    assert!((f(&v, "s_v") - sv).abs() < 1e-12);
+    assert_eq!(v["converges"], true);
+    assert!(v["iterations"].as_u64().unwrap() > 0);
+    assert!((f(&v, "s_v_iter") - sv).abs() < 1e-9);
+    assert_eq!(v["condition"], if sv < 0.0 { 3 } else { 1 });
+    // The trajectory hits θ_v at t_v and ends at S_f.
+    let (_, rows) = csv(&[&args[..], &["--t", "1.2,2"]].concat());
+    assert!((rows[0][1] - 0.5).abs() < 1e-12, "S(t_v) = {}", rows[0][1]);
+    assert_eq!(rows[1][1], 1.0);
+}
+
+#[test]
+fn via_paper_iteration_diverges_when_r_exceeds_one() {
+    // SPEC §6: tₛ = 3, a = 2.45, n = 2, t_v = 1.7 gives r = 18.4.
+    let v = json(&["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.7", "--ts", "3", "--a", "2.45", "--n", "2", "--av", "1", "--nv", "2", "--iterate", "1e-9"]);
+    assert!((f(&v, "r") - 18.4).abs() < 0.01);
+    assert_eq!(v["converges"], false);
+    assert!(v["iterations"].is_null());
+}
+
+#[test]
+fn via_smooth_via_shape_has_no_velocity_jump() {
+    let (tv, nv): (f64, f64) = (1.5, 2.0);
+    let av = tv - tv.ln() / nv.ln();
+    let av = format!("{av}");
+    let v = json(&["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--tv", "1.5", "--ts", "2", "--a", "1", "--n", "2", "--av", &av, "--nv", "2"]);
+    assert!(f(&v, "velocity_jump").abs() < 1e-9, "{}", v["velocity_jump"]);
+}
+
+#[test]
+fn via_bad_segment_is_named() {
+    fails(&["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1", "--ts", "2", "--a", "1", "--n", "2", "--av", "1", "--nv", "2"], "via segment");
+}
+
+#[test]
+fn law_values_match_the_corrected_formulas() {
+    let (h, rows) = csv(&["law", "--kind", "quintic", "--t0", "1", "--tf", "3", "--s0", "2", "--sf", "-1", "--t", "0,1.5,2.2,3,5"]);
+    assert_eq!(h, ["t", "s", "v", "acc"]);
+    let (t0, tf, s0, d) = (1.0, 3.0, 2.0, -3.0);
+    let big_t: f64 = tf - t0;
+    for r in &rows[1..4] {
+        let tau: f64 = (r[0] - t0) / big_t;
+        let s = s0 + (10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5)) * d;
+        let v = 30.0 * d * (tau * tau - 2.0 * tau.powi(3) + tau.powi(4)) / big_t;
+        let acc = 60.0 * d * (tau - 3.0 * tau * tau + 2.0 * tau.powi(3)) / (big_t * big_t);
+        assert!((r[1] - s).abs() < 1e-12 && (r[2] - v).abs() < 1e-12 && (r[3] - acc).abs() < 1e-12, "{r:?}");
+    }
+    assert_eq!(&rows[0][1..], &[2.0, 0.0, 0.0]);
+    assert_eq!(&rows[4][1..], &[-1.0, 0.0, 0.0]);
+
+    // Cubic reaches its end exactly (SPEC §7: the papers' 3.053 was read at 0.9 s).
+    let (_, rows) = csv(&["law", "--kind", "cubic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "3.141592653589793", "--t", "0.9,1"]);
+    assert!((rows[0][1] - 3.0536).abs() < 1e-4);
+    assert_eq!(rows[1][1], std::f64::consts::PI);
+
+    // Trapezoid: cruise velocity 1.5Δ/T, acceleration 4.5Δ/T².
+    let (_, rows) = csv(&["law", "--kind", "trapezoid", "--t0", "0", "--tf", "2", "--s0", "0", "--sf", "4", "--t", "0.2,1"]);
+    assert!((rows[0][3] - 4.5 * 4.0 / 4.0).abs() < 1e-12);
+    assert!((rows[1][2] - 1.5 * 4.0 / 2.0).abs() < 1e-12);
+    assert!((rows[1][1] - (6.0 * 0.5 - 1.0) * 4.0 / 4.0).abs() < 1e-12);
+
+    let (_, rows) = csv(&["law", "--kind", "linear", "--t0", "0", "--tf", "2", "--s0", "1", "--sf", "3", "--samples", "3"]);
+    assert_eq!(rows.iter().map(|r| r[1]).collect::<Vec<_>>(), [1.0, 2.0, 3.0]);
+    fails(&["law", "--kind", "cubic", "--t0", "1", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"], "tf must be > t0");
+    fails(&["law", "--kind", "septic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"], "invalid value");
+}
+
+#[test]
+fn plot_writes_png_and_svg() {
+    let dir = std::env::temp_dir().join(format!("armsim-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("traj.png");
+    let (code, _, err) = armsim(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "1", "--n", "2", "--out", png.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(bytes.len() > 10_000, "a real picture, not an empty canvas");
+
+    let svg = dir.join("law.svg");
+    let (code, _, err) = armsim(&["plot", "law", "--kind", "quintic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "1", "--out", svg.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.matches("<polyline").count() >= 4, "four panels drawn");
+
+    let via = dir.join("via.png");
+    let (code, _, err) = armsim(&["plot", "via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.2", "--ts", "2", "--a", "1", "--n", "2", "--av", "0.8", "--nv", "2", "--out", via.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+
+    fails(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "1", "--n", "2", "--out", dir.join("x.jpg").to_str().unwrap()], ".png or .svg");
+    fails(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "5", "--n", "2", "--out", png.to_str().unwrap()], "u_min");
+    std::fs::remove_dir_all(&dir).ok();
 }

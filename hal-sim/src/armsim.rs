@@ -5,11 +5,16 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use touch_arm::ik::{fk2, ik2, ik3, Branch, IkError, Links};
+use touch_arm::laws::{Law, LawParams, LawPlan};
+use touch_arm::motion::{Sample, TrajError};
+use touch_arm::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::touch_map::Calibration;
 use touch_arm::workspace::WorkspacePoint;
 
-use crate::report::Json;
+use crate::plot::{self, Curve, Panel};
+use crate::report::{csv_row, Json};
 
 #[derive(Parser, Debug)]
 #[command(name = "armsim", version, about = "The touch-arm method on a PC (f64): touch mapping, IK, ζ-a-tₛ / via-point / classic trajectories and plots")]
@@ -26,6 +31,204 @@ pub enum Cmd {
     Ik(IkArgs),
     /// Touch → condition, α, transform, IK: JSON {x_p, y_p, condition, alpha_deg, reach, height, reachable, q2, q3, s2, s3, sa}
     Plan(PlanArgs),
+    /// ζ-a-tₛ trajectory: CSV t,s,v,acc,jerk; --info: JSON {zeta, u_min, admissible, a_smooth_stop, end_velocity, monotone}
+    Traj(TrajArgs),
+    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_v, condition, converges, velocity_jump, acceleration_jump}; --t/--samples: CSV t,s,v,acc,jerk
+    Via(ViaArgs),
+    /// Classic motion law: CSV t,s,v,acc
+    Law(LawArgs),
+    /// Plot position, velocity, acceleration and jerk of a trajectory to PNG or SVG
+    Plot(PlotArgs),
+}
+
+/// Where to evaluate: explicit times or K evenly spaced samples over the motion.
+#[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
+pub struct Times {
+    /// Comma-separated times "t1,t2,..." [s]
+    #[arg(long, value_name = "T1,T2,...", value_parser = parse_times, allow_hyphen_values = true)]
+    pub t: Option<TimeList>,
+    /// K evenly spaced samples from the start to the end of the motion (K ≥ 2)
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
+pub struct ZatArgs {
+    /// Start value q0
+    #[arg(long)]
+    pub q0: f64,
+    /// End value S_f
+    #[arg(long)]
+    pub sf: f64,
+    /// Duration tₛ > 0 [s]
+    #[arg(long)]
+    pub ts: f64,
+    /// Shape parameter a (must be < u_min(tₛ))
+    #[arg(long)]
+    pub a: f64,
+    /// Base n > 1
+    #[arg(long)]
+    pub n: f64,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct TrajArgs {
+    #[command(flatten)]
+    pub p: ZatArgs,
+    #[command(flatten)]
+    pub times: Times,
+    /// Print the plan's properties as JSON instead of samples
+    #[arg(long, conflicts_with_all = ["t", "samples"])]
+    pub info: bool,
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
+pub struct ViaCore {
+    /// Start value q0
+    #[arg(long)]
+    pub q0: f64,
+    /// Desired value θ_v at the via time
+    #[arg(long)]
+    pub via: f64,
+    /// End value S_f
+    #[arg(long)]
+    pub sf: f64,
+    /// Via time t_v, 0 < t_v < tₛ [s]
+    #[arg(long)]
+    pub tv: f64,
+    /// Duration tₛ [s]
+    #[arg(long)]
+    pub ts: f64,
+    /// Shape a of the main segment
+    #[arg(long)]
+    pub a: f64,
+    /// Base n of the main segment
+    #[arg(long)]
+    pub n: f64,
+    /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v)
+    #[arg(long)]
+    pub av: f64,
+    /// Base n_v of the via segment
+    #[arg(long)]
+    pub nv: f64,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct ViaArgs {
+    #[command(flatten)]
+    pub p: ViaCore,
+    #[command(flatten)]
+    pub times: Times,
+    /// Also run the paper's feedback iteration to this tolerance
+    #[arg(long, value_name = "TOL", conflicts_with_all = ["t", "samples"])]
+    pub iterate: Option<f64>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum LawKindArg {
+    Linear,
+    Cubic,
+    Quintic,
+    Trapezoid,
+}
+
+impl From<LawKindArg> for Law {
+    fn from(k: LawKindArg) -> Self {
+        match k {
+            LawKindArg::Linear => Law::Linear,
+            LawKindArg::Cubic => Law::Cubic,
+            LawKindArg::Quintic => Law::Quintic,
+            LawKindArg::Trapezoid => Law::Trapezoid,
+        }
+    }
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
+pub struct LawCore {
+    /// The motion law
+    #[arg(long, value_enum)]
+    pub kind: LawKindArg,
+    /// Start time t0 [s]
+    #[arg(long)]
+    pub t0: f64,
+    /// End time t_f > t0 [s]
+    #[arg(long)]
+    pub tf: f64,
+    /// Start value s0
+    #[arg(long)]
+    pub s0: f64,
+    /// End value s_f
+    #[arg(long)]
+    pub sf: f64,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct LawArgs {
+    #[command(flatten)]
+    pub p: LawCore,
+    #[command(flatten)]
+    pub times: Times,
+}
+
+#[derive(Args, Debug)]
+pub struct PlotArgs {
+    #[command(subcommand)]
+    pub what: PlotWhat,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum PlotWhat {
+    /// Plot a ζ-a-tₛ trajectory (same flags as `traj`)
+    Traj(PlotTraj),
+    /// Plot a via-point trajectory (same flags as `via`)
+    Via(PlotVia),
+    /// Plot a classic law (same flags as `law`)
+    Law(PlotLaw),
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct PlotOut {
+    /// Output file, .png or .svg
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Number of samples (default 600)
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct PlotTraj {
+    #[command(flatten)]
+    pub p: ZatArgs,
+    #[command(flatten)]
+    pub out: PlotOut,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct PlotVia {
+    #[command(flatten)]
+    pub p: ViaCore,
+    #[command(flatten)]
+    pub out: PlotOut,
+}
+
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct PlotLaw {
+    #[command(flatten)]
+    pub p: LawCore,
+    #[command(flatten)]
+    pub out: PlotOut,
 }
 
 /// A touch given as raw ADC values or as a normalized point.
@@ -124,14 +327,19 @@ fn parse_raw(s: &str) -> Result<(u16, u16), String> {
     Ok((p(a)?, p(b)?))
 }
 
+/// An explicit list of evaluation times (one clap value, not many).
+#[derive(Clone, Debug)]
+pub struct TimeList(pub Vec<f64>);
+
 /// Comma-separated list of numbers ("0,0.1,0.5").
-pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
+fn parse_times(s: &str) -> Result<TimeList, String> {
     s.split(',')
         .map(|v| match v.trim().parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(x),
             _ => Err(format!("not a finite number in list: {v:?}")),
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()
+        .map(TimeList)
 }
 
 /// A touch, resolved to the normalized point.
@@ -167,6 +375,10 @@ pub fn run(cli: &Cli) -> Result<String, String> {
         Cmd::Map(a) => cmd_map(a),
         Cmd::Ik(a) => cmd_ik(a),
         Cmd::Plan(a) => cmd_plan(a),
+        Cmd::Traj(a) => cmd_traj(a),
+        Cmd::Via(a) => cmd_via(a),
+        Cmd::Law(a) => cmd_law(a),
+        Cmd::Plot(a) => cmd_plot(a),
     }
 }
 
@@ -257,7 +469,185 @@ fn cmd_plan(a: &PlanArgs) -> Result<String, String> {
     Ok(j.render() + "\n")
 }
 
-#[allow(dead_code)]
-fn out_path(p: &std::path::Path) -> PathBuf {
-    p.to_path_buf()
+/// The one-line reason for a rejected trajectory.
+fn traj_err(e: &TrajError<f64>) -> String {
+    e.to_string()
+}
+
+/// The evaluation times: explicit, or K evenly spaced over [start, end].
+fn times(t: &Times, start: f64, end: f64) -> Result<Vec<f64>, String> {
+    match (&t.t, t.samples) {
+        (Some(list), _) => Ok(list.0.clone()),
+        (None, Some(k)) if k >= 2 => Ok((0..k).map(|i| start + (end - start) * i as f64 / (k - 1) as f64).collect()),
+        (None, Some(k)) => Err(format!("--samples must be at least 2, got {k}")),
+        (None, None) => Err("give --t t1,t2,... or --samples K".into()),
+    }
+}
+
+fn zat_params(a: &ZatArgs) -> ZatParams<f64> {
+    ZatParams { q0: a.q0, sf: a.sf, ts: a.ts, a: a.a, n: a.n }
+}
+
+fn zat_plan(a: &ZatArgs) -> Result<ZatPlan<f64>, String> {
+    ZatPlan::new(&zat_params(a)).map_err(|e| traj_err(&e))
+}
+
+fn via_params(a: &ViaCore) -> ViaParams<f64> {
+    ViaParams { q0: a.q0, theta_v: a.via, sf: a.sf, tv: a.tv, ts: a.ts, a: a.a, n: a.n, av: a.av, nv: a.nv }
+}
+
+fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
+    // Name the segment whose parameters are wrong before the combined check.
+    Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv }).map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
+    Shape::new(&ShapeParams { ts: a.ts, a: a.a, n: a.n }).map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
+    ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
+}
+
+fn law_plan(a: &LawCore) -> Result<LawPlan<f64>, String> {
+    LawPlan::new(a.kind.into(), &LawParams { t0: a.t0, tf: a.tf, s0: a.s0, sf: a.sf }).map_err(|e| traj_err(&e))
+}
+
+fn csv(header: &str, ts: &[f64], f: impl Fn(f64) -> Vec<f64>) -> String {
+    let mut out = String::from(header);
+    out.push('\n');
+    for &t in ts {
+        let mut row = vec![t];
+        row.extend(f(t));
+        out.push_str(&csv_row(&row));
+        out.push('\n');
+    }
+    out
+}
+
+fn sample_row(s: Sample<f64>) -> Vec<f64> {
+    vec![s.s, s.v, s.acc, s.jerk]
+}
+
+fn cmd_traj(a: &TrajArgs) -> Result<String, String> {
+    let p = zat_params(&a.p);
+    if a.info {
+        for (name, v) in [("--q0", p.q0), ("--sf", p.sf), ("--ts", p.ts), ("--a", p.a), ("--n", p.n)] {
+            if !v.is_finite() {
+                return Err(format!("{name} must be finite"));
+            }
+        }
+        if !(p.ts > 0.0) {
+            return Err(format!("--ts must be > 0, got {}", p.ts));
+        }
+        if !(p.n > 1.0) {
+            return Err(format!("--n must be > 1, got {}", p.n));
+        }
+        let shape = Shape::new(&p.shape());
+        let plan = ZatPlan::new(&p).ok();
+        return Ok(Json::new()
+            .set("zeta", zeta(&p))
+            .set("u_min", u_min(p.ts))
+            .set("admissible", shape.is_ok())
+            .set("a_smooth_stop", smooth_stop_a(p.ts, p.n))
+            .set("end_velocity", plan.map(|pl| pl.end_velocity()))
+            .set("monotone", shape.ok().map(|s| s.is_monotone()))
+            .render()
+            + "\n");
+    }
+    let plan = zat_plan(&a.p)?;
+    let ts = times(&a.times, 0.0, p.ts)?;
+    Ok(csv("t,s,v,acc,jerk", &ts, |t| sample_row(plan.sample(t))))
+}
+
+fn cmd_via(a: &ViaArgs) -> Result<String, String> {
+    let plan = via_plan(&a.p)?;
+    if a.times.t.is_some() || a.times.samples.is_some() {
+        let ts = times(&a.times, 0.0, a.p.ts)?;
+        return Ok(csv("t,s,v,acc,jerk", &ts, |t| sample_row(plan.sample(t))));
+    }
+    let r = plan.r();
+    let mut j = Json::new()
+        .set("r", r)
+        .set("s_v", plan.sv())
+        .set("zeta", plan.zeta())
+        .set("zeta_v", plan.zeta_v())
+        .set("condition", plan.condition().number())
+        .set("converges", r < 1.0)
+        .set("velocity_jump", plan.velocity_jump())
+        .set("acceleration_jump", plan.acc_jump());
+    if let Some(tol) = a.iterate {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(format!("--iterate tolerance must be positive, got {tol}"));
+        }
+        match iterate_paper(&via_params(&a.p), tol, MAX_PAPER_ITERATIONS) {
+            Ok(it) => {
+                j = j
+                    .set("iterations", it.iterations)
+                    .set("s_v_iter", it.sv)
+                    .set("zeta_iter", it.zeta)
+                    .set("zeta_v_iter", it.zeta_v);
+            }
+            // The JSON already says `converges: false`; the closed form above
+            // is still the answer.
+            Err(TrajError::ViaDiverges { .. }) => {
+                j = j
+                    .set("iterations", None::<f64>)
+                    .set("s_v_iter", None::<f64>)
+                    .set("zeta_iter", None::<f64>)
+                    .set("zeta_v_iter", None::<f64>);
+            }
+            Err(e) => return Err(format!("paper iteration: {}", traj_err(&e))),
+        }
+    }
+    Ok(j.render() + "\n")
+}
+
+/// Generous: with r < 1 the error shrinks by r per step.
+const MAX_PAPER_ITERATIONS: u16 = 10_000;
+
+fn cmd_law(a: &LawArgs) -> Result<String, String> {
+    let plan = law_plan(&a.p)?;
+    let ts = times(&a.times, a.p.t0, a.p.tf)?;
+    Ok(csv("t,s,v,acc", &ts, |t| {
+        let s = plan.sample(t);
+        vec![s.s, s.v, s.acc]
+    }))
+}
+
+const PLOT_SAMPLES: usize = 600;
+
+fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
+    let (title, out, t, samples): (String, &PlotOut, Vec<f64>, Vec<Sample<f64>>) = match &a.what {
+        PlotWhat::Traj(p) => {
+            let plan = zat_plan(&p.p)?;
+            let t = plot_times(&p.out, 0.0, p.p.ts)?;
+            let s = t.iter().map(|&t| plan.sample(t)).collect();
+            let title = format!("zeta-a-ts: q0={} Sf={} ts={} a={} n={}", p.p.q0, p.p.sf, p.p.ts, p.p.a, p.p.n);
+            (title, &p.out, t, s)
+        }
+        PlotWhat::Via(p) => {
+            let plan = via_plan(&p.p)?;
+            let t = plot_times(&p.out, 0.0, p.p.ts)?;
+            let s = t.iter().map(|&t| plan.sample(t)).collect();
+            let title = format!("via point: q0={} theta_v={} at tv={} -> Sf={} (S_v*={:.6})", p.p.q0, p.p.via, p.p.tv, p.p.sf, plan.sv());
+            (title, &p.out, t, s)
+        }
+        PlotWhat::Law(p) => {
+            let plan = law_plan(&p.p)?;
+            let t = plot_times(&p.out, p.p.t0, p.p.tf)?;
+            let s = t.iter().map(|&t| plan.sample(t)).collect();
+            let title = format!("{:?} law: s0={} -> sf={} over [{}, {}]", p.p.kind, p.p.s0, p.p.sf, p.p.t0, p.p.tf);
+            (title, &p.out, t, s)
+        }
+    };
+    let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
+    let (s, v, acc, jerk) = (col(|x| x.s), col(|x| x.v), col(|x| x.acc), col(|x| x.jerk));
+    let panel = |ylabel: &'static str, y: &'static str, data| Panel { ylabel, curves: vec![Curve { label: y, y: data }] };
+    plot::panels(
+        &out.out,
+        &title,
+        &t,
+        &[panel("position", "", &s), panel("velocity", "", &v), panel("acceleration", "", &acc), panel("jerk", "", &jerk)],
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(format!("wrote {}\n", out.out.display()))
+}
+
+fn plot_times(o: &PlotOut, start: f64, end: f64) -> Result<Vec<f64>, String> {
+    times(&Times { t: None, samples: Some(o.samples.unwrap_or(PLOT_SAMPLES)) }, start, end)
 }
