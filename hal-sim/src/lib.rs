@@ -1,1 +1,4 @@
 pub use touch_arm;
+
+#[cfg(feature = "simavr")]
+pub mod avr;
