@@ -2,5 +2,6 @@
 //! that runs the real firmware ELF, and the `armsim` desktop tool.
 
 pub mod armsim;
+pub mod avr;
 pub mod plot;
 pub mod report;
