@@ -16,7 +16,7 @@ const SERVO_PINS: u8 = 0b0011_1000;
 /// ICR5: 40000 ticks of 0.5 µs per period.
 pub const TOP: u16 = 39_999;
 
-/// Inclusive compare-value window (ticks) a channel may ever be set to.
+/// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]
 pub struct TickLimits {
     pub min: u16,
@@ -61,12 +61,15 @@ impl ServoPwm {
             return 0;
         };
         let v = ticks.clamp(lim.min, lim.max);
+        // In fast PWM the output is set at BOTTOM and cleared after the compare
+        // match tick, so it stays high for OCR + 1 ticks.
+        let ocr = v.saturating_sub(1);
         // 16-bit timer registers go through the shared TEMP byte: no interrupt
         // may touch another 16-bit register between the two byte writes.
         avr_device::interrupt::free(|_| match ch {
-            0 => self.tc5.ocr5a().write(|w| w.set(v)),
-            1 => self.tc5.ocr5b().write(|w| w.set(v)),
-            _ => self.tc5.ocr5c().write(|w| w.set(v)),
+            0 => self.tc5.ocr5a().write(|w| w.set(ocr)),
+            1 => self.tc5.ocr5b().write(|w| w.set(ocr)),
+            _ => self.tc5.ocr5c().write(|w| w.set(ocr)),
         });
         if !self.enabled[ch] {
             self.enabled[ch] = true;
