@@ -3,5 +3,6 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod firmware;
 pub mod plot;
 pub mod report;
