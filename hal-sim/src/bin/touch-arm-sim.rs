@@ -56,9 +56,8 @@ fn run() -> Result<(), String> {
     let q: Vec<Vec<f64>> = (0..3).map(|j| col(j, false)).collect();
     let v: Vec<Vec<f64>> = (0..3).map(|j| col(j, true)).collect();
     let names = ["base", "shoulder", "elbow"];
-    let curves = |data: &'_ [Vec<f64>]| -> Vec<Curve<'_>> { (0..3).map(|j| Curve { label: names[j], y: &data[j] }).collect() };
     let png = out.join("frames.png");
-    plot::panels(&png, "firmware in simavr: joint angles [rad] and velocities [rad/s]", &t, &[Panel { ylabel: "angle [rad]", curves: curves(&q) }, Panel { ylabel: "velocity [rad/s]", curves: curves(&v) }])
+    plot::panels(&png, "firmware in simavr: joint angles [rad] and velocities [rad/s]", &t, &[Panel { ylabel: "angle [rad]", curves: curves(&names, &q) }, Panel { ylabel: "velocity [rad/s]", curves: curves(&names, &v) }])
         .map_err(|e| e.to_string())?;
 
     let mut cycles: Vec<u32> = frames.iter().map(|f| f.eval_cycles).collect();
@@ -70,4 +69,8 @@ fn run() -> Result<(), String> {
     println!("frame evaluation: median {} cycles ({:.0} us at 16 MHz)", cycles[cycles.len() / 2], cycles[cycles.len() / 2] as f64 / 16.0);
     println!("wrote {} and {}", csv_path.display(), png.display());
     Ok(())
+}
+
+fn curves<'a>(names: &[&'a str; 3], data: &'a [Vec<f64>]) -> Vec<Curve<'a>> {
+    names.iter().zip(data).map(|(label, y)| Curve { label, y }).collect()
 }
