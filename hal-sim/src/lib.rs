@@ -4,5 +4,6 @@
 pub mod armsim;
 pub mod avr;
 pub mod firmware;
+pub mod panel;
 pub mod plot;
 pub mod report;
