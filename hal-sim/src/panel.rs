@@ -77,8 +77,12 @@ pub fn terminal_fraction(sheets: &Sheets, contact: Option<&Contact>, drive: [Dri
     let y_driven = yp != Drive::Float && ym != Drive::Float;
 
     // No current flows through a floating terminal, so it reads its sheet's
-    // voltage at the contact point.
-    let c = contact?;
+    // voltage at the contact point. Without a contact, a sheet driven at one
+    // end sits at that end's level; one driven at neither end is undefined.
+    let Some(c) = contact else {
+        let (a, b) = if on_x { (xp, xm) } else { (yp, ym) };
+        return level(a).or(level(b));
+    };
     if on_x && y_driven {
         // X sheet floats, touching the driven Y sheet at v.
         return y_gradient(c.v);
