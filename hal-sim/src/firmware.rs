@@ -45,3 +45,88 @@ pub fn parse_frame(line: &str) -> Option<Frame> {
     let eval_cycles = next()? as u32;
     Some(Frame { k, t_us, q_urad, v_urad_s, eval_cycles })
 }
+
+/// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5.
+pub const SERVO_PINS: [crate::avr::Pin; 3] =
+    [crate::avr::Pin::new('L', 3), crate::avr::Pin::new('L', 4), crate::avr::Pin::new('L', 5)];
+
+/// The firmware running in simavr with a touch panel on its ADC and its servo
+/// pins watched: what the end-to-end tests and the main job drive.
+pub struct Session {
+    pub avr: Avr,
+    panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelModel>>,
+}
+
+impl Session {
+    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring).
+    pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {
+        let mut avr = load(elf)?;
+        for pin in SERVO_PINS {
+            avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
+        }
+        let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelModel::new(wiring, seed)));
+        let model = panel.clone();
+        avr.set_adc_handler(move |req| match model.borrow_mut().read(req) {
+            Some(v) => crate::avr::AdcInput::Raw(v),
+            None => crate::avr::AdcInput::Raw(0),
+        });
+        Ok(Session { avr, panel })
+    }
+
+    /// Presses the panel where the firmware's X and Y reads return (raw_x,
+    /// raw_y) without noise, with a firm finger.
+    pub fn press_raw(&mut self, raw_x: f64, raw_y: f64) {
+        self.panel.borrow_mut().contact = Some(crate::panel::contact_at_raw(raw_x, raw_y, FIRM_TOUCH_OHMS));
+    }
+
+    pub fn release(&mut self) {
+        self.panel.borrow_mut().contact = None;
+    }
+
+    pub fn set_noise(&mut self, counts: f64) {
+        self.panel.borrow_mut().noise_counts = counts;
+    }
+
+    /// Runs for `seconds` of simulated time.
+    pub fn run_for(&mut self, seconds: f64) -> Result<(), String> {
+        self.avr.run_for(seconds).map_err(|e| format!("{e:?}"))
+    }
+
+    /// Sends one command line and runs until the firmware's reply line
+    /// (`ok ...` / `err ...`) arrives.
+    pub fn command(&mut self, line: &str) -> Result<String, String> {
+        let before = self.avr.uart_output().len();
+        self.avr.uart_send(format!("{line}\n").as_bytes());
+        let max = CPU_HZ as u64;
+        self.avr
+            .run_until(
+                |a| {
+                    let out = &a.uart_output()[before..];
+                    out.split(|b| *b == b'\n').any(|l| l.starts_with(b"ok") || l.starts_with(b"err"))
+                },
+                max,
+            )
+            .map_err(|e| format!("no reply to {line:?}: {e:?}"))?;
+        let out = String::from_utf8_lossy(&self.avr.uart_output()[before..]).to_string();
+        Ok(out.lines().find(|l| l.starts_with("ok") || l.starts_with("err")).unwrap_or("").to_string())
+    }
+
+    /// Every complete servo pulse measured so far, per joint: (rise time s, width µs).
+    pub fn pulses(&self) -> [Vec<(f64, f64)>; 3] {
+        SERVO_PINS.map(|pin| {
+            self.avr
+                .pulses(pin)
+                .iter()
+                .map(|p| (p.rise_cycle as f64 / CPU_HZ as f64, p.width_us(CPU_HZ)))
+                .collect()
+        })
+    }
+
+    /// The most recent pulse width per joint (µs), if the joint has pulsed.
+    pub fn last_pulses(&self) -> [Option<f64>; 3] {
+        self.pulses().map(|p| p.last().map(|(_, w)| *w))
+    }
+}
+
+/// A firm fingertip: a few hundred ohms of contact resistance.
+pub const FIRM_TOUCH_OHMS: f64 = 250.0;
