@@ -294,7 +294,7 @@ impl<R: Real> Shape<R> {
 
     /// G and its ingredients for 0 < t < tₛ; `None` where G is below 1e-34
     /// (taken as 0). The per-frame path: one division for 1/t, one for q,
-    /// one `exp`, one `expm1`, and eight multiplications.
+    /// one `exp`, one `expm1` and six multiplications.
     #[inline]
     fn inner(&self, t: R) -> Option<Inner<R>> {
         let inv_t = t.recip();

@@ -17,7 +17,7 @@
 //!
 //! Timers 1 and 3 drive no pin here (compare outputs disconnected), so the
 //! LCD shield's pins that share them are untouched; the servo PWM runs on
-//! Timer5. Both timers are shared by every section measured at once.
+//! Timer5. The counter owns both timers while it exists.
 
 use avr_device::atmega2560::{TC1, TC3};
 
