@@ -4,7 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-echo "== building firmware (cargo avr)"
+echo "== building firmware (cargo avr) and bench firmware (cargo avr-bench)"
 cargo avr
+cargo avr-bench
 echo "== running tests"
 cargo test "$@"

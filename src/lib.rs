@@ -1,12 +1,15 @@
 //! touch-arm core: pure, `no_std` logic shared by the ATmega2560 firmware (f32)
 //! and the desktop tool `armsim` (f64).
 #![no_std]
+// f32_exp's 16×16 multiply is inline assembly on the chip.
+#![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 
 #[cfg(target_arch = "avr")]
 pub mod board;
 pub mod command;
 pub mod config_store;
 pub mod crc;
+pub mod f32_exp;
 pub mod ik;
 pub mod laws;
 pub mod motion;

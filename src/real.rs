@@ -1,10 +1,12 @@
 //! The float abstraction: every formula in the core is written once, generic over
 //! [`Real`], and runs as `f32` on the chip and as `f64` in `armsim` and the tests.
 //!
-//! On AVR the `f32` transcendental functions come from avr-libc's hand-written
-//! assembly libm (linked with `-lm`), which is several times faster than the
-//! portable Rust `libm` crate; on the host both widths use the `libm` crate so the
-//! same code is bit-reproducible everywhere but on the chip.
+//! f32 `exp` and `expm1` (the per-frame functions) are [`crate::f32_exp`]'s
+//! integer-core routines on every target, so host tests check the chip's
+//! exact results. The other f32 transcendentals come from avr-libc's
+//! hand-written assembly libm on AVR (linked with `-lm`; several times faster
+//! than the portable Rust `libm` crate) and from the `libm` crate on the host;
+//! f64 always uses the `libm` crate.
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -158,7 +160,6 @@ impl Real for f64 {
 #[cfg(target_arch = "avr")]
 mod avr_libm {
     extern "C" {
-        pub fn exp(x: f32) -> f32;
         pub fn log(x: f32) -> f32;
         pub fn sin(x: f32) -> f32;
         pub fn cos(x: f32) -> f32;
@@ -218,11 +219,11 @@ impl Real for f32 {
     }
     #[inline]
     fn exp(self) -> Self {
-        f32_fn!(exp, expf(self))
+        crate::f32_exp::exp(self)
     }
     #[inline]
     fn expm1(self) -> Self {
-        expm1_f32(self)
+        crate::f32_exp::expm1(self)
     }
     #[inline]
     fn ln(self) -> Self {
@@ -247,38 +248,5 @@ impl Real for f32 {
     #[inline]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
-    }
-}
-
-/// `expm1` in f32. On the host it is the `libm` crate's. avr-libc has no
-/// `expm1`, so on the chip: for |x| ≥ 0.25, `exp(x) − 1` loses at most a couple of
-/// ulps; below, a degree-7 Taylor polynomial (truncation < 3e-9 relative) avoids
-/// the cancellation that `exp(x) − 1` would suffer.
-#[inline]
-fn expm1_f32(x: f32) -> f32 {
-    #[cfg(not(target_arch = "avr"))]
-    {
-        libm::expm1f(x)
-    }
-    #[cfg(target_arch = "avr")]
-    {
-        if x.abs() >= 0.25 {
-            // SAFETY: see avr_libm.
-            return unsafe { avr_libm::exp(x) } - 1.0;
-        }
-        const C: [f32; 6] = [
-            1.0 / 7.0,
-            1.0 / 6.0,
-            1.0 / 5.0,
-            1.0 / 4.0,
-            1.0 / 3.0,
-            1.0 / 2.0,
-        ];
-        // x(1 + x/2(1 + x/3(1 + ...))) keeps every step well conditioned.
-        let mut p = 1.0f32;
-        for c in C {
-            p = 1.0 + x * c * p;
-        }
-        x * p
     }
 }

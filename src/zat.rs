@@ -170,6 +170,10 @@ pub struct Shape<R> {
     u_min: R,
     /// δ = u_min − a > 0: the distance to the pole.
     delta: R,
+    /// L·δ.
+    l_delta: R,
+    /// tₛ ≥ 1 (which form of u − a applies), decided once.
+    long: bool,
     /// Q_s = q(tₛ) = 1/expm1(L·(tₛ − a)).
     q_s: R,
     /// 1/(1 + Q_s).
@@ -180,7 +184,14 @@ pub struct Shape<R> {
 struct Inner<R> {
     g: R,
     q: R,
+    /// 1 + q.
+    p: R,
+    t: R,
+    /// t − √tₛ.
+    d: R,
     inv_t: R,
+    /// L/t.
+    l_it: R,
 }
 
 impl<R: Real> Shape<R> {
@@ -219,6 +230,9 @@ impl<R: Real> Shape<R> {
             sqrt_corr,
             u_min: um,
             delta,
+            l_delta: l * delta,
+            long: p.ts >= R::ONE,
+
             q_s,
             inv_ps,
         })
@@ -253,39 +267,67 @@ impl<R: Real> Shape<R> {
     pub fn u_min(&self) -> R {
         self.u_min
     }
-    /// u(t) − a for t > 0, without the cancellation of forming u first.
+    /// t − √tₛ, accurate also where the two nearly cancel.
     #[inline]
-    fn w(&self, t: R, inv_t: R) -> R {
-        if self.ts >= R::ONE {
+    fn d(&self, t: R) -> R {
+        (t - self.sqrt_ts) - self.sqrt_corr
+    }
+
+    /// (u(t) − a − δ)·t ≥ 0, the part of u − a that varies, formed without
+    /// the cancellation of computing u first (d = t − √tₛ).
+    #[inline]
+    fn w_rest_t(&self, t: R, d: R) -> R {
+        if self.long {
             // t − s is exact near √tₛ; the correction keeps (t − √tₛ)² accurate
             // relative to itself where it competes with a small δ.
-            let d = (t - self.sqrt_ts) - self.sqrt_corr;
-            self.delta + d * d * inv_t
+            d * d
         } else {
-            self.delta + (R::ONE - t) * (self.ts - t) * inv_t
+            (R::ONE - t) * (self.ts - t)
         }
     }
 
-    /// G, q and 1/t for 0 < t < tₛ; `None` where G is below 1e-34 (taken as 0).
+    /// u(t) − a for t > 0.
+    #[inline]
+    fn w(&self, t: R, inv_t: R) -> R {
+        self.delta + self.w_rest_t(t, self.d(t)) * inv_t
+    }
+
+    /// G and its ingredients for 0 < t < tₛ; `None` where G is below 1e-34
+    /// (taken as 0). The per-frame path: one division for 1/t, one for q,
+    /// one `exp`, one `expm1` and six multiplications.
     #[inline]
     fn inner(&self, t: R) -> Option<Inner<R>> {
         let inv_t = t.recip();
-        // L·(tₛ/t − 1) as L·(tₛ − t)/t: tₛ − t is exact near the end, where
+        let l_it = self.l * inv_t;
+        // L·(tₛ/t − 1) as (tₛ − t)·L/t: tₛ − t is exact near the end, where
         // forming tₛ/t first would cost up to L/2 ulp of G.
-        let y = self.l * (self.ts - t) * inv_t;
+        let y = (self.ts - t) * l_it;
         if y > R::lit(EARLY_OUT) {
             return None;
         }
-        // expm1 overflowing to ∞ gives q = 0, which is the right limit.
-        let q = (self.l * self.w(t, inv_t)).expm1().recip();
-        let g = (-y).exp() * (R::ONE + q) * self.inv_ps;
-        Some(Inner { g, q, inv_t })
+        let d = self.d(t);
+        // L·w = L·δ + L·(w − δ); expm1 overflowing to ∞ gives q = 0, the
+        // right limit.
+        let q = (self.l_delta + self.w_rest_t(t, d) * l_it).expm1().recip();
+        let p = R::ONE + q;
+        let g = (-y).exp() * p * self.inv_ps;
+        Some(Inner { g, q, p, t, d, inv_t, l_it })
+    }
+
+    /// G′/G = L·(1 − u′·p). L·u′ = L·(t − √tₛ)(t + √tₛ)/t² keeps u′ accurate
+    /// relative to itself near t = √tₛ, where p = 1 + q is largest (near the
+    /// pole): forming 1 − tₛ/t² there costs ε·L·p absolute, 2e-5 for δ = 0.01.
+    /// Shared by every path that reports G′, so they agree to the bit.
+    #[inline]
+    fn h1(&self, i: &Inner<R>) -> R {
+        let lu = i.d * (i.t + self.sqrt_ts) * (i.inv_t * i.l_it);
+        self.l - lu * i.p
     }
 
     /// G(t): 0 for t ≤ 0, 1 (exactly) for t ≥ tₛ. The cheap per-frame path.
     #[inline]
     pub fn g(&self, t: R) -> R {
-        if t <= R::ZERO {
+        if !(t > R::ZERO) {
             R::ZERO
         } else if t >= self.ts {
             R::ONE
@@ -297,31 +339,47 @@ impl<R: Real> Shape<R> {
         }
     }
 
-    /// G and G′ together (one more multiply-add than [`Shape::g`]). At t = tₛ
-    /// G′ is the left limit; beyond tₛ it is 0.
+    /// G and G′ together (three multiplications and two subtractions more
+    /// than [`Shape::g`]). At t = tₛ G′ is the left limit; beyond tₛ it is 0.
     pub fn g_rate(&self, t: R) -> (R, R) {
-        if t <= R::ZERO || t > self.ts {
-            return (self.g(t), R::ZERO);
+        if !(t > R::ZERO) {
+            return (R::ZERO, R::ZERO);
         }
-        let i = match self.at(t) {
-            Some(i) => i,
-            None => return (R::ZERO, R::ZERO),
+        let i = if t >= self.ts {
+            if t > self.ts {
+                return (R::ONE, R::ZERO);
+            }
+            self.end()
+        } else {
+            match self.inner(t) {
+                Some(i) => i,
+                None => return (R::ZERO, R::ZERO),
+            }
         };
-        let up = R::ONE - self.ts * i.inv_t * i.inv_t;
-        let h1 = self.l * (R::ONE - up * (R::ONE + i.q));
-        (i.g, i.g * h1)
+        (i.g, i.g * self.h1(&i))
     }
 
-    /// Like `inner`, but t = tₛ gives G = 1 and q = Q_s exactly, so derivatives
-    /// there are the left limits consistent with [`Shape::end_rate`].
+    /// The state at t = tₛ: G = 1 and q = Q_s exactly, so derivatives there
+    /// are the left limits, consistent with [`Shape::end_rate`].
+    #[inline]
+    fn end(&self) -> Inner<R> {
+        let inv_t = self.ts.recip();
+        Inner {
+            g: R::ONE,
+            q: self.q_s,
+            p: R::ONE + self.q_s,
+            t: self.ts,
+            d: self.d(self.ts),
+            inv_t,
+            l_it: self.l * inv_t,
+        }
+    }
+
+    /// Like `inner`, but t = tₛ gives [`Shape::end`].
     #[inline]
     fn at(&self, t: R) -> Option<Inner<R>> {
         if t >= self.ts {
-            Some(Inner {
-                g: R::ONE,
-                q: self.q_s,
-                inv_t: self.ts.recip(),
-            })
+            Some(self.end())
         } else {
             self.inner(t)
         }
@@ -338,15 +396,14 @@ impl<R: Real> Shape<R> {
             None => return Sample::at_rest(R::ZERO),
         };
         let l = self.l;
-        let (q, it) = (i.q, i.inv_t);
-        let p = R::ONE + q;
+        let (q, p, it) = (i.q, i.p, i.inv_t);
         let x_t = self.ts * it * it; // tₛ/t²
         let up = R::ONE - x_t;
         let upp = R::TWO * x_t * it;
         let uppp = -R::lit(3.0) * upp * it;
         let pp = -l * up * p * q;
         let ppp = -l * (upp * p * q + up * pp * (R::TWO * p - R::ONE));
-        let h1 = l * (R::ONE - up * p);
+        let h1 = self.h1(&i);
         let h2 = -l * (upp * p + up * pp);
         let h3 = -l * (uppp * p + R::TWO * upp * pp + up * ppp);
         let g = i.g;
@@ -360,11 +417,7 @@ impl<R: Real> Shape<R> {
 
     /// G′(tₛ⁻) = L·[1 − (1 − 1/tₛ)(1 + Q_s)]; the end velocity is Δ times this.
     pub fn end_rate(&self) -> R {
-        // u′(tₛ) = 1 − 1/tₛ, written exactly as `g_derivs` forms it so both
-        // report the same bits at t = tₛ.
-        let it = self.ts.recip();
-        let up = R::ONE - self.ts * it * it;
-        self.l * (R::ONE - up * (R::ONE + self.q_s))
+        self.h1(&self.end())
     }
 
     /// φ(t) = L·(u(t) − a) − ln(t²/tₛ). On t > √tₛ, G′(t) ≥ 0 ⇔ φ(t) ≥ 0

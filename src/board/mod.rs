@@ -2,5 +2,7 @@
 //! `avr-device` registers (arduino-hal is not available as a crate).
 //! Everything here is AVR-only; the logic above it is pure and host-tested.
 
+pub mod cycles;
 pub mod servo_pwm;
+pub mod stack;
 pub mod usart;

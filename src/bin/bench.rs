@@ -1,0 +1,399 @@
+//! Benchmark firmware: times the chip's hot routines in exact CPU cycles
+//! (run it in simavr; `scripts/bench.sh` does and writes BENCHMARKS.md).
+//!
+//! Every routine runs [`REPS`] times on varied inputs; each run is timed alone
+//! between two cycle stamps (Timer1/Timer3, see `board::cycles`), with its
+//! input passed through `black_box` after the first stamp and its result
+//! through `black_box` before the second, so the compiler can neither hoist
+//! nor sink the work. Output over USART0, one line each:
+//!
+//! - `O <overhead>`: stamp overhead already subtracted from every figure;
+//! - `B <name> <median> <min> <max> <stack>`: cycles, and the stack high-water
+//!   in bytes (from the top of RAM) while that routine ran;
+//! - `I <name> <median> <min> <max>`: a count per run (iterations);
+//! - `E <x> <exp> <expm1>`: f32 bit patterns (decimal) of the chip's
+//!   `exp`/`expm1`, which the host reproduces bit for bit;
+//! - `A <ts> <a> <n> <t> <g> <rate> <paper_g>`: f32 bit patterns of inputs and
+//!   the chip's G, G′ and the printed ζ form's G, for comparison with f64;
+//! - `S <high_water> <free>`: stack high-water over the whole run;
+//! - `done`.
+//!
+//! To add a routine: one `b.run("name", |i| input(i), |x| work(x));` line.
+#![no_std]
+#![no_main]
+
+use avr_device::atmega2560 as pac;
+use core::hint::black_box;
+use touch_arm::board::cycles::CycleCounter;
+use touch_arm::board::stack;
+use touch_arm::board::usart::Usart0;
+use touch_arm::laws::Law;
+use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
+use touch_arm::pose::{pose_for_point, ArmGeometry};
+use touch_arm::ik::{Branch, Links};
+use touch_arm::real::Real;
+use touch_arm::servo::{JointCal, ServoMap};
+use touch_arm::touch_map::Calibration;
+use touch_arm::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
+use ufmt::uwriteln;
+
+/// Runs per routine (odd, so the median is one of them).
+const REPS: usize = 15;
+
+/// The demo move of the main firmware (radians): a realistic frame load.
+const START: [f32; JOINTS] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
+const TARGET: [f32; JOINTS] = [0.785_398_2, 0.2, -2.2];
+const TS: f32 = 2.0;
+const N: f32 = 2.0;
+
+/// avr-libc's `exp`/`log` called directly (AVR `double` is 32 bits), to time
+/// them beside the crate's own.
+mod avr_libm {
+    extern "C" {
+        pub fn exp(x: f32) -> f32;
+        pub fn log(x: f32) -> f32;
+    }
+}
+
+struct Bench {
+    serial: Usart0,
+    clock: CycleCounter,
+}
+
+/// Median, min, max of a run's counts.
+fn stats(c: &mut [u32; REPS]) -> (u32, u32, u32) {
+    // Insertion sort: 15 elements, no panicking index.
+    let mut i = 1;
+    while i < REPS {
+        let mut j = i;
+        while j > 0 {
+            let (Some(&a), Some(&b)) = (c.get(j - 1), c.get(j)) else { break };
+            if a <= b {
+                break;
+            }
+            c.swap(j - 1, j);
+            j -= 1;
+        }
+        i += 1;
+    }
+    (c[REPS / 2], c[0], c[REPS - 1])
+}
+
+impl Bench {
+    /// Times `work` on `input(i)` for i in 0..REPS and prints a `B` line.
+    /// Only one input is alive at a time, so the stack figure is the
+    /// routine's, not the harness's.
+    #[inline(never)]
+    fn run<T, U>(&mut self, name: &str, input: impl Fn(usize) -> T, mut work: impl FnMut(&T) -> U) {
+        let mut c = [0u32; REPS];
+        stack::paint();
+        for (i, slot) in c.iter_mut().enumerate() {
+            let x = input(black_box(i));
+            let s = self.clock.now();
+            let r = work(black_box(&x));
+            let r = black_box(r);
+            let e = self.clock.now();
+            *slot = self.clock.cycles(s, e);
+            drop(r);
+        }
+        let hw = stack::high_water();
+        let (m, lo, hi) = stats(&mut c);
+        let _ = uwriteln!(self.serial, "B {} {} {} {} {}", name, m, lo, hi, hw);
+    }
+
+    /// Prints an `I` line for per-run counts.
+    fn counts(&mut self, name: &str, c: &mut [u32; REPS]) {
+        let (m, lo, hi) = stats(c);
+        let _ = uwriteln!(self.serial, "I {} {} {} {}", name, m, lo, hi);
+    }
+}
+
+/// i-th of REPS values spread over [lo, hi] (inclusive).
+fn spread(i: usize, lo: f32, hi: f32) -> f32 {
+    lo + (hi - lo) * (i as f32) / ((REPS - 1) as f32)
+}
+
+fn servo_maps() -> [ServoMap; JOINTS] {
+    let mut out = [None; JOINTS];
+    for (o, c) in out.iter_mut().zip(JointCal::DEFAULTS.iter()) {
+        *o = ServoMap::new(c).ok();
+    }
+    match out {
+        [Some(a), Some(b), Some(c)] => [a, b, c],
+        _ => halt(),
+    }
+}
+
+/// One 50 Hz frame's output: pulse widths (µs) and whether a joint would
+/// exceed its speed limit.
+#[derive(Clone, Copy)]
+struct Frame {
+    pulses: [u16; JOINTS],
+    too_fast: bool,
+}
+
+/// The frame the generic way, for comparison: sample the plan (positions and
+/// velocities in rad), map each angle with `ServoMap::angle_to_pulse`, check
+/// each speed.
+#[inline(never)]
+fn frame_generic(plan: &MultiPlan<f32>, maps: &[ServoMap; JOINTS], t: f32) -> Frame {
+    let s = plan.sample(t);
+    let mut out = Frame { pulses: [0; JOINTS], too_fast: false };
+    for ((p, j), m) in out.pulses.iter_mut().zip(s.iter()).zip(maps.iter()) {
+        // A NaN angle would hold the previous pulse; 0 marks it here.
+        *p = m.angle_to_pulse(j.pos).map_or(0, |x| x.us);
+        out.too_fast |= j.vel.abs() > m.max_speed::<f32>();
+    }
+    out
+}
+
+/// The printed ζ form, per joint, in f32 with the `libm` crate's `powf`:
+/// S = q0 ± n^(t−ζ)/|n^(t + tₛ/t − 1) − n^a| (position only).
+#[derive(Clone, Copy)]
+struct PaperJoint {
+    q0: f32,
+    sf: f32,
+    zeta: f32,
+}
+
+#[inline(never)]
+fn paper_position(j: &PaperJoint, sh: &ShapeParams<f32>, t: f32) -> f32 {
+    if t <= 0.0 {
+        return j.q0;
+    }
+    if t > sh.ts {
+        return j.sf;
+    }
+    let u = t + sh.ts / t - 1.0;
+    let m = libm::powf(sh.n, t - j.zeta) / libm::fabsf(libm::powf(sh.n, u) - libm::powf(sh.n, sh.a));
+    if j.sf >= j.q0 {
+        j.q0 + m
+    } else {
+        j.q0 - m
+    }
+}
+
+fn paper_joints(sh: &ShapeParams<f32>) -> [PaperJoint; JOINTS] {
+    let mut out = [PaperJoint { q0: 0.0, sf: 0.0, zeta: 0.0 }; JOINTS];
+    for ((o, q0), sf) in out.iter_mut().zip(START.iter()).zip(TARGET.iter()) {
+        let z = zeta(&ZatParams { q0: *q0, sf: *sf, ts: sh.ts, a: sh.a, n: sh.n }).unwrap_or(f32::INFINITY);
+        *o = PaperJoint { q0: *q0, sf: *sf, zeta: z };
+    }
+    out
+}
+
+#[avr_device::entry]
+fn main() -> ! {
+    stack::paint();
+    let Some(dp) = pac::Peripherals::take() else { halt() };
+    let serial = Usart0::new(dp.USART0);
+    let clock = CycleCounter::new(dp.TC1, dp.TC3);
+    let mut b = Bench { serial, clock };
+    let _ = uwriteln!(b.serial, "bench touch-arm {}", env!("CARGO_PKG_VERSION"));
+    let _ = uwriteln!(b.serial, "O {}", b.clock.overhead());
+
+    let a_star = smooth_stop_a(TS, N).unwrap_or(1.0);
+    let shape = ShapeParams { ts: TS, a: a_star, n: N };
+    let Ok(plan) = MultiPlan::new(&START, &TARGET, &shape) else { halt() };
+    let Ok(g) = Shape::new(&shape) else { halt() };
+    let maps = servo_maps();
+    // Frame times over the whole move, the end (tₛ) included.
+    let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
+
+    // Context: the soft-float primitives.
+    b.run("f32_mul", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x * y);
+    b.run("f32_add", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)), |&(x, y)| x + y);
+    b.run("f32_div", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x / y);
+    b.run("f32_mul_x10", |i| (spread(i, 0.3, 7.0), spread(i, 0.9, 1.1)), |&(x, y)| {
+        let mut r = x;
+        for _ in 0..10 {
+            r = r * y;
+        }
+        r
+    });
+    b.run("f32_add_x10", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)), |&(x, y)| {
+        let mut r = x;
+        for _ in 0..10 {
+            r = r + y;
+        }
+        r
+    });
+    b.run("f32_lt", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 9.9)), |&(x, y)| x < y);
+    b.run("f32_to_i32", |i| spread(i, -3000.0, 3000.0), |&x| x as i32);
+    b.run("i32_to_f32", |i| (i as i32) * 12345 - 7, |&x| x as f32);
+    b.run("u32_mul", |i| (i as u32 * 0x1234_5677, i as u32 * 0x0ABC_DEF1 + 3), |&(x, y)| x.wrapping_mul(y));
+    b.run("u64_mul_hi", |i| (i as u32 * 0x1234_5677, i as u32 * 0x0ABC_DEF1 + 3), |&(x, y)| ((u64::from(x) * u64::from(y)) >> 32) as u32);
+    b.run("avrlibc_exp", |i| spread(i, -9.0, 3.0), |&x| {
+        // SAFETY: a pure function of a float.
+        unsafe { avr_libm::exp(x) }
+    });
+    b.run("avrlibc_log", |i| spread(i, 0.01, 50.0), |&x| {
+        // SAFETY: a pure function of a float.
+        unsafe { avr_libm::log(x) }
+    });
+    b.run("exp", |i| spread(i, -9.0, 3.0), |&x| x.exp());
+    b.run("expm1", |i| spread(i, 0.001, 3.0), |&x| x.expm1());
+    b.run("ln", |i| spread(i, 0.01, 50.0), |&x| x.ln());
+    b.run("libm_powf", |i| (spread(i, 1.1, 9.0), spread(i, -3.0, 2.0)), |&(x, y)| libm::powf(x, y));
+
+    // The ζ-a-tₛ profile alone, and with its rate.
+    b.run("g", t_at, |&t| g.g(t));
+    b.run("g_rate", t_at, |&t| g.g_rate(t));
+    b.run("sample3", t_at, |&t| plan.sample(t));
+    // The 50 Hz frame: 3 joints, position and velocity → pulse widths.
+    let Ok(track) = ServoTrack::new(&plan, &maps) else { halt() };
+    b.run("frame", t_at, |&t| track.frame(t));
+    b.run("frame_generic", t_at, |&t| frame_generic(&plan, &maps, t));
+    for (name, law) in [
+        ("frame_linear", Law::Linear),
+        ("frame_cubic", Law::Cubic),
+        ("frame_quintic", Law::Quintic),
+        ("frame_trapezoid", Law::Trapezoid),
+    ] {
+        let Ok(l) = JointLaw::classic(law, TS) else { halt() };
+        let Ok(p) = MultiPlan::with_law(&START, &TARGET, &l) else { halt() };
+        let Ok(tr) = ServoTrack::new(&p, &maps) else { halt() };
+        b.run(name, t_at, |&t| tr.frame(t));
+    }
+    // The printed form with libm::powf, 3 joints, position only.
+    let pj = paper_joints(&shape);
+    b.run("paper_frame", t_at, |&t| {
+        let mut s = [0.0f32; JOINTS];
+        for (o, j) in s.iter_mut().zip(pj.iter()) {
+            *o = paper_position(j, &shape, t);
+        }
+        s
+    });
+
+    // Plan: touch → workspace → IK → 3-joint ζ-a-tₛ plan with a* and checks.
+    let geo = match Links::new(1.0f32, 1.0) {
+        Ok(links) => ArmGeometry { k: 1.0f32, links, branch: Branch::Minus },
+        Err(_) => halt(),
+    };
+    let cal = Calibration::DEFAULT;
+    b.run(
+        "plan",
+        |i| {
+            let raw_x = 150 + (i as u16) * 50;
+            let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
+            (raw_x, raw_y, spread(i, 1.5, 4.0))
+        },
+        |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts),
+    );
+
+    // Via points: closed form with ζ, ζ_v; then the paper's iteration.
+    let via = |i: usize| ViaParams {
+        q0: 0.1f32,
+        theta_v: spread(i, -0.3, 0.95),
+        sf: 0.8,
+        tv: 1.5,
+        ts: 3.0,
+        a: 1.0,
+        n: 2.0,
+        av: 0.5,
+        nv: 3.0,
+    };
+    b.run("via_solve", via, |p| {
+        ViaPlan::new(p).map(|v| (v.sv(), v.zeta(), v.zeta_v())).ok()
+    });
+    let mut iters = [0u32; REPS];
+    b.run("via_paper", via, |p| iterate_paper(p, 1e-5, 200).ok());
+    for (i, it) in iters.iter_mut().enumerate() {
+        *it = iterate_paper(&via(i), 1e-5, 200).map_or(u32::MAX, |r| u32::from(r.iterations));
+    }
+    b.counts("via_paper_iterations", &mut iters);
+
+    accuracy_dump(&mut b);
+
+    let _ = uwriteln!(b.serial, "S {} {}", stack::high_water(), stack::free_now());
+    let _ = uwriteln!(b.serial, "done");
+    b.serial.flush();
+    halt()
+}
+
+/// Map a touch, solve the pose, plan the move from the start pose.
+#[inline(never)]
+fn plan_move(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f32) -> Option<MultiPlan<f32>> {
+    let p = cal.map::<f32>(rx, ry).ok()?;
+    let pose = pose_for_point(geo, p.x_p, p.y_p).ok()?;
+    let n = 2.0f32;
+    let a = smooth_stop_a(ts, n)?;
+    let target = [pose.alpha, pose.q2, pose.q3];
+    MultiPlan::new(&START, &target, &ShapeParams { ts, a, n }).ok()
+}
+
+/// On-chip results for the runner to check: `E` lines (exp, expm1 on a
+/// sweep, to compare bit for bit with the host) and `A` lines (G, G′ and the
+/// printed ζ form's G over a parameter sweep, to compare with f64).
+fn accuracy_dump(b: &mut Bench) {
+    for i in 0..=120u8 {
+        // −90 … 90 in steps of 1.5, then ±2^-k for small arguments.
+        let x = -90.0 + 1.5 * f32::from(i);
+        let _ = uwriteln!(b.serial, "E {} {} {}", x.to_bits(), x.exp().to_bits(), x.expm1().to_bits());
+    }
+    let mut x = 0.9f32;
+    for _ in 0..30 {
+        for v in [x, -x] {
+            let _ = uwriteln!(b.serial, "E {} {} {}", v.to_bits(), v.exp().to_bits(), v.expm1().to_bits());
+        }
+        x *= 0.43;
+    }
+    let tss = [0.2f32, 0.7, 1.0, 2.0, 3.5, 6.0, 10.0];
+    let ns = [1.1f32, 2.0, 7.0, 30.0, 100.0];
+    let margins = [0.01f32, 0.3, 2.0];
+    for &ts in tss.iter() {
+        for &n in ns.iter() {
+            for &m in margins.iter() {
+                let ps = ShapeParams { ts, a: touch_arm::zat::u_min(ts) - m, n };
+                let Ok(s) = Shape::new(&ps) else { continue };
+                if !s.is_monotone() {
+                    continue;
+                }
+                let pj = PaperJoint {
+                    q0: 0.0,
+                    sf: 1.0,
+                    zeta: zeta(&ZatParams { q0: 0.0, sf: 1.0, ts, a: ps.a, n }).unwrap_or(f32::INFINITY),
+                };
+                for k in 1..=8u8 {
+                    let t = ts * f32::from(k) / 8.0;
+                    let (g, r) = s.g_rate(t);
+                    let pg = paper_position(&pj, &ps, t);
+                    let _ = uwriteln!(
+                        b.serial,
+                        "A {} {} {} {} {} {} {}",
+                        ps.ts.to_bits(),
+                        ps.a.to_bits(),
+                        ps.n.to_bits(),
+                        t.to_bits(),
+                        g.to_bits(),
+                        r.to_bits(),
+                        pg.to_bits()
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Stops for good: interrupts off, CPU asleep (simavr ends the run).
+fn halt() -> ! {
+    avr_device::interrupt::disable();
+    // SAFETY: single-threaded; only the sleep control register is touched.
+    let dp = unsafe { pac::Peripherals::steal() };
+    dp.CPU.smcr().write(|w| w.se().set_bit());
+    loop {
+        avr_device::asm::sleep();
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    avr_device::interrupt::disable();
+    // SAFETY: the run is dead; reclaim USART0 to say so.
+    let dp = unsafe { pac::Peripherals::steal() };
+    let mut serial = Usart0::new(dp.USART0);
+    let _ = uwriteln!(serial, "PANIC");
+    serial.flush();
+    halt()
+}
