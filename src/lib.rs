@@ -1,6 +1,8 @@
 //! touch-arm core: pure, `no_std` logic shared by the ATmega2560 firmware (f32)
 //! and the desktop tool `armsim` (f64).
 #![no_std]
+// The board layer's interrupt handlers use the AVR interrupt calling convention.
+#![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
 
 #[cfg(target_arch = "avr")]
 pub mod board;
