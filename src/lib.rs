@@ -3,6 +3,8 @@
 #![no_std]
 // f32_exp's 16×16 multiply is inline assembly on the chip.
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
+// The board layer's interrupt handlers use the AVR interrupt calling convention.
+#![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
 
 #[cfg(target_arch = "avr")]
 pub mod board;

@@ -114,3 +114,16 @@ fn sanitize(l: TickLimits) -> TickLimits {
     let max = l.max.min(TOP).max(min);
     TickLimits { min, max }
 }
+
+impl crate::seam::ServoOutputs for ServoPwm {
+    /// µs to 0.5 µs ticks (saturating), then `set`'s per-channel clamp.
+    fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
+        for (ch, &us) in pulses_us.iter().enumerate() {
+            self.set(ch, us.saturating_mul(2));
+        }
+    }
+
+    fn disable(&mut self) {
+        self.disable_all();
+    }
+}

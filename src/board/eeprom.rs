@@ -1,0 +1,104 @@
+//! The 4 KiB internal EEPROM as [`Storage`].
+//!
+//! Writes use the atomic erase-and-write mode (3.4 ms per byte) and skip bytes
+//! that already hold the value: a cell survives ~100 000 writes, and a config
+//! save usually changes a few bytes of its record. A byte write also feeds
+//! the watchdog, because a whole 90-byte record can take ~300 ms, longer than
+//! the watchdog timeout; every wait here is bounded, so this cannot hide a
+//! hang.
+
+use avr_device::atmega2560::EEPROM;
+
+use crate::config_store::{Storage, StorageError};
+
+use super::delay_us;
+use super::watchdog;
+
+pub const EEPROM_SIZE: u16 = 4096;
+
+/// Polls of EEPE, ≥ 1 µs apart, before the EEPROM counts as stuck: ≥ 10 ms
+/// against 3.4 ms for a write.
+const MAX_POLLS: u16 = 10_000;
+
+pub struct Eeprom {
+    regs: EEPROM,
+}
+
+impl Eeprom {
+    pub fn new(regs: EEPROM) -> Self {
+        Self { regs }
+    }
+
+    /// Waits for a running write to finish (EEAR and EEDR must not change
+    /// while it runs).
+    fn wait_ready(&mut self) -> Result<(), StorageError> {
+        for _ in 0..MAX_POLLS {
+            if self.regs.eecr().read().eepe().bit_is_clear() {
+                return Ok(());
+            }
+            delay_us(1);
+        }
+        Err(StorageError::Device)
+    }
+
+    pub fn read_byte(&mut self, addr: u16) -> Result<u8, StorageError> {
+        if addr >= EEPROM_SIZE {
+            return Err(StorageError::OutOfRange);
+        }
+        self.wait_ready()?;
+        self.regs.eear().write(|w| w.set(addr));
+        // EERE halts the CPU for 4 cycles and leaves the byte in EEDR.
+        self.regs.eecr().write(|w| w.eere().set_bit());
+        Ok(self.regs.eedr().read().bits())
+    }
+
+    /// Writes one byte unless it already holds `value`. Returns once the
+    /// write has started (the next access waits for it to finish).
+    pub fn write_byte(&mut self, addr: u16, value: u8) -> Result<(), StorageError> {
+        if self.read_byte(addr)? == value {
+            return Ok(());
+        }
+        watchdog::feed();
+        self.wait_ready()?;
+        avr_device::interrupt::free(|_| {
+            self.regs.eear().write(|w| w.set(addr));
+            self.regs.eedr().write(|w| w.set(value));
+            // EEPE must follow EEMPE within 4 cycles (an interrupt in between
+            // would void the write, hence the critical section). EEPM = 00:
+            // erase and write in one operation.
+            self.regs.eecr().write(|w| w.eempe().set_bit());
+            self.regs.eecr().write(|w| w.eempe().set_bit().eepe().set_bit());
+        });
+        Ok(())
+    }
+}
+
+/// `addr .. addr + len` must lie inside the EEPROM.
+fn check_range(addr: u16, len: usize) -> Result<(), StorageError> {
+    match (addr as usize).checked_add(len) {
+        Some(end) if end <= EEPROM_SIZE as usize => Ok(()),
+        _ => Err(StorageError::OutOfRange),
+    }
+}
+
+impl Storage for Eeprom {
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
+        check_range(addr, buf.len())?;
+        let mut a = addr;
+        for slot in buf.iter_mut() {
+            *slot = self.read_byte(a)?;
+            a = a.wrapping_add(1);
+        }
+        Ok(())
+    }
+
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
+        check_range(addr, data.len())?;
+        let mut a = addr;
+        for &b in data {
+            self.write_byte(a, b)?;
+            a = a.wrapping_add(1);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,211 @@
+//! GPIO pins of the ATmega2560 addressed by (port, bit), and the Arduino Mega
+//! names of the shield signals (SPEC §8).
+//!
+//! A [`Pin`] is only a descriptor (two bytes, `Copy`). Its register accessors
+//! are crate-private: the right to change a pin comes from owning the PAC port
+//! peripheral, and the shield's ports E, F, G and H are owned by
+//! [`ShieldBus`](super::touch::ShieldBus). So nothing outside the board layer
+//! can reach a shared LCD/touch pin except through the bus.
+//!
+//! Every read-modify-write of DDRx/PORTx runs with interrupts disabled. Ports
+//! H, J, K and L live in extended I/O space where no `sbi`/`cbi` exists, so
+//! even a single-bit change is a load/modify/store that an interrupt touching
+//! the same port could otherwise undo; on ports A–G the compiler might emit
+//! `sbi`/`cbi` for constant pins, but the pins here are runtime values.
+
+use core::ptr::{read_volatile, write_volatile};
+
+/// The eleven GPIO ports of the ATmega2560 (there is no port I).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Port {
+    A,
+    B,
+    C,
+    D,
+    E,
+    F,
+    G,
+    H,
+    J,
+    K,
+    L,
+}
+
+impl Port {
+    /// Data-space address of PINx; DDRx and PORTx follow at +1 and +2.
+    const fn pin_reg(self) -> usize {
+        match self {
+            Port::A => 0x20,
+            Port::B => 0x23,
+            Port::C => 0x26,
+            Port::D => 0x29,
+            Port::E => 0x2C,
+            Port::F => 0x2F,
+            Port::G => 0x32,
+            Port::H => 0x100,
+            Port::J => 0x103,
+            Port::K => 0x106,
+            Port::L => 0x109,
+        }
+    }
+}
+
+/// The four states a pin can be in: the (DDR, PORT) bit pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PinMode {
+    /// DDR 0, PORT 0: high impedance, no pull-up (what an ADC input needs).
+    Floating,
+    /// DDR 0, PORT 1.
+    PullUp,
+    /// DDR 1, PORT 0.
+    OutputLow,
+    /// DDR 1, PORT 1.
+    OutputHigh,
+}
+
+impl PinMode {
+    const fn from_bits(ddr: bool, port: bool) -> PinMode {
+        match (ddr, port) {
+            (false, false) => PinMode::Floating,
+            (false, true) => PinMode::PullUp,
+            (true, false) => PinMode::OutputLow,
+            (true, true) => PinMode::OutputHigh,
+        }
+    }
+    const fn is_output(self) -> bool {
+        matches!(self, PinMode::OutputLow | PinMode::OutputHigh)
+    }
+    const fn port_bit(self) -> bool {
+        matches!(self, PinMode::PullUp | PinMode::OutputHigh)
+    }
+}
+
+/// One GPIO pin: a port and a bit number 0..=7.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pin {
+    port: Port,
+    bit: u8,
+}
+
+impl Pin {
+    /// `bit` is taken modulo 8.
+    pub const fn new(port: Port, bit: u8) -> Pin {
+        Pin { port, bit: bit & 7 }
+    }
+
+    pub const fn port(self) -> Port {
+        self.port
+    }
+
+    pub const fn bit(self) -> u8 {
+        self.bit
+    }
+
+    const fn mask(self) -> u8 {
+        1 << self.bit
+    }
+
+    /// The ADC channel on this pin: PF0..PF7 are ADC0..7 (A0..A7), PK0..PK7
+    /// are ADC8..15 (A8..A15).
+    pub const fn adc_channel(self) -> Option<u8> {
+        match self.port {
+            Port::F => Some(self.bit),
+            Port::K => Some(8 + self.bit),
+            _ => None,
+        }
+    }
+
+    /// The pin's current (DDR, PORT) state.
+    pub(crate) fn mode(self) -> PinMode {
+        let base = self.port.pin_reg();
+        avr_device::interrupt::free(|_| {
+            // SAFETY: fixed, always-mapped I/O registers of the ATmega2560;
+            // byte-wide volatile access is their defined interface.
+            let (ddr, port) = unsafe {
+                (read_volatile((base + 1) as *const u8), read_volatile((base + 2) as *const u8))
+            };
+            PinMode::from_bits(ddr & self.mask() != 0, port & self.mask() != 0)
+        })
+    }
+
+    /// Puts the pin into `mode` without passing through a state that drives
+    /// the wrong level: becoming an output, PORT is written first (so the pin
+    /// starts driving the intended level, at worst after a moment of pull-up);
+    /// becoming an input, DDR is cleared first (so it stops driving before the
+    /// pull-up setting changes). An LCD strobe line (WR, CS) therefore never
+    /// sees a spurious low pulse from a mode change.
+    pub(crate) fn set_mode(self, mode: PinMode) {
+        let base = self.port.pin_reg();
+        let ddr_reg = (base + 1) as *mut u8;
+        let port_reg = (base + 2) as *mut u8;
+        let m = self.mask();
+        avr_device::interrupt::free(|_| {
+            // SAFETY: see `mode`; only this pin's bit changes.
+            unsafe {
+                let port = read_volatile(port_reg);
+                let port = if mode.port_bit() { port | m } else { port & !m };
+                let ddr = read_volatile(ddr_reg);
+                if mode.is_output() {
+                    write_volatile(port_reg, port);
+                    write_volatile(ddr_reg, ddr | m);
+                } else {
+                    write_volatile(ddr_reg, ddr & !m);
+                    write_volatile(port_reg, port);
+                }
+            }
+        });
+    }
+
+    /// Sets the PORT bit (drives the level if the pin is an output).
+    pub(crate) fn write(self, high: bool) {
+        let port_reg = (self.port.pin_reg() + 2) as *mut u8;
+        let m = self.mask();
+        avr_device::interrupt::free(|_| {
+            // SAFETY: see `mode`; only this pin's bit changes.
+            unsafe {
+                let v = read_volatile(port_reg);
+                write_volatile(port_reg, if high { v | m } else { v & !m });
+            }
+        });
+    }
+}
+
+/// Arduino Mega 2560 names of the pins the UNO-form TFT shield uses.
+pub mod mega {
+    use super::{Pin, Port};
+
+    /// A0 = PF0: LCD_RD.
+    pub const A0: Pin = Pin::new(Port::F, 0);
+    /// A1 = PF1: LCD_WR.
+    pub const A1: Pin = Pin::new(Port::F, 1);
+    /// A2 = PF2: LCD_RS (command/data).
+    pub const A2: Pin = Pin::new(Port::F, 2);
+    /// A3 = PF3: LCD_CS.
+    pub const A3: Pin = Pin::new(Port::F, 3);
+    /// A4 = PF4: LCD_RST.
+    pub const A4: Pin = Pin::new(Port::F, 4);
+    /// D2 = PE4: LCD_D2.
+    pub const D2: Pin = Pin::new(Port::E, 4);
+    /// D3 = PE5: LCD_D3.
+    pub const D3: Pin = Pin::new(Port::E, 5);
+    /// D4 = PG5: LCD_D4.
+    pub const D4: Pin = Pin::new(Port::G, 5);
+    /// D5 = PE3: LCD_D5.
+    pub const D5: Pin = Pin::new(Port::E, 3);
+    /// D6 = PH3: LCD_D6.
+    pub const D6: Pin = Pin::new(Port::H, 3);
+    /// D7 = PH4: LCD_D7.
+    pub const D7: Pin = Pin::new(Port::H, 4);
+    /// D8 = PH5: LCD_D0.
+    pub const D8: Pin = Pin::new(Port::H, 5);
+    /// D9 = PH6: LCD_D1.
+    pub const D9: Pin = Pin::new(Port::H, 6);
+
+    pub const LCD_RD: Pin = A0;
+    pub const LCD_WR: Pin = A1;
+    pub const LCD_RS: Pin = A2;
+    pub const LCD_CS: Pin = A3;
+    pub const LCD_RST: Pin = A4;
+    /// LCD data bits D0..D7 in bit order.
+    pub const LCD_DATA: [Pin; 8] = [D8, D9, D2, D3, D4, D5, D6, D7];
+}

@@ -1,0 +1,158 @@
+//! The shield's pins: LCD mode by default, lent to the touch panel on demand.
+//!
+//! The resistive panel shares four pins with the LCD (SPEC §8): two analog
+//! ones among LCD_WR/RS/CS (A1..A3) and two data lines. To read the panel they
+//! are driven and floated in ways the LCD must never see as bus traffic, and
+//! afterwards every one of them has to be back exactly as it was: an LCD pin
+//! left as an input floats, and the controller then latches noise (a white or
+//! corrupt screen), or a strobe left low clocks garbage into it.
+//!
+//! [`ShieldBus`] owns the PAC peripherals of ports E, F, G and H, so it is the
+//! only code that can change these pins. Outside [`ShieldBus::with_touch`]
+//! they are in LCD mode, and the only touch-mode handle ([`TouchPins`]) exists
+//! inside that call, which restores all 13 pins before it returns. A caller
+//! holding the bus therefore cannot observe touch mode, and drawing (which
+//! needs `&mut ShieldBus`) cannot overlap a touch read.
+
+use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
+
+use super::adc::Adc;
+use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
+use super::gpio::{Pin, PinMode};
+use super::touch::{TouchPins, TouchReader, TouchWiring};
+
+/// Every LCD pin, in the order they are restored after a touch read: data and
+/// RS first, then the RD/WR strobes, chip select last. Had CS been left active
+/// by the display code, re-selecting the chip only after WR is back at its
+/// idle level keeps a WR edge from the panel read from becoming a write.
+const RESTORE_ORDER: [Pin; 13] = [
+    LCD_RST, LCD_RS, LCD_DATA[0], LCD_DATA[1], LCD_DATA[2], LCD_DATA[3], LCD_DATA[4], LCD_DATA[5],
+    LCD_DATA[6], LCD_DATA[7], LCD_RD, LCD_WR, LCD_CS,
+];
+
+/// Pins the panel may use: only these are owned (through their ports) and
+/// saved/restored by the bus.
+pub(crate) const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
+
+/// A control line of the LCD.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LcdLine {
+    Rd,
+    Wr,
+    Rs,
+    Cs,
+    Rst,
+}
+
+impl LcdLine {
+    const fn pin(self) -> Pin {
+        match self {
+            LcdLine::Rd => LCD_RD,
+            LcdLine::Wr => LCD_WR,
+            LcdLine::Rs => LCD_RS,
+            LcdLine::Cs => LCD_CS,
+            LcdLine::Rst => LCD_RST,
+        }
+    }
+}
+
+/// Data bit k of the LCD bus on port E: PE4 = D2, PE5 = D3, PE3 = D5.
+const E_MASK: u8 = 0b0011_1000;
+/// PG5 = D4.
+const G_MASK: u8 = 0b0010_0000;
+/// PH5 = D0, PH6 = D1, PH3 = D6, PH4 = D7.
+const H_MASK: u8 = 0b0111_1000;
+
+/// Owner of the shield's LCD/touch pins, in LCD mode.
+pub struct ShieldBus {
+    e: PORTE,
+    // Held for ownership only: ports F and G pins go through `Pin`, and
+    // nothing else may reach them.
+    _f: PORTF,
+    g: PORTG,
+    h: PORTH,
+}
+
+impl ShieldBus {
+    /// Takes the shield ports and puts all 13 LCD pins in LCD mode: outputs,
+    /// CS/RD/WR/RST at their inactive high level, RS high (data), D0..D7 low.
+    /// CS goes first so the controller is deselected before anything moves.
+    pub fn new(e: PORTE, f: PORTF, g: PORTG, h: PORTH) -> Self {
+        for p in [LCD_CS, LCD_RD, LCD_WR, LCD_RST, LCD_RS] {
+            p.set_mode(PinMode::OutputHigh);
+        }
+        for p in LCD_DATA {
+            p.set_mode(PinMode::OutputLow);
+        }
+        Self { e, _f: f, g, h }
+    }
+
+    /// Sets an LCD control line.
+    pub fn set_line(&mut self, line: LcdLine, high: bool) {
+        line.pin().write(high);
+    }
+
+    /// Puts `byte` on LCD D0..D7 (bit k on data line k). Each of the three
+    /// ports is changed with one masked store, all inside one critical section.
+    pub fn write_data(&mut self, byte: u8) {
+        let b = |k: u8, to: u8| ((byte >> k) & 1) << to;
+        let e = b(2, 4) | b(3, 5) | b(5, 3);
+        let g = b(4, 5);
+        let h = b(0, 5) | b(1, 6) | b(6, 3) | b(7, 4);
+        avr_device::interrupt::free(|_| {
+            // SAFETY: any bit pattern is valid in PORTx; bits outside the
+            // masks keep their values.
+            self.e.porte().modify(|r, w| unsafe { w.bits((r.bits() & !E_MASK) | e) });
+            self.g.portg().modify(|r, w| unsafe { w.bits((r.bits() & !G_MASK) | g) });
+            self.h.porth().modify(|r, w| unsafe { w.bits((r.bits() & !H_MASK) | h) });
+        });
+    }
+
+    /// Lends the panel pins to `f` and hands them back in LCD mode.
+    ///
+    /// Before `f` runs, the (DDR, PORT) state of all 13 LCD pins is saved and
+    /// the controller is idled: CS, RD and WR are driven high unless the
+    /// wiring uses that line for the panel, so panel traffic on the others is
+    /// ignored. After `f` returns, every pin is put back exactly as saved
+    /// (see `RESTORE_ORDER`), whatever `f` did. `TouchPins` cannot outlive
+    /// the call, so touch mode is never visible outside it. (Panics abort the
+    /// firmware, so there is no unwinding path that skips the restore.)
+    pub fn with_touch<R>(
+        &mut self,
+        adc: &mut Adc,
+        wiring: &TouchWiring,
+        f: impl FnOnce(&mut TouchPins<'_>) -> R,
+    ) -> R {
+        let saved = snapshot();
+        for p in [LCD_CS, LCD_RD, LCD_WR] {
+            if !wiring.uses(p) {
+                p.set_mode(PinMode::OutputHigh);
+            }
+        }
+        let r = f(&mut TouchPins::lend(adc, wiring));
+        restore(&saved);
+        r
+    }
+
+    /// A [`TouchPanel`](crate::seam::TouchPanel) over this bus: each `read`
+    /// is one `with_touch` call.
+    pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: &'a TouchWiring) -> TouchReader<'a> {
+        TouchReader::new(self, adc, wiring)
+    }
+
+    /// The current state of the 13 LCD pins in `RESTORE_ORDER` (for
+    /// self-tests: it must be identical before and after a touch read).
+    pub fn pin_modes(&self) -> [PinMode; 13] {
+        snapshot()
+    }
+}
+
+fn snapshot() -> [PinMode; 13] {
+    RESTORE_ORDER.map(|p| p.mode())
+}
+
+fn restore(saved: &[PinMode; 13]) {
+    for (p, m) in RESTORE_ORDER.iter().zip(saved.iter()) {
+        p.set_mode(*m);
+    }
+}

@@ -1,0 +1,238 @@
+//! Reading the 4-wire resistive panel on the pins it shares with the LCD.
+//!
+//! The wiring (which shield pin is X+, X−, Y+, Y−) differs between shields,
+//! so it is configuration: [`TouchWiring`] with the three variants of SPEC §8.
+//! X− and Y+ must be analog pins (A1..A3 on these shields = ADC1..3).
+//!
+//! One measurement (SPEC §8), each after [`PANEL_SETTLE_US`]:
+//! - X: XP high, XM low, YP/YM floating; the Y plate picks up the X-plate
+//!   voltage at the touch point: ADC on YP.
+//! - Y: YP high, YM low, XP/XM floating: ADC on XM.
+//! - pressure: XP low, YM high, XM/YP floating: z1 on XM, z2 on YP, combined
+//!   by [`pressure`]. Untouched, the plates do not meet, XM sits at XP's 0 V
+//!   and YP at YM's 5 V: z1 ≈ 0, z2 ≈ 1023, z ≈ 0.
+//!
+//! Floating means input without pull-up: a pull-up would add a 20–50 kΩ
+//! source to the plate and bias the reading.
+//!
+//! The pins are only reachable through [`ShieldBus::with_touch`], which saves
+//! and restores them; see `shield.rs` for why that matters.
+
+use crate::seam::TouchPanel;
+use crate::touch_filter::{pressure, RawSample};
+
+use super::adc::{Adc, AdcError};
+use super::delay_us;
+use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9};
+use super::gpio::{Pin, PinMode};
+use super::shield::{ShieldBus, SHIELD_PINS};
+
+/// Wait after switching the drive pins, before sampling. The plates are a few
+/// hundred ohms and the floating one reaches the ADC through the contact
+/// resistance (up to a few kΩ) against the 14 pF sample-and-hold: the
+/// electrical time constant is well under 1 µs. 20 µs also covers shields
+/// that put small filter capacitors on the lines, and is cheap next to the
+/// 104 µs of a conversion.
+pub const PANEL_SETTLE_US: u32 = 20;
+
+/// Which shield pins carry the panel's four electrodes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TouchWiring {
+    xp: Pin,
+    xm: Pin,
+    yp: Pin,
+    ym: Pin,
+    xm_channel: u8,
+    yp_channel: u8,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WiringError {
+    /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
+    NotShieldPin,
+    /// X− or Y+ has no ADC channel.
+    NotAnalog,
+    /// The same pin is named twice.
+    Duplicate,
+}
+
+const fn same(a: Pin, b: Pin) -> bool {
+    a.bit() == b.bit() && a.port() as u8 == b.port() as u8
+}
+
+const fn is_shield_pin(p: Pin) -> bool {
+    let mut i = 0;
+    while i < SHIELD_PINS.len() {
+        if same(p, SHIELD_PINS[i]) {
+            return true;
+        }
+        i += 1;
+    }
+    false
+}
+
+/// Unwraps a preset at compile time (an invalid preset fails the build).
+const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
+    match w {
+        Ok(w) => w,
+        Err(_) => panic!("invalid touch wiring preset"),
+    }
+}
+
+impl TouchWiring {
+    /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
+    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
+    /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
+    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
+    /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
+    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+
+    /// Checks that all four are distinct shield pins and X−, Y+ are analog.
+    pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {
+        if !(is_shield_pin(xp) && is_shield_pin(xm) && is_shield_pin(yp) && is_shield_pin(ym)) {
+            return Err(WiringError::NotShieldPin);
+        }
+        if same(xp, xm) || same(xp, yp) || same(xp, ym) || same(xm, yp) || same(xm, ym) || same(yp, ym) {
+            return Err(WiringError::Duplicate);
+        }
+        match (xm.adc_channel(), yp.adc_channel()) {
+            (Some(xm_channel), Some(yp_channel)) => {
+                Ok(TouchWiring { xp, xm, yp, ym, xm_channel, yp_channel })
+            }
+            _ => Err(WiringError::NotAnalog),
+        }
+    }
+
+    /// Preset by index: 0 = (a), 1 = (b), 2 = (c).
+    pub const fn preset(index: u8) -> Option<TouchWiring> {
+        match index {
+            0 => Some(TouchWiring::A),
+            1 => Some(TouchWiring::B),
+            2 => Some(TouchWiring::C),
+            _ => None,
+        }
+    }
+
+    pub const fn xp(&self) -> Pin {
+        self.xp
+    }
+    pub const fn xm(&self) -> Pin {
+        self.xm
+    }
+    pub const fn yp(&self) -> Pin {
+        self.yp
+    }
+    pub const fn ym(&self) -> Pin {
+        self.ym
+    }
+
+    /// True if `p` is one of the four panel pins.
+    pub fn uses(&self, p: Pin) -> bool {
+        p == self.xp || p == self.xm || p == self.yp || p == self.ym
+    }
+}
+
+/// The two raw pressure readings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PressurePair {
+    /// On XM.
+    pub z1: u16,
+    /// On YP.
+    pub z2: u16,
+}
+
+/// The panel pins while they are lent out by [`ShieldBus::with_touch`]; only
+/// exists inside that call.
+pub struct TouchPins<'a> {
+    adc: &'a mut Adc,
+    wiring: &'a TouchWiring,
+}
+
+impl<'a> TouchPins<'a> {
+    pub(super) fn lend(adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
+        Self { adc, wiring }
+    }
+
+    /// Floats two pins first (so no two plates are ever driven against each
+    /// other through the contact point), then drives the pair, then waits.
+    fn drive(high: Pin, low: Pin, float_a: Pin, float_b: Pin) {
+        float_a.set_mode(PinMode::Floating);
+        float_b.set_mode(PinMode::Floating);
+        high.set_mode(PinMode::OutputHigh);
+        low.set_mode(PinMode::OutputLow);
+        delay_us(PANEL_SETTLE_US);
+    }
+
+    /// X position in ADC counts.
+    pub fn read_x(&mut self) -> Result<u16, AdcError> {
+        let w = self.wiring;
+        Self::drive(w.xp, w.xm, w.yp, w.ym);
+        self.adc.read(w.yp_channel)
+    }
+
+    /// Y position in ADC counts.
+    pub fn read_y(&mut self) -> Result<u16, AdcError> {
+        let w = self.wiring;
+        Self::drive(w.yp, w.ym, w.xp, w.xm);
+        self.adc.read(w.xm_channel)
+    }
+
+    /// z1 (XM) and z2 (YP) with XP low and YM high.
+    pub fn read_pressure(&mut self) -> Result<PressurePair, AdcError> {
+        let w = self.wiring;
+        Self::drive(w.ym, w.xp, w.xm, w.yp);
+        let z1 = self.adc.read(w.xm_channel)?;
+        let z2 = self.adc.read(w.yp_channel)?;
+        Ok(PressurePair { z1, z2 })
+    }
+
+    /// One X, Y, pressure triple, taken back to back so the three belong to
+    /// the same finger position.
+    pub fn sample(&mut self) -> Result<RawSample, AdcError> {
+        let x = self.read_x()?;
+        let y = self.read_y()?;
+        let p = self.read_pressure()?;
+        Ok(RawSample { x, y, z: pressure(p.z1, p.z2) })
+    }
+
+    /// Fills `out` with consecutive samples; stops at the first ADC fault and
+    /// returns how many were filled.
+    pub fn fill(&mut self, out: &mut [RawSample]) -> usize {
+        let mut n = 0;
+        for slot in out.iter_mut() {
+            match self.sample() {
+                Ok(s) => *slot = s,
+                Err(_) => break,
+            }
+            n += 1;
+        }
+        n
+    }
+}
+
+/// Inside `with_touch`: the restore happens when that call returns.
+impl TouchPanel for TouchPins<'_> {
+    fn read(&mut self, out: &mut [RawSample]) -> usize {
+        self.fill(out)
+    }
+}
+
+/// [`TouchPanel`] for the app: borrows the bus and the ADC for as long as it
+/// lives; every `read` lends the pins and restores them before returning.
+pub struct TouchReader<'a> {
+    bus: &'a mut ShieldBus,
+    adc: &'a mut Adc,
+    wiring: &'a TouchWiring,
+}
+
+impl<'a> TouchReader<'a> {
+    pub fn new(bus: &'a mut ShieldBus, adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
+        Self { bus, adc, wiring }
+    }
+}
+
+impl TouchPanel for TouchReader<'_> {
+    fn read(&mut self, out: &mut [RawSample]) -> usize {
+        self.bus.with_touch(self.adc, self.wiring, |p| p.fill(out))
+    }
+}
