@@ -19,8 +19,7 @@ done
 echo "== running the bench in simavr"
 RAW=$(mktemp)
 trap 'rm -f "$RAW"' EXIT
-timeout 300 simavr -m atmega2560 -f 16000000 "$BENCH" >"$RAW" 2>&1 || true
-grep -q "done" "$RAW" || { echo "bench did not finish:"; tail -20 "$RAW"; exit 1; }
+cargo run --release -q -p hal-sim --bin avr-run -- "$BENCH" 300 >"$RAW" || { echo "bench did not finish:"; tail -20 "$RAW"; exit 1; }
 
 python3 - "$RAW" "$FW" "$BENCH" "$OUT" <<'PY'
 import math, re, struct, subprocess, sys

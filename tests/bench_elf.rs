@@ -8,71 +8,25 @@
 //! `cargo test` runs; `TOUCH_ARM_BENCH_ELF` overrides its path.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
-use std::process::Command;
 use std::sync::OnceLock;
+use hal_sim::firmware;
 use touch_arm::f32_exp;
 
 /// Issue target for one 50 Hz frame of 3 joints (0.5 ms at 16 MHz).
 const FRAME_BUDGET_CYCLES: u32 = 8_000;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bench_elf() -> PathBuf {
-    if let Some(p) = std::env::var_os("TOUCH_ARM_BENCH_ELF") {
-        return PathBuf::from(p);
-    }
-    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root().join("target"));
-    let elf = target.join("avr-none/release/bench.elf");
-    assert!(elf.exists(), "{} missing: build it with `cargo avr-bench` (scripts/test.sh does)", elf.display());
-    elf
-}
-
-/// `__budget_<name> = <n>K;` or `= <n>;` from memory.x.
 fn budget(name: &str) -> u64 {
-    let text = std::fs::read_to_string(root().join("memory.x")).expect("memory.x");
-    let key = format!("__budget_{name}");
-    let line = text.lines().find(|l| l.trim_start().starts_with(&key)).unwrap();
-    let value = line.split('=').nth(1).unwrap().split(';').next().unwrap().trim();
-    match value.strip_suffix('K') {
-        Some(k) => k.parse::<u64>().unwrap() * 1024,
-        None => value.parse().unwrap(),
-    }
+    firmware::budget(name).unwrap()
 }
 
-/// The firmware's UART lines (simavr's colour codes and newline marks removed).
+/// The bench firmware's UART lines, from one run in the simavr harness.
 fn output() -> &'static Vec<String> {
     static OUT: OnceLock<Vec<String>> = OnceLock::new();
     OUT.get_or_init(|| {
-        let out = Command::new("timeout")
-            .args(["300", "simavr", "-m", "atmega2560", "-f", "16000000"])
-            .arg(bench_elf())
-            .output()
-            .expect("simavr (apt package simavr; scripts/setup.sh installs it)");
-        let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
-        let lines: Vec<String> = text
-            .lines()
-            .map(|l| {
-                let mut s = String::new();
-                let mut chars = l.chars().peekable();
-                while let Some(c) = chars.next() {
-                    if c == '\u{1b}' {
-                        // ESC [ ... m
-                        for d in chars.by_ref() {
-                            if d == 'm' {
-                                break;
-                            }
-                        }
-                    } else {
-                        s.push(c);
-                    }
-                }
-                s.trim_end_matches('.').trim().to_string()
-            })
-            .collect();
-        assert!(lines.iter().any(|l| l == "done"), "bench firmware did not finish:\n{}", lines.join("\n"));
+        let elf = firmware::bench_elf();
+        assert!(elf.exists(), "{} missing: build it with `cargo avr-bench` (scripts/test.sh does)", elf.display());
+        let text = firmware::run_to_done(&elf, 300.0).unwrap();
+        let lines: Vec<String> = text.lines().map(|l| l.trim().to_string()).collect();
         assert!(!lines.iter().any(|l| l.starts_with("PANIC")), "bench firmware panicked");
         lines
     })

@@ -6,35 +6,20 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use hal_sim::firmware;
+
 fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    firmware::workspace_root()
 }
 
 fn firmware_elf() -> PathBuf {
-    let elf = std::env::var_os("TOUCH_ARM_ELF")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("target/avr-none/release/touch-arm.elf"));
-    assert!(
-        elf.exists(),
-        "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
-        elf.display()
-    );
+    let elf = firmware::default_elf();
+    assert!(elf.exists(), "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)", elf.display());
     elf
 }
 
-/// `__budget_<name> = <n>K;` or `= <n>;` from memory.x.
 fn budget(name: &str) -> u64 {
-    let text = std::fs::read_to_string(root().join("memory.x")).expect("memory.x");
-    let key = format!("__budget_{name}");
-    let line = text
-        .lines()
-        .find(|l| l.trim_start().starts_with(&key))
-        .unwrap_or_else(|| panic!("memory.x has no {key}"));
-    let value = line.split('=').nth(1).unwrap().split(';').next().unwrap().trim();
-    match value.strip_suffix('K') {
-        Some(k) => k.parse::<u64>().unwrap() * 1024,
-        None => value.parse().unwrap(),
-    }
+    firmware::budget(name).unwrap()
 }
 
 /// Section sizes from `avr-size -A`.

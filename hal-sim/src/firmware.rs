@@ -9,11 +9,54 @@ use crate::avr::{Avr, Error};
 pub const MCU: &str = "atmega2560";
 pub const CPU_HZ: u32 = 16_000_000;
 
-/// `target/avr-none/release/touch-arm.elf` of this workspace, or `TOUCH_ARM_ELF`.
+/// The workspace root (where memory.x and target/ live).
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// An AVR release ELF of this workspace: `$CARGO_TARGET_DIR` (or target/)
+/// `/avr-none/release/<name>.elf`, or the path in the override variable.
+fn avr_elf(name: &str, override_var: &str) -> PathBuf {
+    if let Some(p) = std::env::var_os(override_var) {
+        return PathBuf::from(p);
+    }
+    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
+    target.join("avr-none/release").join(format!("{name}.elf"))
+}
+
+/// The product firmware (`cargo avr`), or `TOUCH_ARM_ELF`.
 pub fn default_elf() -> PathBuf {
-    std::env::var_os("TOUCH_ARM_ELF").map(PathBuf::from).unwrap_or_else(|| {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/avr-none/release/touch-arm.elf")
-    })
+    avr_elf("touch-arm", "TOUCH_ARM_ELF")
+}
+
+/// The benchmark firmware (`cargo avr-bench`), or `TOUCH_ARM_BENCH_ELF`.
+pub fn bench_elf() -> PathBuf {
+    avr_elf("bench", "TOUCH_ARM_BENCH_ELF")
+}
+
+/// A budget from memory.x: `__budget_<name> = <n>K;` or `= <n>;`, in bytes.
+pub fn budget(name: &str) -> Result<u64, String> {
+    let path = workspace_root().join("memory.x");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let key = format!("__budget_{name}");
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with(&key))
+        .ok_or_else(|| format!("memory.x has no {key}"))?;
+    let value = line.split('=').nth(1).and_then(|v| v.split(';').next()).map(str::trim).unwrap_or("");
+    let parsed = match value.strip_suffix('K') {
+        Some(k) => k.parse::<u64>().map(|k| k * 1024),
+        None => value.parse::<u64>(),
+    };
+    parsed.map_err(|_| format!("memory.x: {key} = {value:?} is not a size"))
+}
+
+/// Runs an ELF until it prints `done` (or halts) and returns its UART text.
+pub fn run_to_done(elf: &Path, max_seconds: f64) -> Result<String, String> {
+    let mut avr = load(elf)?;
+    let max = (max_seconds * CPU_HZ as f64) as u64;
+    avr.run_until_output(b"done\n", max).map_err(|e| format!("{} did not finish: {e:?}\n{}", elf.display(), avr.uart_output_string()))?;
+    Ok(avr.uart_output_string())
 }
 
 /// Loads the firmware, with a message that says how to build it when missing.
