@@ -2,6 +2,7 @@
 //! and the desktop tool `armsim` (f64).
 #![no_std]
 
+pub mod app;
 #[cfg(target_arch = "avr")]
 pub mod board;
 pub mod command;

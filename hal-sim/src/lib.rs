@@ -4,3 +4,4 @@
 pub mod armsim;
 pub mod plot;
 pub mod report;
+pub mod twin;
