@@ -10,7 +10,7 @@
 //! | line | meaning |
 //! |------|---------|
 //! | `move <raw_x> <raw_y>` | go to a touch point given as raw ADC values, integers 0..=1023 |
-//! | `goto <deg1> <deg2> <deg3>` | joint angles base, shoulder, elbow in degrees (−360..=360, ≤ 2 decimals), in the convention of [`crate::servo`] (elbow relative to the upper arm, negative = elbow up) |
+//! | `goto <deg1> <deg2> <deg3>` | joint angles base, shoulder, elbow in degrees (−360..=360, ≤ 2 decimals), in the convention of [`crate::servo`] (elbow relative to the upper arm, negative = elbow up, see [`crate::servo::ELBOW_BRANCH`]) |
 //! | `stop` / `resume` / `status` | |
 //! | `law <zat\|quintic\|cubic\|trapezoid\|linear>` | motion law |
 //! | `speed <slow\|normal\|fast>` | 25 / 50 / 100 % of each joint's max speed |
@@ -28,7 +28,8 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
-use crate::config_store::{Law, SpeedPreset};
+use crate::config_store::SpeedPreset;
+use crate::plan::LawKind;
 use crate::real::Real;
 use crate::servo::Joint;
 
@@ -51,7 +52,7 @@ pub enum Command {
     Stop,
     Resume,
     Status,
-    Law(Law),
+    Law(LawKind),
     Speed(SpeedPreset),
     CalShow,
     CalSet(CalSet),
@@ -368,7 +369,7 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         b"stop" => Command::Stop,
         b"resume" => Command::Resume,
         b"status" => Command::Status,
-        b"law" => Command::Law(Law::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"law" => Command::Law(LawKind::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
         b"speed" => Command::Speed(SpeedPreset::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
         b"log" => match t.arg()? {
             b"on" => Command::Log(true),

@@ -10,7 +10,7 @@
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
 //! | 85 | 1  | touch flags: bit 0 swap, bit 1 invert_x, bit 2 invert_y (other bits 0) |
 //! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
-//! | 87 | 1  | motion law id ([`Law`]) |
+//! | 87 | 1  | motion law id ([`LawKind::id`]) |
 //! | 88 | 2  | CRC-16/CCITT-FALSE of bytes 0..88 |
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
@@ -29,7 +29,9 @@
 
 use crate::command::{CalSet, JointField, TouchField};
 use crate::crc::crc16;
+use crate::plan::LawKind;
 use crate::servo::{Joint, JointCal, JointCalError};
+use crate::touch_map::{Calibration, CalibrationError};
 
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
@@ -57,50 +59,6 @@ pub enum StorageError {
     OutOfRange,
     /// The device reported a failure.
     Device,
-}
-
-/// Motion law used for a move.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Law {
-    /// The ζ-a-tₛ trajectory (SPEC §5).
-    Zat,
-    Quintic,
-    Cubic,
-    Trapezoid,
-    Linear,
-}
-
-impl Law {
-    pub const ALL: [Law; 5] = [Law::Zat, Law::Quintic, Law::Cubic, Law::Trapezoid, Law::Linear];
-
-    pub fn id(self) -> u8 {
-        match self {
-            Law::Zat => 0,
-            Law::Quintic => 1,
-            Law::Cubic => 2,
-            Law::Trapezoid => 3,
-            Law::Linear => 4,
-        }
-    }
-
-    pub fn from_id(id: u8) -> Option<Law> {
-        Law::ALL.iter().copied().find(|l| l.id() == id)
-    }
-
-    /// The name used by the `law` command.
-    pub fn name(self) -> &'static str {
-        match self {
-            Law::Zat => "zat",
-            Law::Quintic => "quintic",
-            Law::Cubic => "cubic",
-            Law::Trapezoid => "trapezoid",
-            Law::Linear => "linear",
-        }
-    }
-
-    pub fn from_name(name: &[u8]) -> Option<Law> {
-        Law::ALL.iter().copied().find(|l| l.name().as_bytes() == name)
-    }
 }
 
 /// How fast moves are planned: the move duration is chosen so that no joint
@@ -152,48 +110,22 @@ impl SpeedPreset {
     }
 }
 
-/// Touch calibration (raw ADC span per axis, axis swap and inversions). To be
-/// unified with the touch-mapping module's calibration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct TouchCal {
-    pub x_min: u16,
-    pub x_max: u16,
-    pub y_min: u16,
-    pub y_max: u16,
-    pub swap: bool,
-    pub invert_x: bool,
-    pub invert_y: bool,
-}
-
 /// Smallest accepted `max − min` per axis: a real panel spans hundreds of
 /// counts; less means a botched calibration that would blow up the mapping.
 pub const MIN_TOUCH_SPAN: u16 = 100;
 
-impl TouchCal {
-    /// SPEC §2: X 123..932, Y 128..897, no swap, no inversion.
-    pub const DEFAULT: TouchCal = TouchCal {
-        x_min: 123,
-        x_max: 932,
-        y_min: 128,
-        y_max: 897,
-        swap: false,
-        invert_x: false,
-        invert_y: false,
-    };
-
-    pub fn validate(&self) -> Result<(), TouchCalError> {
-        const MAX: u16 = crate::touch_filter::ADC_MAX;
-        if self.x_max > MAX || self.y_max > MAX {
-            return Err(TouchCalError::OutOfRange);
-        }
-        if self.x_min >= self.x_max || self.y_min >= self.y_max {
-            return Err(TouchCalError::Order);
-        }
-        if self.x_max - self.x_min < MIN_TOUCH_SPAN || self.y_max - self.y_min < MIN_TOUCH_SPAN {
-            return Err(TouchCalError::Span);
-        }
-        Ok(())
+/// The configuration rule for a stored touch calibration: what
+/// [`Calibration::validate`] requires (limits within the ADC range, min < max)
+/// plus a span of at least [`MIN_TOUCH_SPAN`] counts per axis.
+pub fn validate_touch(cal: &Calibration) -> Result<(), TouchCalError> {
+    cal.validate().map_err(|e| match e {
+        CalibrationError::EmptyRange { .. } => TouchCalError::Order,
+        _ => TouchCalError::OutOfRange,
+    })?;
+    if cal.x_max - cal.x_min < MIN_TOUCH_SPAN || cal.y_max - cal.y_min < MIN_TOUCH_SPAN {
+        return Err(TouchCalError::Span);
     }
+    Ok(())
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -211,9 +143,9 @@ pub enum TouchCalError {
 pub struct Config {
     /// In [`Joint::index`] order.
     pub joints: [JointCal; 3],
-    pub touch: TouchCal,
+    pub touch: Calibration,
     pub speed: SpeedPreset,
-    pub law: Law,
+    pub law: LawKind,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -237,7 +169,7 @@ const DEG_PER_RAD: f32 = 180.0 / core::f32::consts::PI;
 const RAD_PER_CENTIDEG: f32 = core::f32::consts::PI / 18_000.0;
 
 /// Rounds half away from zero; saturates (core has no `f32::round`).
-fn round_i32(v: f32) -> i32 {
+pub(crate) fn round_i32(v: f32) -> i32 {
     if v >= 0.0 {
         (v + 0.5) as i32
     } else {
@@ -246,20 +178,20 @@ fn round_i32(v: f32) -> i32 {
 }
 
 impl Config {
-    /// Quintic is the default law: zero velocity and acceleration at both ends,
-    /// the gentlest choice for servos before a law has been picked on purpose.
+    /// ζ-a-tₛ is the default law (the product's method; the app picks the
+    /// smooth-stop shape when it is admissible and monotone).
     pub const DEFAULT: Config = Config {
         joints: JointCal::DEFAULTS,
-        touch: TouchCal::DEFAULT,
+        touch: Calibration::DEFAULT,
         speed: SpeedPreset::Normal,
-        law: Law::Quintic,
+        law: LawKind::Zat,
     };
 
     pub fn validate(&self) -> Result<(), ConfigError> {
         for (joint, cal) in Joint::ALL.iter().zip(self.joints.iter()) {
             cal.validate().map_err(|e| ConfigError::Joint(*joint, e))?;
         }
-        self.touch.validate().map_err(ConfigError::Touch)
+        validate_touch(&self.touch).map_err(ConfigError::Touch)
     }
 
     pub fn joint(&self, joint: Joint) -> &JointCal {
@@ -305,7 +237,7 @@ impl Config {
                     TouchField::XMax => t.x_max = value,
                     TouchField::YMin => t.y_min = value,
                     TouchField::YMax => t.y_max = value,
-                    TouchField::Swap => t.swap = value != 0,
+                    TouchField::Swap => t.swap_xy = value != 0,
                     TouchField::InvertX => t.invert_x = value != 0,
                     TouchField::InvertY => t.invert_y = value != 0,
                 }
@@ -351,7 +283,7 @@ impl Config {
             w.put(&v.to_le_bytes());
         }
         let mut flags = 0u8;
-        if t.swap {
+        if t.swap_xy {
             flags |= FLAG_SWAP;
         }
         if t.invert_x {
@@ -402,17 +334,17 @@ impl Config {
         if flags & !(FLAG_SWAP | FLAG_INVERT_X | FLAG_INVERT_Y) != 0 {
             return Err(RecordError::Invalid);
         }
-        let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), Law::from_id(law)) else {
+        let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
             return Err(RecordError::Invalid);
         };
         let config = Config {
             joints,
-            touch: TouchCal {
+            touch: Calibration {
                 x_min,
                 x_max,
                 y_min,
                 y_max,
-                swap: flags & FLAG_SWAP != 0,
+                swap_xy: flags & FLAG_SWAP != 0,
                 invert_x: flags & FLAG_INVERT_X != 0,
                 invert_y: flags & FLAG_INVERT_Y != 0,
             },

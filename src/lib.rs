@@ -6,6 +6,7 @@
 // The board layer's interrupt handlers use the AVR interrupt calling convention.
 #![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
 
+pub mod app;
 #[cfg(target_arch = "avr")]
 pub mod board;
 pub mod command;

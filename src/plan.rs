@@ -13,14 +13,56 @@ use crate::zat::{Shape, ShapeParams};
 /// Base, shoulder, elbow.
 pub const JOINTS: usize = 3;
 
-/// The user-selectable motion law.
+/// The user-selectable motion law (the `law` command, stored in the
+/// configuration record by [`LawKind::id`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LawKind {
+    /// The ζ-a-tₛ trajectory (SPEC §5).
     Zat,
     Quintic,
     Cubic,
     Trapezoid,
     Linear,
+}
+
+impl LawKind {
+    pub const ALL: [LawKind; 5] = [
+        LawKind::Zat,
+        LawKind::Quintic,
+        LawKind::Cubic,
+        LawKind::Trapezoid,
+        LawKind::Linear,
+    ];
+
+    /// Stable id of the EEPROM record (never renumber).
+    pub fn id(self) -> u8 {
+        match self {
+            LawKind::Zat => 0,
+            LawKind::Quintic => 1,
+            LawKind::Cubic => 2,
+            LawKind::Trapezoid => 3,
+            LawKind::Linear => 4,
+        }
+    }
+
+    pub fn from_id(id: u8) -> Option<LawKind> {
+        LawKind::ALL.iter().copied().find(|l| l.id() == id)
+    }
+
+    /// The name used by the `law` command.
+    pub fn name(self) -> &'static str {
+        match self {
+            LawKind::Zat => "zat",
+            LawKind::Quintic => "quintic",
+            LawKind::Cubic => "cubic",
+            LawKind::Trapezoid => "trapezoid",
+            LawKind::Linear => "linear",
+        }
+    }
+
+    pub fn from_name(name: &[u8]) -> Option<LawKind> {
+        LawKind::ALL.iter().copied().find(|l| l.name().as_bytes() == name)
+    }
 }
 
 /// A normalized profile g: g(t) = 0 for t ≤ 0, 1 for t ≥ duration.

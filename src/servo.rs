@@ -9,11 +9,15 @@
 //!   π/2 = vertical up, π = horizontal pointing backward. Default range [0, π].
 //! - **Elbow** q3: forearm relative to the upper arm (q3 = 0: arm straight),
 //!   positive counter-clockwise in the arm plane, so the hand is at
-//!   (l2·cos q2 + l3·cos(q2+q3), l2·sin q2 + l3·sin(q2+q3)). The defaults assume
-//!   the **elbow-up** IK branch, q3 = −acos(c) ∈ [−π, 0]: with the target's height
-//!   ≥ 0 that branch keeps q2 in [0, π] and the elbow above the line from the
-//!   shoulder to the hand. An arm built for the other branch recalibrates
-//!   (`min_rad = 0, max_rad = π`).
+//!   (l2·cos q2 + l3·cos(q2+q3), l2·sin q2 + l3·sin(q2+q3)). The app solves the
+//!   IK on [`ELBOW_BRANCH`] = [`Branch::Minus`], the **elbow-up** branch,
+//!   q3 = −acos(c) ∈ [−π, 0], and the defaults match it: with the target's
+//!   height ≥ 0 and l2 ≥ l3 that branch keeps q2 = atan2(y, x) + β in [0, π]
+//!   (β ∈ [0, π/2]) and the elbow above the line from the shoulder to the hand,
+//!   so every reachable workspace point lies inside the default limits. The
+//!   other branch (q2 = atan2(y, x) − β) needs q2 down to −90° for targets near
+//!   the shoulder, below a shoulder servo's range. An arm built for the other
+//!   branch changes the constant and recalibrates (`min_rad = 0, max_rad = π`).
 //!
 //! # Pulse convention
 //! `pulse_us = offset_us + us_per_rad · angle`: `offset_us` is the pulse at the
@@ -33,7 +37,11 @@
 //! is a bug upstream, not a direction: it is refused with
 //! [`ServoError::NotFinite`] and the caller keeps the previous pulse (hold).
 
+use crate::ik::Branch;
 use crate::real::Real;
+
+/// The IK elbow branch the app uses; the default joint limits assume it.
+pub const ELBOW_BRANCH: Branch = Branch::Minus;
 
 /// Absolute pulse limits no calibration may exceed.
 pub const ABS_MIN_US: u16 = 500;

@@ -644,6 +644,8 @@ mod config {
     use touch_arm::command::{CalSet, JointField, TouchField};
     use touch_arm::config_store::*;
     use touch_arm::crc::*;
+    use touch_arm::plan::LawKind;
+    use touch_arm::touch_map::Calibration;
     use touch_arm::servo::{Joint, JointCal, JointCalError};
 
     /// In-memory EEPROM (erased = 0xFF) that can lose power after a number of
@@ -703,9 +705,9 @@ mod config {
         c.joints[1].offset_us = 2500.0;
         c.joints[2].min_us = 700;
         c.joints[2].max_speed_rad_s = 4.5;
-        c.touch = TouchCal { x_min: 100, x_max: 950, y_min: 90, y_max: 900, swap: true, invert_x: false, invert_y: true };
+        c.touch = Calibration { x_min: 100, x_max: 950, y_min: 90, y_max: 900, swap_xy: true, invert_x: false, invert_y: true };
         c.speed = SpeedPreset::Fast;
-        c.law = Law::Zat;
+        c.law = LawKind::Quintic;
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -762,7 +764,7 @@ mod config {
         assert_eq!(&r[83..85], &900u16.to_le_bytes());
         assert_eq!(r[85], 0b101); // swap | invert_y
         assert_eq!(r[86], SpeedPreset::Fast.id());
-        assert_eq!(r[87], Law::Zat.id());
+        assert_eq!(r[87], LawKind::Quintic.id());
         assert_eq!(&r[88..90], &crc16(&r[..88]).to_le_bytes());
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
@@ -819,14 +821,14 @@ mod config {
                 max_speed_rad_s: v,
             });
         let touch = (0u16..400, 600u16..=1023, 0u16..400, 600u16..=1023, any::<[bool; 3]>()).prop_map(
-            |(x_min, x_max, y_min, y_max, f)| TouchCal { x_min, x_max, y_min, y_max, swap: f[0], invert_x: f[1], invert_y: f[2] },
+            |(x_min, x_max, y_min, y_max, f)| Calibration { x_min, x_max, y_min, y_max, swap_xy: f[0], invert_x: f[1], invert_y: f[2] },
         );
         (prop::array::uniform3(joint), touch, 0u8..3, 0u8..5)
             .prop_map(|(joints, touch, s, l)| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
-                law: Law::from_id(l).unwrap(),
+                law: LawKind::from_id(l).unwrap(),
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }
@@ -851,15 +853,15 @@ mod config {
 
     #[test]
     fn ids_and_names_round_trip() {
-        for l in Law::ALL {
-            assert_eq!(Law::from_id(l.id()), Some(l));
-            assert_eq!(Law::from_name(l.name().as_bytes()), Some(l));
+        for l in LawKind::ALL {
+            assert_eq!(LawKind::from_id(l.id()), Some(l));
+            assert_eq!(LawKind::from_name(l.name().as_bytes()), Some(l));
         }
         for p in SpeedPreset::ALL {
             assert_eq!(SpeedPreset::from_id(p.id()), Some(p));
             assert_eq!(SpeedPreset::from_name(p.name().as_bytes()), Some(p));
         }
-        assert_eq!(Law::from_id(5), None);
+        assert_eq!(LawKind::from_id(5), None);
         assert_eq!(SpeedPreset::from_id(3), None);
         assert_eq!(
             SpeedPreset::ALL.map(|p| p.percent()),
@@ -1046,7 +1048,7 @@ mod config {
     #[test]
     fn power_loss_with_unequal_copies() {
         let newest = sample_config();
-        let older = Config { law: Law::Linear, ..Config::DEFAULT };
+        let older = Config { law: LawKind::Linear, ..Config::DEFAULT };
         let new = Config { speed: SpeedPreset::Slow, ..Config::DEFAULT };
         for newest_slot in [SLOT_A_ADDR, SLOT_B_ADDR] {
             let older_slot = SLOT_A_ADDR + SLOT_B_ADDR - newest_slot;
@@ -1128,24 +1130,27 @@ mod config {
         assert_eq!(c, before);
         c.apply(&CalSet::Touch { field: TouchField::InvertY, value: 1 }).unwrap();
         c.apply(&CalSet::Touch { field: TouchField::XMin, value: 50 }).unwrap();
-        assert!(c.touch.invert_y && c.touch.x_min == 50 && !c.touch.swap);
+        assert!(c.touch.invert_y && c.touch.x_min == 50 && !c.touch.swap_xy);
     }
 
     #[test]
     fn touch_cal_validation() {
-        assert_eq!(TouchCal::DEFAULT.validate(), Ok(()));
-        let d = TouchCal::DEFAULT;
-        assert_eq!(TouchCal { y_max: 1024, ..d }.validate(), Err(TouchCalError::OutOfRange));
-        assert_eq!(TouchCal { x_min: 932, ..d }.validate(), Err(TouchCalError::Order));
-        assert_eq!(TouchCal { y_min: 800, ..d }.validate(), Err(TouchCalError::Span));
-        assert_eq!(TouchCal { x_min: 0, x_max: 1023, ..d }.validate(), Ok(()));
+        let d = Calibration::DEFAULT;
+        assert_eq!(validate_touch(&d), Ok(()));
+        assert_eq!(validate_touch(&Calibration { y_max: 1024, ..d }), Err(TouchCalError::OutOfRange));
+        assert_eq!(validate_touch(&Calibration { x_min: 1024, x_max: 1023, ..d }), Err(TouchCalError::OutOfRange));
+        assert_eq!(validate_touch(&Calibration { x_min: 932, ..d }), Err(TouchCalError::Order));
+        assert_eq!(validate_touch(&Calibration { y_min: 900, ..d }), Err(TouchCalError::Order));
+        assert_eq!(validate_touch(&Calibration { y_min: 800, ..d }), Err(TouchCalError::Span));
+        assert_eq!(validate_touch(&Calibration { x_min: 0, x_max: 1023, ..d }), Ok(()));
     }
 }
 
 mod command {
     use super::*;
     use touch_arm::command::*;
-    use touch_arm::config_store::{Law, SpeedPreset};
+    use touch_arm::config_store::SpeedPreset;
+    use touch_arm::plan::LawKind as Law;
     use touch_arm::servo::Joint;
 
     #[test]

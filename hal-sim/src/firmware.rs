@@ -97,7 +97,7 @@ pub const SERVO_PINS: [crate::avr::Pin; 3] =
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
     pub avr: Avr,
-    panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelModel>>,
+    panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
 }
 
 impl Session {
@@ -107,7 +107,10 @@ impl Session {
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
-        let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelModel::new(wiring, seed)));
+        let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
+            wiring,
+            panel: crate::twin::panel::SimPanel::new(seed),
+        }));
         let model = panel.clone();
         avr.set_adc_handler(move |req| match model.borrow_mut().read(req) {
             Some(v) => crate::avr::AdcInput::Raw(v),
@@ -117,17 +120,25 @@ impl Session {
     }
 
     /// Presses the panel where the firmware's X and Y reads return (raw_x,
-    /// raw_y) without noise, with a firm finger.
-    pub fn press_raw(&mut self, raw_x: f64, raw_y: f64) {
-        self.panel.borrow_mut().contact = Some(crate::panel::contact_at_raw(raw_x, raw_y, FIRM_TOUCH_OHMS));
+    /// raw_y) without noise, with a firm finger (force 1).
+    pub fn press_raw(&mut self, raw_x: f64, raw_y: f64) -> Result<(), String> {
+        self.panel.borrow_mut().panel.touch_raw(raw_x, raw_y, 1.0)
+    }
+
+    /// Presses at a normalized workspace point through the panel's true response.
+    pub fn press_xy(&mut self, x_p: f64, y_p: f64) -> Result<(), String> {
+        self.panel.borrow_mut().panel.touch_xy(x_p, y_p, 1.0)
     }
 
     pub fn release(&mut self) {
-        self.panel.borrow_mut().contact = None;
+        self.panel.borrow_mut().panel.release();
     }
 
-    pub fn set_noise(&mut self, counts: f64) {
-        self.panel.borrow_mut().noise_counts = counts;
+    /// ADC noise (σ, counts) and the probability of a random glitch per conversion.
+    pub fn set_noise(&mut self, counts: f64, spike_prob: f64) {
+        let mut p = self.panel.borrow_mut();
+        p.panel.noise_counts = counts;
+        p.panel.spike_prob = spike_prob;
     }
 
     /// Runs for `seconds` of simulated time.
@@ -170,6 +181,3 @@ impl Session {
         self.pulses().map(|p| p.last().map(|(_, w)| *w))
     }
 }
-
-/// A firm fingertip: a few hundred ohms of contact resistance.
-pub const FIRM_TOUCH_OHMS: f64 = 250.0;

@@ -7,3 +7,4 @@ pub mod firmware;
 pub mod panel;
 pub mod plot;
 pub mod report;
+pub mod twin;

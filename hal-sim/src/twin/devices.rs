@@ -1,0 +1,160 @@
+//! Clock, EEPROM and serial port twins.
+
+use std::collections::VecDeque;
+
+use touch_arm::config_store::EEPROM_SIZE;
+use touch_arm::seam::{Clock, SerialPort, Storage, StorageError};
+
+/// Millisecond clock set by the runner.
+#[derive(Debug, Clone, Default)]
+pub struct SimClock {
+    pub ms: u32,
+}
+
+impl Clock for SimClock {
+    fn now_ms(&self) -> u32 {
+        self.ms
+    }
+}
+
+/// The ATmega2560's 4 KiB EEPROM (erased = 0xFF) with fault injection.
+#[derive(Debug, Clone)]
+pub struct SimEeprom {
+    pub mem: Vec<u8>,
+    /// Bytes that may still be written before the power fails.
+    power_budget: Option<usize>,
+    /// Value left in the byte being written when the power fails.
+    pub torn_value: u8,
+    /// Power is gone: writes are lost until [`SimEeprom::restore_power`].
+    dead: bool,
+    /// Bytes written (successfully) since creation.
+    pub bytes_written: u64,
+}
+
+impl Default for SimEeprom {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SimEeprom {
+    pub fn new() -> Self {
+        SimEeprom {
+            mem: vec![0xFF; EEPROM_SIZE as usize],
+            power_budget: None,
+            torn_value: 0x00,
+            dead: false,
+            bytes_written: 0,
+        }
+    }
+
+    /// Overwrites a byte directly (a corrupted cell).
+    pub fn corrupt(&mut self, addr: u16, value: u8) -> Result<(), String> {
+        let cell = self.mem.get_mut(addr as usize).ok_or_else(|| format!("eeprom address {addr} out of range"))?;
+        *cell = value;
+        Ok(())
+    }
+
+    /// The power fails after `n` more bytes have been written: byte n + 1 is
+    /// left torn and everything after it is lost.
+    pub fn power_loss_after(&mut self, n: usize) {
+        self.power_budget = Some(n);
+    }
+
+    pub fn restore_power(&mut self) {
+        self.power_budget = None;
+        self.dead = false;
+    }
+
+    pub fn is_dead(&self) -> bool {
+        self.dead
+    }
+}
+
+impl Storage for SimEeprom {
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
+        let a = addr as usize;
+        let src = self.mem.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?;
+        buf.copy_from_slice(src);
+        Ok(())
+    }
+
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
+        let a = addr as usize;
+        if a + data.len() > self.mem.len() {
+            return Err(StorageError::OutOfRange);
+        }
+        for (i, &b) in data.iter().enumerate() {
+            if self.dead {
+                return Ok(());
+            }
+            match self.power_budget {
+                Some(0) => {
+                    self.mem[a + i] = self.torn_value;
+                    self.dead = true;
+                    return Ok(());
+                }
+                Some(ref mut n) => *n -= 1,
+                None => {}
+            }
+            self.mem[a + i] = b;
+            self.bytes_written += 1;
+        }
+        Ok(())
+    }
+}
+
+/// USART0: bytes queued for the app, bytes the app wrote.
+#[derive(Debug, Clone, Default)]
+pub struct SimSerial {
+    pub input: VecDeque<u8>,
+    pub output: Vec<u8>,
+}
+
+impl SimSerial {
+    pub fn send(&mut self, bytes: &[u8]) {
+        self.input.extend(bytes.iter().copied());
+    }
+
+    /// Output split into lines (terminators removed; a trailing partial line
+    /// is included).
+    pub fn lines(&self) -> Vec<String> {
+        String::from_utf8_lossy(&self.output)
+            .split('\n')
+            .map(|l| l.trim_end_matches('\r').to_string())
+            .filter(|l| !l.is_empty())
+            .collect()
+    }
+}
+
+impl SerialPort for SimSerial {
+    fn read_byte(&mut self) -> Option<u8> {
+        self.input.pop_front()
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        self.output.extend_from_slice(bytes);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_loss_tears_one_byte_and_drops_the_rest() {
+        let mut e = SimEeprom::new();
+        e.power_loss_after(3);
+        e.write(10, &[1, 2, 3, 4, 5]).unwrap();
+        assert_eq!(&e.mem[10..16], &[1, 2, 3, 0x00, 0xFF, 0xFF]);
+        assert!(e.is_dead());
+        e.write(0, &[7]).unwrap();
+        assert_eq!(e.mem[0], 0xFF);
+        e.restore_power();
+        e.write(0, &[7]).unwrap();
+        assert_eq!(e.mem[0], 7);
+        let mut buf = [0u8; 2];
+        assert_eq!(e.read(4095, &mut buf), Err(StorageError::OutOfRange));
+        assert!(e.corrupt(4096, 0).is_err());
+    }
+}

@@ -1,0 +1,138 @@
+//! Three hobby servos: each turns toward the angle its pulse stands for (the
+//! inverse of its calibration), no faster than its speed limit, and ignores
+//! errors inside its deadband. Without pulses (power-up, `disable`) a servo
+//! stays where it is.
+
+use touch_arm::seam::ServoOutputs;
+use touch_arm::servo::{JointCal, ABS_MAX_US, ABS_MIN_US};
+
+/// Mechanical behaviour shared by the three servos.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServoModel {
+    /// Fastest turn, rad/s (an MG996R unloaded: ~0.17 s/60° ≈ 6 rad/s).
+    pub max_speed_rad_s: f64,
+    /// Pulse error, µs, below which the servo does not move.
+    pub deadband_us: f64,
+}
+
+impl Default for ServoModel {
+    fn default() -> Self {
+        ServoModel { max_speed_rad_s: 6.0, deadband_us: 3.0 }
+    }
+}
+
+/// One recorded PWM period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ServoSample {
+    /// Pulses of the period (`None`: no pulse).
+    pub pulses: Option<[u16; 3]>,
+    /// Shaft angles at the end of the period, rad (servo convention).
+    pub angles: [f64; 3],
+}
+
+#[derive(Debug, Clone)]
+pub struct SimServos {
+    /// The servos' true pulse ↔ angle relation (fixed: a `cal set` in the app
+    /// does not change the hardware).
+    pub cals: [JointCal; 3],
+    pub model: ServoModel,
+    angles: [f64; 3],
+    pulses: Option<[u16; 3]>,
+    pub history: Vec<ServoSample>,
+    /// Every `set_pulses` value outside a servo's configured pulse range.
+    pub violations: Vec<[u16; 3]>,
+}
+
+impl SimServos {
+    pub fn new(cals: &[JointCal; 3], model: &ServoModel, initial: &[f64; 3]) -> Self {
+        SimServos {
+            cals: *cals,
+            model: *model,
+            angles: *initial,
+            pulses: None,
+            history: Vec::new(),
+            violations: Vec::new(),
+        }
+    }
+
+    pub fn angles(&self) -> [f64; 3] {
+        self.angles
+    }
+
+    pub fn pulses(&self) -> Option<[u16; 3]> {
+        self.pulses
+    }
+
+    /// Power cycle: the pulses stop, the shafts stay put.
+    pub fn power_cycle(&mut self) {
+        self.pulses = None;
+    }
+
+    /// The angle a pulse stands for, from the calibration in f64.
+    pub fn pulse_angle(cal: &JointCal, us: u16) -> f64 {
+        (us as f64 - cal.offset_us as f64) / cal.us_per_rad as f64
+    }
+
+    /// Runs the servos for `dt` seconds of the current pulses and records it.
+    pub fn advance(&mut self, dt: f64) {
+        if let Some(p) = self.pulses {
+            for ((a, cal), us) in self.angles.iter_mut().zip(self.cals.iter()).zip(p.iter()) {
+                let target = Self::pulse_angle(cal, *us);
+                let err = target - *a;
+                let err_us = err.abs() * (cal.us_per_rad as f64).abs();
+                if err_us > self.model.deadband_us {
+                    let step = self.model.max_speed_rad_s * dt;
+                    *a += err.clamp(-step, step);
+                }
+            }
+        }
+        self.history.push(ServoSample { pulses: self.pulses, angles: self.angles });
+    }
+}
+
+impl ServoOutputs for SimServos {
+    fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
+        let bad = pulses_us
+            .iter()
+            .zip(self.cals.iter())
+            .any(|(us, c)| *us < c.min_us || *us > c.max_us || *us < ABS_MIN_US || *us > ABS_MAX_US);
+        if bad {
+            self.violations.push(*pulses_us);
+        }
+        self.pulses = Some(*pulses_us);
+    }
+
+    fn disable(&mut self) {
+        self.pulses = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turns_at_its_speed_limit_and_stops_within_the_deadband() {
+        let model = ServoModel { max_speed_rad_s: 5.0, deadband_us: 3.0 };
+        let mut s = SimServos::new(&JointCal::DEFAULTS, &model, &[0.0, 0.0, -1.0]);
+        s.advance(0.02);
+        assert_eq!(s.angles(), [0.0, 0.0, -1.0], "no pulse, no motion");
+        // 1500 us on the base = pi/2; 0.1 rad per 20 ms frame.
+        s.set_pulses(&[1500, 600, 1828]);
+        s.advance(0.02);
+        assert!((s.angles()[0] - 0.1).abs() < 1e-12);
+        for _ in 0..20 {
+            s.advance(0.02);
+        }
+        // Arrived exactly (the last step is shorter than the limit): π/2 up to
+        // the f32 calibration constants.
+        assert_eq!(s.angles()[0], SimServos::pulse_angle(&JointCal::BASE_DEFAULT, 1500));
+        assert!((s.angles()[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
+        // Elbow: 1828 us = -0.99833 rad, 0.95 us from -1 rad: inside the deadband.
+        assert_eq!(s.angles()[2], -1.0);
+        assert_eq!(s.history.len(), 22);
+        assert!(s.violations.is_empty());
+        s.set_pulses(&[2450, 600, 1500]);
+        assert_eq!(s.violations, vec![[2450, 600, 1500]]);
+    }
+}

@@ -1,0 +1,290 @@
+//! The frame: boot, touch, motion and servo output (the order is in the
+//! module doc of `app`).
+
+use super::policy::{plan_move, MoveRequest, PlanLimits, Refusal};
+use super::text::Line;
+use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
+use crate::config_store::{self, Config, SpeedPreset, Warning};
+use crate::ik::IkError;
+use crate::plan::JOINTS;
+use crate::pose::{pose_for_point, PoseError};
+use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
+use crate::touch_filter::{RawSample, TouchEvent, TouchPoint, MAX_SAMPLES};
+
+impl App {
+    /// One 20 ms frame. Call once per servo PWM period.
+    pub fn frame<P, S, C, E, U>(&mut self, io: &mut Io<'_, P, S, C, E, U>)
+    where
+        P: TouchPanel,
+        S: ServoOutputs,
+        C: Clock,
+        E: Storage,
+        U: SerialPort,
+    {
+        if self.mode == Mode::Boot {
+            self.boot(io.storage, io.serial);
+            io.servos.disable();
+            return;
+        }
+        let now = io.clock.now_ms();
+        self.poll_serial(io, now);
+        self.poll_touch(io.panel, io.serial);
+        self.step_motion();
+        self.write_pulses(io.servos);
+        if self.log {
+            self.send_telemetry(io.serial, now);
+        }
+        self.flush_pending(io.serial);
+    }
+
+    /// Loads the configuration and starts homing (no pulse in this frame).
+    fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
+        let loaded = config_store::load(storage);
+        self.source = loaded.source;
+        self.warning = loaded.warning;
+        match build_maps(&loaded.config) {
+            Some(maps) => {
+                self.config = loaded.config;
+                self.maps = maps;
+            }
+            None => {
+                // `load` validates, so this is a build inconsistency: stay on
+                // the defaults App::new checked.
+                self.config = Config::DEFAULT;
+                self.warning = Some(Warning::Corrupt);
+            }
+        }
+        self.filter.reset();
+        self.commanded = self.clamp_to_limits(&self.params.home);
+        self.last_move.target = self.commanded;
+        self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };
+        let mut line = Line::new();
+        line.str("info boot config").word(match self.source {
+            config_store::Source::SlotA => "slotA",
+            config_store::Source::SlotB => "slotB",
+            config_store::Source::Defaults => "defaults",
+        });
+        line.word("seq").num(i32::from(loaded.seq));
+        serial.write(line.finish());
+        if let Some(w) = self.warning {
+            serial.write(line.clear().str("warn ").str(w.reason()).finish());
+        }
+    }
+
+    /// `pose` with every angle pulled into its joint's limits.
+    fn clamp_to_limits(&self, pose: &[f32; JOINTS]) -> [f32; JOINTS] {
+        let mut out = *pose;
+        for (o, m) in out.iter_mut().zip(self.maps.iter()) {
+            let (lo, hi) = m.angle_limits::<f32>();
+            *o = o.clamp(lo, hi);
+        }
+        out
+    }
+
+    fn poll_touch<P: TouchPanel, U: SerialPort>(&mut self, panel: &mut P, serial: &mut U) {
+        let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
+        let n = usize::from(self.filter.config().samples);
+        let Some(samples) = buf.get_mut(..n) else { return };
+        let got = panel.read(samples).min(n);
+        let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
+        match step.event {
+            Some(TouchEvent::Pressed(p)) | Some(TouchEvent::Moved(p)) => self.touch_target(&p, serial),
+            Some(TouchEvent::Released) | None => {}
+        }
+    }
+
+    /// A confirmed touch: move there, or say why not.
+    fn touch_target<U: SerialPort>(&mut self, p: &TouchPoint, serial: &mut U) {
+        let mut line = Line::new();
+        match self.move_to_raw(p) {
+            Ok(()) => {
+                line.str("info touch").num(i32::from(p.x)).num(i32::from(p.y));
+                self.describe_move(&mut line, true);
+            }
+            Err(r) => {
+                line.str("err touch").num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
+            }
+        }
+        serial.write(line.finish());
+    }
+
+    /// Raw panel point → calibration → pose → move.
+    pub(super) fn move_to_raw(&mut self, p: &TouchPoint) -> Result<(), Refusal> {
+        // A match, not a closure over the (angles, target) tuple: that would
+        // be a 32-byte by-value argument if it were not inlined.
+        let r = match self.raw_to_target(p) {
+            Ok((angles, tt)) => self.start_move(&angles, Some(&tt)),
+            Err(e) => Err(e),
+        };
+        if let Err(e) = r {
+            self.last_refusal = Some(e);
+        }
+        r
+    }
+
+    fn raw_to_target(&self, p: &TouchPoint) -> Result<([f32; JOINTS], TouchTarget), Refusal> {
+        let m = self
+            .config
+            .touch
+            .map::<f32>(p.x, p.y)
+            .map_err(|_| Refusal::OutsideCalibration)?;
+        if m.clamped {
+            return Err(Refusal::OutsideCalibration);
+        }
+        let pose = pose_for_point(&self.geo, m.x_p, m.y_p).map_err(|e| match e {
+            PoseError::Workspace(_) => Refusal::OutsideWorkspace,
+            PoseError::Ik(IkError::Unreachable { .. }) => Refusal::Unreachable,
+            PoseError::Ik(IkError::Singular) => Refusal::Singular,
+            PoseError::Ik(IkError::NotFinite) => Refusal::NotFinite,
+        })?;
+        let tt = TouchTarget {
+            raw_x: p.x,
+            raw_y: p.y,
+            x_p: m.x_p,
+            y_p: m.y_p,
+            condition: pose.condition,
+            alpha: pose.alpha,
+        };
+        Ok(([pose.alpha, pose.q2, pose.q3], tt))
+    }
+
+    /// Joint target → move (the `goto` path).
+    pub(super) fn move_to_angles(&mut self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
+        let r = self.start_move(target, None);
+        if let Err(e) = r {
+            self.last_refusal = Some(e);
+        }
+        r
+    }
+
+    /// Checks state and limits, plans from the pose commanded last frame and
+    /// starts the move.
+    fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+        if self.stopped {
+            return Err(Refusal::Stopped);
+        }
+        match self.mode {
+            Mode::Run => {}
+            _ => return Err(Refusal::Homing),
+        }
+        self.check_limits(target)?;
+        let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
+        let planned = plan_move(&req, &self.plan_limits())?;
+        self.motion = Some(Motion { plan: planned.plan, frame: 0 });
+        self.last_move = MoveInfo {
+            target: *target,
+            ts: planned.ts,
+            a: planned.a,
+            end_velocity: planned.end_velocity,
+            touch: touch.copied(),
+        };
+        Ok(())
+    }
+
+    /// A target angle the servo layer would have to clamp (angle or pulse
+    /// limit, beyond its 0.5 µs rounding allowance) is refused.
+    fn check_limits(&self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
+        for ((q, m), j) in target.iter().zip(self.maps.iter()).zip(crate::servo::Joint::ALL.iter()) {
+            match m.angle_to_pulse(*q) {
+                Ok(p) if p.clamped.is_none() => {}
+                Ok(_) => return Err(Refusal::JointLimit(*j)),
+                Err(_) => return Err(Refusal::NotFinite),
+            }
+        }
+        Ok(())
+    }
+
+    /// Speeds for the next move: the preset's share of every joint's max
+    /// speed (the slow preset at most before the first move has completed),
+    /// less the safety margin.
+    fn plan_limits(&self) -> PlanLimits<f32> {
+        let mut pct = self.config.speed.percent();
+        if self.first_move {
+            pct = pct.min(SpeedPreset::Slow.percent());
+        }
+        let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
+        let mut speed = [0.0f32; JOINTS];
+        for (s, m) in speed.iter_mut().zip(self.maps.iter()) {
+            *s = m.max_speed::<f32>() * share;
+        }
+        PlanLimits {
+            speed,
+            ts_min: self.params.ts_min,
+            zat_ts_min: self.params.zat_ts_min,
+            ts_max: self.params.ts_max,
+            n: self.params.n,
+        }
+    }
+
+    fn step_motion(&mut self) {
+        if let Mode::Homing { frames_left } = self.mode {
+            self.mode = match frames_left {
+                0 | 1 => Mode::Run,
+                n => Mode::Homing { frames_left: n - 1 },
+            };
+        }
+        if let Some(m) = &mut self.motion {
+            let t = f32::from(m.frame) * FRAME_S;
+            self.commanded = m.plan.positions(t);
+            if m.plan.is_finished(t) {
+                self.motion = None;
+                self.first_move = false;
+            } else {
+                m.frame = m.frame.saturating_add(1);
+            }
+        }
+    }
+
+    /// Every setpoint through the servo layer's clamping; a refused
+    /// (non-finite) setpoint holds the previous pulse and latches STOP.
+    fn write_pulses<S: ServoOutputs>(&mut self, servos: &mut S) {
+        let mut out = [0u16; JOINTS];
+        let mut fault = false;
+        let prev = self.pulses;
+        for (j, ((o, m), q)) in out.iter_mut().zip(self.maps.iter()).zip(self.commanded.iter()).enumerate() {
+            match m.angle_to_pulse(*q) {
+                Ok(p) => *o = p.us,
+                Err(_) => {
+                    fault = true;
+                    match prev.as_ref().and_then(|p| p.get(j)) {
+                        Some(us) => *o = *us,
+                        None => {
+                            servos.disable();
+                            self.latch_fault();
+                            return;
+                        }
+                    }
+                }
+            }
+        }
+        if fault {
+            self.latch_fault();
+            // The pose that the held pulses stand for.
+            for (q, (m, us)) in self.commanded.iter_mut().zip(self.maps.iter().zip(out.iter())) {
+                *q = m.pulse_to_angle(*us);
+            }
+        }
+        servos.set_pulses(&out);
+        self.pulses = Some(out);
+    }
+
+    fn latch_fault(&mut self) {
+        self.stopped = true;
+        self.motion = None;
+        self.last_refusal = Some(Refusal::Fault);
+    }
+
+    /// STOP: hold the pose commanded in the previous frame.
+    pub(super) fn stop(&mut self) {
+        self.stopped = true;
+        self.motion = None;
+    }
+
+    pub(super) fn resume(&mut self) {
+        self.stopped = false;
+    }
+
+    pub(super) fn is_moving(&self) -> bool {
+        self.motion.is_some()
+    }
+}

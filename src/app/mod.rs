@@ -1,0 +1,411 @@
+//! The product's app: a pure state machine over the seam traits, stepped once
+//! per 20 ms servo PWM period.
+//!
+//! # How the firmware drives it
+//! ```text
+//! let mut app = App::new(&AppParams::DEFAULT)?;
+//! loop {
+//!     wait for the Timer5 period start;          // 50 Hz, aligned with the PWM
+//!     app.frame(&mut Io { panel, servos, clock, storage, serial });
+//!     draw(app.status());                         // the display, never during frame()
+//! }
+//! ```
+//! `frame` samples the touch panel itself (the UI must not draw meanwhile:
+//! the panel shares pins with the LCD), so a display draws between frames from
+//! the read-only [`Status`] snapshot.
+//!
+//! # One frame, in order
+//! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
+//!    line, answered with one `ok …`/`err …` line (see `serial.rs`). A partial
+//!    line idle for `line_timeout_ms` is dropped.
+//! 2. Touch: one filtered read; a confirmed press or a drag to a new resting
+//!    point becomes a target (`info touch …` or `err touch …` line).
+//! 3. Motion: the setpoint of every joint at t = frames since the plan × 20 ms
+//!    (exact, no clock drift); the move ends exactly on its target at tₛ.
+//! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
+//!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
+//!    the previous pulse and latches STOP (`Refusal::Fault`).
+//! 5. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
+//!    angles in centidegrees.
+//! 6. One line of a multi-line reply (`cal show`), if pending.
+//!
+//! # States
+//! - **off**: before the first frame; that frame loads the configuration
+//!   (two EEPROM copies, defaults and a `warn` line if neither is valid) and
+//!   sends no pulse.
+//! - **homing**: from the second frame the pulses command the home pose
+//!   (all three servos centred at 1500 µs with the default calibration: the
+//!   pose hobby servos are assembled and parked in). The servos' true
+//!   position is unknown at power-up, so nothing can make this first approach
+//!   slow; the app waits `home_settle_frames` before accepting targets, and
+//!   the first move after power-up never runs faster than the slow preset.
+//! - **holding** / **moving**: a target (touch, `move`, `goto`) is mapped,
+//!   solved, checked against the joint limits and planned from the pose
+//!   commanded in the previous frame, so a new target while moving re-plans
+//!   without a position jump (the new profile starts at rest).
+//! - **stopped**: `stop` latches; the pose of the previous frame is held
+//!   (pulses freeze in the frame that reads the command) and every target is
+//!   refused until `resume`, which does not continue the interrupted move.
+
+mod machine;
+pub mod policy;
+mod serial;
+mod telemetry;
+pub mod text;
+
+use crate::command::SerialLine;
+use crate::config_store::{Config, SpeedPreset, Source, Warning};
+use crate::ik::{Branch, Links, LinksError};
+use crate::plan::{LawKind, MultiPlan, JOINTS};
+use crate::pose::ArmGeometry;
+use crate::servo::{ServoMap, ELBOW_BRANCH};
+use crate::touch_filter::{FilterConfig, FilterConfigError, TouchFilter};
+use crate::workspace::Condition;
+
+pub use policy::{AChoice, AKind, MoveRequest, PlanLimits, PlannedMove, Refusal};
+
+/// One frame = one servo PWM period.
+pub const FRAME_MS: u32 = 20;
+/// [`FRAME_MS`] in seconds.
+pub const FRAME_S: f32 = 0.02;
+
+const HALF_PI: f32 = core::f32::consts::FRAC_PI_2;
+
+/// Everything about the arm and the app that is fixed at build time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AppParams {
+    /// Screen-to-arm scale of the linear transform.
+    pub k: f32,
+    /// Upper arm and forearm lengths (arm units; k = l2 = l3 = 1 is the paper's).
+    pub l2: f32,
+    pub l3: f32,
+    /// IK elbow branch; the servo defaults assume [`ELBOW_BRANCH`].
+    pub branch: Branch,
+    /// Power-up pose (rad: base, shoulder, elbow), clamped into the joint
+    /// limits of the loaded calibration.
+    pub home: [f32; JOINTS],
+    /// ζ-a-tₛ base n.
+    pub n: f32,
+    /// Shortest classic move, s.
+    pub ts_min: f32,
+    /// Shortest ζ-a-tₛ move, s, at least [`policy::ZAT_TS_FLOOR`]: above 1 so
+    /// the smooth stop exists (for tₛ ≤ 1 a ζ-a-tₛ move ends with a velocity
+    /// step of at least |Δ|·ln n / tₛ), and not just above 1, where the
+    /// smooth-stop shape sits next to its pole.
+    pub zat_ts_min: f32,
+    /// Longest move, s: a slower requirement is refused.
+    pub ts_max: f32,
+    /// Fraction of each joint's speed kept in reserve (0.02 = plan at 98 %).
+    pub speed_margin: f32,
+    /// Frames of holding the home pose before targets are accepted.
+    pub home_settle_frames: u16,
+    pub filter: FilterConfig,
+    /// Serial bytes read per frame at most (115200 baud brings ≤ 230).
+    pub serial_bytes_per_frame: u8,
+    /// A partial line with no new byte for this long is dropped.
+    pub line_timeout_ms: u32,
+}
+
+impl AppParams {
+    pub const DEFAULT: AppParams = AppParams {
+        k: 1.0,
+        l2: 1.0,
+        l3: 1.0,
+        branch: ELBOW_BRANCH,
+        home: [HALF_PI, HALF_PI, -HALF_PI],
+        n: 2.0,
+        ts_min: 0.5,
+        zat_ts_min: 1.2,
+        ts_max: 30.0,
+        speed_margin: 0.02,
+        home_settle_frames: 50,
+        filter: FilterConfig::DEFAULT,
+        serial_bytes_per_frame: 64,
+        line_timeout_ms: 2000,
+    };
+
+    /// Checks the parameters and builds the arm geometry.
+    pub fn geometry(&self) -> Result<ArmGeometry<f32>, ParamsError> {
+        let links = Links::new(self.l2, self.l3).map_err(ParamsError::Links)?;
+        if !(self.k.is_finite() && self.k > 0.0) {
+            return Err(ParamsError::Scale);
+        }
+        if !(self.n.is_finite() && self.n > 1.0) {
+            return Err(ParamsError::Base);
+        }
+        let durations_ok = self.ts_min > 0.0
+            && self.zat_ts_min >= policy::ZAT_TS_FLOOR
+            && self.ts_max.is_finite()
+            && self.ts_max >= self.ts_min
+            && self.ts_max >= self.zat_ts_min;
+        if !durations_ok {
+            return Err(ParamsError::Durations);
+        }
+        if !(self.speed_margin >= 0.0 && self.speed_margin < 0.5) {
+            return Err(ParamsError::Margin);
+        }
+        if self.home.iter().any(|v| !v.is_finite()) {
+            return Err(ParamsError::Home);
+        }
+        self.filter.validate().map_err(ParamsError::Filter)?;
+        Ok(ArmGeometry { k: self.k, links, branch: self.branch })
+    }
+}
+
+impl Default for AppParams {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamsError {
+    Links(LinksError),
+    /// k not positive and finite.
+    Scale,
+    /// n not > 1.
+    Base,
+    /// A duration not positive, or ts_max below a minimum.
+    Durations,
+    /// speed_margin not in [0, 0.5).
+    Margin,
+    /// A home angle not finite.
+    Home,
+    Filter(FilterConfigError),
+    /// The built-in default calibration does not validate (a build error).
+    Defaults,
+}
+
+/// The seam handed to [`App::frame`]: one borrow of each hardware part.
+pub struct Io<'a, P, S, C, E, U> {
+    pub panel: &'a mut P,
+    pub servos: &'a mut S,
+    pub clock: &'a C,
+    pub storage: &'a mut E,
+    pub serial: &'a mut U,
+}
+
+/// What the arm is doing, for `status` and the display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum State {
+    Off,
+    Homing,
+    Holding,
+    Moving,
+    Stopped,
+}
+
+impl State {
+    pub fn name(self) -> &'static str {
+        match self {
+            State::Off => "off",
+            State::Homing => "homing",
+            State::Holding => "holding",
+            State::Moving => "moving",
+            State::Stopped => "stopped",
+        }
+    }
+}
+
+/// The screen point behind the current target.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TouchTarget {
+    /// Raw panel reading it came from.
+    pub raw_x: u16,
+    pub raw_y: u16,
+    /// Normalized workspace point.
+    pub x_p: f32,
+    pub y_p: f32,
+    pub condition: Condition,
+    /// Base direction α, rad.
+    pub alpha: f32,
+}
+
+/// Read-only snapshot for a display (and for `status`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Status {
+    pub state: State,
+    pub law: LawKind,
+    pub speed: SpeedPreset,
+    /// Pose commanded in the last frame, rad (base, shoulder, elbow).
+    pub commanded: [f32; JOINTS],
+    /// Target of the current or last move, rad.
+    pub target: [f32; JOINTS],
+    /// Pulses written in the last frame (`None` before the first).
+    pub pulses: Option<[u16; JOINTS]>,
+    /// Share of the current move's tₛ elapsed, 0..=100 (100 at rest).
+    pub progress: u8,
+    /// Duration of the current or last move, s.
+    pub ts: f32,
+    /// Its ζ-a-tₛ shape, if it used that law.
+    pub a: Option<AChoice<f32>>,
+    /// Its joint velocities just before the end, rad/s.
+    pub end_velocity: [f32; JOINTS],
+    /// The screen point of the current or last target (`None` after `goto`).
+    pub touch_target: Option<TouchTarget>,
+    /// A press is being held on the panel.
+    pub touch_held: bool,
+    pub last_refusal: Option<Refusal>,
+    pub config_source: Source,
+    pub config_warning: Option<Warning>,
+    /// The first move after power-up is limited to the slow preset.
+    pub first_move_pending: bool,
+    pub log: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mode {
+    Boot,
+    Homing { frames_left: u16 },
+    Run,
+}
+
+/// A running move: the plan and the frames since it started.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Motion {
+    plan: MultiPlan<f32>,
+    frame: u16,
+}
+
+/// What the last accepted move was.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct MoveInfo {
+    target: [f32; JOINTS],
+    ts: f32,
+    a: Option<AChoice<f32>>,
+    end_velocity: [f32; JOINTS],
+    touch: Option<TouchTarget>,
+}
+
+/// Lines still to send of a multi-line reply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Pending {
+    /// `cal show`: the next line index.
+    CalShow(u8),
+}
+
+/// The app. Holds no hardware; see the module doc for the frame.
+pub struct App {
+    params: AppParams,
+    geo: ArmGeometry<f32>,
+    config: Config,
+    maps: [ServoMap; JOINTS],
+    filter: TouchFilter,
+    line: SerialLine,
+    line_partial: bool,
+    last_rx_ms: u32,
+    mode: Mode,
+    stopped: bool,
+    first_move: bool,
+    commanded: [f32; JOINTS],
+    pulses: Option<[u16; JOINTS]>,
+    motion: Option<Motion>,
+    last_move: MoveInfo,
+    last_refusal: Option<Refusal>,
+    source: Source,
+    warning: Option<Warning>,
+    log: bool,
+    pending: Option<Pending>,
+}
+
+/// Servo maps of a configuration.
+fn build_maps(config: &Config) -> Option<[ServoMap; JOINTS]> {
+    let [b, s, e] = &config.joints;
+    match (ServoMap::new(b), ServoMap::new(s), ServoMap::new(e)) {
+        (Ok(b), Ok(s), Ok(e)) => Some([b, s, e]),
+        _ => None,
+    }
+}
+
+impl App {
+    /// A fresh app in the `off` state. The configuration is loaded by the
+    /// first frame; until then the built-in defaults stand.
+    pub fn new(params: &AppParams) -> Result<App, ParamsError> {
+        let geo = params.geometry()?;
+        let filter = TouchFilter::new(&params.filter).map_err(ParamsError::Filter)?;
+        let config = Config::DEFAULT;
+        let maps = build_maps(&config).ok_or(ParamsError::Defaults)?;
+        Ok(App {
+            params: *params,
+            geo,
+            config,
+            maps,
+            filter,
+            line: SerialLine::new(),
+            line_partial: false,
+            last_rx_ms: 0,
+            mode: Mode::Boot,
+            stopped: false,
+            first_move: true,
+            commanded: params.home,
+            pulses: None,
+            motion: None,
+            last_move: MoveInfo {
+                target: params.home,
+                ts: 0.0,
+                a: None,
+                end_velocity: [0.0; JOINTS],
+                touch: None,
+            },
+            last_refusal: None,
+            source: Source::Defaults,
+            warning: None,
+            log: false,
+            pending: None,
+        })
+    }
+
+    pub fn params(&self) -> &AppParams {
+        &self.params
+    }
+
+    /// The running configuration (calibration, speed preset, law).
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    pub fn state(&self) -> State {
+        match self.mode {
+            Mode::Boot => State::Off,
+            _ if self.stopped => State::Stopped,
+            Mode::Homing { .. } => State::Homing,
+            Mode::Run if self.motion.is_some() => State::Moving,
+            Mode::Run => State::Holding,
+        }
+    }
+
+    /// The snapshot a display draws from.
+    pub fn status(&self) -> Status {
+        let progress = match &self.motion {
+            Some(m) => {
+                let ts = m.plan.duration();
+                let done = f32::from(m.frame) * FRAME_S;
+                if ts > 0.0 {
+                    ((done / ts).clamp(0.0, 1.0) * 100.0) as u8
+                } else {
+                    100
+                }
+            }
+            None => 100,
+        };
+        Status {
+            state: self.state(),
+            law: self.config.law,
+            speed: self.config.speed,
+            commanded: self.commanded,
+            target: self.last_move.target,
+            pulses: self.pulses,
+            progress,
+            ts: self.last_move.ts,
+            a: self.last_move.a,
+            end_velocity: self.last_move.end_velocity,
+            touch_target: self.last_move.touch,
+            touch_held: self.filter.held().is_some(),
+            last_refusal: self.last_refusal,
+            config_source: self.source,
+            config_warning: self.warning,
+            first_move_pending: self.first_move,
+            log: self.log,
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! The app's output lines (integers only): move summaries, `status`,
+//! `cal show` and the per-frame telemetry of `log on`.
+
+use super::text::{centideg, milli, Line};
+use super::{App, AKind, Pending, Status};
+use crate::command::{JointField, TouchField};
+use crate::seam::SerialPort;
+use crate::servo::Joint;
+
+/// `cal show` lines before its final `ok` line.
+const CAL_SHOW_LINES: u8 = 4;
+
+impl App {
+    /// Appends ` [cond <c>] ts_ms <ms> [a_milli <a> smooth|limit|floor] vend <v> <v> <v>`
+    /// (end velocities in mrad/s) for the move just started.
+    pub(super) fn describe_move(&self, line: &mut Line, with_condition: bool) {
+        let m = &self.last_move;
+        if with_condition {
+            if let Some(t) = &m.touch {
+                line.word("cond").num(i32::from(t.condition.number()));
+            }
+        }
+        line.word("ts_ms").num(milli(m.ts));
+        if let Some(a) = &m.a {
+            line.word("a_milli").num(milli(a.a)).word(match a.kind {
+                AKind::SmoothStop => "smooth",
+                AKind::MonotoneLimit => "limit",
+                AKind::Floor => "floor",
+            });
+        }
+        line.word("vend");
+        for v in m.end_velocity.iter() {
+            line.num(milli(*v));
+        }
+    }
+
+    /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
+    /// commanded angles in centidegrees and the pulses written this frame.
+    pub(super) fn send_telemetry<U: SerialPort>(&self, serial: &mut U, now_ms: u32) {
+        let Some(pulses) = self.pulses else { return };
+        let mut line = Line::new();
+        line.str("t ").u32(now_ms);
+        for q in self.commanded.iter() {
+            line.num(centideg(*q));
+        }
+        for us in pulses.iter() {
+            line.num(i32::from(*us));
+        }
+        serial.write(line.finish());
+    }
+
+    /// Sends the next line of a multi-line reply, if one is pending.
+    pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
+        let Some(Pending::CalShow(i)) = self.pending else { return };
+        let mut line = Line::new();
+        self.cal_show_line(i, &mut line);
+        serial.write(line.finish());
+        self.pending = if i < CAL_SHOW_LINES { Some(Pending::CalShow(i + 1)) } else { None };
+    }
+
+    /// Line `i` of `cal show`: one per joint and one for the touch panel, in
+    /// `cal set` units (so each value can be typed back), then `ok cal show`.
+    fn cal_show_line(&self, i: u8, line: &mut Line) {
+        let joint = match i {
+            0 => Some(Joint::Base),
+            1 => Some(Joint::Shoulder),
+            2 => Some(Joint::Elbow),
+            _ => None,
+        };
+        if let Some(j) = joint {
+            line.str("cal ").str(j.name());
+            for f in JointField::ALL {
+                let v = self.config.joint_field(j, f);
+                line.word(f.name()).bytes(b" ");
+                if f.is_centi() {
+                    line.centi(v);
+                } else {
+                    line.i32(v);
+                }
+            }
+            return;
+        }
+        if i == 3 {
+            let t = &self.config.touch;
+            line.str("cal touch");
+            for f in TouchField::ALL {
+                let v = match f {
+                    TouchField::XMin => t.x_min,
+                    TouchField::XMax => t.x_max,
+                    TouchField::YMin => t.y_min,
+                    TouchField::YMax => t.y_max,
+                    TouchField::Swap => u16::from(t.swap_xy),
+                    TouchField::InvertX => u16::from(t.invert_x),
+                    TouchField::InvertY => u16::from(t.invert_y),
+                };
+                line.word(f.name()).num(i32::from(v));
+            }
+            return;
+        }
+        line.str("ok cal show law ")
+            .str(self.config.law.name())
+            .word("speed")
+            .word(self.config.speed.name());
+    }
+}
+
+/// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
+/// <3 us | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
+/// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
+pub(super) fn status_line(s: &Status, line: &mut Line) {
+    line.str("ok status ").str(s.state.name());
+    line.word("law").word(s.law.name()).word("speed").word(s.speed.name());
+    line.word("q");
+    for q in s.commanded.iter() {
+        line.num(centideg(*q));
+    }
+    line.word("target");
+    for q in s.target.iter() {
+        line.num(centideg(*q));
+    }
+    line.word("pulses");
+    match &s.pulses {
+        Some(p) => {
+            for us in p.iter() {
+                line.num(i32::from(*us));
+            }
+        }
+        None => {
+            line.str(" - - -");
+        }
+    }
+    line.word("progress").num(i32::from(s.progress));
+    line.word("ts_ms").num(milli(s.ts));
+    if let Some(t) = &s.touch_target {
+        line.word("cond").num(i32::from(t.condition.number()));
+        line.word("alpha").num(centideg(t.alpha));
+    }
+    if s.first_move_pending {
+        line.word("first_move_slow");
+    }
+    if let Some(w) = s.config_warning {
+        line.word("warn").word(match w {
+            crate::config_store::Warning::Missing => "missing",
+            crate::config_store::Warning::Corrupt => "corrupt",
+            crate::config_store::Warning::VersionMismatch => "version",
+            crate::config_store::Warning::CopyDamaged => "copy_damaged",
+        });
+    }
+    if let Some(r) = s.last_refusal {
+        line.word("refused").word(r.reason());
+    }
+}

@@ -1,0 +1,612 @@
+//! The app's policy functions (duration bound, ζ-a-tₛ shape choice) and its
+//! refusals, against references computed here: the SPEC's closed-form G and
+//! G′ in f64 on dense grids, bisection, and the classic laws' closed forms.
+
+use proptest::prelude::*;
+use std::collections::VecDeque;
+use std::f64::consts::PI;
+
+use touch_arm::app::policy::{
+    choose_a, classic_peak_factor, monotone_limit_a, plan_move, zat_peak_rate, AKind, MoveRequest, PlanLimits,
+    Refusal,
+};
+use touch_arm::app::text::{centideg, Line};
+use touch_arm::app::{App, AppParams, Io, State};
+use touch_arm::config_store::{Storage, StorageError, EEPROM_SIZE};
+use touch_arm::ik::Branch;
+use touch_arm::laws::Law;
+use touch_arm::plan::{LawKind, MultiPlan};
+use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
+use touch_arm::servo::{JointCal, ServoMap, ELBOW_BRANCH};
+use touch_arm::touch_filter::RawSample;
+use touch_arm::zat::{smooth_stop_a, Shape, ShapeParams};
+
+fn cfg() -> ProptestConfig {
+    ProptestConfig::with_cases(256)
+}
+
+// ---------------------------------------------------------------------------
+// Reference ζ-a-tₛ profile (SPEC §5, printed normalized form, f64).
+
+struct RefShape {
+    ts: f64,
+    a: f64,
+    l: f64,
+}
+
+impl RefShape {
+    fn new(ts: f64, a: f64, n: f64) -> Self {
+        RefShape { ts, a, l: n.ln() }
+    }
+    fn q(&self, u: f64) -> f64 {
+        let x = self.l * (u - self.a);
+        if x > 700.0 {
+            0.0
+        } else {
+            1.0 / x.exp_m1()
+        }
+    }
+    fn g(&self, t: f64) -> f64 {
+        if t <= 0.0 {
+            return 0.0;
+        }
+        if t >= self.ts {
+            return 1.0;
+        }
+        let y = self.l * (self.ts / t - 1.0);
+        if y > 700.0 {
+            return 0.0;
+        }
+        (-y).exp() * (1.0 + self.q(t + self.ts / t - 1.0)) / (1.0 + self.q(self.ts))
+    }
+    /// G′ = G·L·(1 − u′·(1 + q)); at t = tₛ the left limit.
+    fn rate(&self, t: f64) -> f64 {
+        let g = if t >= self.ts { 1.0 } else { self.g(t) };
+        let u = t + self.ts / t - 1.0;
+        g * self.l * (1.0 - (1.0 - self.ts / (t * t)) * (1.0 + self.q(u)))
+    }
+    /// (min, max) of G′ on a uniform grid of (0, tₛ].
+    fn rate_range(&self, n: usize) -> (f64, f64) {
+        let mut lo = f64::MAX;
+        let mut hi = f64::MIN;
+        for i in 1..=n {
+            let r = self.rate(self.ts * i as f64 / n as f64);
+            lo = lo.min(r);
+            hi = hi.max(r);
+        }
+        (lo, hi)
+    }
+    fn end_rate(&self) -> f64 {
+        self.rate(self.ts)
+    }
+}
+
+/// Largest a (below u_min) whose G′ stays ≥ 0 on a dense grid, by bisection.
+fn monotone_boundary_by_scan(ts: f64, n: f64) -> f64 {
+    let u_min = 2.0 * ts.sqrt() - 1.0;
+    let (mut lo, mut hi) = (u_min - 10.0, u_min - 1e-9);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        let (min_rate, _) = RefShape::new(ts, mid, n).rate_range(20_000);
+        if min_rate >= 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+// ---------------------------------------------------------------------------
+// The shape parameter a.
+
+#[test]
+fn monotone_limit_matches_a_dense_scan_boundary() {
+    for &n in &[1.5, 2.0, 3.0] {
+        for &ts in &[1.5, 2.5, 4.0, 5.0, 6.0, 8.0, 12.0, 20.0] {
+            let closed: f64 = monotone_limit_a(ts, n).unwrap();
+            let scanned = monotone_boundary_by_scan(ts, n);
+            assert!((closed - scanned).abs() < 2e-4 * (1.0 + closed.abs()), "n={n} ts={ts}: {closed} vs {scanned}");
+        }
+    }
+}
+
+#[test]
+fn smooth_stop_chosen_while_it_is_monotone() {
+    // n = 2: a* is admissible for 1 < tₛ < ~7.2 but monotone only while
+    // L·(tₛ − 1) ≤ 2, i.e. tₛ ≤ 1 + 2/ln 2 = 3.885.
+    let l = 2f64.ln();
+    for &ts in &[1.1f64, 1.2, 1.5, 2.0, 3.0, 3.5, 3.88] {
+        let c = choose_a(ts, 2.0).unwrap();
+        assert_eq!(c.kind, AKind::SmoothStop, "ts={ts}");
+        let a_star = ts - ts.ln() / l;
+        assert!((c.a - a_star).abs() < 1e-12);
+        let r = RefShape::new(ts, c.a, 2.0);
+        assert!(r.end_rate().abs() < 1e-9, "ts={ts}: end rate {}", r.end_rate());
+        assert!(r.rate_range(20_000).0 >= -1e-12);
+    }
+}
+
+#[test]
+fn beyond_the_smooth_stop_the_largest_monotone_a_is_chosen() {
+    for &ts in &[3.9f64, 4.5, 6.0, 7.0, 8.0, 15.0, 30.0] {
+        let c = choose_a(ts, 2.0).unwrap();
+        assert_eq!(c.kind, AKind::MonotoneLimit, "ts={ts}");
+        let a_star = ts - ts.ln() / 2f64.ln();
+        assert!(c.a < a_star);
+        let r = RefShape::new(ts, c.a, 2.0);
+        let (min_rate, _) = r.rate_range(20_000);
+        assert!(min_rate >= -1e-9, "ts={ts}: not monotone, min G' {min_rate}");
+        // Tight: a little more a backtracks.
+        let more = RefShape::new(ts, c.a + 2e-3 * (1.0 + c.a), 2.0);
+        assert!(more.rate_range(20_000).0 < 0.0, "ts={ts}: a is not at the boundary");
+        // Best: the end rate only grows as a falls below the choice.
+        let e = r.end_rate();
+        assert!(e > 0.0);
+        for da in [0.01, 0.1, 0.5] {
+            assert!(RefShape::new(ts, c.a - da, 2.0).end_rate() > e);
+        }
+        // And it is small compared with a plain ramp's L/tₛ.
+        assert!(e < 0.5 * 2f64.ln() / ts * 10.0, "ts={ts}: end rate {e}");
+    }
+    // tₛ = 6: end rate 0.0282/s per unit Δ (computed with the SPEC formula in
+    // an independent script), i.e. 28 mrad/s on a 1 rad move.
+    let c = choose_a(6.0, 2.0).unwrap();
+    assert!((RefShape::new(6.0, c.a, 2.0).end_rate() - 0.02817).abs() < 2e-4);
+}
+
+#[test]
+fn short_durations_use_the_floor_with_the_least_end_rate() {
+    for &ts in &[0.3f64, 0.5, 0.8, 1.0] {
+        let c = choose_a(ts, 2.0).unwrap();
+        assert_eq!(c.kind, AKind::Floor);
+        assert!(smooth_stop_a(ts, 2.0).is_none());
+        // Infimum of the end rate over admissible a is L/tₛ (SPEC §5).
+        let e = RefShape::new(ts, c.a, 2.0).end_rate();
+        let inf = 2f64.ln() / ts;
+        assert!(e >= inf && e < inf * (1.0 + 1e-6), "ts={ts}: {e} vs {inf}");
+    }
+}
+
+#[test]
+fn choose_a_f32_agrees_with_f64_and_is_monotone() {
+    for &ts in &[1.2f32, 2.0, 3.0, 4.0, 6.0, 10.0, 25.0] {
+        let c32 = choose_a(ts, 2.0f32).unwrap();
+        let c64 = choose_a(ts as f64, 2.0).unwrap();
+        assert_eq!(c32.kind, c64.kind);
+        assert!((c32.a as f64 - c64.a).abs() < 1e-4 * (1.0 + c64.a.abs()));
+        let s = Shape::new(&ShapeParams { ts, a: c32.a, n: 2.0 }).unwrap();
+        assert!(s.is_monotone());
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Peak rate.
+
+proptest! {
+    #![proptest_config(cfg())]
+    #[test]
+    fn zat_peak_rate_matches_dense_scan(ts in prop_oneof![0.2f64..1.0, 1.05f64..30.0], n in 1.1f64..10.0) {
+        let c = choose_a(ts, n).unwrap();
+        let shape = Shape::new(&ShapeParams { ts, a: c.a, n }).unwrap();
+        let got = zat_peak_rate(&shape);
+        let (_, want) = RefShape::new(ts, c.a, n).rate_range(40_000);
+        // The dense grid itself may miss the top by a few 1e-6.
+        prop_assert!(got <= want * (1.0 + 1e-5), "overestimate {got} > {want}");
+        prop_assert!(got >= want * (1.0 - 1e-3), "ts={ts} n={n}: {got} < {want}");
+        // f32 as on the chip.
+        let s32 = Shape::new(&ShapeParams { ts: ts as f32, a: c.a as f32, n: n as f32 }).unwrap();
+        let p32 = zat_peak_rate(&s32) as f64;
+        prop_assert!((p32 - got).abs() <= 1e-3 * got, "f32 {p32} vs f64 {got}");
+    }
+}
+
+#[test]
+fn classic_peak_factors_are_the_laws_maximum_velocity() {
+    for law in [Law::Linear, Law::Cubic, Law::Quintic, Law::Trapezoid] {
+        let t = 2.0;
+        let plan = MultiPlan::with_law(
+            &[0.0; 3],
+            &[1.0, 0.5, -1.0],
+            &touch_arm::plan::JointLaw::classic(law, t).unwrap(),
+        )
+        .unwrap();
+        let mut peak = 0.0f64;
+        for i in 0..=20_000 {
+            peak = peak.max(plan.sample(t * i as f64 / 20_000.0)[0].vel.abs());
+        }
+        let want = classic_peak_factor(law) / t;
+        assert!((peak - want).abs() < 1e-6, "{law:?}: {peak} vs {want}");
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Durations.
+
+fn limits(speed: [f64; 3]) -> PlanLimits<f64> {
+    PlanLimits { speed, ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 }
+}
+
+/// Largest |v_j|/ω_j of a plan on a dense grid.
+fn speed_share(plan: &MultiPlan<f64>, speed: &[f64; 3]) -> f64 {
+    let t = plan.duration();
+    let mut worst = 0.0f64;
+    for i in 1..=20_000 {
+        for (s, w) in plan.sample(t * i as f64 / 20_000.0).iter().zip(speed.iter()) {
+            worst = worst.max(s.vel.abs() / w);
+        }
+    }
+    worst
+}
+
+#[test]
+fn classic_durations_are_the_closed_form_bound() {
+    // ω = 3 rad/s at 50 % with the 2 % margin = 1.47 rad/s on every joint.
+    let w = 3.0 * 0.5 * 0.98;
+    let speed = [w, w, w];
+    let req = |law| MoveRequest { start: [0.0, 1.0, -1.0], target: [1.2, 0.4, -2.5], law };
+    for (kind, c) in [
+        (LawKind::Linear, 1.0),
+        (LawKind::Cubic, 1.5),
+        (LawKind::Quintic, 1.875),
+        (LawKind::Trapezoid, 1.5),
+    ] {
+        let m = plan_move(&req(kind), &limits(speed)).unwrap();
+        // The elbow moves most: 1.5 rad.
+        let want = c * 1.5 / w;
+        assert!((m.ts - want).abs() < 1e-12, "{kind:?}: {} vs {want}", m.ts);
+        let share = speed_share(&m.plan, &speed);
+        assert!(share <= 1.0 + 1e-9 && share > 1.0 - 1e-3, "{kind:?}: {share}");
+        assert!(m.a.is_none());
+    }
+    // A tiny move takes ts_min.
+    let m = plan_move(
+        &MoveRequest { start: [0.0; 3], target: [0.01, 0.0, 0.0], law: LawKind::Quintic },
+        &limits(speed),
+    )
+    .unwrap();
+    assert_eq!(m.ts, 0.5);
+    // Per-joint limits: a slow base binds although the elbow moves further.
+    let m = plan_move(
+        &MoveRequest { start: [0.0; 3], target: [0.5, 0.0, 1.0], law: LawKind::Linear },
+        &limits([0.1, 1.0, 1.0]),
+    )
+    .unwrap();
+    assert!((m.ts - 5.0).abs() < 1e-12);
+}
+
+/// Shortest ζ-a-tₛ duration by bisection on the reference profile.
+fn zat_min_ts(ratio: f64) -> f64 {
+    let peak = |ts: f64| {
+        let c = choose_a(ts, 2.0).unwrap();
+        RefShape::new(ts, c.a, 2.0).rate_range(8_000).1
+    };
+    let (mut lo, mut hi) = (1.2, 30.0);
+    if ratio * peak(lo) <= 1.0 {
+        return lo;
+    }
+    for _ in 0..50 {
+        let mid = (lo * hi).sqrt();
+        if ratio * peak(mid) <= 1.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+#[test]
+fn zat_duration_is_verified_and_near_minimal() {
+    // Reference values from an independent Python scan of the SPEC formula:
+    // Δ = 60° at 50 % → 1.44409 s; Δ = 180° at 100 % → 2.30574 s;
+    // Δ = 180° at 50 % → 11.3412 s.
+    for (delta_deg, pct, python) in [(60.0, 50.0, 1.44409), (180.0, 100.0, 2.30574), (180.0, 50.0, 11.34117)] {
+        let w = 3.0 * pct / 100.0 * 0.98;
+        let speed = [w, w, w];
+        let d: f64 = f64::to_radians(delta_deg);
+        let m = plan_move(
+            &MoveRequest { start: [0.0, 0.0, 0.0], target: [d, -0.5 * d, 0.25 * d], law: LawKind::Zat },
+            &limits(speed),
+        )
+        .unwrap();
+        let want = zat_min_ts(d / w);
+        assert!((want - python).abs() < 2e-3 * python, "reference {want} vs script {python}");
+        assert!(m.ts >= want * (1.0 - 1e-6) && m.ts <= want * 1.02, "Δ={delta_deg} {pct}%: ts {} vs min {want}", m.ts);
+        let share = speed_share(&m.plan, &speed);
+        assert!(share <= 1.0 + 1e-6, "speed bound broken: {share}");
+        assert!(share > 0.97, "bound not tight: {share}");
+        // End velocity as reported = Δ·G′(tₛ⁻) of the reference.
+        let a = m.a.unwrap();
+        let e = RefShape::new(m.ts, a.a, 2.0).end_rate();
+        assert!((m.end_velocity[0] - d * e).abs() < 1e-6);
+    }
+    // Small moves: the floor zat_ts_min with the smooth stop.
+    let m = plan_move(
+        &MoveRequest { start: [0.0; 3], target: [0.1, 0.0, 0.0], law: LawKind::Zat },
+        &limits([1.47; 3]),
+    )
+    .unwrap();
+    assert_eq!(m.ts, 1.2);
+    assert_eq!(m.a.unwrap().kind, AKind::SmoothStop);
+    assert!(m.end_velocity.iter().all(|v| v.abs() < 1e-9));
+}
+
+/// Largest |v_j|/ω_j of an f32 plan (as the chip runs it) on a dense grid.
+fn speed_share_f32(plan: &MultiPlan<f32>, speed: &[f64; 3]) -> f64 {
+    let t = plan.duration() as f64;
+    let mut worst = 0.0f64;
+    for i in 1..=20_000 {
+        for (s, w) in plan.sample((t * i as f64 / 20_000.0) as f32).iter().zip(speed.iter()) {
+            worst = worst.max(s.vel.abs() as f64 / w);
+        }
+    }
+    worst
+}
+
+#[test]
+fn zat_duration_in_f32_matches_f64() {
+    for (d, w) in [(1.0f64, 1.47f64), (PI, 2.94), (PI, 0.735), (0.3, 0.735)] {
+        let r64 = MoveRequest { start: [0.0; 3], target: [d, 0.0, 0.0], law: LawKind::Zat };
+        let m64 = plan_move(&r64, &limits([w; 3])).unwrap();
+        let r32 = MoveRequest { start: [0.0f32; 3], target: [d as f32, 0.0, 0.0], law: LawKind::Zat };
+        let l32 = PlanLimits { speed: [w as f32; 3], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+        let m32 = plan_move(&r32, &l32).unwrap();
+        assert!((m32.ts as f64 - m64.ts).abs() < 2e-2 * m64.ts, "{d} {w}: {} vs {}", m32.ts, m64.ts);
+        let share = speed_share_f32(&m32.plan, &[w; 3]);
+        assert!(share <= 1.0 + 1e-4, "f32 plan breaks the bound: {share}");
+    }
+}
+
+#[test]
+fn too_slow_for_ts_max_is_refused() {
+    let req = MoveRequest { start: [0.0; 3], target: [PI, 0.0, 0.0], law: LawKind::Quintic };
+    // 1.875·π/0.1 = 59 s > 30 s.
+    assert_eq!(plan_move(&req, &limits([0.1, 1.0, 1.0])).unwrap_err(), Refusal::SpeedLimit);
+    let req = MoveRequest { law: LawKind::Zat, ..req };
+    assert_eq!(plan_move(&req, &limits([0.05, 1.0, 1.0])).unwrap_err(), Refusal::SpeedLimit);
+    let req = MoveRequest { start: [f64::NAN, 0.0, 0.0], ..req };
+    assert_eq!(plan_move(&req, &limits([1.0; 3])).unwrap_err(), Refusal::NotFinite);
+}
+
+// ---------------------------------------------------------------------------
+// Elbow branch and joint limits.
+
+#[test]
+fn elbow_branch_keeps_the_whole_workspace_inside_the_default_limits() {
+    use touch_arm::ik::Links;
+    use touch_arm::pose::{pose_for_point, ArmGeometry};
+    let maps = JointCal::DEFAULTS.map(|c| ServoMap::new(&c).unwrap());
+    let inside = |branch: Branch| {
+        let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).unwrap(), branch };
+        let mut bad = 0;
+        for i in 0..=40 {
+            for j in 1..=20 {
+                let (x, y) = (-1.0 + i as f64 / 20.0, j as f64 / 20.0);
+                let p = pose_for_point(&geo, x, y).unwrap();
+                for (q, m) in [p.alpha, p.q2, p.q3].iter().zip(maps.iter()) {
+                    if m.angle_to_pulse(*q).unwrap().clamped.is_some() {
+                        bad += 1;
+                    }
+                }
+            }
+        }
+        bad
+    };
+    assert_eq!(ELBOW_BRANCH, Branch::Minus);
+    assert_eq!(inside(ELBOW_BRANCH), 0);
+    // The other branch drives the shoulder below 0 for targets near the shoulder.
+    assert!(inside(Branch::Plus) > 100);
+}
+
+// ---------------------------------------------------------------------------
+// The app with minimal doubles of the seam.
+
+struct NoTouch;
+impl TouchPanel for NoTouch {
+    fn read(&mut self, out: &mut [RawSample]) -> usize {
+        for s in out.iter_mut() {
+            *s = RawSample { x: 512, y: 512, z: 0 };
+        }
+        out.len()
+    }
+}
+
+#[derive(Default)]
+struct Servos {
+    pulses: Option<[u16; 3]>,
+    log: Vec<Option<[u16; 3]>>,
+}
+impl ServoOutputs for Servos {
+    fn set_pulses(&mut self, p: &[u16; 3]) {
+        self.pulses = Some(*p);
+    }
+    fn disable(&mut self) {
+        self.pulses = None;
+    }
+}
+
+struct FixedClock(u32);
+impl Clock for FixedClock {
+    fn now_ms(&self) -> u32 {
+        self.0
+    }
+}
+
+struct Ram(Vec<u8>);
+impl Storage for Ram {
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
+        let a = addr as usize;
+        buf.copy_from_slice(self.0.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?);
+        Ok(())
+    }
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
+        let a = addr as usize;
+        self.0.get_mut(a..a + data.len()).ok_or(StorageError::OutOfRange)?.copy_from_slice(data);
+        Ok(())
+    }
+}
+
+#[derive(Default)]
+struct Port {
+    input: VecDeque<u8>,
+    output: Vec<u8>,
+}
+impl SerialPort for Port {
+    fn read_byte(&mut self) -> Option<u8> {
+        self.input.pop_front()
+    }
+    fn write(&mut self, b: &[u8]) {
+        self.output.extend_from_slice(b);
+    }
+}
+
+struct Rig {
+    app: App,
+    panel: NoTouch,
+    servos: Servos,
+    clock: FixedClock,
+    eeprom: Ram,
+    port: Port,
+}
+
+impl Rig {
+    fn new(params: &AppParams) -> Rig {
+        Rig {
+            app: App::new(params).unwrap(),
+            panel: NoTouch,
+            servos: Servos::default(),
+            clock: FixedClock(0),
+            eeprom: Ram(vec![0xFF; EEPROM_SIZE as usize]),
+            port: Port::default(),
+        }
+    }
+    fn frames(&mut self, n: usize) {
+        for _ in 0..n {
+            let mut io = Io {
+                panel: &mut self.panel,
+                servos: &mut self.servos,
+                clock: &self.clock,
+                storage: &mut self.eeprom,
+                serial: &mut self.port,
+            };
+            self.app.frame(&mut io);
+            self.servos.log.push(self.servos.pulses);
+            self.clock.0 += 20;
+        }
+    }
+    /// Sends a line, runs two frames, returns the reply lines.
+    fn ask(&mut self, line: &str) -> Vec<String> {
+        self.port.output.clear();
+        self.port.input.extend(line.bytes().chain(*b"\n"));
+        self.frames(2);
+        String::from_utf8(self.port.output.clone())
+            .unwrap()
+            .lines()
+            .map(|l| l.trim_end().to_string())
+            .filter(|l| !l.starts_with("t "))
+            .collect()
+    }
+    fn homed(params: &AppParams) -> Rig {
+        let mut r = Rig::new(params);
+        r.frames(1 + params.home_settle_frames as usize);
+        assert_eq!(r.app.state(), State::Holding);
+        r
+    }
+}
+
+#[test]
+fn refusals_keep_the_pose_and_say_why() {
+    let mut r = Rig::homed(&AppParams::DEFAULT);
+    let home = r.servos.pulses;
+    assert_eq!(home, Some([1500, 1500, 1500]));
+    let cases: &[(&str, &str)] = &[
+        ("goto 200 90 -90", "err joint limit base"),
+        ("goto 90 -10 -90", "err joint limit shoulder"),
+        ("goto 90 90 10", "err joint limit elbow"),
+        ("goto 90 90 -180.5", "err joint limit elbow"),
+        ("move 50 500", "err outside calibrated area"),
+        ("move 500 950", "err outside calibrated area"),
+        ("move 500", "err missing argument"),
+        ("law warp", "err bad argument"),
+    ];
+    for (cmd, want) in cases {
+        assert_eq!(r.ask(cmd), vec![want.to_string()], "{cmd}");
+        assert_eq!(r.servos.pulses, home, "{cmd} moved the arm");
+        assert_eq!(r.app.state(), State::Holding);
+    }
+    // Limits are inclusive: 180° base and a straight elbow are fine.
+    assert_eq!(r.ask("goto 180 90 0")[0].split(' ').take(2).collect::<Vec<_>>(), ["ok", "goto"]);
+}
+
+#[test]
+fn unreachable_and_singular_points_are_refused() {
+    // k = 1.5: the top-right corner lies beyond l2 + l3 = 2.
+    let params = AppParams { k: 1.5, ..AppParams::DEFAULT };
+    let mut r = Rig::homed(&params);
+    assert_eq!(r.ask("move 900 880"), ["err unreachable"]);
+    assert_eq!(r.app.status().last_refusal, Some(Refusal::Unreachable));
+    assert_eq!(r.servos.pulses, Some([1500, 1500, 1500]));
+    // The origin with l2 = l3: shoulder angle undefined. A span of 123..931
+    // puts raw x = 527 exactly at x_p = 0.
+    let mut r = Rig::homed(&AppParams::DEFAULT);
+    assert_eq!(r.ask("cal set touch x_max 931"), ["ok cal set"]);
+    assert_eq!(r.ask("move 527 128"), ["err singular point"]);
+}
+
+#[test]
+fn homing_stop_and_speed_limit_refusals() {
+    let mut r = Rig::new(&AppParams::DEFAULT);
+    r.frames(1);
+    assert_eq!(r.servos.pulses, None, "no pulse in the boot frame");
+    assert_eq!(r.ask("goto 45 90 -90"), ["err homing"]);
+    r.frames(60);
+    assert_eq!(r.ask("stop"), ["ok stop"]);
+    assert_eq!(r.app.state(), State::Stopped);
+    assert_eq!(r.ask("goto 45 90 -90"), ["err stopped (send resume)"]);
+    assert_eq!(r.ask("resume"), ["ok resume"]);
+    // 0.5 °/s on the base: 90° would need ≫ 30 s.
+    assert_eq!(r.ask("cal set base max_speed 0.5"), ["ok cal set"]);
+    assert_eq!(r.ask("goto 0 90 -90"), ["err speed limit needs ts above max"]);
+    assert_eq!(r.servos.pulses, Some([1500, 1500, 1500]));
+}
+
+#[test]
+fn first_move_is_slow_and_reports_its_plan() {
+    let mut r = Rig::homed(&AppParams::DEFAULT);
+    assert_eq!(r.ask("law quintic"), ["ok law quintic"]);
+    // 60° on the base at 25 % (first move) of 3 rad/s less 2 %: 0.735 rad/s,
+    // T = 1.875·(π/3)/0.735 = 2.6714 s.
+    assert_eq!(r.ask("goto 30 90 -90"), ["ok goto ts_ms 2671 vend 0 0 0"]);
+    r.frames(200);
+    assert_eq!(r.servos.pulses, Some([900, 1500, 1500]));
+    // The second at the normal 50 %: T = 1.875·(π/3)/1.47 = 1.3357 s.
+    assert_eq!(r.ask("goto 90 90 -90"), ["ok goto ts_ms 1336 vend 0 0 0"]);
+    // ζ-a-tₛ reports a and the smooth stop; 60° at 50 % → tₛ ≈ 1.444 s.
+    r.frames(100);
+    assert_eq!(r.ask("law zat"), ["ok law zat"]);
+    let reply = r.ask("goto 30 90 -90");
+    let f: Vec<&str> = reply[0].split(' ').collect();
+    assert_eq!(&f[..3], ["ok", "goto", "ts_ms"]);
+    let ts: f64 = f[3].parse().unwrap();
+    assert!((1444.0..1474.0).contains(&ts), "{reply:?}");
+    assert_eq!(&f[4..], ["a_milli", f[5], "smooth", "vend", "0", "0", "0"]);
+}
+
+#[test]
+fn text_formatting() {
+    let mut l = Line::new();
+    l.i32(i32::MIN).word("x").num(0).num(-7).bytes(b" ").centi(-5).bytes(b" ").centi(123_456).bytes(b" ").u32(u32::MAX);
+    assert_eq!(l.finish(), b"-2147483648 x 0 -7 -0.05 1234.56 4294967295\r\n");
+    assert_eq!(centideg(std::f32::consts::FRAC_PI_2), 9000);
+    assert_eq!(centideg(-2.0), -11459);
+    assert_eq!(centideg(f32::NAN), 0);
+    // Overlong text is cut, the terminator kept.
+    let mut l = Line::new();
+    for _ in 0..300 {
+        l.str("ab");
+    }
+    let out = l.finish();
+    assert_eq!(out.len(), touch_arm::app::text::LINE_CAP);
+    assert!(out.ends_with(b"\r\n"));
+}
