@@ -90,15 +90,15 @@ impl JointField {
         JointField::MaxSpeed,
     ];
 
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            JointField::Offset => "offset",
-            JointField::Scale => "scale",
-            JointField::MinUs => "min_us",
-            JointField::MaxUs => "max_us",
-            JointField::MinDeg => "min_deg",
-            JointField::MaxDeg => "max_deg",
-            JointField::MaxSpeed => "max_speed",
+            JointField::Offset => t!("offset"),
+            JointField::Scale => t!("scale"),
+            JointField::MinUs => t!("min_us"),
+            JointField::MaxUs => t!("max_us"),
+            JointField::MinDeg => t!("min_deg"),
+            JointField::MaxDeg => t!("max_deg"),
+            JointField::MaxSpeed => t!("max_speed"),
         }
     }
 
@@ -133,15 +133,15 @@ impl TouchField {
         TouchField::InvertY,
     ];
 
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            TouchField::XMin => "x_min",
-            TouchField::XMax => "x_max",
-            TouchField::YMin => "y_min",
-            TouchField::YMax => "y_max",
-            TouchField::Swap => "swap",
-            TouchField::InvertX => "invert_x",
-            TouchField::InvertY => "invert_y",
+            TouchField::XMin => t!("x_min"),
+            TouchField::XMax => t!("x_max"),
+            TouchField::YMin => t!("y_min"),
+            TouchField::YMax => t!("y_max"),
+            TouchField::Swap => t!("swap"),
+            TouchField::InvertX => t!("invert_x"),
+            TouchField::InvertY => t!("invert_y"),
         }
     }
 
@@ -176,17 +176,17 @@ pub enum CmdError {
 
 impl CmdError {
     /// Short text for the `err <reason>` reply.
-    pub fn reason(self) -> &'static str {
+    pub fn reason(self) -> crate::text::Text {
         match self {
-            CmdError::Empty => "empty line",
-            CmdError::UnknownCommand => "unknown command",
-            CmdError::BadArgument => "bad argument",
-            CmdError::MissingArgument => "missing argument",
-            CmdError::ExtraArgument => "extra argument",
-            CmdError::BadNumber => "bad number",
-            CmdError::OutOfRange => "out of range",
-            CmdError::TooLong => "line too long",
-            CmdError::BadCharacter => "bad character",
+            CmdError::Empty => t!("empty line"),
+            CmdError::UnknownCommand => t!("unknown command"),
+            CmdError::BadArgument => t!("bad argument"),
+            CmdError::MissingArgument => t!("missing argument"),
+            CmdError::ExtraArgument => t!("extra argument"),
+            CmdError::BadNumber => t!("bad number"),
+            CmdError::OutOfRange => t!("out of range"),
+            CmdError::TooLong => t!("line too long"),
+            CmdError::BadCharacter => t!("bad character"),
         }
     }
 }
@@ -306,7 +306,7 @@ pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
 }
 
 fn parse_joint(tok: &[u8]) -> Option<Joint> {
-    Joint::ALL.iter().copied().find(|j| j.name().as_bytes() == tok)
+    Joint::ALL.iter().copied().find(|j| j.name().eq_bytes(tok))
 }
 
 fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
@@ -316,7 +316,7 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
         let field = TouchField::ALL
             .iter()
             .copied()
-            .find(|f| f.name().as_bytes() == name)
+            .find(|f| f.name().eq_bytes(name))
             .ok_or(CmdError::BadArgument)?;
         let value = parse_int(t.arg()?, 0, field.max())? as u16;
         return Ok(CalSet::Touch { field, value });
@@ -326,7 +326,7 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     let field = JointField::ALL
         .iter()
         .copied()
-        .find(|f| f.name().as_bytes() == name)
+        .find(|f| f.name().eq_bytes(name))
         .ok_or(CmdError::BadArgument)?;
     let tok = t.arg()?;
     let value = match field {

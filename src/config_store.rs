@@ -88,16 +88,16 @@ impl SpeedPreset {
         SpeedPreset::ALL.iter().copied().find(|p| p.id() == id)
     }
 
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            SpeedPreset::Slow => "slow",
-            SpeedPreset::Normal => "normal",
-            SpeedPreset::Fast => "fast",
+            SpeedPreset::Slow => t!("slow"),
+            SpeedPreset::Normal => t!("normal"),
+            SpeedPreset::Fast => t!("fast"),
         }
     }
 
     pub fn from_name(name: &[u8]) -> Option<SpeedPreset> {
-        SpeedPreset::ALL.iter().copied().find(|p| p.name().as_bytes() == name)
+        SpeedPreset::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
     }
 
     /// Share of each joint's max speed the planner may use, percent.
@@ -155,12 +155,12 @@ pub enum ConfigError {
 }
 
 impl ConfigError {
-    pub fn reason(self) -> &'static str {
+    pub fn reason(self) -> crate::text::Text {
         match self {
             ConfigError::Joint(_, e) => e.reason(),
-            ConfigError::Touch(TouchCalError::OutOfRange) => "touch limit above 1023",
-            ConfigError::Touch(TouchCalError::Order) => "touch min >= max",
-            ConfigError::Touch(TouchCalError::Span) => "touch span too small",
+            ConfigError::Touch(TouchCalError::OutOfRange) => t!("touch limit above 1023"),
+            ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
+            ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
         }
     }
 }
@@ -434,12 +434,12 @@ pub enum Warning {
 }
 
 impl Warning {
-    pub fn reason(self) -> &'static str {
+    pub fn reason(self) -> crate::text::Text {
         match self {
-            Warning::Missing => "no stored config, defaults",
-            Warning::Corrupt => "stored config corrupt, defaults",
-            Warning::VersionMismatch => "stored config version mismatch, defaults",
-            Warning::CopyDamaged => "one config copy damaged",
+            Warning::Missing => t!("no stored config, defaults"),
+            Warning::Corrupt => t!("stored config corrupt, defaults"),
+            Warning::VersionMismatch => t!("stored config version mismatch, defaults"),
+            Warning::CopyDamaged => t!("one config copy damaged"),
         }
     }
 }

@@ -6,6 +6,10 @@
 // The board layer's interrupt handlers use the AVR interrupt calling convention.
 #![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
 
+// First, so `t!` is in scope in every module below.
+#[macro_use]
+pub mod text;
+
 pub mod app;
 #[cfg(target_arch = "avr")]
 pub mod board;

@@ -1,104 +1,133 @@
 //! touch-arm firmware for the Arduino Mega 2560 (ATmega2560, 16 MHz).
 //!
-//! Foundation stage: runs a fixed 3-joint ζ-a-tₛ demo move in f32 at 50 Hz frame
-//! times, aligned with the Timer5 servo PWM period, and reports each frame on
-//! USART0 (115200 8N1) as fixed-point integers. Servo outputs stay disconnected:
-//! nothing moves until the app commands a pose.
-//!
-//! Frame line: `F <k> <t_us> <q_base> <q_shoulder> <q_elbow> <v_base> <v_shoulder> <v_elbow> <eval_cycles>`
-//! with angles in µrad and velocities in µrad/s.
+//! Wires the board layer to the pure app (`touch_arm::app`): every 20 ms servo
+//! PWM period (Timer5 overflow) the app runs one frame: serial commands, one
+//! filtered touch read, the motion setpoint, the servo pulses. The watchdog
+//! is fed once per frame, so a hang resets the chip into its power-up state
+//! (no pulses until the configuration is loaded and the home pose commanded).
 #![no_std]
 #![no_main]
 
+use core::mem::MaybeUninit;
+
 use avr_device::atmega2560 as pac;
+use touch_arm::app::{App, AppParams, Io};
+use touch_arm::board::adc::Adc;
+use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
+use touch_arm::board::shield::ShieldBus;
+use touch_arm::board::tick::Tick;
+use touch_arm::board::touch::TouchWiring;
 use touch_arm::board::usart::Usart0;
-use touch_arm::plan::{MultiPlan, JOINTS};
-use touch_arm::zat::{smooth_stop_a, ShapeParams};
+use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
+use touch_arm::config_store::Config;
 use ufmt::uwriteln;
 
-/// 50 Hz: one frame per servo PWM period.
-const FRAME_US: u32 = 20_000;
-/// Timer5 runs at 2 MHz: 8 CPU cycles per tick.
-const CYCLES_PER_TICK: u32 = 8;
+/// How the resistive panel is wired on this shield (SPEC §8 variants a/b/c;
+/// README "Wiring" explains how to find yours).
+const TOUCH_WIRING: TouchWiring = TouchWiring::A;
 
-/// The demo move: home pose to a reachable target, in radians.
-const DEMO_START: [f32; JOINTS] = [1.570_796_3, 0.785_398_2, 1.570_796_3];
-const DEMO_TARGET: [f32; JOINTS] = [0.785_398_2, 0.2, 2.2];
-const DEMO_TS: f32 = 2.0;
-const DEMO_N: f32 = 2.0;
+/// A planning frame can take tens of milliseconds and `cal save` feeds the
+/// dog per EEPROM byte; 500 ms leaves margin and still stops a hung arm fast.
+const WATCHDOG: Timeout = Timeout::Ms500;
+
+/// The board's drivers, owned by `main` and lent to each frame.
+struct Board {
+    serial: Usart0,
+    tick: Tick,
+    adc: Adc,
+    bus: ShieldBus,
+    eeprom: Eeprom,
+    pwm: ServoPwm,
+    dog: Watchdog,
+}
 
 #[avr_device::entry]
 fn main() -> ! {
     // `take` only fails on a second call; there is none.
     let Some(dp) = pac::Peripherals::take() else { halt() };
-    let mut serial = Usart0::new(dp.USART0);
-    // Outputs stay disconnected: the demo only computes.
-    let limits = [TickLimits { min: 1000, max: 5000 }; CHANNELS];
-    let mut pwm = ServoPwm::new(dp.TC5, &dp.PORTL, &limits);
-
-    let _ = uwriteln!(serial, "touch-arm {} demo", env!("CARGO_PKG_VERSION"));
-    let a = match smooth_stop_a(DEMO_TS, DEMO_N) {
-        Some(a) => a,
-        None => {
-            let _ = uwriteln!(serial, "err demo shape has no smooth stop");
-            halt()
-        }
+    // First: after a watchdog reset the dog runs with a 16 ms timeout.
+    let (dog, cause) = Watchdog::boot(dp.WDT, &dp.CPU);
+    let mut board = Board {
+        serial: Usart0::new(dp.USART0),
+        tick: Tick::new(dp.TC0),
+        adc: Adc::new(dp.ADC),
+        bus: ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH),
+        eeprom: Eeprom::new(dp.EEPROM),
+        // Outputs stay disconnected until the app commands its first pose;
+        // the hardware window starts at the servo range and narrows to the
+        // loaded calibration's limits every frame.
+        pwm: ServoPwm::new(dp.TC5, &dp.PORTL, &[TickLimits { min: 1000, max: 5000 }; CHANNELS]),
+        dog,
     };
-    let shape = ShapeParams { ts: DEMO_TS, a, n: DEMO_N };
-    let plan = match MultiPlan::new(&DEMO_START, &DEMO_TARGET, &shape) {
-        Ok(p) => p,
-        Err(_) => {
-            let _ = uwriteln!(serial, "err demo plan rejected");
-            halt()
-        }
-    };
-    let _ = uwriteln!(serial, "P {} {} {}", micro(DEMO_TS), micro(a), micro(DEMO_N));
+    // SAFETY: every peripheral the interrupt handlers touch is initialised.
+    unsafe { avr_device::interrupt::enable() };
 
-    let frames = (DEMO_TS * 50.0) as u32 + 2;
-    let mut k: u32 = 0;
-    while k <= frames {
-        while !pwm.period_started() {}
-        let t_us = k * FRAME_US;
-        let c0 = pwm.counter();
-        let s = plan.sample(t_us as f32 * 1e-6);
-        let c1 = pwm.counter();
-        let cycles = u32::from(c1.wrapping_sub(c0)) * CYCLES_PER_TICK;
-        let _ = uwriteln!(
-            serial,
-            "F {} {} {} {} {} {} {} {} {}",
-            k,
-            t_us,
-            micro(s[0].pos),
-            micro(s[1].pos),
-            micro(s[2].pos),
-            micro(s[0].vel),
-            micro(s[1].vel),
-            micro(s[2].vel),
-            cycles
-        );
-        k += 1;
+    let _ = uwriteln!(board.serial, "info touch-arm {} reset {}", env!("CARGO_PKG_VERSION"), reset_name(cause));
+    let Some(app) = start_app() else {
+        let _ = uwriteln!(board.serial, "err app parameters invalid");
+        halt()
+    };
+    board.dog.enable(WATCHDOG);
+    loop {
+        while !board.pwm.period_started() {}
+        board.dog.feed();
+        frame(app, &mut board);
     }
-    let _ = uwriteln!(serial, "done");
-    serial.flush();
-    halt()
 }
 
-/// Value × 10⁶ rounded to the nearest integer (saturating).
-fn micro(v: f32) -> i32 {
-    let x = v * 1e6;
-    (if x >= 0.0 { x + 0.5 } else { x - 0.5 }) as i32
+static mut APP: MaybeUninit<App> = MaybeUninit::uninit();
+
+/// Builds the app in .bss rather than in main's stack frame: a frame that
+/// large makes LLVM address it through temporary Y-pointer adjustments.
+#[inline(never)]
+fn start_app() -> Option<&'static mut App> {
+    let app = App::new(&AppParams::DEFAULT).ok()?;
+    // SAFETY: called once (from `main`, which never returns), so this is the
+    // only reference ever made to APP.
+    Some(unsafe { (*core::ptr::addr_of_mut!(APP)).write(app) })
+}
+
+/// One 20 ms frame: the hardware clamp follows the calibration, then the
+/// app reads serial and touch and writes the servo pulses. Not inlined, so
+/// its large temporaries stay out of `main`'s frame.
+#[inline(never)]
+fn frame(app: &mut App, b: &mut Board) {
+    b.pwm.set_limits(&tick_limits(app.config()));
+    let mut panel = b.bus.touch(&mut b.adc, &TOUCH_WIRING);
+    app.frame(&mut Io { panel: &mut panel, servos: &mut b.pwm, clock: &b.tick, storage: &mut b.eeprom, serial: &mut b.serial });
+}
+
+/// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the
+/// hardware layer's own clamp, under the app's.
+fn tick_limits(cfg: &Config) -> [TickLimits; CHANNELS] {
+    cfg.joints.map(|j| TickLimits { min: j.min_us.saturating_mul(2), max: j.max_us.saturating_mul(2) })
+}
+
+fn reset_name(c: ResetCause) -> touch_arm::text::Text {
+    if c.watchdog() {
+        touch_arm::t!("watchdog")
+    } else if c.brown_out() {
+        touch_arm::t!("brownout")
+    } else if c.external() {
+        touch_arm::t!("external")
+    } else if c.power_on() {
+        touch_arm::t!("power-on")
+    } else {
+        // Some bootloaders clear the flags before the app starts.
+        touch_arm::t!("unknown")
+    }
 }
 
 /// Stops for good: interrupts off, servo outputs disconnected, CPU asleep.
 fn halt() -> ! {
     avr_device::interrupt::disable();
-    // SAFETY: single-threaded; we are abandoning normal operation and only
-    // disconnect the Timer5 compare outputs.
+    // SAFETY: single-threaded; normal operation is abandoned and only the
+    // Timer5 compare outputs are touched.
     let dp = unsafe { pac::Peripherals::steal() };
     dp.TC5.tccr5a().write(|w| w.com5a().disconnected().com5b().disconnected().com5c().disconnected());
     // Sleep enabled with interrupts off: the CPU stops here (and simavr ends
-    // the run instead of spinning).
+    // the run instead of spinning). An enabled watchdog still resets the chip.
     dp.CPU.smcr().write(|w| w.se().set_bit());
     loop {
         avr_device::asm::sleep();

@@ -50,18 +50,18 @@ impl LawKind {
     }
 
     /// The name used by the `law` command.
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            LawKind::Zat => "zat",
-            LawKind::Quintic => "quintic",
-            LawKind::Cubic => "cubic",
-            LawKind::Trapezoid => "trapezoid",
-            LawKind::Linear => "linear",
+            LawKind::Zat => t!("zat"),
+            LawKind::Quintic => t!("quintic"),
+            LawKind::Cubic => t!("cubic"),
+            LawKind::Trapezoid => t!("trapezoid"),
+            LawKind::Linear => t!("linear"),
         }
     }
 
     pub fn from_name(name: &[u8]) -> Option<LawKind> {
-        LawKind::ALL.iter().copied().find(|l| l.name().as_bytes() == name)
+        LawKind::ALL.iter().copied().find(|l| l.name().eq_bytes(name))
     }
 }
 

@@ -72,11 +72,11 @@ impl Joint {
         }
     }
 
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            Joint::Base => "base",
-            Joint::Shoulder => "shoulder",
-            Joint::Elbow => "elbow",
+            Joint::Base => t!("base"),
+            Joint::Shoulder => t!("shoulder"),
+            Joint::Elbow => t!("elbow"),
         }
     }
 }
@@ -209,15 +209,15 @@ pub enum JointCalError {
 }
 
 impl JointCalError {
-    pub fn reason(self) -> &'static str {
+    pub fn reason(self) -> crate::text::Text {
         match self {
-            JointCalError::NotFinite => "not finite",
-            JointCalError::PulseLimits => "pulse limits",
-            JointCalError::AngleLimits => "angle limits",
-            JointCalError::Scale => "scale",
-            JointCalError::Offset => "offset",
-            JointCalError::Speed => "speed",
-            JointCalError::NoOverlap => "angle range misses pulse range",
+            JointCalError::NotFinite => t!("not finite"),
+            JointCalError::PulseLimits => t!("pulse limits"),
+            JointCalError::AngleLimits => t!("angle limits"),
+            JointCalError::Scale => t!("scale"),
+            JointCalError::Offset => t!("offset"),
+            JointCalError::Speed => t!("speed"),
+            JointCalError::NoOverlap => t!("angle range misses pulse range"),
         }
     }
 }

@@ -596,7 +596,7 @@ fn first_move_is_slow_and_reports_its_plan() {
 #[test]
 fn text_formatting() {
     let mut l = Line::new();
-    l.i32(i32::MIN).word("x").num(0).num(-7).bytes(b" ").centi(-5).bytes(b" ").centi(123_456).bytes(b" ").u32(u32::MAX);
+    l.i32(i32::MIN).word(touch_arm::t!("x")).num(0).num(-7).bytes(b" ").centi(-5).bytes(b" ").centi(123_456).bytes(b" ").u32(u32::MAX);
     assert_eq!(l.finish(), b"-2147483648 x 0 -7 -0.05 1234.56 4294967295\r\n");
     assert_eq!(centideg(std::f32::consts::FRAC_PI_2), 9000);
     assert_eq!(centideg(-2.0), -11459);
@@ -604,7 +604,7 @@ fn text_formatting() {
     // Overlong text is cut, the terminator kept.
     let mut l = Line::new();
     for _ in 0..300 {
-        l.str("ab");
+        l.str(touch_arm::t!("ab"));
     }
     let out = l.finish();
     assert_eq!(out.len(), touch_arm::app::text::LINE_CAP);

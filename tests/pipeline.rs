@@ -855,11 +855,11 @@ mod config {
     fn ids_and_names_round_trip() {
         for l in LawKind::ALL {
             assert_eq!(LawKind::from_id(l.id()), Some(l));
-            assert_eq!(LawKind::from_name(l.name().as_bytes()), Some(l));
+            assert_eq!(LawKind::from_name(l.name().as_str().as_bytes()), Some(l));
         }
         for p in SpeedPreset::ALL {
             assert_eq!(SpeedPreset::from_id(p.id()), Some(p));
-            assert_eq!(SpeedPreset::from_name(p.name().as_bytes()), Some(p));
+            assert_eq!(SpeedPreset::from_name(p.name().as_str().as_bytes()), Some(p));
         }
         assert_eq!(LawKind::from_id(5), None);
         assert_eq!(SpeedPreset::from_id(3), None);

@@ -59,15 +59,15 @@ impl App {
         self.last_move.target = self.commanded;
         self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };
         let mut line = Line::new();
-        line.str("info boot config").word(match self.source {
-            config_store::Source::SlotA => "slotA",
-            config_store::Source::SlotB => "slotB",
-            config_store::Source::Defaults => "defaults",
+        line.str(t!("info boot config")).word(match self.source {
+            config_store::Source::SlotA => t!("slotA"),
+            config_store::Source::SlotB => t!("slotB"),
+            config_store::Source::Defaults => t!("defaults"),
         });
-        line.word("seq").num(i32::from(loaded.seq));
+        line.word(t!("seq")).num(i32::from(loaded.seq));
         serial.write(line.finish());
         if let Some(w) = self.warning {
-            serial.write(line.clear().str("warn ").str(w.reason()).finish());
+            serial.write(line.clear().str(t!("warn ")).str(w.reason()).finish());
         }
     }
 
@@ -98,11 +98,11 @@ impl App {
         let mut line = Line::new();
         match self.move_to_raw(p) {
             Ok(()) => {
-                line.str("info touch").num(i32::from(p.x)).num(i32::from(p.y));
+                line.str(t!("info touch")).num(i32::from(p.x)).num(i32::from(p.y));
                 self.describe_move(&mut line, true);
             }
             Err(r) => {
-                line.str("err touch").num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
+                line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
             }
         }
         serial.write(line.finish());

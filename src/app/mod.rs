@@ -196,13 +196,13 @@ pub enum State {
 }
 
 impl State {
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> crate::text::Text {
         match self {
-            State::Off => "off",
-            State::Homing => "homing",
-            State::Holding => "holding",
-            State::Moving => "moving",
-            State::Stopped => "stopped",
+            State::Off => t!("off"),
+            State::Homing => t!("homing"),
+            State::Holding => t!("holding"),
+            State::Moving => t!("moving"),
+            State::Stopped => t!("stopped"),
         }
     }
 }

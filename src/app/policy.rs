@@ -96,23 +96,23 @@ pub enum Refusal {
 
 impl Refusal {
     /// Text of the `err <reason>` reply.
-    pub fn reason(self) -> &'static str {
+    pub fn reason(self) -> crate::text::Text {
         match self {
-            Refusal::Stopped => "stopped (send resume)",
-            Refusal::Homing => "homing",
-            Refusal::Busy => "busy moving",
-            Refusal::OutsideCalibration => "outside calibrated area",
-            Refusal::OutsideWorkspace => "outside workspace",
-            Refusal::Unreachable => "unreachable",
-            Refusal::Singular => "singular point",
-            Refusal::JointLimit(Joint::Base) => "joint limit base",
-            Refusal::JointLimit(Joint::Shoulder) => "joint limit shoulder",
-            Refusal::JointLimit(Joint::Elbow) => "joint limit elbow",
-            Refusal::SpeedLimit => "speed limit needs ts above max",
-            Refusal::Trajectory => "trajectory not admissible",
-            Refusal::NotFinite => "not finite",
-            Refusal::Fault => "fault: setpoint refused, stopped",
-            Refusal::HeldPoseOutside => "held pose outside new limits",
+            Refusal::Stopped => t!("stopped (send resume)"),
+            Refusal::Homing => t!("homing"),
+            Refusal::Busy => t!("busy moving"),
+            Refusal::OutsideCalibration => t!("outside calibrated area"),
+            Refusal::OutsideWorkspace => t!("outside workspace"),
+            Refusal::Unreachable => t!("unreachable"),
+            Refusal::Singular => t!("singular point"),
+            Refusal::JointLimit(Joint::Base) => t!("joint limit base"),
+            Refusal::JointLimit(Joint::Shoulder) => t!("joint limit shoulder"),
+            Refusal::JointLimit(Joint::Elbow) => t!("joint limit elbow"),
+            Refusal::SpeedLimit => t!("speed limit needs ts above max"),
+            Refusal::Trajectory => t!("trajectory not admissible"),
+            Refusal::NotFinite => t!("not finite"),
+            Refusal::Fault => t!("fault: setpoint refused, stopped"),
+            Refusal::HeldPoseOutside => t!("held pose outside new limits"),
         }
     }
 }

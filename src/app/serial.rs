@@ -56,7 +56,7 @@ impl App {
             match got {
                 Ok(n) => self.handle_line(copy.get(..n).unwrap_or(&[]), io.storage, &mut reply),
                 Err(e) => {
-                    reply.str("err ").str(e.reason());
+                    reply.str(t!("err ")).str(e.reason());
                 }
             }
             if !reply.as_bytes().is_empty() {
@@ -73,13 +73,13 @@ impl App {
             Ok(c) => c,
             Err(CmdError::Empty) => return,
             Err(e) => {
-                reply.str("err ").str(e.reason());
+                reply.str(t!("err ")).str(e.reason());
                 return;
             }
         };
         let result = match cmd {
             Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| {
-                reply.str("ok move");
+                reply.str(t!("ok move"));
                 self.describe_move(reply, true);
             }),
             Command::Goto { centideg } => {
@@ -88,18 +88,18 @@ impl App {
                     *t = centideg_to_rad(*c);
                 }
                 self.move_to_angles(&target).map(|()| {
-                    reply.str("ok goto");
+                    reply.str(t!("ok goto"));
                     self.describe_move(reply, false);
                 })
             }
             Command::Stop => {
                 self.stop();
-                reply.str("ok stop");
+                reply.str(t!("ok stop"));
                 Ok(())
             }
             Command::Resume => {
                 self.resume();
-                reply.str("ok resume");
+                reply.str(t!("ok resume"));
                 Ok(())
             }
             Command::Status => {
@@ -108,17 +108,17 @@ impl App {
             }
             Command::Law(l) => {
                 self.config.law = l;
-                reply.str("ok law ").str(l.name());
+                reply.str(t!("ok law ")).str(l.name());
                 Ok(())
             }
             Command::Speed(s) => {
                 self.config.speed = s;
-                reply.str("ok speed ").str(s.name());
+                reply.str(t!("ok speed ")).str(s.name());
                 Ok(())
             }
             Command::Log(on) => {
                 self.log = on;
-                reply.str(if on { "ok log on" } else { "ok log off" });
+                reply.str(if on { t!("ok log on") } else { t!("ok log off") });
                 Ok(())
             }
             Command::CalShow => {
@@ -128,12 +128,12 @@ impl App {
             }
             Command::CalSet(set) => self.cal_set(&set, reply),
             Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(|()| {
-                reply.str("ok cal reset");
+                reply.str(t!("ok cal reset"));
             }),
             Command::CalSave => self.cal_save(storage, reply),
         };
         if let Err(r) = result {
-            reply.clear().str("err ").str(r.reason());
+            reply.clear().str(t!("err ")).str(r.reason());
         }
     }
 
@@ -143,12 +143,12 @@ impl App {
         }
         let mut next = self.config;
         if let Err(e) = next.apply(set) {
-            reply.str("err ");
+            reply.str(t!("err "));
             config_error(&e, reply);
             return Ok(());
         }
         self.replace_config(&next, matches!(set, CalSet::Touch { .. }))?;
-        reply.str("ok cal set");
+        reply.str(t!("ok cal set"));
         Ok(())
     }
 
@@ -181,17 +181,17 @@ impl App {
             Ok(seq) => {
                 // Both copies now hold this configuration.
                 self.warning = None;
-                reply.str("ok cal save seq").num(i32::from(seq));
+                reply.str(t!("ok cal save seq")).num(i32::from(seq));
             }
             Err(SaveError::Invalid(e)) => {
-                reply.str("err ");
+                reply.str(t!("err "));
                 config_error(&e, reply);
             }
             Err(SaveError::Storage(_)) => {
-                reply.str("err save failed: storage");
+                reply.str(t!("err save failed: storage"));
             }
             Err(SaveError::Verify) => {
-                reply.str("err save failed: verify");
+                reply.str(t!("err save failed: verify"));
             }
         }
         Ok(())
@@ -201,7 +201,7 @@ impl App {
 /// `<joint> <reason>` or `<reason>` of an invalid calibration change.
 fn config_error(e: &ConfigError, line: &mut Line) {
     if let ConfigError::Joint(j, _) = e {
-        line.str(j.name()).str(" ");
+        line.str(j.name()).str(t!(" "));
     }
     line.str(e.reason());
 }

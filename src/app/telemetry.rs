@@ -17,18 +17,18 @@ impl App {
         let m = &self.last_move;
         if with_condition {
             if let Some(t) = &m.touch {
-                line.word("cond").num(i32::from(t.condition.number()));
+                line.word(t!("cond")).num(i32::from(t.condition.number()));
             }
         }
-        line.word("ts_ms").num(milli(m.ts));
+        line.word(t!("ts_ms")).num(milli(m.ts));
         if let Some(a) = &m.a {
-            line.word("a_milli").num(milli(a.a)).word(match a.kind {
-                AKind::SmoothStop => "smooth",
-                AKind::MonotoneLimit => "limit",
-                AKind::Floor => "floor",
+            line.word(t!("a_milli")).num(milli(a.a)).word(match a.kind {
+                AKind::SmoothStop => t!("smooth"),
+                AKind::MonotoneLimit => t!("limit"),
+                AKind::Floor => t!("floor"),
             });
         }
-        line.word("vend");
+        line.word(t!("vend"));
         for v in m.end_velocity.iter() {
             line.num(milli(*v));
         }
@@ -39,7 +39,7 @@ impl App {
     pub(super) fn send_telemetry<U: SerialPort>(&self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
-        line.str("t ").u32(now_ms);
+        line.str(t!("t ")).u32(now_ms);
         for q in self.commanded.iter() {
             line.num(centideg(*q));
         }
@@ -68,7 +68,7 @@ impl App {
             _ => None,
         };
         if let Some(j) = joint {
-            line.str("cal ").str(j.name());
+            line.str(t!("cal ")).str(j.name());
             for f in JointField::ALL {
                 let v = self.config.joint_field(j, f);
                 line.word(f.name()).bytes(b" ");
@@ -82,7 +82,7 @@ impl App {
         }
         if i == 3 {
             let t = &self.config.touch;
-            line.str("cal touch");
+            line.str(t!("cal touch"));
             for f in TouchField::ALL {
                 let v = match f {
                     TouchField::XMin => t.x_min,
@@ -97,9 +97,9 @@ impl App {
             }
             return;
         }
-        line.str("ok cal show law ")
+        line.str(t!("ok cal show law "))
             .str(self.config.law.name())
-            .word("speed")
+            .word(t!("speed"))
             .word(self.config.speed.name());
     }
 }
@@ -108,17 +108,17 @@ impl App {
 /// <3 us | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
 /// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
 pub(super) fn status_line(s: &Status, line: &mut Line) {
-    line.str("ok status ").str(s.state.name());
-    line.word("law").word(s.law.name()).word("speed").word(s.speed.name());
-    line.word("q");
+    line.str(t!("ok status ")).str(s.state.name());
+    line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
+    line.word(t!("q"));
     for q in s.commanded.iter() {
         line.num(centideg(*q));
     }
-    line.word("target");
+    line.word(t!("target"));
     for q in s.target.iter() {
         line.num(centideg(*q));
     }
-    line.word("pulses");
+    line.word(t!("pulses"));
     match &s.pulses {
         Some(p) => {
             for us in p.iter() {
@@ -126,27 +126,27 @@ pub(super) fn status_line(s: &Status, line: &mut Line) {
             }
         }
         None => {
-            line.str(" - - -");
+            line.str(t!(" - - -"));
         }
     }
-    line.word("progress").num(i32::from(s.progress));
-    line.word("ts_ms").num(milli(s.ts));
+    line.word(t!("progress")).num(i32::from(s.progress));
+    line.word(t!("ts_ms")).num(milli(s.ts));
     if let Some(t) = &s.touch_target {
-        line.word("cond").num(i32::from(t.condition.number()));
-        line.word("alpha").num(centideg(t.alpha));
+        line.word(t!("cond")).num(i32::from(t.condition.number()));
+        line.word(t!("alpha")).num(centideg(t.alpha));
     }
     if s.first_move_pending {
-        line.word("first_move_slow");
+        line.word(t!("first_move_slow"));
     }
     if let Some(w) = s.config_warning {
-        line.word("warn").word(match w {
-            crate::config_store::Warning::Missing => "missing",
-            crate::config_store::Warning::Corrupt => "corrupt",
-            crate::config_store::Warning::VersionMismatch => "version",
-            crate::config_store::Warning::CopyDamaged => "copy_damaged",
+        line.word(t!("warn")).word(match w {
+            crate::config_store::Warning::Missing => t!("missing"),
+            crate::config_store::Warning::Corrupt => t!("corrupt"),
+            crate::config_store::Warning::VersionMismatch => t!("version"),
+            crate::config_store::Warning::CopyDamaged => t!("copy_damaged"),
         });
     }
     if let Some(r) = s.last_refusal {
-        line.word("refused").word(r.reason());
+        line.word(t!("refused")).word(r.reason());
     }
 }

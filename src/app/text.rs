@@ -2,6 +2,7 @@
 //! `core::fmt` float code. Fixed-point values print as `-12.05`.
 
 use crate::config_store::round_i32;
+use crate::text::Text;
 
 /// Longest line the app writes, terminator included.
 pub const LINE_CAP: usize = 192;
@@ -47,12 +48,16 @@ impl Line {
         self
     }
 
-    pub fn str(&mut self, s: &str) -> &mut Self {
-        self.bytes(s.as_bytes())
+    /// Appends constant text (read from flash on the chip).
+    pub fn str(&mut self, s: Text) -> &mut Self {
+        for b in s.bytes() {
+            self.bytes(&[b]);
+        }
+        self
     }
 
     /// A space, then `s`.
-    pub fn word(&mut self, s: &str) -> &mut Self {
+    pub fn word(&mut self, s: Text) -> &mut Self {
         self.bytes(b" ").str(s)
     }
 

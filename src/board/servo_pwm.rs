@@ -82,6 +82,14 @@ impl ServoPwm {
         v
     }
 
+    /// Replaces the per-channel windows (e.g. after the stored calibration is
+    /// loaded or changed). A value already set stays until the next `set`.
+    pub fn set_limits(&mut self, limits: &[TickLimits; CHANNELS]) {
+        for ch in 0..CHANNELS {
+            self.limits[ch] = sanitize(limits[ch]);
+        }
+    }
+
     /// Disconnects every output (pins low, no pulses): servos go limp rather
     /// than being driven somewhere unintended. Used on panic and fault.
     pub fn disable_all(&mut self) {

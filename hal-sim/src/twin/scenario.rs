@@ -723,7 +723,7 @@ impl Runner {
                 }
             }
             Expect::Refusal(text) => {
-                let r = st.last_refusal.map(|r| r.reason());
+                let r = st.last_refusal.map(|r| r.reason().as_str());
                 if r != Some(text.as_str()) {
                     return Err(format!("last refusal {r:?}, want {text:?}"));
                 }

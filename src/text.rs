@@ -1,0 +1,154 @@
+//! Constant text that lives in flash on the chip.
+//!
+//! On AVR every `&'static str` literal is copied into SRAM at boot (.rodata is
+//! part of .data there), and the app's replies, reasons and names would fill
+//! the 2 KiB static-RAM budget on their own. [`t!`] puts a literal in
+//! `.progmem.data` instead and gives a [`Text`] handle that reads it with `lpm`
+//! one byte at a time. On the host the same handle wraps a plain `&'static str`,
+//! so host tests see exactly the bytes the chip sends.
+
+/// A handle to constant text (flash on AVR, a plain static elsewhere). Copy,
+/// 4 bytes on the chip.
+#[derive(Clone, Copy)]
+pub struct Text {
+    #[cfg(target_arch = "avr")]
+    ptr: *const u8,
+    #[cfg(target_arch = "avr")]
+    len: u16,
+    #[cfg(not(target_arch = "avr"))]
+    s: &'static str,
+}
+
+// SAFETY: the bytes behind a Text are immutable statics.
+unsafe impl Sync for Text {}
+unsafe impl Send for Text {}
+
+impl Text {
+    /// Used by [`t!`]; `bytes` must be a `.progmem.data` static on AVR.
+    #[doc(hidden)]
+    #[cfg(target_arch = "avr")]
+    pub const fn from_progmem(bytes: &'static [u8]) -> Text {
+        Text { ptr: bytes.as_ptr(), len: bytes.len() as u16 }
+    }
+
+    #[doc(hidden)]
+    #[cfg(not(target_arch = "avr"))]
+    pub const fn from_str(s: &'static str) -> Text {
+        Text { s }
+    }
+
+    #[inline]
+    pub fn len(&self) -> usize {
+        #[cfg(target_arch = "avr")]
+        return self.len as usize;
+        #[cfg(not(target_arch = "avr"))]
+        return self.s.len();
+    }
+
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Byte `i` (0 past the end).
+    #[inline]
+    pub fn byte(&self, i: usize) -> u8 {
+        if i >= self.len() {
+            return 0;
+        }
+        #[cfg(target_arch = "avr")]
+        // SAFETY: i < len, and ptr/len describe a .progmem.data static in the
+        // low 64 KiB of flash (avr-gcc's linker script places .progmem* there).
+        return unsafe { avr_progmem::raw::read_byte(self.ptr.add(i)) };
+        #[cfg(not(target_arch = "avr"))]
+        return self.s.as_bytes()[i];
+    }
+
+    /// The bytes, read one at a time.
+    pub fn bytes(self) -> impl Iterator<Item = u8> {
+        (0..self.len()).map(move |i| self.byte(i))
+    }
+
+    /// Equal to `other` byte for byte.
+    pub fn eq_bytes(&self, other: &[u8]) -> bool {
+        other.len() == self.len() && other.iter().enumerate().all(|(i, &b)| self.byte(i) == b)
+    }
+
+    /// The text as a `str` (host only: on the chip it is not in data space).
+    #[cfg(not(target_arch = "avr"))]
+    pub fn as_str(&self) -> &'static str {
+        self.s
+    }
+}
+
+impl PartialEq for Text {
+    fn eq(&self, other: &Text) -> bool {
+        other.len() == self.len() && (0..self.len()).all(|i| self.byte(i) == other.byte(i))
+    }
+}
+
+impl Eq for Text {}
+
+impl PartialEq<&str> for Text {
+    fn eq(&self, other: &&str) -> bool {
+        self.eq_bytes(other.as_bytes())
+    }
+}
+
+impl core::fmt::Debug for Text {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        #[cfg(not(target_arch = "avr"))]
+        return core::fmt::Debug::fmt(self.s, f);
+        #[cfg(target_arch = "avr")]
+        return f.write_str("<flash text>");
+    }
+}
+
+#[cfg(not(target_arch = "avr"))]
+impl core::fmt::Display for Text {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.s)
+    }
+}
+
+impl ufmt::uDisplay for Text {
+    fn fmt<W: ufmt::uWrite + ?Sized>(&self, f: &mut ufmt::Formatter<'_, W>) -> Result<(), W::Error> {
+        let mut buf = [0u8; 1];
+        for b in self.bytes() {
+            buf[0] = b;
+            // Only ASCII literals are ever stored.
+            f.write_str(core::str::from_utf8(&buf).unwrap_or("?"))?;
+        }
+        Ok(())
+    }
+}
+
+/// Copies a literal's bytes into an array at compile time.
+#[doc(hidden)]
+pub const fn to_array<const N: usize>(b: &[u8]) -> [u8; N] {
+    let mut a = [0u8; N];
+    let mut i = 0;
+    while i < N {
+        a[i] = b[i];
+        i += 1;
+    }
+    a
+}
+
+/// `t!("literal")`: a [`Text`] kept in flash on the chip.
+#[macro_export]
+macro_rules! t {
+    ($s:literal) => {{
+        #[cfg(target_arch = "avr")]
+        {
+            const N: usize = $s.len();
+            #[link_section = ".progmem.data"]
+            static S: [u8; N] = $crate::text::to_array::<N>($s.as_bytes());
+            $crate::text::Text::from_progmem(&S)
+        }
+        #[cfg(not(target_arch = "avr"))]
+        {
+            $crate::text::Text::from_str($s)
+        }
+    }};
+}
