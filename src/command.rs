@@ -231,13 +231,19 @@ fn sign(tok: &[u8]) -> (bool, &[u8]) {
     }
 }
 
+/// Longest digit run accepted: 9 digits cannot overflow an i32, and every
+/// field's range is far smaller, so longer runs are out of range anyway.
+/// (Plain arithmetic under a length bound instead of `checked_mul`, whose
+/// overflow-checking runtime helper crashes on the ATmega2560.)
+const MAX_DIGITS: usize = 9;
+
 fn digits_value(d: &[u8]) -> Result<i32, CmdError> {
+    if d.len() > MAX_DIGITS {
+        return Err(CmdError::OutOfRange);
+    }
     let mut v: i32 = 0;
     for &b in d {
-        v = v
-            .checked_mul(10)
-            .and_then(|v| v.checked_add((b - b'0') as i32))
-            .ok_or(CmdError::OutOfRange)?;
+        v = v * 10 + (b - b'0') as i32;
     }
     Ok(v)
 }
@@ -280,10 +286,11 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
         [a, b] => (a - b'0') as i32 * 10 + (b - b'0') as i32,
         _ => 0,
     };
-    let v = digits_value(int)?
-        .checked_mul(100)
-        .and_then(|v| v.checked_add(f))
-        .ok_or(CmdError::OutOfRange)?;
+    // Two digits fewer for the ×100, so the product stays below 2³¹.
+    if int.len() > MAX_DIGITS - 2 {
+        return Err(CmdError::OutOfRange);
+    }
+    let v = digits_value(int)? * 100 + f;
     let v = if neg { -v } else { v };
     if v < min || v > max {
         return Err(CmdError::OutOfRange);

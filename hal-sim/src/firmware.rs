@@ -156,7 +156,10 @@ impl Session {
             .run_until(
                 |a| {
                     let out = &a.uart_output()[before..];
-                    out.split(|b| *b == b'\n').any(|l| l.starts_with(b"ok") || l.starts_with(b"err"))
+                    // A complete reply line (the last piece after a split has no newline yet).
+                    let mut lines: Vec<&[u8]> = out.split(|b| *b == b'\n').collect();
+                    lines.pop();
+                    lines.iter().any(|l| l.starts_with(b"ok") || l.starts_with(b"err"))
                 },
                 max,
             )
