@@ -67,28 +67,6 @@ pub fn load(elf: &Path) -> Result<Avr, String> {
     Avr::load(elf, MCU, CPU_HZ).map_err(|e: Error| format!("loading {}: {e:?}", elf.display()))
 }
 
-/// One demo frame as the firmware prints it (angles µrad, velocities µrad/s).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Frame {
-    pub k: u32,
-    pub t_us: u32,
-    pub q_urad: [i32; 3],
-    pub v_urad_s: [i32; 3],
-    pub eval_cycles: u32,
-}
-
-/// Parses `F <k> <t_us> <q×3> <v×3> <cycles>`; other lines give `None`.
-pub fn parse_frame(line: &str) -> Option<Frame> {
-    let mut it = line.strip_prefix("F ")?.split_whitespace();
-    let mut next = || it.next()?.parse::<i64>().ok();
-    let k = next()? as u32;
-    let t_us = next()? as u32;
-    let q_urad = [next()? as i32, next()? as i32, next()? as i32];
-    let v_urad_s = [next()? as i32, next()? as i32, next()? as i32];
-    let eval_cycles = next()? as u32;
-    Some(Frame { k, t_us, q_urad, v_urad_s, eval_cycles })
-}
-
 /// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5.
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
     [crate::avr::Pin::new('L', 3), crate::avr::Pin::new('L', 4), crate::avr::Pin::new('L', 5)];

@@ -38,6 +38,8 @@ pub enum Val {
     Int(i64),
     Bool(bool),
     Str(String),
+    /// Already-rendered JSON (an array, say).
+    Raw(String),
     Null,
 }
 
@@ -115,6 +117,7 @@ impl Json {
                     }
                     s.push('"');
                 }
+                Val::Raw(r) => s.push_str(r),
                 Val::Null => s.push_str("null"),
             }
         }

@@ -1,11 +1,29 @@
-//! The main job: run the real firmware ELF in simavr and report what it does.
-//! Writes `out/frames.csv` and `out/frames.png` and prints a short summary.
+//! The main job: run the real firmware ELF in simavr, touch the simulated
+//! panel once, and record what the servos receive.
+//!
+//! Writes to the output directory (default `out/`):
+//! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`;
+//! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
+//!   final_pulses_us, arrival_s}`;
+//! - `angles.png`: each joint's angle (from the pulses through the default
+//!   calibration) and angular velocity over time.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hal_sim::firmware::{self, parse_frame};
+use hal_sim::firmware::{self, Session};
+use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
+use hal_sim::report::Json;
+use touch_arm::config_store::Config;
+use touch_arm::pose::{pose_for_point, ArmGeometry};
+use touch_arm::servo::{ServoMap, ELBOW_BRANCH};
+use touch_arm::touch_map::Calibration;
+use touch_arm::ik::Links;
+
+const USAGE: &str = "usage: touch-arm-sim [--raw X,Y | --xy X,Y] [--elf FILE] [--out DIR]
+Runs the firmware in simavr, touches the panel at the given point (default
+raw 700,600) and writes DIR/pulses.csv, DIR/summary.json and DIR/angles.png.";
 
 fn main() -> ExitCode {
     match run() {
@@ -17,60 +35,131 @@ fn main() -> ExitCode {
     }
 }
 
+fn pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;
+    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("not a number: {v:?}"));
+    Ok((p(a)?, p(b)?))
+}
+
 fn run() -> Result<(), String> {
     let mut elf = firmware::default_elf();
     let mut out = PathBuf::from("out");
+    let mut raw = (700.0, 600.0);
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--elf" => elf = args.next().ok_or("--elf needs a path")?.into(),
             "--out" => out = args.next().ok_or("--out needs a directory")?.into(),
+            "--raw" => {
+                let (x, y) = pair(&args.next().ok_or("--raw needs X,Y")?)?;
+                if !(0.0..=1023.0).contains(&x) || !(0.0..=1023.0).contains(&y) || x.fract() != 0.0 || y.fract() != 0.0 {
+                    return Err(format!("--raw values must be integers 0..=1023, got {x},{y}"));
+                }
+                raw = (x, y);
+            }
+            "--xy" => {
+                let (x, y) = pair(&args.next().ok_or("--xy needs X,Y")?)?;
+                let r = Calibration::DEFAULT.unmap::<f64>(x, y).map_err(|e| format!("--xy {x},{y}: {e:?} (the workspace is [-1,1]x[0,1])"))?;
+                raw = (r.x as f64, r.y as f64);
+            }
             "-h" | "--help" => {
-                println!("usage: touch-arm-sim [--elf FILE] [--out DIR]\nRuns the firmware in simavr; writes DIR/frames.csv and DIR/frames.png.");
+                println!("{USAGE}");
                 return Ok(());
             }
-            other => return Err(format!("unknown argument {other:?} (see --help)")),
+            other => return Err(format!("unknown argument {other:?}\n{USAGE}")),
         }
     }
-    let mut avr = firmware::load(&elf)?;
-    avr.run_until_output(b"done\n", firmware::CPU_HZ as u64 * 10).map_err(|e| format!("firmware did not finish: {e:?}"))?;
-    let text = avr.uart_output_string();
-    let frames: Vec<_> = text.lines().filter_map(parse_frame).collect();
-    if frames.is_empty() {
-        return Err(format!("no frames in the firmware output:\n{text}"));
+
+    let mut s = Session::start(&elf, PanelWiring::A, 1)?;
+    s.run_for(1.5)?;
+    let t_touch = s.avr.time_s();
+    s.press_raw(raw.0, raw.1)?;
+    s.run_for(0.3)?;
+    s.release();
+    // Until the reply to the touch, then through the move and a margin.
+    s.run_for(0.2)?;
+    let text = s.avr.uart_output_string();
+    let line = text.lines().find(|l| l.starts_with("info touch ") || l.starts_with("err touch ")).map(str::to_string);
+    let Some(line) = line else { return Err(format!("the firmware did not report the touch:\n{text}")) };
+    if line.starts_with("err") {
+        return Err(format!("the firmware refused the touch: {line}"));
     }
+    let ts = line
+        .split_whitespace()
+        .skip_while(|w| *w != "ts_ms")
+        .nth(1)
+        .and_then(|v| v.parse::<f64>().ok())
+        .ok_or_else(|| format!("no ts_ms in {line:?}"))?
+        / 1000.0;
+    s.run_for(ts + 1.0)?;
+
+    // Host f64 reference of the same chain (SPEC §2–4) for the summary.
+    let cal = Calibration::DEFAULT;
+    let m = cal.map::<f64>(raw.0 as u16, raw.1 as u16).map_err(|e| format!("{e:?}"))?;
+    let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?, branch: ELBOW_BRANCH };
+    let pose = pose_for_point(&geo, m.x_p, m.y_p).map_err(|e| format!("{e:?}"))?;
+    let q = [pose.alpha, pose.q2, pose.q3];
+    let maps: Vec<ServoMap> = Config::DEFAULT.joints.iter().map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}"))).collect::<Result<_, _>>()?;
+    let target: Vec<f64> = (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| p.us as f64).unwrap_or(f64::NAN)).collect();
+
+    let trains = s.pulses();
+    let n = trains.iter().map(Vec::len).min().unwrap_or(0);
+    if n == 0 {
+        return Err("no servo pulses measured".into());
+    }
+    let finals: Vec<f64> = trains.iter().map(|p| p[n - 1].1).collect();
+    // Arrival: the first pulse after which every joint stays within 1 µs of its final width.
+    let settled = |i: usize| (0..3).all(|j| trains[j][i..n].iter().all(|(_, w)| (w - finals[j]).abs() <= 1.0));
+    let first_settled = (0..n).find(|&i| settled(i)).unwrap_or(n - 1);
+    let arrival = trains[0][first_settled].0 - t_touch;
+
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut csv = String::from("t_s,q_base,q_shoulder,q_elbow,v_base,v_shoulder,v_elbow,eval_cycles\n");
-    for f in &frames {
-        let q = f.q_urad.map(|v| v as f64 * 1e-6);
-        let v = f.v_urad_s.map(|v| v as f64 * 1e-6);
-        csv += &format!("{},{},{},{},{},{},{},{}\n", f.t_us as f64 * 1e-6, q[0], q[1], q[2], v[0], v[1], v[2], f.eval_cycles);
+    let mut csv = String::from("t_s,base_us,shoulder_us,elbow_us\n");
+    for i in 0..n {
+        csv += &format!("{:.6},{:.3},{:.3},{:.3}\n", trains[0][i].0, trains[0][i].1, trains[1][i].1, trains[2][i].1);
     }
-    let csv_path = out.join("frames.csv");
+    let csv_path = out.join("pulses.csv");
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
 
-    let t: Vec<f64> = frames.iter().map(|f| f.t_us as f64 * 1e-6).collect();
-    let col = |j: usize, vel: bool| -> Vec<f64> {
-        frames.iter().map(|f| if vel { f.v_urad_s[j] } else { f.q_urad[j] } as f64 * 1e-6).collect()
-    };
-    let q: Vec<Vec<f64>> = (0..3).map(|j| col(j, false)).collect();
-    let v: Vec<Vec<f64>> = (0..3).map(|j| col(j, true)).collect();
-    let names = ["base", "shoulder", "elbow"];
-    let png = out.join("frames.png");
-    plot::panels(&png, "firmware in simavr: joint angles [rad] and velocities [rad/s]", &t, &[Panel { ylabel: "angle [rad]", curves: curves(&names, &q) }, Panel { ylabel: "velocity [rad/s]", curves: curves(&names, &v) }])
-        .map_err(|e| e.to_string())?;
+    let list = |v: &[f64]| format!("[{}]", v.iter().map(|x| hal_sim::report::num(*x)).collect::<Vec<_>>().join(", "));
+    let json = Json::new()
+        .set("raw", hal_sim::report::Val::Raw(format!("[{}, {}]", raw.0, raw.1)))
+        .set("x_p", m.x_p)
+        .set("y_p", m.y_p)
+        .set("condition", pose.condition.number())
+        .set("alpha_deg", pose.alpha.to_degrees())
+        .set("q", hal_sim::report::Val::Raw(list(&q)))
+        .set("target_pulses_us", hal_sim::report::Val::Raw(list(&target)))
+        .set("final_pulses_us", hal_sim::report::Val::Raw(list(&finals)))
+        .set("arrival_s", arrival)
+        .render();
+    let json_path = out.join("summary.json");
+    std::fs::write(&json_path, json.clone() + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
 
-    let mut cycles: Vec<u32> = frames.iter().map(|f| f.eval_cycles).collect();
-    cycles.sort_unstable();
-    let last = frames.last().unwrap();
+    // Angles back from the pulses through the calibration, and their rates.
+    let t: Vec<f64> = (0..n).map(|i| trains[0][i].0).collect();
+    let ang: Vec<Vec<f64>> = (0..3).map(|j| (0..n).map(|i| maps[j].pulse_to_angle::<f64>(trains[j][i].1.round() as u16).to_degrees()).collect()).collect();
+    let vel: Vec<Vec<f64>> = ang
+        .iter()
+        .map(|a| (0..n).map(|i| if i == 0 { 0.0 } else { (a[i] - a[i - 1]) / (t[i] - t[i - 1]) }).collect())
+        .collect();
+    let names = ["base", "shoulder", "elbow"];
+    let png = out.join("angles.png");
+    plot::panels(&png, "firmware in simavr: joint angles from the measured servo pulses", &t, &[
+        Panel { ylabel: "angle [deg]", curves: curves(&names, &ang) },
+        Panel { ylabel: "velocity [deg/s]", curves: curves(&names, &vel) },
+    ])
+    .map_err(|e| e.to_string())?;
+
     println!("{}", text.lines().next().unwrap_or(""));
-    println!("{} frames at 50 Hz over {:.2} s (simulated)", frames.len(), last.t_us as f64 * 1e-6);
-    println!("final angles [rad]: {:.6} {:.6} {:.6}", last.q_urad[0] as f64 * 1e-6, last.q_urad[1] as f64 * 1e-6, last.q_urad[2] as f64 * 1e-6);
-    println!("frame evaluation: median {} cycles ({:.0} us at 16 MHz)", cycles[cycles.len() / 2], cycles[cycles.len() / 2] as f64 / 16.0);
-    println!("wrote {} and {}", csv_path.display(), png.display());
+    println!("touch at raw ({}, {}) -> x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg", raw.0, raw.1, m.x_p, m.y_p, pose.condition.number(), pose.alpha.to_degrees());
+    println!("firmware: {line}");
+    println!("IK (host f64): base {:.2} deg, shoulder {:.2} deg, elbow {:.2} deg", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees());
+    println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
+    println!("wrote {}, {}, {}", csv_path.display(), json_path.display(), png.display());
     Ok(())
 }
 
 fn curves<'a>(names: &[&'a str; 3], data: &'a [Vec<f64>]) -> Vec<Curve<'a>> {
-    names.iter().zip(data).map(|(label, y)| Curve { label, y }).collect()
+    data.iter().zip(names).map(|(y, label)| Curve { label, y }).collect()
 }
