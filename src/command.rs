@@ -231,19 +231,23 @@ fn sign(tok: &[u8]) -> (bool, &[u8]) {
     }
 }
 
-/// Longest digit run accepted: 9 digits cannot overflow an i32, and every
-/// field's range is far smaller, so longer runs are out of range anyway.
-/// (Plain arithmetic under a length bound instead of `checked_mul`, whose
-/// overflow-checking runtime helper crashes on the ATmega2560.)
-const MAX_DIGITS: usize = 9;
+/// `v·10 + d` unless it would pass `i32::MAX`. Written with comparisons
+/// rather than `checked_mul`: the overflow-checking multiply helper that
+/// `checked_mul` calls crashes on the ATmega2560 (found in simavr).
+fn push_digit(v: i32, d: i32) -> Option<i32> {
+    const LAST: i32 = i32::MAX / 10;
+    const LAST_DIGIT: i32 = i32::MAX % 10;
+    if v > LAST || (v == LAST && d > LAST_DIGIT) {
+        None
+    } else {
+        Some(v * 10 + d)
+    }
+}
 
 fn digits_value(d: &[u8]) -> Result<i32, CmdError> {
-    if d.len() > MAX_DIGITS {
-        return Err(CmdError::OutOfRange);
-    }
     let mut v: i32 = 0;
     for &b in d {
-        v = v * 10 + (b - b'0') as i32;
+        v = push_digit(v, (b - b'0') as i32).ok_or(CmdError::OutOfRange)?;
     }
     Ok(v)
 }
@@ -286,11 +290,10 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
         [a, b] => (a - b'0') as i32 * 10 + (b - b'0') as i32,
         _ => 0,
     };
-    // Two digits fewer for the ×100, so the product stays below 2³¹.
-    if int.len() > MAX_DIGITS - 2 {
-        return Err(CmdError::OutOfRange);
-    }
-    let v = digits_value(int)? * 100 + f;
+    // ×100 + f as two more digits, with the same overflow guard.
+    let v = push_digit(digits_value(int)?, f / 10)
+        .and_then(|v| push_digit(v, f % 10))
+        .ok_or(CmdError::OutOfRange)?;
     let v = if neg { -v } else { v };
     if v < min || v > max {
         return Err(CmdError::OutOfRange);
