@@ -3,6 +3,7 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod display;
 pub mod firmware;
 pub mod panel;
 pub mod plot;
