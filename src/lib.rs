@@ -1,6 +1,8 @@
 //! touch-arm core: pure, `no_std` logic shared by the ATmega2560 firmware (f32)
 //! and the desktop tool `armsim` (f64).
 #![no_std]
+// The UI font is read from flash with `lpm` (ui::font).
+#![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 
 #[cfg(target_arch = "avr")]
 pub mod board;

@@ -139,7 +139,7 @@ fn font_glyphs_are_distinct_and_scale_to_the_expected_pixel_counts() {
     }
     // The pixel at row r, column c of a scaled glyph is the font bit.
     let mut fb = Framebuffer::new(40, 40, Rgb565::BLACK);
-    text(&mut fb, 0, 0, &[DEGREE], &TextStyle::ink(2, Rgb565::WHITE)).unwrap();
+    text(&mut fb, 0, 0, &[DEGREE][..], &TextStyle::ink(2, Rgb565::WHITE)).unwrap();
     for r in 0..8 {
         for col in 0..5 {
             let bit = glyph_row(DEGREE, r as u8) >> (4 - col) & 1 == 1;

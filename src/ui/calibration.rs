@@ -15,6 +15,8 @@ use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::draw::{fill, text_centered, Area, TextStyle};
+use super::flash::{FlashText, TextSource};
+use crate::ftext;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
 use super::text_buf::Line;
 use super::theme;
@@ -192,14 +194,19 @@ fn draw_cross<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16) -> Resul
     fill(d, Area::new(x - 1, y - 1, 3, 3), theme::TEXT)
 }
 
-fn line_centered<D: DrawTarget<Color = Rgb565>>(d: &mut D, y: i16, s: &[u8], style: &TextStyle) -> Result<(), D::Error> {
+fn line_centered<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+    d: &mut D,
+    y: i16,
+    s: &T,
+    style: &TextStyle,
+) -> Result<(), D::Error> {
     let (_, h) = style.extent(s.len());
     text_centered(d, Area::new(0, y, SCREEN_W, h), s, style)
 }
 
 fn draw_step<D: DrawTarget<Color = Rgb565>>(d: &mut D, index: u8) -> Result<(), D::Error> {
     let mut line: Line<16> = Line::new();
-    line.push(b"Point ").push_int(i32::from(index) + 1).push(b" of ").push_int(CAL_COUNT as i32);
+    line.push(&ftext!(b"Point ")).push_int(i32::from(index) + 1).push(&ftext!(b" of ")).push_int(CAL_COUNT as i32);
     fill(d, STEP_AREA, BG)?;
     line_centered(d, STEP_AREA.y, line.as_bytes(), &STYLE)
 }
@@ -207,31 +214,31 @@ fn draw_step<D: DrawTarget<Color = Rgb565>>(d: &mut D, index: u8) -> Result<(), 
 fn draw_hint<D: DrawTarget<Color = Rgb565>>(d: &mut D, rejected: bool) -> Result<(), D::Error> {
     fill(d, HINT_AREA, BG)?;
     if rejected {
-        line_centered(d, HINT_AREA.y, b"Lift, then touch the NEW cross", &TextStyle::opaque(1, theme::WARN_TEXT, BG))?;
+        line_centered(d, HINT_AREA.y, &ftext!(b"Lift, then touch the NEW cross"), &TextStyle::opaque(1, theme::WARN_TEXT, BG))?;
     }
     Ok(())
 }
 
-fn failure_text(f: CalFailure) -> &'static [u8] {
+fn failure_text(f: CalFailure) -> FlashText {
     match f {
-        CalFailure::SpanTooSmall => b"Touch range too small",
+        CalFailure::SpanTooSmall => ftext!(b"Touch range too small"),
         CalFailure::Fit(e) => match e {
-            CalibrationError::AmbiguousAxes => b"Touches did not line up",
-            CalibrationError::FitOutOfAdcRange { .. } => b"Touches were off target",
-            CalibrationError::RawReadingOutOfRange => b"Panel reading too high",
-            CalibrationError::EmptyRange { .. } | CalibrationError::AboveAdcRange { .. } => b"Touch range too small",
+            CalibrationError::AmbiguousAxes => ftext!(b"Touches did not line up"),
+            CalibrationError::FitOutOfAdcRange { .. } => ftext!(b"Touches were off target"),
+            CalibrationError::RawReadingOutOfRange => ftext!(b"Panel reading too high"),
+            CalibrationError::EmptyRange { .. } | CalibrationError::AboveAdcRange { .. } => ftext!(b"Touch range too small"),
             CalibrationError::TooFewPoints
             | CalibrationError::DegeneratePositions
-            | CalibrationError::PointOutOfRange => b"Not enough good touches",
+            | CalibrationError::PointOutOfRange => ftext!(b"Not enough good touches"),
         },
     }
 }
 
-fn yes_no(b: bool) -> &'static [u8] {
+fn yes_no(b: bool) -> FlashText {
     if b {
-        b"yes"
+        ftext!(b"yes")
     } else {
-        b"no"
+        ftext!(b"no")
     }
 }
 
@@ -239,33 +246,33 @@ fn draw_review<D: DrawTarget<Color = Rgb565>>(d: &mut D, result: &Result<Calibra
     fill(d, Area::new(0, 0, SCREEN_W, SCREEN_H), BG)?;
     match result {
         Ok(c) => {
-            line_centered(d, 16, b"Calibration result", &STYLE)?;
+            line_centered(d, 16, &ftext!(b"Calibration result"), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(b"X ").push_int(i32::from(c.x_min)).push(b" - ").push_int(i32::from(c.x_max));
+            l.push(&ftext!(b"X ")).push_int(i32::from(c.x_min)).push(&ftext!(b" - ")).push_int(i32::from(c.x_max));
             line_centered(d, 48, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(b"Y ").push_int(i32::from(c.y_min)).push(b" - ").push_int(i32::from(c.y_max));
+            l.push(&ftext!(b"Y ")).push_int(i32::from(c.y_min)).push(&ftext!(b" - ")).push_int(i32::from(c.y_max));
             line_centered(d, 72, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(b"Swap X/Y: ").push(yes_no(c.swap_xy));
+            l.push(&ftext!(b"Swap X/Y: ")).push(&yes_no(c.swap_xy));
             line_centered(d, 96, l.as_bytes(), &STYLE)?;
             let mut l: Line<26> = Line::new();
-            l.push(b"Flip X: ").push(yes_no(c.invert_x)).push(b"  Flip Y: ").push(yes_no(c.invert_y));
+            l.push(&ftext!(b"Flip X: ")).push(&yes_no(c.invert_x)).push(&ftext!(b"  Flip Y: ")).push(&yes_no(c.invert_y));
             line_centered(d, 120, l.as_bytes(), &STYLE)?;
-            line_centered(d, 148, b"Save to keep it", &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
+            line_centered(d, 148, &ftext!(b"Save to keep it"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
             fill(d, SAVE_AREA, theme::RESUME_GREEN)?;
-            text_centered(d, SAVE_AREA, b"Save", &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN))?;
+            text_centered(d, SAVE_AREA, &ftext!(b"Save"), &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN))?;
         }
         Err(f) => {
-            line_centered(d, 16, b"Calibration failed", &TextStyle::opaque(2, theme::REFUSED, BG))?;
-            line_centered(d, 64, failure_text(*f), &STYLE)?;
-            line_centered(d, 96, b"Please try again", &STYLE)?;
+            line_centered(d, 16, &ftext!(b"Calibration failed"), &TextStyle::opaque(2, theme::REFUSED, BG))?;
+            line_centered(d, 64, &failure_text(*f), &STYLE)?;
+            line_centered(d, 96, &ftext!(b"Please try again"), &STYLE)?;
             fill(d, SAVE_AREA, theme::BUTTON_ON)?;
-            text_centered(d, SAVE_AREA, b"Retry", &TextStyle::opaque(2, theme::WHITE, theme::BUTTON_ON))?;
+            text_centered(d, SAVE_AREA, &ftext!(b"Retry"), &TextStyle::opaque(2, theme::WHITE, theme::BUTTON_ON))?;
         }
     }
     fill(d, CANCEL_AREA, theme::BUTTON)?;
-    text_centered(d, CANCEL_AREA, b"Cancel", &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))
+    text_centered(d, CANCEL_AREA, &ftext!(b"Cancel"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))
 }
 
 /// Draws the flow's screen; with `old` (what is on the glass) only the
@@ -300,8 +307,8 @@ pub(crate) fn draw<D: DrawTarget<Color = Rgb565>>(
                 }
                 _ => {
                     fill(d, Area::new(0, 0, SCREEN_W, SCREEN_H), BG)?;
-                    line_centered(d, TITLE_Y, b"Touch calibration", &STYLE)?;
-                    line_centered(d, TITLE_Y + 24, b"Touch the red cross", &STYLE)?;
+                    line_centered(d, TITLE_Y, &ftext!(b"Touch calibration"), &STYLE)?;
+                    line_centered(d, TITLE_Y + 24, &ftext!(b"Touch the red cross"), &STYLE)?;
                     draw_cross(d, x, y)?;
                     draw_step(d, index)?;
                     draw_hint(d, rejected)?;

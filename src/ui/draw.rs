@@ -13,6 +13,7 @@ use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::geometry::Dimensions;
 use embedded_graphics::Pixel;
 
+use super::flash::TextSource;
 use super::font::{glyph_row, CELL_H};
 
 /// A screen rectangle in pixels (8 bytes, cheap to pass by value).
@@ -156,18 +157,40 @@ impl TextStyle {
 }
 
 /// The pixels of one opaque glyph cell in row-major order, for one
-/// `fill_contiguous` per glyph.
+/// `fill_contiguous` per glyph. Counters only, no division: the chip has no
+/// divider and this runs once per pixel.
 struct GlyphPixels {
     ch: u8,
     scale: u8,
-    /// Cell width in pixels.
-    width: u16,
+    gap: u8,
     fg: Rgb565,
     bg: Rgb565,
-    /// Cell pixel coordinates of the next pixel (unscaled column/row counters).
-    x: u16,
-    y: u16,
+    /// Current glyph row's bits, and the bit of the current column (0 once
+    /// in the gap).
     bits: u8,
+    mask: u8,
+    /// Glyph row, and pixels left in the current column / pixel row.
+    row: u8,
+    left_x: u8,
+    left_y: u8,
+}
+
+impl GlyphPixels {
+    fn new(ch: u8, style: &TextStyle, bg: Rgb565) -> Self {
+        let s = style.scale.max(1);
+        Self {
+            ch,
+            scale: s,
+            gap: style.gap,
+            fg: style.fg,
+            bg,
+            bits: glyph_row(ch, 0),
+            mask: 0x10,
+            row: 0,
+            left_x: s,
+            left_y: s,
+        }
+    }
 }
 
 impl Iterator for GlyphPixels {
@@ -175,19 +198,30 @@ impl Iterator for GlyphPixels {
 
     #[inline]
     fn next(&mut self) -> Option<Rgb565> {
-        let s = u16::from(self.scale);
-        if self.y >= CELL_H * s {
+        if self.row >= CELL_H as u8 {
             return None;
         }
-        let col = self.x / s;
-        // Past the fifth column is the blank gap, never ink.
-        let ink = col < 5 && self.bits >> (4 - col) & 1 == 1;
-        self.x += 1;
-        if self.x == self.width {
-            self.x = 0;
-            self.y += 1;
-            if self.y < CELL_H * s && self.y % s == 0 {
-                self.bits = glyph_row(self.ch, (self.y / s) as u8);
+        let ink = self.bits & self.mask != 0;
+        self.left_x -= 1;
+        if self.left_x == 0 {
+            if self.mask > 1 {
+                self.mask >>= 1;
+                self.left_x = self.scale;
+            } else if self.mask == 1 {
+                // Into the gap (possibly zero wide).
+                self.mask = 0;
+                self.left_x = self.gap;
+            }
+            if self.left_x == 0 {
+                // End of a pixel row.
+                self.mask = 0x10;
+                self.left_x = self.scale;
+                self.left_y -= 1;
+                if self.left_y == 0 {
+                    self.left_y = self.scale;
+                    self.row += 1;
+                    self.bits = glyph_row(self.ch, self.row);
+                }
             }
         }
         Some(if ink { self.fg } else { self.bg })
@@ -198,21 +232,22 @@ impl Iterator for GlyphPixels {
 /// after it. Opaque text writes every pixel of its cells exactly once (one
 /// `fill_contiguous` per glyph); transparent text writes only ink runs (one
 /// `fill_solid` per run per glyph row).
-pub fn text<D: DrawTarget<Color = Rgb565>>(
+pub fn text<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
     d: &mut D,
     x: i16,
     y: i16,
-    text: &[u8],
+    text: &T,
     style: &TextStyle,
 ) -> Result<i16, D::Error> {
     let s = style.scale();
     let width = style.advance();
     let mut cx = x;
-    for &ch in text {
+    for i in 0..text.len() {
+        let ch = text.at(i);
         match style.bg {
             Some(bg) => {
                 let area = Area::new(cx, y, width, CELL_H * s);
-                let pixels = GlyphPixels { ch, scale: s as u8, width, fg: style.fg, bg, x: 0, y: 0, bits: glyph_row(ch, 0) };
+                let pixels = GlyphPixels::new(ch, style, bg);
                 d.fill_contiguous(&area.to_rect(), pixels)?;
             }
             None => glyph_ink(d, cx, y, ch, style)?,
@@ -245,10 +280,10 @@ fn glyph_ink<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16, ch: u8, s
 
 /// Draws `text` centred in `a` (horizontally and vertically), clipped to
 /// nothing: the caller sizes `a` to fit.
-pub fn text_centered<D: DrawTarget<Color = Rgb565>>(
+pub fn text_centered<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
     d: &mut D,
     a: Area,
-    text_bytes: &[u8],
+    text_bytes: &T,
     style: &TextStyle,
 ) -> Result<(), D::Error> {
     let (w, h) = style.extent(text_bytes.len());

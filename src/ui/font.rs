@@ -120,26 +120,10 @@ pub fn glyph_row(ch: u8, row: u8) -> u8 {
     read_font(index)
 }
 
-#[cfg(not(target_arch = "avr"))]
 #[inline]
 fn read_font(index: u16) -> u8 {
-    FONT.get(usize::from(index)).copied().unwrap_or(0)
-}
-
-#[cfg(target_arch = "avr")]
-#[inline]
-fn read_font(index: u16) -> u8 {
-    // FONT sits in .progmem.data, which the linker puts at the start of
-    // .text (below 64 KiB), so plain `lpm` reaches it; a data-space read would
-    // return SRAM garbage.
     let i = usize::from(index).min(GLYPHS * ROWS - 1);
-    let addr = FONT.as_ptr().wrapping_add(i);
-    let byte: u8;
-    // SAFETY: `addr` points into FONT in program memory; `lpm` only reads.
-    unsafe {
-        core::arch::asm!("lpm {0}, Z", out(reg) byte, in("Z") addr, options(pure, readonly, nostack, preserves_flags));
-    }
-    byte
+    super::flash::flash_byte(FONT.as_ptr().wrapping_add(i))
 }
 
 /// Width in pixels of `len` characters at `scale`.

@@ -13,7 +13,9 @@
 //!   [`draw`]: rectangles and text on top of `fill_solid`/`fill_contiguous`.
 
 pub mod calibration;
+pub mod demo;
 pub mod draw;
+pub mod flash;
 pub mod font;
 pub mod layout;
 pub mod model;

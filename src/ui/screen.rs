@@ -11,6 +11,8 @@ use embedded_graphics::pixelcolor::Rgb565;
 
 use super::calibration::{self, CalView, CalibrationFlow};
 use super::draw::{fill, frame, text, Area, TextStyle};
+use super::flash::{FlashText, TextSource};
+use crate::ftext;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::text_buf::{rad_to_deg, Line};
@@ -84,17 +86,17 @@ enum Headline {
 }
 
 impl Headline {
-    fn text(self) -> &'static [u8] {
+    fn text(self) -> FlashText {
         match self {
-            Headline::Starting => b"Starting up",
-            Headline::Ready => b"Ready",
-            Headline::Moving => b"Moving to target",
-            Headline::Holding => b"Holding",
-            Headline::Stopped => b"Stopped - tap RESUME",
-            Headline::OutOfReach => b"Out of reach",
-            Headline::OffMap => b"Not on the map",
-            Headline::JointLimit => b"Can't reach that way",
-            Headline::Busy => b"Still moving",
+            Headline::Starting => ftext!(b"Starting up"),
+            Headline::Ready => ftext!(b"Ready"),
+            Headline::Moving => ftext!(b"Moving to target"),
+            Headline::Holding => ftext!(b"Holding"),
+            Headline::Stopped => ftext!(b"Stopped - tap RESUME"),
+            Headline::OutOfReach => ftext!(b"Out of reach"),
+            Headline::OffMap => ftext!(b"Not on the map"),
+            Headline::JointLimit => ftext!(b"Can't reach that way"),
+            Headline::Busy => ftext!(b"Still moving"),
         }
     }
 
@@ -108,7 +110,7 @@ impl Headline {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Detail {
-    Hint(&'static [u8]),
+    Hint(FlashText),
     /// Filled bar pixels and the percentage shown.
     Progress { px: u16, percent: u8 },
 }
@@ -127,7 +129,6 @@ struct View {
     speed: SpeedPreset,
 }
 
-const HINT_TOUCH: &[u8] = b"Touch the map to move";
 
 fn progress_of(p: f32) -> (u16, u8) {
     // NaN → 0 through the failed comparison.
@@ -146,35 +147,35 @@ fn top_warning(bits: u8) -> u8 {
     }
 }
 
-fn warning_text(bit: u8) -> &'static [u8] {
+fn warning_text(bit: u8) -> FlashText {
     match bit {
-        warn::TOUCH_CLAMPED => b"! touch at panel edge",
-        warn::DEFAULT_SETTINGS => b"! default settings in use",
-        warn::SLOWED => b"! move slowed for safety",
-        warn::TOUCH_NOISY => b"! touch readings unsteady",
-        warn::SERVOS_OFF => b"! servos are off",
-        0 => b"",
-        _ => b"! check the serial log",
+        warn::TOUCH_CLAMPED => ftext!(b"! touch at panel edge"),
+        warn::DEFAULT_SETTINGS => ftext!(b"! default settings in use"),
+        warn::SLOWED => ftext!(b"! move slowed for safety"),
+        warn::TOUCH_NOISY => ftext!(b"! touch readings unsteady"),
+        warn::SERVOS_OFF => ftext!(b"! servos are off"),
+        0 => ftext!(b""),
+        _ => ftext!(b"! check the serial log"),
     }
 }
 
 impl View {
     fn of(m: &UiModel) -> Self {
         let (headline, detail) = match m.state {
-            UiState::PowerUp => (Headline::Starting, Detail::Hint(b"Please wait")),
-            UiState::Idle => (Headline::Ready, Detail::Hint(HINT_TOUCH)),
+            UiState::PowerUp => (Headline::Starting, Detail::Hint(ftext!(b"Please wait"))),
+            UiState::Idle => (Headline::Ready, Detail::Hint(ftext!(b"Touch the map to move"))),
             UiState::Moving { progress } => {
                 let (px, percent) = progress_of(progress);
                 (Headline::Moving, Detail::Progress { px, percent })
             }
-            UiState::Holding => (Headline::Holding, Detail::Hint(HINT_TOUCH)),
-            UiState::Stopped => (Headline::Stopped, Detail::Hint(b"The arm holds still")),
+            UiState::Holding => (Headline::Holding, Detail::Hint(ftext!(b"Touch the map to move"))),
+            UiState::Stopped => (Headline::Stopped, Detail::Hint(ftext!(b"The arm holds still"))),
             UiState::Refused(r) => match r {
-                Refusal::TooFar => (Headline::OutOfReach, Detail::Hint(b"Try closer to the base")),
-                Refusal::TooClose => (Headline::OutOfReach, Detail::Hint(b"Try further from base")),
-                Refusal::OffMap => (Headline::OffMap, Detail::Hint(b"Touch inside the map")),
-                Refusal::JointLimit => (Headline::JointLimit, Detail::Hint(b"Try another point")),
-                Refusal::Busy => (Headline::Busy, Detail::Hint(b"Wait, or tap STOP")),
+                Refusal::TooFar => (Headline::OutOfReach, Detail::Hint(ftext!(b"Try closer to the base"))),
+                Refusal::TooClose => (Headline::OutOfReach, Detail::Hint(ftext!(b"Try further from base"))),
+                Refusal::OffMap => (Headline::OffMap, Detail::Hint(ftext!(b"Touch inside the map"))),
+                Refusal::JointLimit => (Headline::JointLimit, Detail::Hint(ftext!(b"Try another point"))),
+                Refusal::Busy => (Headline::Busy, Detail::Hint(ftext!(b"Wait, or tap STOP"))),
             },
         };
         let refused = matches!(m.state, UiState::Refused(_));
@@ -226,15 +227,40 @@ const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
 /// rest of `a` in `bg`. Text longer than `a` is cut at a whole character.
-fn text_box<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, s: &[u8], style: &TextStyle) -> Result<(), D::Error> {
+fn text_box<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+    d: &mut D,
+    a: Area,
+    s: &T,
+    style: &TextStyle,
+) -> Result<(), D::Error> {
     let pad: u16 = 4;
     let (cw, th) = style.extent(1);
     let fit = (a.w.saturating_sub(pad) / cw.max(1)) as usize;
-    let s = s.get(..s.len().min(fit)).unwrap_or(&[]);
-    let (tw, _) = style.extent(s.len());
+    let n = s.len().min(fit);
+    let (tw, _) = style.extent(n);
     let inner = Area::new(a.x + pad as i16, a.y + (a.h.saturating_sub(th) / 2) as i16, tw, th.min(a.h));
-    text(d, inner.x, inner.y, s, style)?;
+    text(d, inner.x, inner.y, &Prefix { s, n }, style)?;
     fill_around(d, a, inner, style.bg.unwrap_or(theme::BG))
+}
+
+/// The first `n` bytes of a text.
+struct Prefix<'a, T: ?Sized> {
+    s: &'a T,
+    n: usize,
+}
+
+impl<T: TextSource + ?Sized> TextSource for Prefix<'_, T> {
+    fn len(&self) -> usize {
+        self.n.min(self.s.len())
+    }
+
+    fn at(&self, i: usize) -> u8 {
+        if i < self.n {
+            self.s.at(i)
+        } else {
+            0
+        }
+    }
 }
 
 /// Fills `outer` minus `inner` (which must lie inside it) in up to 4 strips.
@@ -249,12 +275,12 @@ fn fill_around<D: DrawTarget<Color = Rgb565>>(d: &mut D, outer: Area, inner: Are
 }
 
 /// A button: `a` filled with `bg` and `label` centred, each pixel once.
-fn button<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, label: &[u8], style: &TextStyle) -> Result<(), D::Error> {
+fn button<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, label: FlashText, style: &TextStyle) -> Result<(), D::Error> {
     let (tw, th) = style.extent(label.len());
     // Centre the ink: the last glyph's trailing gap is blank.
     let ink_w = tw.saturating_sub(u16::from(style.gap));
     let inner = Area::new(a.x + (a.w.saturating_sub(ink_w) / 2) as i16, a.y + (a.h.saturating_sub(th) / 2) as i16, tw, th);
-    text(d, inner.x, inner.y, label, style)?;
+    text(d, inner.x, inner.y, &label, style)?;
     fill_around(d, a, inner, style.bg.unwrap_or(theme::BG))
 }
 
@@ -312,7 +338,7 @@ impl Ui {
         draw_warning(d, v.warning)?;
         draw_joints(d, &v.joints)?;
         draw_speed(d, v.speed)?;
-        button(d, lay::CALIBRATE, b"Calib", &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
+        button(d, lay::CALIBRATE, ftext!(b"Calib"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
         self.shown = Shown::Main(*v);
         Ok(Redrawn(Redrawn::ALL_MAIN))
     }
@@ -439,19 +465,19 @@ impl Ui {
 
 fn draw_stop<D: DrawTarget<Color = Rgb565>>(d: &mut D, stop: bool) -> Result<(), D::Error> {
     if stop {
-        button(d, lay::STOP, b"STOP", &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight())
+        button(d, lay::STOP, ftext!(b"STOP"), &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight())
     } else {
-        button(d, lay::STOP, b"RESUME", &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight())
+        button(d, lay::STOP, ftext!(b"RESUME"), &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight())
     }
 }
 
 fn draw_headline<D: DrawTarget<Color = Rgb565>>(d: &mut D, h: Headline) -> Result<(), D::Error> {
-    text_box(d, lay::HEADLINE, h.text(), &TextStyle::opaque(2, h.color(), theme::BG))
+    text_box(d, lay::HEADLINE, &h.text(), &TextStyle::opaque(2, h.color(), theme::BG))
 }
 
 fn draw_detail<D: DrawTarget<Color = Rgb565>>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
     match *detail {
-        Detail::Hint(s) => text_box(d, lay::DETAIL, s, &HEAD_STYLE),
+        Detail::Hint(s) => text_box(d, lay::DETAIL, &s, &HEAD_STYLE),
         Detail::Progress { px, percent } => {
             let left = Area::new(lay::DETAIL.x, lay::DETAIL.y, (lay::BAR_TEXT.x - lay::DETAIL.x) as u16, lay::DETAIL.h);
             let right = Area::new(lay::BAR_TEXT.x, lay::DETAIL.y, (lay::DETAIL.right() - lay::BAR_TEXT.x) as u16, lay::DETAIL.h);
@@ -479,11 +505,11 @@ fn update_progress<D: DrawTarget<Color = Rgb565>>(d: &mut D, old_px: u16, new_px
 
 fn draw_percent<D: DrawTarget<Color = Rgb565>>(d: &mut D, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
-    line.push_int(i32::from(percent)).push(b"%");
+    line.push_int(i32::from(percent)).push_byte(b'%');
     // Right-aligned in a 4-character field so the digits do not jump.
     let mut padded: Line<5> = Line::new();
     for _ in line.as_bytes().len()..4 {
-        padded.push(b" ");
+        padded.push_byte(b' ');
     }
     padded.push(line.as_bytes());
     text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
@@ -492,28 +518,28 @@ fn draw_percent<D: DrawTarget<Color = Rgb565>>(d: &mut D, percent: u8) -> Result
 fn draw_info<D: DrawTarget<Color = Rgb565>>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
-        line.push(b"Zone ").push_int(i32::from(z)).push(b"  Direction ").push_deg(alpha);
+        line.push(&ftext!(b"Zone ")).push_int(i32::from(z)).push(&ftext!(b"  Direction ")).push_deg(alpha);
     }
     text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
 }
 
 fn draw_warning<D: DrawTarget<Color = Rgb565>>(d: &mut D, bit: u8) -> Result<(), D::Error> {
-    text_box(d, lay::WARN, warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
+    text_box(d, lay::WARN, &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
 }
 
 fn draw_joints<D: DrawTarget<Color = Rgb565>>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
-    line.push(b"Base ").push_deg(joints[0]);
-    line.push(b"   Shoulder ").push_deg(joints[1]);
-    line.push(b"   Elbow ").push_deg(joints[2]);
+    line.push(&ftext!(b"Base ")).push_deg(joints[0]);
+    line.push(&ftext!(b"   Shoulder ")).push_deg(joints[1]);
+    line.push(&ftext!(b"   Elbow ")).push_deg(joints[2]);
     text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
 }
 
 fn draw_speed<D: DrawTarget<Color = Rgb565>>(d: &mut D, speed: SpeedPreset) -> Result<(), D::Error> {
-    let items: [(Area, SpeedPreset, &[u8]); 3] = [
-        (lay::SLOW, SpeedPreset::Slow, b"Slow"),
-        (lay::NORMAL, SpeedPreset::Normal, b"Normal"),
-        (lay::FAST, SpeedPreset::Fast, b"Fast"),
+    let items: [(Area, SpeedPreset, FlashText); 3] = [
+        (lay::SLOW, SpeedPreset::Slow, ftext!(b"Slow")),
+        (lay::NORMAL, SpeedPreset::Normal, ftext!(b"Normal")),
+        (lay::FAST, SpeedPreset::Fast, ftext!(b"Fast")),
     ];
     for (a, p, label) in items {
         let style = if p == speed {

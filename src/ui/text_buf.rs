@@ -1,5 +1,6 @@
 //! A fixed-size line buffer for composing screen text without alloc.
 
+use super::flash::TextSource;
 use super::font::DEGREE;
 
 /// Up to `N` bytes; pushes beyond that are dropped (a screen line is short).
@@ -24,19 +25,24 @@ impl<const N: usize> Line<N> {
         self.bytes.get(..self.len).unwrap_or(&[])
     }
 
-    pub fn push(&mut self, s: &[u8]) -> &mut Self {
-        for &b in s {
-            if let Some(slot) = self.bytes.get_mut(self.len) {
-                *slot = b;
-                self.len += 1;
-            }
+    pub fn push<T: TextSource + ?Sized>(&mut self, s: &T) -> &mut Self {
+        for i in 0..s.len() {
+            self.push_byte(s.at(i));
+        }
+        self
+    }
+
+    pub fn push_byte(&mut self, b: u8) -> &mut Self {
+        if let Some(slot) = self.bytes.get_mut(self.len) {
+            *slot = b;
+            self.len += 1;
         }
         self
     }
 
     pub fn push_int(&mut self, v: i32) -> &mut Self {
         if v < 0 {
-            self.push(b"-");
+            self.push_byte(b'-');
         }
         let mut n = v.unsigned_abs();
         let mut digits = [0u8; 10];
@@ -54,7 +60,7 @@ impl<const N: usize> Line<N> {
         while k > 0 {
             k -= 1;
             if let Some(&d) = digits.get(k) {
-                self.push(&[d]);
+                self.push_byte(d);
             }
         }
         self
@@ -63,8 +69,8 @@ impl<const N: usize> Line<N> {
     /// `v` degrees, or `--` for `None`.
     pub fn push_deg(&mut self, v: Option<i16>) -> &mut Self {
         match v {
-            Some(d) => self.push_int(i32::from(d)).push(&[DEGREE]),
-            None => self.push(b"--"),
+            Some(d) => self.push_int(i32::from(d)).push_byte(DEGREE),
+            None => self.push_byte(b'-').push_byte(b'-'),
         }
     }
 }

@@ -255,7 +255,7 @@ pub fn draw_overlays<D: DrawTarget<Color = Rgb565>>(d: &mut D, clip: Area, marks
     for &(ch, cx, cy) in LABELS.iter() {
         let la = label_area(cx, cy);
         if la.intersect(&clip).is_some() {
-            text(&mut c, la.x, la.y, &[ch], &LABEL_STYLE)?;
+            text(&mut c, la.x, la.y, &[ch][..], &LABEL_STYLE)?;
         }
     }
     for m in marks {
