@@ -34,6 +34,7 @@ fn step_cycles(avr: &mut Avr, k: u8) -> u64 {
 #[test]
 fn the_chip_draws_exactly_what_the_host_renders() {
     let mut avr = Avr::load(demo_elf(), "atmega2560", 16_000_000).unwrap();
+    avr.paint_stack(0xA5).unwrap();
     let bus = LcdBus::attach(&mut avr, BusPins::MEGA_SHIELD).unwrap();
     let banner = format!("ui-demo {}\n", demo::STEPS);
     avr.run_until_output(banner.as_bytes(), 16_000_000 * 2).unwrap();
@@ -90,18 +91,21 @@ fn the_chip_draws_exactly_what_the_host_renders() {
     for (k, c, p, n) in &report {
         eprintln!("{k:>4} {c:>8} {:>7.2} {p:>8} {n:>9}", *c as f64 / 16_000.0);
     }
+    let (stack, margin) = avr.stack_high_water().unwrap();
+    eprintln!("stack: {stack} bytes at the deepest, {margin} bytes never touched");
+    assert!(stack < 1024, "the UI needs {stack} bytes of stack");
     // The goal: at most 30 cycles per byte on the bus.
     assert!(per_byte <= 30.0, "{per_byte:.1} cycles per byte");
-    // A full redraw (step 0) paints every pixel at least once and, at these
-    // bus speeds, takes well under half a second.
+    // A full redraw (step 0) paints every pixel at least once, in about
+    // 170 ms (the pixel stores alone are ~1.2 M cycles).
     let (_, full_cycles, full_pixels, _) = report[0];
     assert!(full_pixels >= 320 * 240);
-    assert!(full_cycles < 8_000_000, "full redraw {full_cycles} cycles");
+    assert!(full_cycles < 3_500_000, "full redraw {full_cycles} cycles");
     // A progress step repaints a few bar columns and the percentage: a
     // fraction of a full redraw, and well inside one 20 ms servo frame.
     let (_, step_cycles, step_pixels, _) = report[3];
     assert!(step_pixels < 72 * 16 + 12 * 40, "{step_pixels}");
-    assert!(step_cycles < full_cycles / 4 && step_cycles < 160_000, "progress step {step_cycles} vs full {full_cycles}");
+    assert!(step_cycles < full_cycles / 20 && step_cycles < 100_000, "progress step {step_cycles} vs full {full_cycles}");
     avr.uart_send(b"g");
     avr.run_until_output(b"done\n", 16_000_000).unwrap();
 }

@@ -716,9 +716,16 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
         bad.feed(x, y);
     }
     assert!(matches!(bad.phase(), CalPhase::Review { result: Err(_) }));
-    let mut fb2 = Framebuffer::landscape();
-    ui.draw_calibration(&bad, &mut fb2).unwrap();
+    let mut fb2 = fb.clone();
+    let mut ui2 = Ui::new(&CONFIG);
+    ui2.draw_calibration(&flow, &mut fb2).unwrap();
+    // Another result on the same glass is drawn anew.
+    let mut c = Counting::new(&mut fb2);
+    ui2.draw_calibration(&bad, &mut c).unwrap();
+    assert_eq!(c.touched(), 320 * 240);
     snapshot(&fb2, "calibration_failed");
+    assert_text_at(&fb2, b"Calibration failed", (320 - 12 * 18 + 2) / 2, 16, &TextStyle::opaque(2, theme::REFUSED, theme::WHITE));
+    assert_text_at(&fb2, b"Touches did not line up", (320 - 12 * 23 + 2) / 2, 64, &style);
     // Back to the main screen: a full redraw.
     let mut c = Counting::new(&mut fb);
     let r = ui.draw(&moving_model(), &mut c).unwrap();

@@ -12,6 +12,7 @@ use embedded_graphics::geometry::{Dimensions, OriginDimensions, Point, Size};
 use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use embedded_graphics::primitives::{PointsIter, Rectangle};
 use embedded_graphics::Pixel;
+use touch_arm::ui::Canvas;
 
 /// `width × height` pixels, row-major.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -86,6 +87,10 @@ impl Framebuffer {
         writer.finish().map_err(std::io::Error::other)
     }
 }
+
+impl Canvas for Framebuffer {}
+
+impl<D: DrawTarget<Color = Rgb565>> Canvas for Counting<'_, D> {}
 
 impl OriginDimensions for Framebuffer {
     fn size(&self) -> Size {

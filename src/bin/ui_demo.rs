@@ -1,7 +1,7 @@
 //! On-chip check of the touch-screen UI: initialises the ILI9341 over the
 //! shield bus and draws the fixed script of `touch_arm::ui::demo`, one step
 //! per byte received on USART0, reporting `S <step> <cycles>` after each
-//! draw (Timer1 at clk/64, so cycles are multiples of 64). The simavr test
+//! draw (Timer1 at clk/256, so cycles are multiples of 256). The simavr test
 //! `ui_firmware` decodes the bus and compares the picture with the host
 //! rendering of the same script.
 #![no_std]
@@ -17,9 +17,9 @@ use ufmt::uwriteln;
 #[avr_device::entry]
 fn main() -> ! {
     let Some(dp) = pac::Peripherals::take() else { halt() };
-    // Timer1 free-running at 250 kHz: 4 µs ticks, 262 ms range.
+    // Timer1 free-running at 62.5 kHz: 16 µs ticks, 1.05 s range.
     dp.TC1.tccr1a().write(|w| unsafe { w.bits(0) });
-    dp.TC1.tccr1b().write(|w| w.cs1().prescale_64());
+    dp.TC1.tccr1b().write(|w| w.cs1().prescale_256());
     let tc1 = dp.TC1;
     let mut serial = Usart0::new(dp.USART0);
     let mut lcd = Lcd::new(RawShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH));
@@ -35,7 +35,7 @@ fn main() -> ! {
             Screen::Calibration(f) => ui.draw_calibration(f, &mut lcd).is_ok(),
         };
         let dt = tc1.tcnt1().read().bits().wrapping_sub(t0);
-        let _ = uwriteln!(serial, "S {} {} {}", k, u32::from(dt) * 64, ok as u8);
+        let _ = uwriteln!(serial, "S {} {} {}", k, u32::from(dt) * 256, ok as u8);
     }
     let _ = uwriteln!(serial, "done");
     serial.flush();

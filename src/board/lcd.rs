@@ -1,24 +1,32 @@
 //! ILI9341 on the UNO-form shield's 8-bit parallel bus (SPEC §8), as an
-//! embedded-graphics `DrawTarget<Color = Rgb565>`.
+//! embedded-graphics `DrawTarget<Color = Rgb565>` and a UI [`Canvas`].
 //!
 //! Pins: RD PF0, WR PF1, RS PF2, CS PF3, RST PF4; D0 PH5, D1 PH6, D2 PE4,
 //! D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is three port stores (the
 //! data bits are spread over E, G and H) and a WR pulse made by writing WR's
-//! bit to PINF twice (each write toggles the pin: low, then high). A
-//! colour's port values are computed once per fill (and cached for the two
-//! colours of a glyph), so a pixel stream costs a few cycles per byte.
+//! bit to PINF twice (each write toggles the pin: low, then high): 6 cycles.
+//! A colour's port values are computed once per run, so a solid run costs
+//! ~8 cycles per byte (4 per pixel when both bytes are equal), and the UI's
+//! bulk operations ([`Canvas::fill_runs`] for map rows,
+//! [`Canvas::fill_glyph`] for characters) run in the same tight loops with
+//! one address window each. The last column/page window is remembered, so
+//! windows on one row send only CASET or nothing but RAMWR.
 //!
 //! [`Bus8`] is the byte-level interface the driver needs; [`RawShieldBus`]
 //! implements it by owning ports E, F, G and H. Whatever owns the shield pins
-//! (the LCD/touch `ShieldBus`) can implement [`Bus8`] with the same
-//! `unsafe` helpers ([`write_command`], [`write_data`], [`repeat_pixels`],
-//! [`stream_pixels`]) and hand `&mut` of itself to [`Lcd`] for the length of
-//! a draw, so drawing and touch sampling cannot overlap.
+//! (the LCD/touch `ShieldBus`) can implement [`Bus8`] with the same `unsafe`
+//! helpers ([`write_command`], [`write_data`], [`repeat_pixels`],
+//! [`run_pixels`], [`glyph_pixels`], [`stream_pixels`]) and hand `&mut` of
+//! itself to [`Lcd`] for the length of a draw (`Lcd::new(&mut shield_bus)`),
+//! so drawing and touch sampling cannot overlap.
 //!
 //! Assumptions of the fast path: WR idles high between bytes (every owner of
 //! the pins restores it), and no interrupt handler writes PORTE, PORTF,
 //! PORTG or PORTH while a byte is sent (the non-LCD bits of those ports are
 //! read at the start of each transfer and written back unchanged).
+//! Timing: the WR low and high phases are one cycle (62.5 ns) each and
+//! back-to-back strobes are 2 cycles apart (125 ns), within the ILI9341's
+//! 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns).
 
 use core::ptr::{read_volatile, write_volatile};
 
@@ -30,6 +38,9 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::RawData;
 use embedded_graphics::primitives::{PointsIter, Rectangle};
 use embedded_graphics::Pixel;
+
+use crate::ui::draw::GlyphCell;
+use crate::ui::{Canvas, Run};
 
 /// Data-space addresses (ATmega2560 datasheet, register summary).
 const PINF: *mut u8 = 0x2F as *mut u8;
@@ -128,61 +139,146 @@ pub unsafe fn write_data(bytes: &[u8]) {
 /// As [`write_command`].
 pub unsafe fn repeat_pixels(color: u16, n: u32) {
     let b = base();
-    let [hi, lo] = color.to_be_bytes();
-    let (h, l) = (spread(hi, b), spread(lo, b));
     let mut n = n;
+    while n > 0xFFFF {
+        send_run(b, color, 0xFFFF);
+        n -= 0xFFFF;
+    }
+    send_run(b, color, n as u16);
+}
+
+/// Sends `n` pixels of one colour inside a pixel stream (after RAMWR).
+///
+/// # Safety
+/// As [`write_command`].
+pub unsafe fn run_pixels(color: u16, n: u16) {
+    send_run(base(), color, n);
+}
+
+/// `n` pixels of `color` with the other port bits `b`.
+#[inline(never)]
+unsafe fn send_run(b: PortBytes, color: u16, n: u16) {
     if n == 0 {
         return;
     }
+    let [hi, lo] = color.to_be_bytes();
+    let (h, l) = (spread(hi, b), spread(lo, b));
+    // 256-pixel blocks with an 8-bit counter: a wider count would cost
+    // more per pixel than the port stores.
+    let mut blocks = (n >> 8) as u8;
+    let mut rest = n as u8;
     if hi == lo {
         // One byte pattern: the data pins stay put, only WR moves.
         put(h);
         write_volatile(PINF, WR);
         write_volatile(PINF, WR);
-        n -= 1;
-        while n != 0 {
-            write_volatile(PINF, WR);
-            write_volatile(PINF, WR);
-            write_volatile(PINF, WR);
-            write_volatile(PINF, WR);
-            n -= 1;
+        // That was one pixel.
+        if rest == 0 {
+            blocks -= 1;
         }
-        return;
+        rest = rest.wrapping_sub(1);
+        loop {
+            while rest != 0 {
+                write_volatile(PINF, WR);
+                write_volatile(PINF, WR);
+                write_volatile(PINF, WR);
+                write_volatile(PINF, WR);
+                rest -= 1;
+            }
+            if blocks == 0 {
+                return;
+            }
+            blocks -= 1;
+            // 256 pixels: `rest` wraps from 0.
+            write_volatile(PINF, WR);
+            write_volatile(PINF, WR);
+            write_volatile(PINF, WR);
+            write_volatile(PINF, WR);
+            rest = 255;
+        }
     }
-    while n != 0 {
+    loop {
+        while rest != 0 {
+            put(h);
+            put(l);
+            rest -= 1;
+        }
+        if blocks == 0 {
+            return;
+        }
+        blocks -= 1;
         put(h);
         put(l);
-        n -= 1;
+        rest = 255;
     }
 }
 
-/// Sends one pixel per colour of `colors`, high byte first. The port values
-/// of the last two colours are cached (a glyph has two).
+/// Sends a character cell: for each of the 8 glyph rows, `scale` pixel rows
+/// of 5 columns × `scale` pixels (bit 4 of the row = leftmost column, set =
+/// `fg`) and `gap` background pixels. All port values are precomputed, so a
+/// pixel is two byte writes and a counter.
+///
+/// # Safety
+/// As [`write_command`].
+pub unsafe fn glyph_pixels(rows: &[u8; 8], scale: u8, gap: u8, fg: u16, bg: u16) {
+    let b = base();
+    let [fh, fl] = fg.to_be_bytes();
+    let [bh, bl] = bg.to_be_bytes();
+    let (f1, f2) = (spread(fh, b), spread(fl, b));
+    let (b1, b2) = (spread(bh, b), spread(bl, b));
+    for &bits in rows {
+        let mut rep = scale;
+        while rep != 0 {
+            let mut mask = 0x10u8;
+            while mask != 0 {
+                let mut k = scale;
+                if bits & mask != 0 {
+                    while k != 0 {
+                        put(f1);
+                        put(f2);
+                        k -= 1;
+                    }
+                } else {
+                    while k != 0 {
+                        put(b1);
+                        put(b2);
+                        k -= 1;
+                    }
+                }
+                mask >>= 1;
+            }
+            let mut g = gap;
+            while g != 0 {
+                put(b1);
+                put(b2);
+                g -= 1;
+            }
+            rep -= 1;
+        }
+    }
+}
+
+/// Sends one pixel per colour of `colors`, high byte first, as runs of
+/// equal colours: the per-pixel work is a compare and a count, and each run
+/// goes out through the same tight loop as a solid fill.
 ///
 /// # Safety
 /// As [`write_command`].
 pub unsafe fn stream_pixels<I: Iterator<Item = u16>>(colors: I) {
     let b = base();
-    let mut slots: [(u16, PortBytes, PortBytes); 2] = [(0, spread(0, b), spread(0, b)); 2];
-    let mut valid = [false; 2];
-    let mut older = 0usize;
-    for c in colors {
-        let hit = if valid[0] && slots[0].0 == c {
-            0
-        } else if valid[1] && slots[1].0 == c {
-            1
+    let mut color: u16 = 0;
+    let mut len: u16 = 0;
+    // `for_each` lets an iterator run its own (nested) loops.
+    colors.for_each(|c| {
+        if c == color && len != 0 && len != u16::MAX {
+            len += 1;
         } else {
-            let [hi, lo] = c.to_be_bytes();
-            let i = older;
-            slots[i] = (c, spread(hi, b), spread(lo, b));
-            valid[i] = true;
-            older = 1 - i;
-            i
-        };
-        let (_, h, l) = slots[hit];
-        put(h);
-        put(l);
-    }
+            send_run(b, color, len);
+            color = c;
+            len = 1;
+        }
+    });
+    send_run(b, color, len);
 }
 
 /// The byte-level bus the driver talks through.
@@ -191,6 +287,10 @@ pub trait Bus8 {
     fn data(&mut self, bytes: &[u8]);
     fn repeat(&mut self, color: u16, n: u32);
     fn stream<I: Iterator<Item = u16>>(&mut self, colors: I);
+    /// `n` pixels of one colour (part of a longer pixel stream).
+    fn run(&mut self, color: u16, n: u16);
+    /// A character cell's pixels (see `ui::draw::GlyphCell`), row by row.
+    fn glyph(&mut self, rows: &[u8; 8], scale: u8, gap: u8, fg: u16, bg: u16);
     /// Chip select (active low on the pin; `true` selects).
     fn select(&mut self, on: bool);
     /// The RST line level.
@@ -209,6 +309,12 @@ impl<B: Bus8> Bus8 for &mut B {
     }
     fn stream<I: Iterator<Item = u16>>(&mut self, colors: I) {
         (**self).stream(colors)
+    }
+    fn run(&mut self, color: u16, n: u16) {
+        (**self).run(color, n)
+    }
+    fn glyph(&mut self, rows: &[u8; 8], scale: u8, gap: u8, fg: u16, bg: u16) {
+        (**self).glyph(rows, scale, gap, fg, bg)
     }
     fn select(&mut self, on: bool) {
         (**self).select(on)
@@ -264,6 +370,14 @@ impl Bus8 for RawShieldBus {
         // SAFETY: as above.
         unsafe { stream_pixels(colors) }
     }
+    fn run(&mut self, color: u16, n: u16) {
+        // SAFETY: as above.
+        unsafe { run_pixels(color, n) }
+    }
+    fn glyph(&mut self, rows: &[u8; 8], scale: u8, gap: u8, fg: u16, bg: u16) {
+        // SAFETY: as above.
+        unsafe { glyph_pixels(rows, scale, gap, fg, bg) }
+    }
     fn select(&mut self, on: bool) {
         // SAFETY: only the CS bit of the owned port F changes.
         unsafe {
@@ -318,15 +432,21 @@ fn delay_ms(ms: u16) {
     avr_device::asm::delay_cycles(16_000 * u32::from(ms));
 }
 
-/// The display. Holds the bus (by value or `&mut`) and the orientation.
+/// The display. Holds the bus (by value or `&mut`), the orientation and
+/// the last column and page ranges sent: the controller keeps them, so a run
+/// of windows on one row (map rows, a line of text) skips the repeats.
 pub struct Lcd<B> {
     bus: B,
     rotation: Rotation,
+    columns: Option<(u16, u16)>,
+    pages: Option<(u16, u16)>,
 }
 
 impl<B: Bus8> Lcd<B> {
+    /// Wraps a bus whose controller is already initialised in landscape (or
+    /// call [`Lcd::init`]). The window cache starts empty.
     pub fn new(bus: B) -> Self {
-        Self { bus, rotation: Rotation::Landscape }
+        Self { bus, rotation: Rotation::Landscape, columns: None, pages: None }
     }
 
     /// Hardware and software reset, wake-up, 16-bit pixels, `rotation`,
@@ -342,6 +462,8 @@ impl<B: Bus8> Lcd<B> {
         delay_ms(120);
         self.bus.select(true);
         self.bus.command(cmd::SWRESET);
+        self.columns = None;
+        self.pages = None;
         delay_ms(5);
         self.bus.command(cmd::SLPOUT);
         delay_ms(120);
@@ -353,6 +475,8 @@ impl<B: Bus8> Lcd<B> {
 
     pub fn set_rotation(&mut self, rotation: Rotation) {
         self.rotation = rotation;
+        self.columns = None;
+        self.pages = None;
         self.bus.command(cmd::MADCTL);
         self.bus.data(&[rotation as u8]);
     }
@@ -368,28 +492,110 @@ impl<B: Bus8> Lcd<B> {
 
     /// Sets the address window (inclusive) and starts a memory write.
     fn window(&mut self, x0: u16, y0: u16, x1: u16, y1: u16) {
-        let [a, b] = x0.to_be_bytes();
-        let [c, d] = x1.to_be_bytes();
-        self.bus.command(cmd::CASET);
-        self.bus.data(&[a, b, c, d]);
-        let [a, b] = y0.to_be_bytes();
-        let [c, d] = y1.to_be_bytes();
-        self.bus.command(cmd::PASET);
-        self.bus.data(&[a, b, c, d]);
+        if self.columns != Some((x0, x1)) {
+            let [a, b] = x0.to_be_bytes();
+            let [c, d] = x1.to_be_bytes();
+            self.bus.command(cmd::CASET);
+            self.bus.data(&[a, b, c, d]);
+            self.columns = Some((x0, x1));
+        }
+        if self.pages != Some((y0, y1)) {
+            let [a, b] = y0.to_be_bytes();
+            let [c, d] = y1.to_be_bytes();
+            self.bus.command(cmd::PASET);
+            self.bus.data(&[a, b, c, d]);
+            self.pages = Some((y0, y1));
+        }
         self.bus.command(cmd::RAMWR);
     }
 
     /// The part of `area` on the screen as inclusive corners.
     fn clip(&self, area: &Rectangle) -> Option<(u16, u16, u16, u16)> {
         let (w, h) = self.rotation.size();
-        let x0 = area.top_left.x.max(0);
-        let y0 = area.top_left.y.max(0);
-        let x1 = (area.top_left.x + area.size.width as i32).min(i32::from(w));
-        let y1 = (area.top_left.y + area.size.height as i32).min(i32::from(h));
+        // Narrow to 16 bits first: 32-bit arithmetic is four times the work
+        // here, and this runs for every window.
+        let narrow = |v: i32| v.clamp(-0x4000, 0x4000) as i16;
+        let x0 = narrow(area.top_left.x);
+        let y0 = narrow(area.top_left.y);
+        let x1 = x0.saturating_add(area.size.width.min(0x4000) as i16).min(w as i16);
+        let y1 = y0.saturating_add(area.size.height.min(0x4000) as i16).min(h as i16);
+        let (x0, y0) = (x0.max(0), y0.max(0));
         if x1 <= x0 || y1 <= y0 {
             return None;
         }
         Some((x0 as u16, y0 as u16, (x1 - 1) as u16, (y1 - 1) as u16))
+    }
+}
+
+impl<B: Bus8> Canvas for Lcd<B> {
+    /// One window, then each run through the solid-fill loop.
+    fn fill_runs(&mut self, area: &Rectangle, runs: &[Run]) -> Result<(), Self::Error> {
+        let Some((x0, y0, x1, y1)) = self.clip(area) else {
+            return Ok(());
+        };
+        let whole = u32::from(x1 - x0 + 1) == area.size.width && u32::from(y1 - y0 + 1) == area.size.height;
+        if !whole {
+            return self.draw_iter(area.points().zip(RunColors::new(runs)).map(|(p, c)| Pixel(p, c)));
+        }
+        self.window(x0, y0, x1, y1);
+        let mut left = area.size.width * area.size.height;
+        for r in runs {
+            let n = u32::from(r.len).min(left);
+            self.bus.run(raw(r.color), n as u16);
+            left -= n;
+            if left == 0 {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// One window and the cell's pixels in a tight loop.
+    fn fill_glyph(&mut self, x: i16, y: i16, cell: &GlyphCell) -> Result<(), Self::Error> {
+        let area = Rectangle::new(
+            embedded_graphics::geometry::Point::new(i32::from(x), i32::from(y)),
+            Size::new(u32::from(cell.width()), u32::from(cell.height())),
+        );
+        let Some((x0, y0, x1, y1)) = self.clip(&area) else {
+            return Ok(());
+        };
+        let whole = u32::from(x1 - x0 + 1) == area.size.width && u32::from(y1 - y0 + 1) == area.size.height;
+        if !whole || cell.scale == 0 {
+            let (w, h) = (cell.width(), cell.height());
+            let pixels = (0..h).flat_map(|py| (0..w).map(move |px| (px, py)));
+            return self.draw_iter(
+                pixels.map(|(px, py)| Pixel(area.top_left + embedded_graphics::geometry::Point::new(i32::from(px), i32::from(py)), cell.pixel(px, py))),
+            );
+        }
+        self.window(x0, y0, x1, y1);
+        self.bus.glyph(&cell.rows, cell.scale, cell.gap, raw(cell.fg), raw(cell.bg));
+        Ok(())
+    }
+}
+
+/// The colours of a run list, pixel by pixel (clipped fills only).
+struct RunColors<'a> {
+    runs: &'a [Run],
+    k: usize,
+    left: u16,
+}
+
+impl<'a> RunColors<'a> {
+    fn new(runs: &'a [Run]) -> Self {
+        Self { runs, k: 0, left: runs.first().map_or(0, |r| r.len) }
+    }
+}
+
+impl Iterator for RunColors<'_> {
+    type Item = Rgb565;
+
+    fn next(&mut self) -> Option<Rgb565> {
+        while self.left == 0 {
+            self.k += 1;
+            self.left = self.runs.get(self.k)?.len;
+        }
+        self.left -= 1;
+        self.runs.get(self.k).map(|r| r.color)
     }
 }
 
@@ -439,8 +645,16 @@ impl<B: Bus8> DrawTarget for Lcd<B> {
             );
         }
         self.window(x0, y0, x1, y1);
-        let n = area.size.width * area.size.height;
-        self.bus.stream(colors.into_iter().take(n as usize).map(raw));
+        // Colours beyond the area are dropped, as the trait asks. An
+        // iterator that says it has at most `n` streams as is, so its own
+        // `fold` (nested loops, e.g. a glyph's) drives the pixel loop.
+        let n = (area.size.width * area.size.height) as usize;
+        let colors = colors.into_iter();
+        if colors.size_hint().1.is_some_and(|upper| upper <= n) {
+            self.bus.stream(colors.map(raw));
+        } else {
+            self.bus.stream(colors.take(n).map(raw));
+        }
         Ok(())
     }
 

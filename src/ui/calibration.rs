@@ -11,10 +11,9 @@
 //! hitting Save already proves the new mapping works; after a failed fit the
 //! old one is used for Retry / Cancel.
 
-use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::pixelcolor::Rgb565;
 
-use super::draw::{fill, text_centered, Area, TextStyle};
+use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
 use super::flash::{FlashText, TextSource};
 use crate::ftext;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
@@ -173,7 +172,7 @@ fn fit(samples: &[Crosshair<f32>]) -> Result<Calibration, CalFailure> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum CalView {
     Touch { index: u8, rejected: bool },
-    Review,
+    Review(Result<Calibration, CalFailure>),
 }
 
 const BG: Rgb565 = theme::WHITE;
@@ -186,7 +185,7 @@ fn cross_area(x: i16, y: i16) -> Area {
     Area::around(x, y, CROSS_R)
 }
 
-fn draw_cross<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16) -> Result<(), D::Error> {
+fn draw_cross<D: Canvas>(d: &mut D, x: i16, y: i16) -> Result<(), D::Error> {
     let r = CROSS_R as i16;
     fill(d, Area::new(x - r, y - 1, 2 * CROSS_R + 1, 3), theme::CROSSHAIR)?;
     fill(d, Area::new(x - 1, y - r, 3, 2 * CROSS_R + 1), theme::CROSSHAIR)?;
@@ -194,7 +193,7 @@ fn draw_cross<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16) -> Resul
     fill(d, Area::new(x - 1, y - 1, 3, 3), theme::TEXT)
 }
 
-fn line_centered<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+fn line_centered<D: Canvas, T: TextSource + ?Sized>(
     d: &mut D,
     y: i16,
     s: &T,
@@ -204,14 +203,14 @@ fn line_centered<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
     text_centered(d, Area::new(0, y, SCREEN_W, h), s, style)
 }
 
-fn draw_step<D: DrawTarget<Color = Rgb565>>(d: &mut D, index: u8) -> Result<(), D::Error> {
+fn draw_step<D: Canvas>(d: &mut D, index: u8) -> Result<(), D::Error> {
     let mut line: Line<16> = Line::new();
     line.push(&ftext!(b"Point ")).push_int(i32::from(index) + 1).push(&ftext!(b" of ")).push_int(CAL_COUNT as i32);
     fill(d, STEP_AREA, BG)?;
     line_centered(d, STEP_AREA.y, line.as_bytes(), &STYLE)
 }
 
-fn draw_hint<D: DrawTarget<Color = Rgb565>>(d: &mut D, rejected: bool) -> Result<(), D::Error> {
+fn draw_hint<D: Canvas>(d: &mut D, rejected: bool) -> Result<(), D::Error> {
     fill(d, HINT_AREA, BG)?;
     if rejected {
         line_centered(d, HINT_AREA.y, &ftext!(b"Lift, then touch the NEW cross"), &TextStyle::opaque(1, theme::WARN_TEXT, BG))?;
@@ -242,7 +241,7 @@ fn yes_no(b: bool) -> FlashText {
     }
 }
 
-fn draw_review<D: DrawTarget<Color = Rgb565>>(d: &mut D, result: &Result<Calibration, CalFailure>) -> Result<(), D::Error> {
+fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -> Result<(), D::Error> {
     fill(d, Area::new(0, 0, SCREEN_W, SCREEN_H), BG)?;
     match result {
         Ok(c) => {
@@ -277,17 +276,17 @@ fn draw_review<D: DrawTarget<Color = Rgb565>>(d: &mut D, result: &Result<Calibra
 
 /// Draws the flow's screen; with `old` (what is on the glass) only the
 /// changed parts are repainted.
-pub(crate) fn draw<D: DrawTarget<Color = Rgb565>>(
+pub(crate) fn draw<D: Canvas>(
     flow: &CalibrationFlow,
     old: Option<CalView>,
     d: &mut D,
 ) -> Result<CalView, D::Error> {
     match flow.phase {
         CalPhase::Review { result } => {
-            if old != Some(CalView::Review) {
+            if old != Some(CalView::Review(result)) {
                 draw_review(d, &result)?;
             }
-            Ok(CalView::Review)
+            Ok(CalView::Review(result))
         }
         CalPhase::Touch { index } => {
             let (x, y) = CAL_PIXELS.get(usize::from(index)).copied().unwrap_or((160, 120));

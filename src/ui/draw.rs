@@ -96,7 +96,7 @@ impl Area {
 
 /// Fills `a` with one colour.
 #[inline]
-pub fn fill<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, c: Rgb565) -> Result<(), D::Error> {
+pub fn fill<D: Canvas>(d: &mut D, a: Area, c: Rgb565) -> Result<(), D::Error> {
     if a.is_empty() {
         return Ok(());
     }
@@ -104,7 +104,7 @@ pub fn fill<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, c: Rgb565) -> Res
 }
 
 /// A `t`-pixel frame just inside `a`.
-pub fn frame<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, t: u16, c: Rgb565) -> Result<(), D::Error> {
+pub fn frame<D: Canvas>(d: &mut D, a: Area, t: u16, c: Rgb565) -> Result<(), D::Error> {
     let t = t.min(a.w / 2).min(a.h / 2);
     if t == 0 {
         return Ok(());
@@ -156,100 +156,129 @@ impl TextStyle {
     }
 }
 
-/// The pixels of one opaque glyph cell in row-major order, for one
-/// `fill_contiguous` per glyph. Counters only, no division: the chip has no
-/// divider and this runs once per pixel.
-struct GlyphPixels {
-    ch: u8,
-    scale: u8,
-    gap: u8,
-    fg: Rgb565,
-    bg: Rgb565,
-    /// Current glyph row's bits, and the bit of the current column (0 once
-    /// in the gap).
-    bits: u8,
-    mask: u8,
-    /// Glyph row, and pixels left in the current column / pixel row.
-    row: u8,
-    left_x: u8,
-    left_y: u8,
+/// A run of one colour in a row-major pixel stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Run {
+    pub len: u16,
+    pub color: Rgb565,
 }
 
-impl GlyphPixels {
-    fn new(ch: u8, style: &TextStyle, bg: Rgb565) -> Self {
-        let s = style.scale.max(1);
-        Self {
-            ch,
-            scale: s,
-            gap: style.gap,
-            fg: style.fg,
-            bg,
-            bits: glyph_row(ch, 0),
-            mask: 0x10,
-            row: 0,
-            left_x: s,
-            left_y: s,
+/// What the UI draws on: any embedded-graphics target of RGB565 colours,
+/// plus two bulk operations whose defaults go through `fill_contiguous`: a
+/// row of colour runs (map rows) and a character cell. A display driver
+/// overrides them with tight loops instead of an iterator step per pixel
+/// (several times faster on the ATmega2560); for any other target
+/// `impl Canvas for T {}` is enough.
+pub trait Canvas: DrawTarget<Color = Rgb565> {
+    /// Fills `area` row by row with `runs` in order. Runs beyond the area are
+    /// dropped; if they are shorter, the rest of the area is left as it was.
+    fn fill_runs(&mut self, area: &Rectangle, runs: &[Run]) -> Result<(), Self::Error> {
+        self.fill_contiguous(area, RunPixels { runs, k: 0, left: runs.first().map_or(0, |r| r.len) })
+    }
+
+    /// Paints `cell` with its top-left corner at `(x, y)`, every pixel of
+    /// the cell exactly once.
+    fn fill_glyph(&mut self, x: i16, y: i16, cell: &GlyphCell) -> Result<(), Self::Error> {
+        let area = Area::new(x, y, cell.width(), cell.height());
+        self.fill_contiguous(&area.to_rect(), CellPixels { cell, x: 0, y: 0 })
+    }
+}
+
+/// The pixels of a run list, for the default [`Canvas::fill_runs`].
+struct RunPixels<'a> {
+    runs: &'a [Run],
+    k: usize,
+    left: u16,
+}
+
+impl Iterator for RunPixels<'_> {
+    type Item = Rgb565;
+
+    fn next(&mut self) -> Option<Rgb565> {
+        while self.left == 0 {
+            self.k += 1;
+            self.left = self.runs.get(self.k)?.len;
+        }
+        self.left -= 1;
+        self.runs.get(self.k).map(|r| r.color)
+    }
+}
+
+/// One opaque character cell: 8 glyph rows (bit 4 = leftmost of 5
+/// columns), each column `scale` pixels wide and each row `scale` high,
+/// then `gap` background columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GlyphCell {
+    pub rows: [u8; 8],
+    pub scale: u8,
+    pub gap: u8,
+    pub fg: Rgb565,
+    pub bg: Rgb565,
+}
+
+impl GlyphCell {
+    pub fn width(&self) -> u16 {
+        5 * u16::from(self.scale) + u16::from(self.gap)
+    }
+
+    pub fn height(&self) -> u16 {
+        CELL_H * u16::from(self.scale)
+    }
+
+    /// Colour of cell pixel `(x, y)`.
+    pub fn pixel(&self, x: u16, y: u16) -> Rgb565 {
+        let s = u16::from(self.scale.max(1));
+        let col = x / s;
+        let bits = self.rows.get(usize::from(y / s)).copied().unwrap_or(0);
+        if col < 5 && bits & (0x10 >> col) != 0 {
+            self.fg
+        } else {
+            self.bg
         }
     }
 }
 
-impl Iterator for GlyphPixels {
+/// The pixels of a [`GlyphCell`], for the default [`Canvas::fill_glyph`].
+struct CellPixels<'a> {
+    cell: &'a GlyphCell,
+    x: u16,
+    y: u16,
+}
+
+impl Iterator for CellPixels<'_> {
     type Item = Rgb565;
 
-    #[inline]
     fn next(&mut self) -> Option<Rgb565> {
-        if self.row >= CELL_H as u8 {
+        if self.y >= self.cell.height() {
             return None;
         }
-        let ink = self.bits & self.mask != 0;
-        self.left_x -= 1;
-        if self.left_x == 0 {
-            if self.mask > 1 {
-                self.mask >>= 1;
-                self.left_x = self.scale;
-            } else if self.mask == 1 {
-                // Into the gap (possibly zero wide).
-                self.mask = 0;
-                self.left_x = self.gap;
-            }
-            if self.left_x == 0 {
-                // End of a pixel row.
-                self.mask = 0x10;
-                self.left_x = self.scale;
-                self.left_y -= 1;
-                if self.left_y == 0 {
-                    self.left_y = self.scale;
-                    self.row += 1;
-                    self.bits = glyph_row(self.ch, self.row);
-                }
-            }
+        let c = self.cell.pixel(self.x, self.y);
+        self.x += 1;
+        if self.x >= self.cell.width() {
+            self.x = 0;
+            self.y += 1;
         }
-        Some(if ink { self.fg } else { self.bg })
+        Some(c)
     }
 }
 
 /// Draws `text` with its top-left corner at `(x, y)` and returns the x just
 /// after it. Opaque text writes every pixel of its cells exactly once (one
-/// `fill_contiguous` per glyph); transparent text writes only ink runs (one
-/// `fill_solid` per run per glyph row).
-pub fn text<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+/// [`Canvas::fill_glyph`] per character); transparent text writes only ink
+/// runs (one `fill_solid` per run per glyph row).
+pub fn text<D: Canvas, T: TextSource + ?Sized>(
     d: &mut D,
     x: i16,
     y: i16,
     text: &T,
     style: &TextStyle,
 ) -> Result<i16, D::Error> {
-    let s = style.scale();
     let width = style.advance();
     let mut cx = x;
     for i in 0..text.len() {
         let ch = text.at(i);
         match style.bg {
-            Some(bg) => {
-                let area = Area::new(cx, y, width, CELL_H * s);
-                let pixels = GlyphPixels::new(ch, style, bg);
-                d.fill_contiguous(&area.to_rect(), pixels)?;
-            }
+            Some(bg) => glyph_opaque(d, cx, y, ch, bg, style)?,
             None => glyph_ink(d, cx, y, ch, style)?,
         }
         cx = cx.saturating_add(width as i16);
@@ -257,7 +286,16 @@ pub fn text<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
     Ok(cx)
 }
 
-fn glyph_ink<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16, ch: u8, style: &TextStyle) -> Result<(), D::Error> {
+fn glyph_opaque<D: Canvas>(d: &mut D, x: i16, y: i16, ch: u8, bg: Rgb565, style: &TextStyle) -> Result<(), D::Error> {
+    let mut rows = [0u8; 8];
+    for (r, slot) in rows.iter_mut().enumerate() {
+        *slot = glyph_row(ch, r as u8);
+    }
+    let cell = GlyphCell { rows, scale: style.scale.max(1), gap: style.gap, fg: style.fg, bg };
+    d.fill_glyph(x, y, &cell)
+}
+
+fn glyph_ink<D: Canvas>(d: &mut D, x: i16, y: i16, ch: u8, style: &TextStyle) -> Result<(), D::Error> {
     let s = style.scale();
     for row in 0..CELL_H as u8 {
         let bits = glyph_row(ch, row);
@@ -280,7 +318,7 @@ fn glyph_ink<D: DrawTarget<Color = Rgb565>>(d: &mut D, x: i16, y: i16, ch: u8, s
 
 /// Draws `text` centred in `a` (horizontally and vertically), clipped to
 /// nothing: the caller sizes `a` to fit.
-pub fn text_centered<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+pub fn text_centered<D: Canvas, T: TextSource + ?Sized>(
     d: &mut D,
     a: Area,
     text_bytes: &T,
@@ -300,13 +338,13 @@ pub struct Clip<'a, D> {
     pub clip: Area,
 }
 
-impl<D: DrawTarget<Color = Rgb565>> Dimensions for Clip<'_, D> {
+impl<D: Canvas> Dimensions for Clip<'_, D> {
     fn bounding_box(&self) -> Rectangle {
         self.clip.to_rect()
     }
 }
 
-impl<D: DrawTarget<Color = Rgb565>> DrawTarget for Clip<'_, D> {
+impl<D: Canvas> DrawTarget for Clip<'_, D> {
     type Color = Rgb565;
     type Error = D::Error;
 
@@ -326,3 +364,5 @@ impl<D: DrawTarget<Color = Rgb565>> DrawTarget for Clip<'_, D> {
         self.inner.fill_solid(&r, color)
     }
 }
+
+impl<D: Canvas> Canvas for Clip<'_, D> {}

@@ -1,7 +1,8 @@
 //! The touch screen's user interface, pure and `no_std`: it draws on any
-//! embedded-graphics `DrawTarget<Color = Rgb565>` of 320×240 (the ILI9341 in
-//! landscape on the chip, a framebuffer in host tests) and maps touches back
-//! to buttons and workspace points.
+//! embedded-graphics `DrawTarget<Color = Rgb565>` of 320×240 that also
+//! implements the one-method [`draw::Canvas`] (an empty `impl` will do; the
+//! ILI9341 driver overrides it to stream colour runs fast), and maps touches
+//! back to buttons and workspace points.
 //!
 //! - [`layout`]: the screen layout and the panel ↔ pixel ↔ workspace mappings
 //!   (read its module docs for why the map is a sub-rectangle with a guard
@@ -24,6 +25,7 @@ pub mod text_buf;
 pub mod theme;
 pub mod ws_view;
 
+pub use draw::{Canvas, Run};
 pub use calibration::{CalFailure, CalPhase, CalibrationEvent, CalibrationFlow};
 pub use model::{warn, Refusal, UiModel, UiState};
 pub use screen::{Hit, Redrawn, Ui, UiConfig};

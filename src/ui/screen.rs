@@ -6,11 +6,10 @@
 //! compared in whole degrees, progress in bar pixels and percent, points in
 //! map pixels, so a 0.01° wobble repaints nothing.
 
-use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::calibration::{self, CalView, CalibrationFlow};
-use super::draw::{fill, frame, text, Area, TextStyle};
+use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::{FlashText, TextSource};
 use crate::ftext;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
@@ -227,7 +226,7 @@ const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
 /// rest of `a` in `bg`. Text longer than `a` is cut at a whole character.
-fn text_box<D: DrawTarget<Color = Rgb565>, T: TextSource + ?Sized>(
+fn text_box<D: Canvas, T: TextSource + ?Sized>(
     d: &mut D,
     a: Area,
     s: &T,
@@ -264,7 +263,7 @@ impl<T: TextSource + ?Sized> TextSource for Prefix<'_, T> {
 }
 
 /// Fills `outer` minus `inner` (which must lie inside it) in up to 4 strips.
-fn fill_around<D: DrawTarget<Color = Rgb565>>(d: &mut D, outer: Area, inner: Area, c: Rgb565) -> Result<(), D::Error> {
+fn fill_around<D: Canvas>(d: &mut D, outer: Area, inner: Area, c: Rgb565) -> Result<(), D::Error> {
     let Some(inner) = inner.intersect(&outer) else {
         return fill(d, outer, c);
     };
@@ -275,7 +274,7 @@ fn fill_around<D: DrawTarget<Color = Rgb565>>(d: &mut D, outer: Area, inner: Are
 }
 
 /// A button: `a` filled with `bg` and `label` centred, each pixel once.
-fn button<D: DrawTarget<Color = Rgb565>>(d: &mut D, a: Area, label: FlashText, style: &TextStyle) -> Result<(), D::Error> {
+fn button<D: Canvas>(d: &mut D, a: Area, label: FlashText, style: &TextStyle) -> Result<(), D::Error> {
     let (tw, th) = style.extent(label.len());
     // Centre the ink: the last glyph's trailing gap is blank.
     let ink_w = tw.saturating_sub(u16::from(style.gap));
@@ -306,7 +305,7 @@ impl Ui {
     /// Draws the main screen, repainting only what differs from the last
     /// draw (everything after a calibration screen, a reach change or an
     /// error).
-    pub fn draw<D: DrawTarget<Color = Rgb565>>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
+    pub fn draw<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
         let v = View::of(model);
         let old = match self.shown {
             Shown::Main(old) => old,
@@ -320,11 +319,11 @@ impl Ui {
     }
 
     /// Draws the whole main screen.
-    pub fn draw_full<D: DrawTarget<Color = Rgb565>>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
+    pub fn draw_full<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
         self.draw_view_full(&View::of(model), d)
     }
 
-    fn draw_view_full<D: DrawTarget<Color = Rgb565>>(&mut self, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
+    fn draw_view_full<D: Canvas>(&mut self, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
         self.shown = Shown::Nothing;
         let (marks, n) = v.marks();
         ws_view::draw_map(d, &self.reach, marks.get(..n).unwrap_or(&[]))?;
@@ -343,7 +342,7 @@ impl Ui {
         Ok(Redrawn(Redrawn::ALL_MAIN))
     }
 
-    fn draw_changes<D: DrawTarget<Color = Rgb565>>(&self, old: &View, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
+    fn draw_changes<D: Canvas>(&self, old: &View, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
         let mut r = 0u16;
         if old.stop_shown != v.stop_shown {
             draw_stop(d, v.stop_shown)?;
@@ -447,7 +446,7 @@ impl Ui {
 
     /// Draws the calibration screen for `flow`'s current step, repainting
     /// only what changed since the last calibration draw.
-    pub fn draw_calibration<D: DrawTarget<Color = Rgb565>>(
+    pub fn draw_calibration<D: Canvas>(
         &mut self,
         flow: &CalibrationFlow,
         d: &mut D,
@@ -463,7 +462,7 @@ impl Ui {
     }
 }
 
-fn draw_stop<D: DrawTarget<Color = Rgb565>>(d: &mut D, stop: bool) -> Result<(), D::Error> {
+fn draw_stop<D: Canvas>(d: &mut D, stop: bool) -> Result<(), D::Error> {
     if stop {
         button(d, lay::STOP, ftext!(b"STOP"), &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight())
     } else {
@@ -471,11 +470,11 @@ fn draw_stop<D: DrawTarget<Color = Rgb565>>(d: &mut D, stop: bool) -> Result<(),
     }
 }
 
-fn draw_headline<D: DrawTarget<Color = Rgb565>>(d: &mut D, h: Headline) -> Result<(), D::Error> {
+fn draw_headline<D: Canvas>(d: &mut D, h: Headline) -> Result<(), D::Error> {
     text_box(d, lay::HEADLINE, &h.text(), &TextStyle::opaque(2, h.color(), theme::BG))
 }
 
-fn draw_detail<D: DrawTarget<Color = Rgb565>>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
+fn draw_detail<D: Canvas>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
     match *detail {
         Detail::Hint(s) => text_box(d, lay::DETAIL, &s, &HEAD_STYLE),
         Detail::Progress { px, percent } => {
@@ -493,7 +492,7 @@ fn draw_detail<D: DrawTarget<Color = Rgb565>>(d: &mut D, detail: &Detail) -> Res
 }
 
 /// Repaints only the bar columns between the old and the new fill.
-fn update_progress<D: DrawTarget<Color = Rgb565>>(d: &mut D, old_px: u16, new_px: u16) -> Result<(), D::Error> {
+fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(), D::Error> {
     let f = lay::BAR_FILL;
     let (lo, hi, c) = if new_px >= old_px {
         (old_px, new_px, theme::PROGRESS)
@@ -503,7 +502,7 @@ fn update_progress<D: DrawTarget<Color = Rgb565>>(d: &mut D, old_px: u16, new_px
     fill(d, Area::new(f.x + lo as i16, f.y, hi - lo, f.h), c)
 }
 
-fn draw_percent<D: DrawTarget<Color = Rgb565>>(d: &mut D, percent: u8) -> Result<(), D::Error> {
+fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
     line.push_int(i32::from(percent)).push_byte(b'%');
     // Right-aligned in a 4-character field so the digits do not jump.
@@ -515,7 +514,7 @@ fn draw_percent<D: DrawTarget<Color = Rgb565>>(d: &mut D, percent: u8) -> Result
     text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
 }
 
-fn draw_info<D: DrawTarget<Color = Rgb565>>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
+fn draw_info<D: Canvas>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
         line.push(&ftext!(b"Zone ")).push_int(i32::from(z)).push(&ftext!(b"  Direction ")).push_deg(alpha);
@@ -523,11 +522,11 @@ fn draw_info<D: DrawTarget<Color = Rgb565>>(d: &mut D, zone: Option<(u8, Option<
     text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_warning<D: DrawTarget<Color = Rgb565>>(d: &mut D, bit: u8) -> Result<(), D::Error> {
+fn draw_warning<D: Canvas>(d: &mut D, bit: u8) -> Result<(), D::Error> {
     text_box(d, lay::WARN, &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
 }
 
-fn draw_joints<D: DrawTarget<Color = Rgb565>>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
+fn draw_joints<D: Canvas>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
     line.push(&ftext!(b"Base ")).push_deg(joints[0]);
     line.push(&ftext!(b"   Shoulder ")).push_deg(joints[1]);
@@ -535,7 +534,7 @@ fn draw_joints<D: DrawTarget<Color = Rgb565>>(d: &mut D, joints: &[Option<i16>; 
     text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_speed<D: DrawTarget<Color = Rgb565>>(d: &mut D, speed: SpeedPreset) -> Result<(), D::Error> {
+fn draw_speed<D: Canvas>(d: &mut D, speed: SpeedPreset) -> Result<(), D::Error> {
     let items: [(Area, SpeedPreset, FlashText); 3] = [
         (lay::SLOW, SpeedPreset::Slow, ftext!(b"Slow")),
         (lay::NORMAL, SpeedPreset::Normal, ftext!(b"Normal")),

@@ -9,10 +9,9 @@
 //! integers `dx, dy` (see `layout`), and the condition and reach tests on
 //! them are exact.
 
-use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::pixelcolor::Rgb565;
 
-use super::draw::{fill, frame, text, Area, Clip, TextStyle};
+use super::draw::{fill, frame, text, Area, Canvas, Clip, Run, TextStyle};
 use super::font::{CELL_H, CELL_W};
 use super::layout::{ws_half_units, WS, WS_ORIGIN_X, WS_SCALE};
 use super::theme;
@@ -218,14 +217,17 @@ fn row_breaks(reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize {
     n
 }
 
-/// Paints the map background over `area ∩ WS`, one `fill_solid` per run.
-pub fn draw_background<D: DrawTarget<Color = Rgb565>>(d: &mut D, reach: &Reach, area: Area) -> Result<(), D::Error> {
+/// Paints the map background over `area ∩ WS`: one [`Canvas::fill_runs`]
+/// per row (a dozen runs each).
+pub fn draw_background<D: Canvas>(d: &mut D, reach: &Reach, area: Area) -> Result<(), D::Error> {
     let Some(a) = area.intersect(&WS) else {
         return Ok(());
     };
     let mut breaks = [0i16; 14];
     for y in a.y..a.bottom() {
         let n = row_breaks(reach, y, &mut breaks);
+        let mut runs = [Run { len: 0, color: theme::ZONE_LINE }; 14];
+        let mut count = 0usize;
         let mut start = a.x;
         let mut k = 0;
         while start < a.right() {
@@ -234,17 +236,20 @@ pub fn draw_background<D: DrawTarget<Color = Rgb565>>(d: &mut D, reach: &Reach, 
                 k += 1;
             }
             let end = if k < n { breaks[k].min(a.right()) } else { a.right() };
-            let c = background_at(reach, start, y);
-            fill(d, Area::new(start, y, (end - start) as u16, 1), c)?;
+            if let Some(slot) = runs.get_mut(count) {
+                *slot = Run { len: (end - start) as u16, color: background_at(reach, start, y) };
+                count += 1;
+            }
             start = end;
         }
+        d.fill_runs(&Area::new(a.x, y, a.w, 1).to_rect(), runs.get(..count).unwrap_or(&[]))?;
     }
     Ok(())
 }
 
 /// Base, zone numbers and markers (`marks` in drawing order), clipped to
 /// `clip`: the layers above the background.
-pub fn draw_overlays<D: DrawTarget<Color = Rgb565>>(d: &mut D, clip: Area, marks: &[Mark]) -> Result<(), D::Error> {
+pub fn draw_overlays<D: Canvas>(d: &mut D, clip: Area, marks: &[Mark]) -> Result<(), D::Error> {
     let Some(clip) = clip.intersect(&WS) else {
         return Ok(());
     };
@@ -266,7 +271,7 @@ pub fn draw_overlays<D: DrawTarget<Color = Rgb565>>(d: &mut D, clip: Area, marks
     Ok(())
 }
 
-fn draw_mark<D: DrawTarget<Color = Rgb565>>(d: &mut D, m: &Mark) -> Result<(), D::Error> {
+fn draw_mark<D: Canvas>(d: &mut D, m: &Mark) -> Result<(), D::Error> {
     let r = MARKER_R as i16;
     match m.kind {
         MarkKind::Touch | MarkKind::TouchRefused => {
@@ -287,13 +292,13 @@ fn draw_mark<D: DrawTarget<Color = Rgb565>>(d: &mut D, m: &Mark) -> Result<(), D
 }
 
 /// The whole map: background, base, labels, markers.
-pub fn draw_map<D: DrawTarget<Color = Rgb565>>(d: &mut D, reach: &Reach, marks: &[Mark]) -> Result<(), D::Error> {
+pub fn draw_map<D: Canvas>(d: &mut D, reach: &Reach, marks: &[Mark]) -> Result<(), D::Error> {
     draw_background(d, reach, WS)?;
     draw_overlays(d, WS, marks)
 }
 
 /// Repaints exactly `area ∩ WS` with every layer.
-pub fn repaint<D: DrawTarget<Color = Rgb565>>(d: &mut D, reach: &Reach, area: Area, marks: &[Mark]) -> Result<(), D::Error> {
+pub fn repaint<D: Canvas>(d: &mut D, reach: &Reach, area: Area, marks: &[Mark]) -> Result<(), D::Error> {
     draw_background(d, reach, area)?;
     draw_overlays(d, area, marks)
 }
