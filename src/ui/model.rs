@@ -38,7 +38,8 @@ pub enum UiState {
 /// Problems worth a line on the screen; a bit set (highest bit wins when
 /// several are set, so put the most important highest).
 pub mod warn {
-    /// The saved touch calibration was reset (CRC fail, edges clamped).
+    /// The last touch lay outside the calibrated span and was pulled onto
+    /// its edge (`touch_map::MappedPoint::clamped`).
     pub const TOUCH_CLAMPED: u8 = 1 << 0;
     /// EEPROM settings were invalid; defaults are in use.
     pub const DEFAULT_SETTINGS: u8 = 1 << 1;
