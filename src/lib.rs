@@ -27,6 +27,7 @@ pub mod seam;
 pub mod servo;
 pub mod touch_filter;
 pub mod touch_map;
+pub mod ui;
 pub mod via;
 pub mod workspace;
 pub mod zat;

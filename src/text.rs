@@ -57,9 +57,7 @@ impl Text {
             return 0;
         }
         #[cfg(target_arch = "avr")]
-        // SAFETY: i < len, and ptr/len describe a .progmem.data static in the
-        // low 64 KiB of flash (avr-gcc's linker script places .progmem* there).
-        return unsafe { avr_progmem::raw::read_byte(self.ptr.add(i)) };
+        return flash_byte(self.ptr.wrapping_add(i));
         #[cfg(not(target_arch = "avr"))]
         return self.s.as_bytes()[i];
     }
@@ -121,6 +119,28 @@ impl ufmt::uDisplay for Text {
         }
         Ok(())
     }
+}
+
+/// One byte of program memory, by its flash address. Only `.progmem.data`
+/// statics are read this way; avr-gcc's linker script puts `.progmem*` in the
+/// low 64 KiB, so the 16-bit Z pointer and `lpm` reach them.
+#[cfg(target_arch = "avr")]
+#[inline]
+pub fn flash_byte(p: *const u8) -> u8 {
+    let byte: u8;
+    // SAFETY: `lpm` only reads program memory.
+    unsafe {
+        core::arch::asm!("lpm {0}, Z", out(reg) byte, in("Z") p, options(pure, readonly, nostack, preserves_flags));
+    }
+    byte
+}
+
+/// One byte of a constant (host: a plain read).
+#[cfg(not(target_arch = "avr"))]
+#[inline]
+pub fn flash_byte(p: *const u8) -> u8 {
+    // SAFETY: callers pass pointers into live `'static` arrays.
+    unsafe { p.read() }
 }
 
 /// Copies a literal's bytes into an array at compile time.

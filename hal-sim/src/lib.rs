@@ -3,7 +3,9 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod display;
 pub mod firmware;
+pub mod lcd_bus;
 pub mod panel;
 pub mod plot;
 pub mod report;

@@ -10,6 +10,7 @@ pub mod adc;
 pub mod cycles;
 pub mod eeprom;
 pub mod gpio;
+pub mod lcd;
 pub mod servo_pwm;
 pub mod shield;
 pub mod stack;

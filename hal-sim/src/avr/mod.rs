@@ -37,6 +37,7 @@ mod adc;
 mod oc_release;
 mod ocr_buffer;
 mod pins;
+mod port_hook;
 mod sys;
 mod uart;
 
@@ -50,6 +51,7 @@ use simavr_ffi as ffi;
 
 pub use adc::{raw_to_millivolts, AdcConversion, AdcHandler, AdcInput, AdcMux, AdcRequest, PortsSnapshot};
 pub use pins::{Edge, Pin, PortState, Pulse};
+pub use port_hook::{PortLevels, PortListener};
 pub use uart::RxPacing;
 
 /// simavr's ELF loader and core constructors touch process-wide state
@@ -168,6 +170,9 @@ pub(crate) struct Shared {
     pub(crate) uart: uart::UartState,
     pub(crate) ports: Vec<pins::PortInfo>,
     pub(crate) watches: Vec<*mut pins::PortWatch>,
+    pub(crate) port_listeners: Vec<port_hook::Listener>,
+    /// Per port index: the notify hook, once some listener wants that port.
+    pub(crate) port_hooks: Vec<*mut port_hook::PortHook>,
     pub(crate) adc: adc::AdcState,
     pub(crate) bad_opcode: Option<(u32, u16)>,
     pub(crate) ocr_hooks: Vec<*mut ocr_buffer::OcrHook>,
@@ -300,6 +305,8 @@ impl Avr {
             uart: uart::UartState::new(),
             ports: Vec::new(),
             watches: Vec::new(),
+            port_listeners: Vec::new(),
+            port_hooks: Vec::new(),
             adc: adc::AdcState::new(),
             bad_opcode: None,
             ocr_hooks: Vec::new(),
@@ -677,6 +684,40 @@ impl Avr {
         }
     }
 
+    /// Calls `f(port, cycle, levels)` after every PORT or DDR write to any
+    /// of `ports` (including `sbi`/`cbi` and PINx toggles), with the levels
+    /// of all ports at that moment. `f` runs inside simavr; a panic in it is
+    /// re-raised from the `run_*` call. Listeners stay for the core's life.
+    pub fn add_port_listener(
+        &mut self,
+        ports: &[char],
+        f: impl FnMut(char, u64, &PortLevels) + 'static,
+    ) -> Result<(), Error> {
+        let mut mask = 0u32;
+        for &p in ports {
+            mask |= 1 << self.port_index(p)?;
+        }
+        let shared = self.shared;
+        for i in 0..self.shared().ports.len() {
+            if mask >> i & 1 == 0 || self.shared().port_hooks.iter().any(|&h| unsafe { (*h).port } == i) {
+                continue;
+            }
+            let hook = Box::into_raw(Box::new(port_hook::PortHook { shared, port: i }));
+            let irq = self.shared().ports[i].irq;
+            // SAFETY: live core; the hook lives until Drop, after avr_terminate.
+            unsafe {
+                ffi::avr_irq_register_notify(
+                    irq.add(ffi::IOPORT_IRQ_PIN_ALL as usize),
+                    Some(port_hook::on_port_write),
+                    hook.cast(),
+                )
+            };
+            self.shared_mut().port_hooks.push(hook);
+        }
+        self.shared_mut().port_listeners.push(port_hook::Listener { mask, f: Box::new(f) });
+        Ok(())
+    }
+
     /// Drives `pin` from outside (like a switch or a sensor). On an input
     /// this sets PINx (and fires pin-change interrupts); on an output simavr
     /// keeps the firmware's level.
@@ -836,6 +877,9 @@ impl Drop for Avr {
             let shared = Box::from_raw(self.shared);
             for &w in &shared.watches {
                 drop(Box::from_raw(w));
+            }
+            for &h in &shared.port_hooks {
+                drop(Box::from_raw(h));
             }
             for &h in &shared.ocr_hooks {
                 drop(Box::from_raw(h));

@@ -1,0 +1,71 @@
+//! On-chip check of the touch-screen UI: initialises the ILI9341 over the
+//! shield bus and draws the fixed script of `touch_arm::ui::demo`, one step
+//! per byte received on USART0, reporting `S <step> <cycles>` after each
+//! draw (Timer1 at clk/256, so cycles are multiples of 256). The simavr test
+//! `ui_firmware` decodes the bus and compares the picture with the host
+//! rendering of the same script.
+#![no_std]
+#![no_main]
+
+use avr_device::atmega2560 as pac;
+use touch_arm::board::lcd::{Lcd, RawShieldBus, Rotation};
+use touch_arm::board::usart::Usart0;
+use touch_arm::ui::demo::{self, Screen};
+use touch_arm::ui::Ui;
+use ufmt::uwriteln;
+
+#[avr_device::entry]
+fn main() -> ! {
+    let Some(dp) = pac::Peripherals::take() else { halt() };
+    // Timer1 free-running at 62.5 kHz: 16 µs ticks, 1.05 s range.
+    dp.TC1.tccr1a().write(|w| unsafe { w.bits(0) });
+    dp.TC1.tccr1b().write(|w| w.cs1().prescale_256());
+    let tc1 = dp.TC1;
+    let mut serial = Usart0::new(dp.USART0);
+    let mut lcd = Lcd::new(RawShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH));
+    lcd.init(Rotation::Landscape);
+    let mut ui = Ui::new(&demo::CONFIG);
+    let _ = uwriteln!(serial, "ui-demo {}", demo::STEPS);
+    for k in 0..demo::STEPS {
+        wait_byte();
+        let t0 = tc1.tcnt1().read().bits();
+        let screen = demo::screen(k);
+        let ok = match &screen {
+            Screen::Main(m) => ui.draw(m, &mut lcd).is_ok(),
+            Screen::Calibration(f) => ui.draw_calibration(f, &mut lcd).is_ok(),
+        };
+        let dt = tc1.tcnt1().read().bits().wrapping_sub(t0);
+        let _ = uwriteln!(serial, "S {} {} {}", k, u32::from(dt) * 256, ok as u8);
+    }
+    let _ = uwriteln!(serial, "done");
+    serial.flush();
+    halt()
+}
+
+fn wait_byte() -> u8 {
+    // SAFETY: only USART0's receive side is read; `Usart0` only transmits.
+    let dp = unsafe { pac::Peripherals::steal() };
+    while dp.USART0.ucsr0a().read().rxc0().bit_is_clear() {}
+    dp.USART0.udr0().read().bits()
+}
+
+fn halt() -> ! {
+    avr_device::interrupt::disable();
+    // SAFETY: the run is over; only the sleep enable bit is set.
+    let dp = unsafe { pac::Peripherals::steal() };
+    dp.CPU.smcr().write(|w| w.se().set_bit());
+    loop {
+        avr_device::asm::sleep();
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    avr_device::interrupt::disable();
+    // SAFETY: the app is dead; reclaim USART0 to say so.
+    let dp = unsafe { pac::Peripherals::steal() };
+    let mut serial = Usart0::new(dp.USART0);
+    let _ = uwriteln!(serial, "PANIC");
+    serial.flush();
+    halt()
+}

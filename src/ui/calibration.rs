@@ -1,0 +1,319 @@
+//! On-screen touch calibration: a pure state machine that shows crosshairs
+//! one after another, collects the raw panel readings touched on them, fits a
+//! [`Calibration`] (min/max, axis swap and inversion detected), and lets the
+//! user Save or Cancel. Cancel keeps the old calibration; the app stores a
+//! saved one in EEPROM.
+//!
+//! The caller feeds every confirmed press (`TouchEvent::Pressed` from the
+//! touch filter) as raw channels, unmapped: during the crosshairs the old
+//! calibration may be wrong, so nothing is mapped. On the result screen the
+//! touch is mapped with the *new* calibration (when the fit succeeded), so
+//! hitting Save already proves the new mapping works; after a failed fit the
+//! old one is used for Retry / Cancel.
+
+use embedded_graphics::pixelcolor::Rgb565;
+
+use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
+use super::flash::TextSource;
+use crate::text::Text;
+use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
+use super::text_buf::Line;
+use super::theme;
+use crate::config_store::MIN_TOUCH_SPAN;
+use crate::touch_map::{Calibration, CalibrationError, Crosshair, SwapMode};
+
+/// Crosshair centres in screen pixels: four corners inset by 10 % and the
+/// centre (five points average touch noise and detect swap and inversion).
+pub const CAL_PIXELS: [(i16, i16); 5] = [(32, 24), (288, 24), (288, 216), (32, 216), (160, 120)];
+pub const CAL_COUNT: usize = CAL_PIXELS.len();
+
+/// A reading within this many counts of the previous crosshair's on both
+/// channels is taken as a repeated touch of the old cross and ignored.
+pub const MIN_SEPARATION: u16 = 40;
+
+/// Half the crosshair's arm length: crosses are 31×31.
+pub const CROSS_R: u16 = 15;
+
+/// Panel coordinates of crosshair `i`'s centre.
+pub fn cal_point(i: usize) -> Option<(f32, f32)> {
+    CAL_PIXELS.get(i).map(|&(x, y)| pixel_center_to_panel(x, y))
+}
+
+/// Why a fit was not offered for saving.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CalFailure {
+    Fit(CalibrationError),
+    /// The fit spans fewer than `MIN_TOUCH_SPAN` counts on an axis (the
+    /// settings store would refuse it).
+    SpanTooSmall,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CalPhase {
+    /// Waiting for a touch on crosshair `index`.
+    Touch { index: u8 },
+    /// The fit is shown with Save / Cancel (or Retry / Cancel on failure).
+    Review { result: Result<Calibration, CalFailure> },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CalibrationEvent {
+    /// Save pressed: store and use this calibration.
+    Done(Calibration),
+    /// Cancel pressed: keep the old calibration.
+    Cancelled,
+}
+
+/// The calibration screen's state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationFlow {
+    old: Calibration,
+    phase: CalPhase,
+    samples: [Crosshair<f32>; CAL_COUNT],
+    rejected: bool,
+}
+
+/// Buttons of the result screen.
+pub const CANCEL_AREA: Area = Area::new(16, 168, 136, 56);
+pub const SAVE_AREA: Area = Area::new(168, 168, 136, 56);
+
+impl CalibrationFlow {
+    pub fn new(old: Calibration) -> Self {
+        let blank = Crosshair { x_p: 0.0, y_p: 0.0, raw_x: 0, raw_y: 0 };
+        Self { old, phase: CalPhase::Touch { index: 0 }, samples: [blank; CAL_COUNT], rejected: false }
+    }
+
+    pub fn phase(&self) -> CalPhase {
+        self.phase
+    }
+
+    /// The calibration in use before this flow (kept on Cancel).
+    pub fn old(&self) -> &Calibration {
+        &self.old
+    }
+
+    /// Screen pixel of the crosshair to touch now.
+    pub fn crosshair_pixel(&self) -> Option<(i16, i16)> {
+        match self.phase {
+            CalPhase::Touch { index } => CAL_PIXELS.get(usize::from(index)).copied(),
+            CalPhase::Review { .. } => None,
+        }
+    }
+
+    /// The last reading was ignored as a repeat of the previous crosshair.
+    pub fn last_rejected(&self) -> bool {
+        self.rejected
+    }
+
+    /// Feeds a confirmed press (raw channels as read).
+    pub fn feed(&mut self, raw_x: u16, raw_y: u16) -> Option<CalibrationEvent> {
+        match self.phase {
+            CalPhase::Touch { index } => {
+                self.take_sample(usize::from(index), raw_x, raw_y);
+                None
+            }
+            CalPhase::Review { result } => {
+                let cal = result.unwrap_or(self.old);
+                let p = cal.map::<f32>(raw_x, raw_y).ok()?;
+                let (x, y) = panel_to_pixel(p.x_p, p.y_p)?;
+                if CANCEL_AREA.contains(x, y) {
+                    Some(CalibrationEvent::Cancelled)
+                } else if SAVE_AREA.contains(x, y) {
+                    match result {
+                        Ok(c) => Some(CalibrationEvent::Done(c)),
+                        Err(_) => {
+                            *self = Self::new(self.old);
+                            None
+                        }
+                    }
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
+    /// Leaves the flow without saving (e.g. on a timeout or a serial command).
+    pub fn cancel(&mut self) -> CalibrationEvent {
+        CalibrationEvent::Cancelled
+    }
+
+    fn take_sample(&mut self, index: usize, raw_x: u16, raw_y: u16) {
+        if let Some(prev) = index.checked_sub(1).and_then(|i| self.samples.get(i)) {
+            let near = prev.raw_x.abs_diff(raw_x) < MIN_SEPARATION && prev.raw_y.abs_diff(raw_y) < MIN_SEPARATION;
+            if near {
+                self.rejected = true;
+                return;
+            }
+        }
+        let (Some(slot), Some((x_p, y_p))) = (self.samples.get_mut(index), cal_point(index)) else {
+            return;
+        };
+        *slot = Crosshair { x_p, y_p, raw_x, raw_y };
+        self.rejected = false;
+        let next = index + 1;
+        self.phase = if next < CAL_COUNT {
+            CalPhase::Touch { index: next as u8 }
+        } else {
+            CalPhase::Review { result: fit(&self.samples) }
+        };
+    }
+}
+
+fn fit(samples: &[Crosshair<f32>]) -> Result<Calibration, CalFailure> {
+    let cal = Calibration::from_crosshairs(samples, SwapMode::Detect).map_err(CalFailure::Fit)?;
+    if cal.x_max - cal.x_min < MIN_TOUCH_SPAN || cal.y_max - cal.y_min < MIN_TOUCH_SPAN {
+        return Err(CalFailure::SpanTooSmall);
+    }
+    Ok(cal)
+}
+
+/// What the calibration screen shows, for partial repaints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum CalView {
+    Touch { index: u8, rejected: bool },
+    Review(Result<Calibration, CalFailure>),
+}
+
+const BG: Rgb565 = theme::WHITE;
+const STYLE: TextStyle = TextStyle::opaque(2, theme::TEXT, BG);
+const TITLE_Y: i16 = 56;
+const STEP_AREA: Area = Area::new(0, 146, SCREEN_W, 16);
+const HINT_AREA: Area = Area::new(0, 170, SCREEN_W, 8);
+
+fn cross_area(x: i16, y: i16) -> Area {
+    Area::around(x, y, CROSS_R)
+}
+
+fn draw_cross<D: Canvas>(d: &mut D, x: i16, y: i16) -> Result<(), D::Error> {
+    let r = CROSS_R as i16;
+    fill(d, Area::new(x - r, y - 1, 2 * CROSS_R + 1, 3), theme::CROSSHAIR)?;
+    fill(d, Area::new(x - 1, y - r, 3, 2 * CROSS_R + 1), theme::CROSSHAIR)?;
+    // A dark centre dot shows exactly where to press.
+    fill(d, Area::new(x - 1, y - 1, 3, 3), theme::TEXT)
+}
+
+fn line_centered<D: Canvas, T: TextSource + ?Sized>(
+    d: &mut D,
+    y: i16,
+    s: &T,
+    style: &TextStyle,
+) -> Result<(), D::Error> {
+    let (_, h) = style.extent(s.len());
+    text_centered(d, Area::new(0, y, SCREEN_W, h), s, style)
+}
+
+fn draw_step<D: Canvas>(d: &mut D, index: u8) -> Result<(), D::Error> {
+    let mut line: Line<16> = Line::new();
+    line.push(&t!("Point ")).push_int(i32::from(index) + 1).push(&t!(" of ")).push_int(CAL_COUNT as i32);
+    fill(d, STEP_AREA, BG)?;
+    line_centered(d, STEP_AREA.y, line.as_bytes(), &STYLE)
+}
+
+fn draw_hint<D: Canvas>(d: &mut D, rejected: bool) -> Result<(), D::Error> {
+    fill(d, HINT_AREA, BG)?;
+    if rejected {
+        line_centered(d, HINT_AREA.y, &t!("Lift, then touch the NEW cross"), &TextStyle::opaque(1, theme::WARN_TEXT, BG))?;
+    }
+    Ok(())
+}
+
+fn failure_text(f: CalFailure) -> Text {
+    match f {
+        CalFailure::SpanTooSmall => t!("Touch range too small"),
+        CalFailure::Fit(e) => match e {
+            CalibrationError::AmbiguousAxes => t!("Touches did not line up"),
+            CalibrationError::FitOutOfAdcRange { .. } => t!("Touches were off target"),
+            CalibrationError::RawReadingOutOfRange => t!("Panel reading too high"),
+            CalibrationError::EmptyRange { .. } | CalibrationError::AboveAdcRange { .. } => t!("Touch range too small"),
+            CalibrationError::TooFewPoints
+            | CalibrationError::DegeneratePositions
+            | CalibrationError::PointOutOfRange => t!("Not enough good touches"),
+        },
+    }
+}
+
+fn yes_no(b: bool) -> Text {
+    if b {
+        t!("yes")
+    } else {
+        t!("no")
+    }
+}
+
+fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -> Result<(), D::Error> {
+    fill(d, Area::new(0, 0, SCREEN_W, SCREEN_H), BG)?;
+    match result {
+        Ok(c) => {
+            line_centered(d, 16, &t!("Calibration result"), &STYLE)?;
+            let mut l: Line<24> = Line::new();
+            l.push(&t!("X ")).push_int(i32::from(c.x_min)).push(&t!(" - ")).push_int(i32::from(c.x_max));
+            line_centered(d, 48, l.as_bytes(), &STYLE)?;
+            let mut l: Line<24> = Line::new();
+            l.push(&t!("Y ")).push_int(i32::from(c.y_min)).push(&t!(" - ")).push_int(i32::from(c.y_max));
+            line_centered(d, 72, l.as_bytes(), &STYLE)?;
+            let mut l: Line<24> = Line::new();
+            l.push(&t!("Swap X/Y: ")).push(&yes_no(c.swap_xy));
+            line_centered(d, 96, l.as_bytes(), &STYLE)?;
+            let mut l: Line<26> = Line::new();
+            l.push(&t!("Flip X: ")).push(&yes_no(c.invert_x)).push(&t!("  Flip Y: ")).push(&yes_no(c.invert_y));
+            line_centered(d, 120, l.as_bytes(), &STYLE)?;
+            line_centered(d, 148, &t!("Save to keep it"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
+            fill(d, SAVE_AREA, theme::RESUME_GREEN)?;
+            text_centered(d, SAVE_AREA, &t!("Save"), &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN))?;
+        }
+        Err(f) => {
+            line_centered(d, 16, &t!("Calibration failed"), &TextStyle::opaque(2, theme::REFUSED, BG))?;
+            line_centered(d, 64, &failure_text(*f), &STYLE)?;
+            line_centered(d, 96, &t!("Please try again"), &STYLE)?;
+            fill(d, SAVE_AREA, theme::BUTTON_ON)?;
+            text_centered(d, SAVE_AREA, &t!("Retry"), &TextStyle::opaque(2, theme::WHITE, theme::BUTTON_ON))?;
+        }
+    }
+    fill(d, CANCEL_AREA, theme::BUTTON)?;
+    text_centered(d, CANCEL_AREA, &t!("Cancel"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))
+}
+
+/// Draws the flow's screen; with `old` (what is on the glass) only the
+/// changed parts are repainted.
+pub(crate) fn draw<D: Canvas>(
+    flow: &CalibrationFlow,
+    old: Option<CalView>,
+    d: &mut D,
+) -> Result<CalView, D::Error> {
+    match flow.phase {
+        CalPhase::Review { result } => {
+            if old != Some(CalView::Review(result)) {
+                draw_review(d, &result)?;
+            }
+            Ok(CalView::Review(result))
+        }
+        CalPhase::Touch { index } => {
+            let (x, y) = CAL_PIXELS.get(usize::from(index)).copied().unwrap_or((160, 120));
+            let rejected = flow.rejected;
+            match old {
+                Some(CalView::Touch { index: i0, rejected: r0 }) => {
+                    if i0 != index {
+                        if let Some(&(ox, oy)) = CAL_PIXELS.get(usize::from(i0)) {
+                            fill(d, cross_area(ox, oy), BG)?;
+                        }
+                        draw_cross(d, x, y)?;
+                        draw_step(d, index)?;
+                    }
+                    if r0 != rejected {
+                        draw_hint(d, rejected)?;
+                    }
+                }
+                _ => {
+                    fill(d, Area::new(0, 0, SCREEN_W, SCREEN_H), BG)?;
+                    line_centered(d, TITLE_Y, &t!("Touch calibration"), &STYLE)?;
+                    line_centered(d, TITLE_Y + 24, &t!("Touch the red cross"), &STYLE)?;
+                    draw_cross(d, x, y)?;
+                    draw_step(d, index)?;
+                    draw_hint(d, rejected)?;
+                }
+            }
+            Ok(CalView::Touch { index, rejected })
+        }
+    }
+}

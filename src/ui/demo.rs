@@ -1,0 +1,78 @@
+//! A fixed script of screens: the `ui-demo` firmware draws it on the chip
+//! (through the real ILI9341 bus driver) and the host test replays it into a
+//! framebuffer, so the decoded bus picture can be compared pixel for pixel
+//! and each draw timed in cycles.
+
+use super::calibration::{cal_point, CalibrationFlow};
+use super::model::{warn, Refusal, UiModel, UiState};
+use super::screen::UiConfig;
+use crate::config_store::SpeedPreset;
+use crate::touch_map::Calibration;
+use crate::workspace::Condition;
+
+pub const CONFIG: UiConfig = UiConfig { reach_min: 0.3, reach_max: 0.9 };
+
+/// Steps of the script.
+pub const STEPS: u8 = 16;
+
+/// What step `k` draws.
+pub enum Screen {
+    Main(UiModel),
+    Calibration(CalibrationFlow),
+}
+
+fn moving(progress: f32) -> UiModel {
+    UiModel {
+        state: UiState::Moving { progress },
+        touch: Some((0.4, 0.5)),
+        target: Some((0.4, 0.5)),
+        condition: Some(Condition::C2),
+        // atan2(0.5, 0.4) = 51.34°.
+        alpha: 0.896_055,
+        joints: [0.896_055, 0.7, 1.4],
+        speed: SpeedPreset::Normal,
+        warnings: 0,
+    }
+}
+
+/// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
+/// a refused touch, STOP, a preset change with a warning, two calibration
+/// screens, and a full redraw back on the main screen.
+pub fn screen(k: u8) -> Screen {
+    let mut m = moving(0.0);
+    match k {
+        0..=8 => m.state = UiState::Moving { progress: f32::from(k) / 8.0 },
+        9 => m.state = UiState::Holding,
+        10..=12 => {
+            m.state = UiState::Refused(Refusal::TooFar);
+            m.touch = Some((-0.6, 0.7));
+            m.condition = Some(Condition::C4);
+            // atan2(0.7, −0.6) = 130.6°.
+            m.alpha = 2.279_423;
+            if k >= 11 {
+                m.state = UiState::Stopped;
+            }
+            if k >= 12 {
+                m.speed = SpeedPreset::Fast;
+                m.warnings = warn::SERVOS_OFF;
+            }
+        }
+        13 | 14 => {
+            let cal = Calibration::DEFAULT;
+            let mut flow = CalibrationFlow::new(cal);
+            if k == 14 {
+                if let Some(raw) = cal_point(0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
+                    flow.feed(raw.x, raw.y);
+                }
+            }
+            return Screen::Calibration(flow);
+        }
+        _ => {
+            m.state = UiState::Idle;
+            m.touch = None;
+            m.target = None;
+            m.condition = None;
+        }
+    }
+    Screen::Main(m)
+}

@@ -1,0 +1,87 @@
+//! What the screen shows, as plain data the app fills in each frame.
+
+use crate::config_store::SpeedPreset;
+use crate::workspace::Condition;
+
+/// Why a touched point was not accepted as a target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refusal {
+    /// Beyond the arm's reach (IK `c > 1`).
+    TooFar,
+    /// Inside the arm's dead zone near the base (IK `c < −1`).
+    TooClose,
+    /// The point is off the map (panel edge, out-of-range reading).
+    OffMap,
+    /// Reachable, but a joint would leave its limits or the plan was rejected.
+    JointLimit,
+    /// A new target while the arm is moving; STOP first.
+    Busy,
+}
+
+/// The arm's state as the user should understand it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum UiState {
+    /// Starting up: settings not loaded or servos not yet placed.
+    PowerUp,
+    /// Ready, waiting for a touch.
+    Idle,
+    /// On the way; `progress` runs 0..=1 over the planned duration.
+    Moving { progress: f32 },
+    /// Arrived; the servos hold the pose.
+    Holding,
+    /// The user pressed STOP: motion halted where it was.
+    Stopped,
+    /// The last touch was refused.
+    Refused(Refusal),
+}
+
+/// Problems worth a line on the screen; a bit set (highest bit wins when
+/// several are set, so put the most important highest).
+pub mod warn {
+    /// The last touch lay outside the calibrated span and was pulled onto
+    /// its edge (`touch_map::MappedPoint::clamped`).
+    pub const TOUCH_CLAMPED: u8 = 1 << 0;
+    /// EEPROM settings were invalid; defaults are in use.
+    pub const DEFAULT_SETTINGS: u8 = 1 << 1;
+    /// A plan exceeded its speed budget and was slowed down.
+    pub const SLOWED: u8 = 1 << 2;
+    /// Touch panel readings are unstable (noise, spread rejects).
+    pub const TOUCH_NOISY: u8 = 1 << 3;
+    /// Servo outputs are off (limp arm).
+    pub const SERVOS_OFF: u8 = 1 << 4;
+}
+
+/// Everything the main screen shows. Angles are radians (as the pose and
+/// plan produce them); points are workspace coordinates `(x_p, y_p)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UiModel {
+    pub state: UiState,
+    /// The last touched point on the map.
+    pub touch: Option<(f32, f32)>,
+    /// The point the arm is going to or holding.
+    pub target: Option<(f32, f32)>,
+    /// Condition (zone) and base direction α of the touched point.
+    pub condition: Option<Condition>,
+    pub alpha: f32,
+    /// Base, shoulder, elbow angles now (radians); non-finite shows `--`.
+    pub joints: [f32; 3],
+    pub speed: SpeedPreset,
+    /// [`warn`] bits.
+    pub warnings: u8,
+}
+
+impl UiModel {
+    /// Power-up screen: nothing touched, angles unknown.
+    pub const fn new(speed: SpeedPreset) -> Self {
+        Self {
+            state: UiState::PowerUp,
+            touch: None,
+            target: None,
+            condition: None,
+            alpha: 0.0,
+            joints: [f32::NAN; 3],
+            speed,
+            warnings: 0,
+        }
+    }
+}
