@@ -4,8 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-echo "== building firmware (cargo avr) and bench firmware (cargo avr-bench)"
+echo "== building the firmwares (cargo avr: touch-arm, bench, ui-demo)"
 cargo avr
-cargo avr-bench
 echo "== running tests"
 cargo test "$@"
