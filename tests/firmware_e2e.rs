@@ -196,3 +196,28 @@ fn power_up_sends_no_pulse_before_the_home_pose() {
     let out = s.avr.uart_output_string();
     assert!(out.contains("reset power-on") && out.contains("warn no stored config, defaults"), "{out}");
 }
+
+#[test]
+fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
+    let mut s = start();
+    assert!(s.command("goto 30 120 -60").unwrap().starts_with("ok goto"));
+    s.run_for(0.5).unwrap();
+    // Stop Timer5's clock (TCCR5B, data address 0x121): the frame loop waits
+    // for a PWM period that never comes, so nothing feeds the watchdog.
+    s.avr.write_io(0x121, 0).unwrap();
+    let t_hang = s.avr.time_s();
+    s.avr.run_until_output(b"reset watchdog", firmware::CPU_HZ as u64).expect("watchdog reset within 1 s");
+    let t_reset = s.avr.time_s();
+    assert!(t_reset - t_hang > 0.4 && t_reset - t_hang < 0.8, "watchdog fired after {:.3} s (500 ms timeout)", t_reset - t_hang);
+    // After the reset: no pulses until the configuration is loaded, then the
+    // home pose, never the interrupted move's target.
+    s.avr.clear_edges();
+    s.run_for(1.5).unwrap();
+    let out = s.avr.uart_output_string();
+    assert!(out.contains("info boot config"), "{out}");
+    for p in s.pulses() {
+        assert!(!p.is_empty());
+        assert!(p.iter().all(|(_, w)| (w - 1500.0).abs() <= 0.5), "after the reset the servos get the home pose");
+    }
+    assert!(s.command("status").unwrap().starts_with("ok status holding"));
+}

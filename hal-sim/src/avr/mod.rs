@@ -812,6 +812,26 @@ impl Avr {
         Ok(())
     }
 
+    /// Writes an I/O register the way the CPU would (`sts`): simavr's
+    /// peripheral callbacks run, unlike [`Avr::write_sram`]. Lets a test
+    /// disturb the hardware under the firmware (e.g. stop a timer).
+    pub fn write_io(&mut self, addr: u16, value: u8) -> Result<(), Error> {
+        if addr < 0x20 || addr > 0x1FF {
+            return Err(Error::OutOfRange { addr: u32::from(addr), len: 1 });
+        }
+        let slot = usize::from(addr - 0x20);
+        // SAFETY: the core is alive (owned by self); slot < 0x1E0 ≤ the io
+        // table's 280 entries; the callback is simavr's own for this address.
+        unsafe {
+            let io = &(*self.avr).io[slot];
+            match io.w.c {
+                Some(write) => write(self.avr, addr, value, io.w.param),
+                None => *(*self.avr).data.add(usize::from(addr)) = value,
+            }
+        }
+        Ok(())
+    }
+
     pub fn symbols(&self) -> &[Symbol] {
         &self.symbols
     }
