@@ -8,7 +8,8 @@
 #![no_main]
 
 use avr_device::atmega2560 as pac;
-use touch_arm::board::lcd::{Lcd, RawShieldBus, Rotation};
+use touch_arm::board::lcd::{Lcd, Rotation};
+use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::usart::Usart0;
 use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
@@ -22,7 +23,7 @@ fn main() -> ! {
     dp.TC1.tccr1b().write(|w| w.cs1().prescale_256());
     let tc1 = dp.TC1;
     let mut serial = Usart0::new(dp.USART0);
-    let mut lcd = Lcd::new(RawShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH));
+    let mut lcd = Lcd::new(ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH));
     lcd.init(Rotation::Landscape);
     let mut ui = Ui::new(&demo::CONFIG);
     let _ = uwriteln!(serial, "ui-demo {}", demo::STEPS);

@@ -28,9 +28,9 @@
 //! back-to-back strobes are 2 cycles apart (125 ns), within the ILI9341's
 //! 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns).
 
+use crate::board::shield::ShieldBus;
 use core::ptr::{read_volatile, write_volatile};
 
-use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 use embedded_graphics::draw_target::DrawTarget;
 use embedded_graphics::geometry::{OriginDimensions, Size};
 use embedded_graphics::pixelcolor::raw::RawU16;
@@ -45,20 +45,14 @@ use crate::ui::{Canvas, Run};
 /// Data-space addresses (ATmega2560 datasheet, register summary).
 const PINF: *mut u8 = 0x2F as *mut u8;
 const PORTF_R: *mut u8 = 0x31 as *mut u8;
-const DDRF_R: *mut u8 = 0x30 as *mut u8;
 const PORTE_R: *mut u8 = 0x2E as *mut u8;
-const DDRE_R: *mut u8 = 0x2D as *mut u8;
 const PORTG_R: *mut u8 = 0x34 as *mut u8;
-const DDRG_R: *mut u8 = 0x33 as *mut u8;
 const PORTH_R: *mut u8 = 0x102 as *mut u8;
-const DDRH_R: *mut u8 = 0x101 as *mut u8;
 
-const RD: u8 = 1 << 0;
 const WR: u8 = 1 << 1;
 const RS: u8 = 1 << 2;
 const CS: u8 = 1 << 3;
 const RST: u8 = 1 << 4;
-const CONTROL: u8 = RD | WR | RS | CS | RST;
 /// PE4 = D2, PE5 = D3, PE3 = D5.
 const E_MASK: u8 = 0b0011_1000;
 /// PG5 = D4.
@@ -324,36 +318,10 @@ impl<B: Bus8> Bus8 for &mut B {
     }
 }
 
-/// The shield bus on its own: owns ports E, F, G, H (use it when nothing
-/// else shares the pins; with the touch panel, the shared-pin owner
-/// implements [`Bus8`] instead).
-pub struct RawShieldBus {
-    _e: PORTE,
-    _f: PORTF,
-    _g: PORTG,
-    _h: PORTH,
-}
-
-impl RawShieldBus {
-    /// Takes the ports and puts the 13 LCD pins in LCD mode: controls high
-    /// (deselected, idle strobes, RS = data, RST released), data low.
-    pub fn new(e: PORTE, f: PORTF, g: PORTG, h: PORTH) -> Self {
-        // SAFETY: we own the four ports; only LCD bits are changed.
-        unsafe {
-            write_volatile(PORTF_R, read_volatile(PORTF_R) | CONTROL);
-            write_volatile(DDRF_R, read_volatile(DDRF_R) | CONTROL);
-            write_volatile(PORTE_R, read_volatile(PORTE_R) & !E_MASK);
-            write_volatile(PORTG_R, read_volatile(PORTG_R) & !G_MASK);
-            write_volatile(PORTH_R, read_volatile(PORTH_R) & !H_MASK);
-            write_volatile(DDRE_R, read_volatile(DDRE_R) | E_MASK);
-            write_volatile(DDRG_R, read_volatile(DDRG_R) | G_MASK);
-            write_volatile(DDRH_R, read_volatile(DDRH_R) | H_MASK);
-        }
-        Self { _e: e, _f: f, _g: g, _h: h }
-    }
-}
-
-impl Bus8 for RawShieldBus {
+/// The shield's one bus owner ([`ShieldBus`]) drives the LCD: it owns ports
+/// E, F, G and H and keeps the pins in LCD mode except inside a touch read,
+/// so drawing and sampling can never overlap.
+impl Bus8 for ShieldBus {
     fn command(&mut self, c: u8) {
         // SAFETY: `self` owns the ports and keeps them in LCD mode.
         unsafe { write_command(c) }
