@@ -18,6 +18,7 @@ use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::tick::Tick;
 use touch_arm::board::touch::TouchWiring;
+use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config_store::Config;
@@ -119,35 +120,4 @@ fn reset_name(c: ResetCause) -> touch_arm::text::Text {
     }
 }
 
-/// Stops for good: interrupts off, servo outputs disconnected, CPU asleep.
-fn halt() -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: single-threaded; normal operation is abandoned and only the
-    // Timer5 compare outputs are touched.
-    let dp = unsafe { pac::Peripherals::steal() };
-    dp.TC5.tccr5a().write(|w| w.com5a().disconnected().com5b().disconnected().com5c().disconnected());
-    // Sleep enabled with interrupts off: the CPU stops here (and simavr ends
-    // the run instead of spinning). An enabled watchdog still resets the chip.
-    dp.CPU.smcr().write(|w| w.se().set_bit());
-    loop {
-        avr_device::asm::sleep();
-    }
-}
 
-#[panic_handler]
-fn panic(info: &core::panic::PanicInfo) -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: the app is dead; reclaim USART0 to say where.
-    let dp = unsafe { pac::Peripherals::steal() };
-    let mut serial = Usart0::new(dp.USART0);
-    match info.location() {
-        Some(l) => {
-            let _ = uwriteln!(serial, "PANIC {}:{}", l.file(), l.line());
-        }
-        None => {
-            let _ = uwriteln!(serial, "PANIC");
-        }
-    }
-    serial.flush();
-    halt()
-}

@@ -26,6 +26,7 @@ use avr_device::atmega2560 as pac;
 use core::hint::black_box;
 use touch_arm::board::cycles::CycleCounter;
 use touch_arm::board::stack;
+use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
 use touch_arm::laws::Law;
 use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
@@ -376,24 +377,4 @@ fn accuracy_dump(b: &mut Bench) {
     }
 }
 
-/// Stops for good: interrupts off, CPU asleep (simavr ends the run).
-fn halt() -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: single-threaded; only the sleep control register is touched.
-    let dp = unsafe { pac::Peripherals::steal() };
-    dp.CPU.smcr().write(|w| w.se().set_bit());
-    loop {
-        avr_device::asm::sleep();
-    }
-}
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: the run is dead; reclaim USART0 to say so.
-    let dp = unsafe { pac::Peripherals::steal() };
-    let mut serial = Usart0::new(dp.USART0);
-    let _ = uwriteln!(serial, "PANIC");
-    serial.flush();
-    halt()
-}

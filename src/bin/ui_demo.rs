@@ -10,6 +10,7 @@
 use avr_device::atmega2560 as pac;
 use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::shield::ShieldBus;
+use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
 use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
@@ -50,23 +51,4 @@ fn wait_byte() -> u8 {
     dp.USART0.udr0().read().bits()
 }
 
-fn halt() -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: the run is over; only the sleep enable bit is set.
-    let dp = unsafe { pac::Peripherals::steal() };
-    dp.CPU.smcr().write(|w| w.se().set_bit());
-    loop {
-        avr_device::asm::sleep();
-    }
-}
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: the app is dead; reclaim USART0 to say so.
-    let dp = unsafe { pac::Peripherals::steal() };
-    let mut serial = Usart0::new(dp.USART0);
-    let _ = uwriteln!(serial, "PANIC");
-    serial.flush();
-    halt()
-}

@@ -9,6 +9,7 @@
 pub mod adc;
 pub mod cycles;
 pub mod eeprom;
+pub mod fault;
 pub mod gpio;
 pub mod lcd;
 pub mod servo_pwm;
