@@ -221,3 +221,26 @@ fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
     }
     assert!(s.command("status").unwrap().starts_with("ok status holding"));
 }
+
+#[test]
+fn stack_stays_within_budget_in_the_busiest_session() {
+    let mut s = start();
+    // Everything at once: telemetry every frame, touches that plan moves,
+    // re-plans mid-move, calibration output and an EEPROM save.
+    assert_eq!(s.command("log on").unwrap(), "ok log on");
+    touch(&mut s, 800.0, 300.0);
+    s.run_for(0.5).unwrap();
+    touch(&mut s, 200.0, 250.0);
+    assert!(s.command("goto 45 100 -120").unwrap().starts_with("ok goto"));
+    assert_eq!(s.command("law quintic").unwrap(), "ok law quintic");
+    assert!(s.command("goto 120 60 -30").unwrap().starts_with("ok goto"));
+    s.run_for(0.5).unwrap();
+    assert!(s.command("cal show").unwrap().starts_with("ok cal show"));
+    assert_eq!(s.command("stop").unwrap(), "ok stop");
+    assert!(s.command("cal save").unwrap().starts_with("ok cal save"));
+    assert!(s.command("status").unwrap().starts_with("ok status"));
+    let used = s.stack_high_water().expect("stack painted at load");
+    let budget = firmware::budget("stack").unwrap() as usize;
+    eprintln!("firmware stack high-water: {used} B of {budget} B");
+    assert!(used <= budget, "stack high-water {used} B exceeds the memory.x budget {budget} B");
+}

@@ -67,6 +67,9 @@ pub fn load(elf: &Path) -> Result<Avr, String> {
     Avr::load(elf, MCU, CPU_HZ).map_err(|e: Error| format!("loading {}: {e:?}", elf.display()))
 }
 
+/// Fill pattern for stack painting (unlikely as real stack content).
+const STACK_PAINT: u8 = 0xA5;
+
 /// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5.
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
     [crate::avr::Pin::new('L', 3), crate::avr::Pin::new('L', 4), crate::avr::Pin::new('L', 5)];
@@ -82,6 +85,8 @@ impl Session {
     /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring).
     pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {
         let mut avr = load(elf)?;
+        // Before the first instruction, so the high-water mark covers the run.
+        avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
@@ -144,6 +149,11 @@ impl Session {
             .map_err(|e| format!("no reply to {line:?}: {e:?}"))?;
         let out = String::from_utf8_lossy(&self.avr.uart_output()[before..]).to_string();
         Ok(out.lines().find(|l| l.starts_with("ok") || l.starts_with("err")).unwrap_or("").to_string())
+    }
+
+    /// The deepest the stack has been since power-up, in bytes.
+    pub fn stack_high_water(&self) -> Option<usize> {
+        self.avr.stack_high_water().map(|(used, _)| used)
     }
 
     /// Every complete servo pulse measured so far, per joint: (rise time s, width µs).
