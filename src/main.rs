@@ -1,8 +1,9 @@
 //! touch-arm firmware for the Arduino Mega 2560 (ATmega2560, 16 MHz).
 //!
 //! Wires the board layer to the pure app (`touch_arm::app`): every 20 ms servo
-//! PWM period (Timer5 overflow) the app runs one frame: serial commands, one
-//! filtered touch read, the motion setpoint, the servo pulses. The watchdog
+//! PWM period (Timer5 overflow) the app runs one frame (serial commands, one
+//! filtered touch read, the motion setpoint, the servo pulses), then redraws
+//! what changed on the ILI9341 screen. The watchdog
 //! is fed once per frame, so a hang resets the chip into its power-up state
 //! (no pulses until the configuration is loaded and the home pose commanded).
 #![no_std]
@@ -14,6 +15,7 @@ use avr_device::atmega2560 as pac;
 use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
+use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::tick::Tick;
@@ -65,6 +67,8 @@ fn main() -> ! {
     unsafe { avr_device::interrupt::enable() };
 
     let _ = uwriteln!(board.serial, "info touch-arm {} reset {}", env!("CARGO_PKG_VERSION"), reset_name(cause));
+    // The screen: reset, wake, landscape (≈ 270 ms, before the watchdog runs).
+    Lcd::new(&mut board.bus).init(Rotation::Landscape);
     let Some(app) = start_app() else {
         let _ = uwriteln!(board.serial, "err app parameters invalid");
         halt()
@@ -83,7 +87,7 @@ static mut APP: MaybeUninit<App> = MaybeUninit::uninit();
 /// large makes LLVM address it through temporary Y-pointer adjustments.
 #[inline(never)]
 fn start_app() -> Option<&'static mut App> {
-    let app = App::new(&AppParams::DEFAULT).ok()?;
+    let app = App::new(&AppParams { screen: true, ..AppParams::DEFAULT }).ok()?;
     // SAFETY: called once (from `main`, which never returns), so this is the
     // only reference ever made to APP.
     Some(unsafe { (*core::ptr::addr_of_mut!(APP)).write(app) })
@@ -97,6 +101,9 @@ fn frame(app: &mut App, b: &mut Board) {
     b.pwm.set_limits(&tick_limits(app.config()));
     let mut panel = b.bus.touch(&mut b.adc, &TOUCH_WIRING);
     app.frame(&mut Io { panel: &mut panel, servos: &mut b.pwm, clock: &b.tick, storage: &mut b.eeprom, serial: &mut b.serial });
+    // After the touch read, never during it: drawing holds the shared pins.
+    // Only what changed is redrawn; the PWM keeps its pulses meanwhile.
+    let _ = app.draw_screen(&mut Lcd::new(&mut b.bus));
 }
 
 /// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the

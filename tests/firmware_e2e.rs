@@ -8,6 +8,8 @@ use std::f64::consts::PI;
 
 use hal_sim::firmware::{self, Session};
 use hal_sim::panel::PanelWiring;
+use touch_arm::touch_map::Calibration;
+use touch_arm::ui::layout;
 
 /// Frame period of the firmware (one servo PWM period).
 const FRAME_S: f64 = 0.02;
@@ -19,12 +21,10 @@ fn start() -> Session {
     s
 }
 
-/// SPEC §2–4 and the default servo calibration (10 µs/°, base and shoulder
-/// 600 µs at 0°, elbow 2400 µs at 0°, elbow-up branch): the pulses a touch at
-/// raw (x, y) must end at, and its condition.
-fn expected(raw_x: f64, raw_y: f64) -> ([f64; 3], u8) {
-    let x_p = (raw_x - 527.5) / 404.5;
-    let y_p = (raw_y - 128.0) / 769.0;
+/// SPEC §3–4 and the default servo calibration (10 µs/°, base and shoulder
+/// 600 µs at 0°, elbow 2400 µs at 0°, elbow-up branch): the pulses a target
+/// at workspace point (x_p, y_p) must end at, and its condition.
+fn expected(x_p: f64, y_p: f64) -> ([f64; 3], u8) {
     let alpha = y_p.atan2(x_p);
     let cond = if x_p >= y_p {
         1
@@ -62,24 +62,65 @@ fn touch(s: &mut Session, raw_x: f64, raw_y: f64) {
     s.release();
 }
 
+/// The raw panel reading of the centre of the map pixel that shows workspace
+/// point (x, y), and that pixel's centre in workspace coordinates: the point
+/// the screen sends the arm to (ui::layout).
+fn map_touch(x: f32, y: f32) -> ((f64, f64), (f64, f64)) {
+    let (px, py) = layout::ws_point_to_pixel(x, y).expect("point on the map");
+    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
+    let (raw_x, raw_y) = Calibration::DEFAULT.unmap_exact::<f64>(panel_x as f64, panel_y as f64).unwrap();
+    let (wx, wy) = layout::ws_pixel_to_point(px, py).unwrap();
+    ((raw_x.round(), raw_y.round()), (wx as f64, wy as f64))
+}
+
 #[test]
-fn touches_in_all_four_conditions_reach_the_ik_pose() {
-    for (raw_x, raw_y) in [(800.0, 300.0), (600.0, 600.0), (400.0, 600.0), (200.0, 250.0)] {
-        let (want, cond) = expected(raw_x, raw_y);
+fn touches_on_the_map_in_all_four_conditions_reach_the_ik_pose() {
+    for (x, y) in [(0.7f32, 0.3f32), (0.2, 0.6), (-0.3, 0.5), (-0.8, 0.15)] {
+        let ((raw_x, raw_y), (wx, wy)) = map_touch(x, y);
+        let (want, cond) = expected(wx, wy);
         let mut s = start();
         touch(&mut s, raw_x, raw_y);
         let out = s.avr.uart_output_string();
         let line = out.lines().find(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("no touch reply:\n{out}"));
-        assert!(line.starts_with(&format!("info touch {raw_x} {raw_y} cond {cond} ts_ms")), "{line}");
+        assert!(line.starts_with(&format!("info touch {raw_x} {raw_y} cond {cond} ts_ms")), "({x}, {y}): {line}");
         let ts: f64 = line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse::<f64>().unwrap() / 1000.0;
         s.run_for(ts + 0.5).unwrap();
         let last = s.last_pulses();
         for j in 0..3 {
             let got = last[j].unwrap();
-            assert!((got - want[j]).abs() <= 1.0, "raw ({raw_x},{raw_y}) joint {j}: {got} µs, want {:.2}", want[j]);
+            assert!((got - want[j]).abs() <= 1.0, "map point ({wx:.4},{wy:.4}) joint {j}: {got} µs, want {:.2}", want[j]);
         }
         assert!(s.command("status").unwrap().starts_with("ok status holding"));
     }
+}
+
+#[test]
+fn screen_buttons_stop_resume_and_set_the_speed() {
+    let mut s = start();
+    assert!(s.command("goto 20 150 -30").unwrap().starts_with("ok goto"));
+    s.run_for(1.0).unwrap();
+    // The STOP button (right edge, top): panel point of its centre.
+    let stop = layout::pixel_center_to_panel(layout::STOP.x + layout::STOP.w as i16 / 2, layout::STOP.y + layout::STOP.h as i16 / 2);
+    let (rx, ry) = Calibration::DEFAULT.unmap_exact::<f64>(stop.0 as f64, stop.1 as f64).unwrap();
+    touch(&mut s, rx.round(), ry.round());
+    assert!(s.avr.uart_output_string().contains("info screen stop"));
+    assert!(s.command("status").unwrap().starts_with("ok status stopped"));
+    let t_stop = s.avr.time_s();
+    s.run_for(1.0).unwrap();
+    for p in pulses_after(&s, t_stop + 2.0 * FRAME_S) {
+        assert!(p.iter().all(|(_, w)| (w - p[0].1).abs() <= 0.25), "moved after the STOP button");
+    }
+    // The same place is RESUME now.
+    s.run_for(0.3).unwrap();
+    touch(&mut s, rx.round(), ry.round());
+    assert!(s.avr.uart_output_string().contains("info screen resume"));
+    // Speed buttons.
+    let fast = layout::pixel_center_to_panel(layout::FAST.x + layout::FAST.w as i16 / 2, layout::FAST.y + layout::FAST.h as i16 / 2);
+    let (fx, fy) = Calibration::DEFAULT.unmap_exact::<f64>(fast.0 as f64, fast.1 as f64).unwrap();
+    s.run_for(0.3).unwrap();
+    touch(&mut s, fx.round(), fy.round());
+    assert!(s.avr.uart_output_string().contains("info screen speed fast"), "{}", s.avr.uart_output_string());
+    assert!(s.command("status").unwrap().contains("speed fast"));
 }
 
 #[test]
@@ -228,9 +269,11 @@ fn stack_stays_within_budget_in_the_busiest_session() {
     // Everything at once: telemetry every frame, touches that plan moves,
     // re-plans mid-move, calibration output and an EEPROM save.
     assert_eq!(s.command("log on").unwrap(), "ok log on");
-    touch(&mut s, 800.0, 300.0);
+    let (a, _) = map_touch(0.7, 0.3);
+    touch(&mut s, a.0, a.1);
     s.run_for(0.5).unwrap();
-    touch(&mut s, 200.0, 250.0);
+    let (b, _) = map_touch(-0.8, 0.15);
+    touch(&mut s, b.0, b.1);
     assert!(s.command("goto 45 100 -120").unwrap().starts_with("ok goto"));
     assert_eq!(s.command("law quintic").unwrap(), "ok law quintic");
     assert!(s.command("goto 120 60 -30").unwrap().starts_with("ok goto"));

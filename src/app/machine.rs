@@ -28,7 +28,7 @@ impl App {
         }
         let now = io.clock.now_ms();
         self.poll_serial(io, now);
-        self.poll_touch(io.panel, io.serial);
+        self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
         if self.log {
@@ -81,13 +81,17 @@ impl App {
         out
     }
 
-    fn poll_touch<P: TouchPanel, U: SerialPort>(&mut self, panel: &mut P, serial: &mut U) {
+    fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
         let got = panel.read(samples).min(n);
         let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
         match step.event {
+            // On a screen a press is a button or a map point; a drag (Moved)
+            // must not turn into a second button press.
+            Some(TouchEvent::Pressed(p)) if self.params.screen => self.screen_touch(&p, storage, serial),
+            Some(TouchEvent::Moved(_)) if self.params.screen => {}
             Some(TouchEvent::Pressed(p)) | Some(TouchEvent::Moved(p)) => self.touch_target(&p, serial),
             Some(TouchEvent::Released) | None => {}
         }
@@ -123,6 +127,13 @@ impl App {
     }
 
     fn raw_to_target(&self, p: &TouchPoint) -> Result<([f32; JOINTS], TouchTarget), Refusal> {
+        let (x_p, y_p) = self.raw_to_panel(p)?;
+        self.point_to_target(p, x_p, y_p)
+    }
+
+    /// Raw reading → normalized panel point through the calibration; a
+    /// reading outside the calibrated span is refused, never clamped.
+    pub(super) fn raw_to_panel(&self, p: &TouchPoint) -> Result<(f32, f32), Refusal> {
         let m = self
             .config
             .touch
@@ -131,21 +142,32 @@ impl App {
         if m.clamped {
             return Err(Refusal::OutsideCalibration);
         }
-        let pose = pose_for_point(&self.geo, m.x_p, m.y_p).map_err(|e| match e {
+        Ok((m.x_p, m.y_p))
+    }
+
+    /// Workspace point → pose (the paper's chain), remembering the raw
+    /// reading it came from.
+    pub(super) fn point_to_target(&self, p: &TouchPoint, x_p: f32, y_p: f32) -> Result<([f32; JOINTS], TouchTarget), Refusal> {
+        let pose = pose_for_point(&self.geo, x_p, y_p).map_err(|e| match e {
             PoseError::Workspace(_) => Refusal::OutsideWorkspace,
             PoseError::Ik(IkError::Unreachable { .. }) => Refusal::Unreachable,
             PoseError::Ik(IkError::Singular) => Refusal::Singular,
             PoseError::Ik(IkError::NotFinite) => Refusal::NotFinite,
         })?;
-        let tt = TouchTarget {
-            raw_x: p.x,
-            raw_y: p.y,
-            x_p: m.x_p,
-            y_p: m.y_p,
-            condition: pose.condition,
-            alpha: pose.alpha,
-        };
+        let tt = TouchTarget { raw_x: p.x, raw_y: p.y, x_p, y_p, condition: pose.condition, alpha: pose.alpha };
         Ok(([pose.alpha, pose.q2, pose.q3], tt))
+    }
+
+    /// A workspace point picked on the screen's map → move.
+    pub(super) fn move_to_point(&mut self, p: &TouchPoint, x_p: f32, y_p: f32) -> Result<(), Refusal> {
+        let r = match self.point_to_target(p, x_p, y_p) {
+            Ok((angles, tt)) => self.start_move(&angles, Some(&tt)),
+            Err(e) => Err(e),
+        };
+        if let Err(e) = r {
+            self.last_refusal = Some(e);
+        }
+        r
     }
 
     /// Joint target → move (the `goto` path).

@@ -48,6 +48,7 @@
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod machine;
+mod screen;
 pub mod policy;
 mod serial;
 mod telemetry;
@@ -104,6 +105,10 @@ pub struct AppParams {
     pub serial_bytes_per_frame: u8,
     /// A partial line with no new byte for this long is dropped.
     pub line_timeout_ms: u32,
+    /// A touch screen shows the map and buttons and routes touches (the
+    /// firmware); without one the whole panel is the workspace, as in the
+    /// paper (the host twin's default).
+    pub screen: bool,
 }
 
 impl AppParams {
@@ -122,6 +127,7 @@ impl AppParams {
         filter: FilterConfig::DEFAULT,
         serial_bytes_per_frame: 64,
         line_timeout_ms: 2000,
+        screen: false,
     };
 
     /// Checks the parameters and builds the arm geometry.
@@ -306,6 +312,7 @@ pub struct App {
     warning: Option<Warning>,
     log: bool,
     pending: Option<Pending>,
+    screen: screen::Screen,
 }
 
 /// Servo maps of a configuration.
@@ -352,6 +359,7 @@ impl App {
             warning: None,
             log: false,
             pending: None,
+            screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
         })
     }
 
