@@ -62,15 +62,8 @@ fn touch(s: &mut Session, raw_x: f64, raw_y: f64) {
     s.release();
 }
 
-/// The raw panel reading of the centre of the map pixel that shows workspace
-/// point (x, y), and that pixel's centre in workspace coordinates: the point
-/// the screen sends the arm to (ui::layout).
 fn map_touch(x: f32, y: f32) -> ((f64, f64), (f64, f64)) {
-    let (px, py) = layout::ws_point_to_pixel(x, y).expect("point on the map");
-    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
-    let (raw_x, raw_y) = Calibration::DEFAULT.unmap_exact::<f64>(panel_x as f64, panel_y as f64).unwrap();
-    let (wx, wy) = layout::ws_pixel_to_point(px, py).unwrap();
-    ((raw_x.round(), raw_y.round()), (wx as f64, wy as f64))
+    firmware::map_touch(x, y).expect("point on the map")
 }
 
 #[test]

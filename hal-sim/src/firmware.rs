@@ -78,6 +78,8 @@ pub const SERVO_PINS: [crate::avr::Pin; 3] =
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
     pub avr: Avr,
+    /// The ILI9341 as the firmware's bus writes leave it.
+    pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
 }
 
@@ -90,6 +92,7 @@ impl Session {
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
+        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD).map_err(|e| format!("{e:?}"))?;
         let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
             wiring,
             panel: crate::twin::panel::SimPanel::new(seed),
@@ -99,7 +102,7 @@ impl Session {
             Some(v) => crate::avr::AdcInput::Raw(v),
             None => crate::avr::AdcInput::Raw(0),
         });
-        Ok(Session { avr, panel })
+        Ok(Session { avr, lcd, panel })
     }
 
     /// Presses the panel where the firmware's X and Y reads return (raw_x,
@@ -171,4 +174,27 @@ impl Session {
     pub fn last_pulses(&self) -> [Option<f64>; 3] {
         self.pulses().map(|p| p.last().map(|(_, w)| *w))
     }
+}
+
+/// Where to press the panel to pick workspace point (x, y) on the screen's
+/// map: the raw reading (default calibration) of the centre of the map pixel
+/// that shows the point, and that pixel's centre in workspace coordinates,
+/// which is the point the firmware sends the arm to (`ui::layout`).
+pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
+    use touch_arm::ui::layout;
+    let (px, py) = layout::ws_point_to_pixel(x, y)?;
+    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
+    let (raw_x, raw_y) = touch_arm::touch_map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
+    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
+    Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
+}
+
+/// The workspace point a raw reading picks on the screen's map, if it lands
+/// on the map at all.
+pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
+    use touch_arm::ui::layout;
+    let m = touch_arm::touch_map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
+    let (px, py) = layout::panel_to_pixel(m.x_p, m.y_p)?;
+    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
+    Some((f64::from(wx), f64::from(wy)))
 }

@@ -6,7 +6,8 @@
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
 //!   final_pulses_us, arrival_s}`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
-//!   calibration) and angular velocity over time.
+//!   calibration) and angular velocity over time;
+//! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,12 +19,13 @@ use hal_sim::report::Json;
 use touch_arm::config_store::Config;
 use touch_arm::pose::{pose_for_point, ArmGeometry};
 use touch_arm::servo::{ServoMap, ELBOW_BRANCH};
-use touch_arm::touch_map::Calibration;
 use touch_arm::ik::Links;
 
 const USAGE: &str = "usage: touch-arm-sim [--raw X,Y | --xy X,Y] [--elf FILE] [--out DIR]
-Runs the firmware in simavr, touches the panel at the given point (default
-raw 700,600) and writes DIR/pulses.csv, DIR/summary.json and DIR/angles.png.";
+Runs the firmware in simavr, touches the panel at the given point and writes
+DIR/pulses.csv, DIR/summary.json, DIR/angles.png and DIR/screen.png.
+--xy is a workspace point on the screen's map (default 0.4,0.6); --raw a raw
+panel reading (whatever the screen shows there: map, button or nothing).";
 
 fn main() -> ExitCode {
     match run() {
@@ -44,7 +46,7 @@ fn pair(s: &str) -> Result<(f64, f64), String> {
 fn run() -> Result<(), String> {
     let mut elf = firmware::default_elf();
     let mut out = PathBuf::from("out");
-    let mut raw = (700.0, 600.0);
+    let mut raw = firmware::map_touch(0.4, 0.6).ok_or("default point off the map")?.0;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -59,8 +61,9 @@ fn run() -> Result<(), String> {
             }
             "--xy" => {
                 let (x, y) = pair(&args.next().ok_or("--xy needs X,Y")?)?;
-                let r = Calibration::DEFAULT.unmap::<f64>(x, y).map_err(|e| format!("--xy {x},{y}: {e:?} (the workspace is [-1,1]x[0,1])"))?;
-                raw = (r.x as f64, r.y as f64);
+                raw = firmware::map_touch(x as f32, y as f32)
+                    .ok_or_else(|| format!("--xy {x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))?
+                    .0;
             }
             "-h" | "--help" => {
                 println!("{USAGE}");
@@ -94,10 +97,10 @@ fn run() -> Result<(), String> {
     s.run_for(ts + 1.0)?;
 
     // Host f64 reference of the same chain (SPEC §2–4) for the summary.
-    let cal = Calibration::DEFAULT;
-    let m = cal.map::<f64>(raw.0 as u16, raw.1 as u16).map_err(|e| format!("{e:?}"))?;
+    let (x_p, y_p) = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16)
+        .ok_or_else(|| format!("raw ({}, {}) is not on the screen's map", raw.0, raw.1))?;
     let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?, branch: ELBOW_BRANCH };
-    let pose = pose_for_point(&geo, m.x_p, m.y_p).map_err(|e| format!("{e:?}"))?;
+    let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
     let q = [pose.alpha, pose.q2, pose.q3];
     let maps: Vec<ServoMap> = Config::DEFAULT.joints.iter().map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}"))).collect::<Result<_, _>>()?;
     let target: Vec<f64> = (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| p.us as f64).unwrap_or(f64::NAN)).collect();
@@ -124,8 +127,8 @@ fn run() -> Result<(), String> {
     let list = |v: &[f64]| format!("[{}]", v.iter().map(|x| hal_sim::report::num(*x)).collect::<Vec<_>>().join(", "));
     let json = Json::new()
         .set("raw", hal_sim::report::Val::Raw(format!("[{}, {}]", raw.0, raw.1)))
-        .set("x_p", m.x_p)
-        .set("y_p", m.y_p)
+        .set("x_p", x_p)
+        .set("y_p", y_p)
         .set("condition", pose.condition.number())
         .set("alpha_deg", pose.alpha.to_degrees())
         .set("q", hal_sim::report::Val::Raw(list(&q)))
@@ -151,12 +154,15 @@ fn run() -> Result<(), String> {
     ])
     .map_err(|e| e.to_string())?;
 
+    let screen = out.join("screen.png");
+    s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
+
     println!("{}", text.lines().next().unwrap_or(""));
-    println!("touch at raw ({}, {}) -> x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg", raw.0, raw.1, m.x_p, m.y_p, pose.condition.number(), pose.alpha.to_degrees());
+    println!("touch at raw ({}, {}) -> map point x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg", raw.0, raw.1, x_p, y_p, pose.condition.number(), pose.alpha.to_degrees());
     println!("firmware: {line}");
     println!("IK (host f64): base {:.2} deg, shoulder {:.2} deg, elbow {:.2} deg", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees());
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
-    println!("wrote {}, {}, {}", csv_path.display(), json_path.display(), png.display());
+    println!("wrote {}, {}, {}, {}", csv_path.display(), json_path.display(), png.display(), screen.display());
     Ok(())
 }
 
