@@ -280,3 +280,46 @@ fn stack_stays_within_budget_in_the_busiest_session() {
     eprintln!("firmware stack high-water: {used} B of {budget} B");
     assert!(used <= budget, "stack high-water {used} B exceeds the memory.x budget {budget} B");
 }
+
+/// Raw reading of a screen pixel's centre on a panel whose true response is `cal`.
+fn pixel_raw(cal: &Calibration, x: i16, y: i16) -> (f64, f64) {
+    let (px, py) = layout::pixel_center_to_panel(x, y);
+    let (rx, ry) = cal.unmap_exact::<f64>(px as f64, py as f64).unwrap();
+    (rx.round(), ry.round())
+}
+
+#[test]
+fn on_screen_calibration_learns_the_panel_and_saves_it() {
+    let mut s = start();
+    // A panel whose true span differs from the defaults, with X inverted.
+    let truth = Calibration { x_min: 150, x_max: 900, y_min: 100, y_max: 880, swap_xy: false, invert_x: true, invert_y: false };
+    // The Calibrate button is found through the *current* (default) mapping...
+    let c = layout::CALIBRATE;
+    let (bx, by) = pixel_raw(&Calibration::DEFAULT, c.x + c.w as i16 / 2, c.y + c.h as i16 / 2);
+    touch(&mut s, bx, by);
+    s.run_for(0.4).unwrap();
+    assert!(s.avr.uart_output_string().contains("info screen calibrate"), "{}", s.avr.uart_output_string());
+    // ...then each crosshair is touched where the true panel reads it.
+    for &(x, y) in touch_arm::ui::calibration::CAL_PIXELS.iter() {
+        let (rx, ry) = pixel_raw(&truth, x, y);
+        touch(&mut s, rx, ry);
+        s.run_for(0.4).unwrap();
+    }
+    // Save, where the new calibration puts the Save button.
+    let save = touch_arm::ui::calibration::SAVE_AREA;
+    let (sx, sy) = pixel_raw(&truth, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
+    touch(&mut s, sx, sy);
+    s.run_for(0.3).unwrap();
+    let out = s.avr.uart_output_string();
+    assert!(out.contains("info cal touch saved seq"), "{out}");
+    // The learned calibration is in use and in EEPROM: `cal show` reports it.
+    s.command("cal show").unwrap();
+    let out = s.avr.uart_output_string();
+    let line = out.lines().rev().find(|l| l.starts_with("cal touch")).expect("cal touch line");
+    let field = |name: &str| -> i64 { line.split_whitespace().skip_while(|w| *w != name).nth(1).unwrap().parse().unwrap() };
+    for (name, want) in [("x_min", 150), ("x_max", 900), ("y_min", 100), ("y_max", 880)] {
+        assert!((field(name) - want).abs() <= 3, "{name}: {} vs {want} ({line})", field(name));
+    }
+    assert_eq!(field("invert_x"), 1, "{line}");
+    assert_eq!(field("swap"), 0, "{line}");
+}
