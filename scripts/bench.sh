@@ -85,7 +85,7 @@ desc = {
     "u64_mul_hi": "u64 product, high word (compiler-builtins `__muldi3`)",
     "avrlibc_exp": "avr-libc `exp`", "avrlibc_log": "avr-libc `log`",
     "exp": "`exp` (f32_exp, integer core)", "expm1": "`expm1` (f32_exp, integer core)",
-    "ln": "`ln` (avr-libc `log`)", "libm_powf": "`libm::powf` (Rust libm crate)",
+    "ln": "`ln` (f32_exp, integer core)", "libm_powf": "`libm::powf` (Rust libm crate)",
     "g": "ζ-a-tₛ G alone", "g_rate": "ζ-a-tₛ G and G′",
     "sample3": "`MultiPlan::sample`: 3 joints, positions + velocities (rad)",
     "frame": "**50 Hz frame**: `ServoTrack::frame`, 3 joints, G + G′ → pulse widths + speed check",

@@ -160,11 +160,9 @@ impl Real for f64 {
 #[cfg(target_arch = "avr")]
 mod avr_libm {
     extern "C" {
-        pub fn log(x: f32) -> f32;
         pub fn sin(x: f32) -> f32;
         pub fn cos(x: f32) -> f32;
         pub fn acos(x: f32) -> f32;
-        pub fn atan2(y: f32, x: f32) -> f32;
         pub fn sqrt(x: f32) -> f32;
     }
 }
@@ -227,7 +225,7 @@ impl Real for f32 {
     }
     #[inline]
     fn ln(self) -> Self {
-        f32_fn!(log, logf(self))
+        crate::f32_exp::ln(self)
     }
     #[inline]
     fn sin(self) -> Self {
@@ -243,10 +241,12 @@ impl Real for f32 {
     }
     #[inline]
     fn atan2(self, x: Self) -> Self {
-        f32_fn!(atan2, atan2f(self, x))
+        crate::f32_atan::atan2(self, x)
     }
     #[inline]
     fn is_finite(self) -> bool {
-        f32::is_finite(self)
+        // The exponent field is all ones only for ±∞ and NaN; a bit test,
+        // where the float comparison would be a library call on the AVR.
+        self.to_bits() & 0x7F80_0000 != 0x7F80_0000
     }
 }
