@@ -1,25 +1,29 @@
-//! `exp` and `expm1` for f32 with a 32-bit integer core: the chip's per-frame
-//! exponentials, and the very same code on the host, so host tests check the
-//! chip's results bit for bit (the core is integer arithmetic; the only float
-//! operations are in the rarely used negative-`expm1` branch).
+//! `exp`, `expm1` and `ln` for f32 with a 32-bit integer core, and √ split
+//! into a rounded root plus its correction: the chip's per-frame exponentials
+//! and plan-time logarithms, and the very same code on the host, so host tests
+//! check the chip's results bit for bit (the cores are integer arithmetic; the
+//! only float operations are in the rarely used negative-`expm1` branch and
+//! one division in the split root).
 //!
-//! Why not avr-libc's `exp` (~2 500 cycles) or a float polynomial: every
-//! soft-float operation costs 150–550 cycles on the AVR, while a 32×32-bit
-//! high product built from four hardware 16×16 products costs ~100.
+//! Why not avr-libc's `exp`/`log` (~2 500 cycles each) or a float polynomial:
+//! every soft-float operation costs 150–550 cycles on the AVR, while a
+//! 32×32-bit high product built from four hardware 16×16 products costs ~100.
 //!
-//! Method: x·log₂e = k + f with k an integer and f ∈ [0, 1), formed exactly
-//! from the float's bits (|x| < 128 as Q7.25, a 64-bit product with log₂e in
-//! Q1.31). Then 2^f = 1 + f·S(f) with S(f) = (2^f − 1)/f a degree-5 polynomial
-//! (near-minimax, |error| ≤ 1.1e-8) in Q1.31 by Horner, and 2^k goes into the
-//! exponent field. `expm1` for 0 < x < ln 2 forms f = x·log₂e from the
-//! mantissa (relative precision, no cancellation) and returns f·S(f); above,
-//! 2^k·2^f − 1 loses at most one bit of 32.
+//! `exp` method: x·log₂e = k + f with k an integer and f ∈ [0, 1), formed
+//! exactly from the float's bits (|x| < 128 as Q7.25, a 64-bit product with
+//! log₂e in Q1.31). Then 2^f = 1 + f·S(f) with S(f) = (2^f − 1)/f a degree-5
+//! polynomial (near-minimax, |error| ≤ 1.1e-8) in Q1.31 by Horner, and 2^k
+//! goes into the exponent field. `expm1` for 0 < x < ln 2 forms f = x·log₂e
+//! from the mantissa (relative precision, no cancellation) and returns
+//! f·S(f); above, 2^k·2^f − 1 loses at most one bit of 32. `ln`: see [`ln`].
 //!
 //! Accuracy (checked against f64 over dense sweeps in tests/chip_accuracy.rs):
 //! `exp` and `expm1` for x ≥ 0 within 1 ulp; `expm1` for −ln 2 < x < 0 (only
-//! used at plan time) within 3 ulp. Results below the smallest normal f32
-//! are returned as 0 (avr-libc has no subnormals either). Cost on the chip:
-//! ~900 cycles for `exp`, ~1 000–1 300 for `expm1` (BENCHMARKS.md).
+//! used at plan time) within 3 ulp; `ln` within 1 ulp (measured 0.65) over
+//! the whole positive range, subnormals included. Results below the smallest
+//! normal f32 are returned as 0 (avr-libc has no subnormals either). Cost on
+//! the chip: ~950 cycles for `exp`, ~1 000–1 300 for `expm1`, ~1 250–1 500 for
+//! `ln` (BENCHMARKS.md).
 
 /// log₂e in Q1.31.
 const LOG2E_Q31: u32 = 0xB8AA_3B29;
@@ -538,7 +542,7 @@ pub fn sqrt_split(x: f32) -> (f32, f32) {
     if !(0..32).contains(&d) {
         return (s, 0.0);
     }
-    let r = shl(mx, d as u32).wrapping_sub(ms.wrapping_mul(ms)) as i32;
+    let r = shl(mx, d as u32).wrapping_sub(mul_full(ms, ms).1) as i32;
     // c = R·2^(2es − 300)/(2s) = R/(ms·2^(151 − es)); the divisor is a float
     // with ms's mantissa and exponent 174 − es (normal: es ∈ [64, 190]).
     let den = f32::from_bits((((301 - es) as u32) << 23) | (ms & MANT_MASK));

@@ -1,12 +1,13 @@
 //! The float abstraction: every formula in the core is written once, generic over
 //! [`Real`], and runs as `f32` on the chip and as `f64` in `armsim` and the tests.
 //!
-//! f32 `exp` and `expm1` (the per-frame functions) are [`crate::f32_exp`]'s
-//! integer-core routines on every target, so host tests check the chip's
-//! exact results. The other f32 transcendentals come from avr-libc's
-//! hand-written assembly libm on AVR (linked with `-lm`; several times faster
-//! than the portable Rust `libm` crate) and from the `libm` crate on the host;
-//! f64 always uses the `libm` crate.
+//! f32 `exp`, `expm1`, `ln` ([`crate::f32_exp`]) and `atan2`
+//! ([`crate::f32_atan`]) are integer-core routines on every target, so host
+//! tests check the chip's exact results. The other f32 transcendentals
+//! (`sqrt`, `sin`, `cos`, `acos`) come from avr-libc's hand-written assembly
+//! libm on AVR (linked with `-lm`; several times faster than the portable Rust
+//! `libm` crate) and from the `libm` crate on the host; f64 always uses the
+//! `libm` crate.
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};

@@ -80,12 +80,13 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
     (s, r / (R::TWO * s))
 }
 
-/// δ = (2√tₛ − 1) − a for tₛ ≥ 1 from √tₛ ≈ s + c: 2s − 1 is exact (s ≥ 1),
-/// and where δ is small h − a is exact too (Sterbenz), so δ is good to about
-/// one ulp of itself.
+/// (u_min, δ) = (2s − 1, (2√tₛ − 1) − a) for tₛ ≥ 1 from √tₛ ≈ s + c:
+/// 2s − 1 is exact (s ≥ 1) and equals [`u_min`]'s, and where δ is small
+/// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
 #[inline]
-fn long_margin<R: Real>(s: R, c: R, a: R) -> R {
-    ((s + s - R::ONE) - a) + (c + c)
+fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
+    let um = R::TWO * s - R::ONE;
+    (um, (um - a) + (c + c))
 }
 
 /// δ = u_min(tₛ) − a, the distance to the pole, accurate to about an ulp of
@@ -95,17 +96,10 @@ fn long_margin<R: Real>(s: R, c: R, a: R) -> R {
 pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
     if ts >= R::ONE {
         let (s, c) = sqrt_split(ts);
-        long_margin(s, c, a)
+        long_bounds(s, c, a).1
     } else {
         ts - a
     }
-}
-
-/// (u_min, δ) for tₛ ≥ 1 from the split √tₛ, exactly as [`u_min`] and
-/// [`pole_margin`] compute them.
-#[inline]
-fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
-    (R::TWO * s - R::ONE, long_margin(s, c, a))
 }
 
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
@@ -372,8 +366,8 @@ impl<R: Real> Shape<R> {
     }
 
     /// The papers' ζ for a move of |Δ| = `d` under this shape (`None` for
-    /// d = 0); equal to [`zeta`] for the same parameters, bit for bit, at
-    /// two logarithms and a division.
+    /// d = 0); equal to [`zeta`] for the same parameters, bit for bit, at one
+    /// logarithm and a division (`zeta` also forms L and 1 − n^(a − tₛ)).
     pub fn zeta(&self, d: R) -> Option<R> {
         let d = d.abs();
         if !(d > R::ZERO) || !d.is_finite() {

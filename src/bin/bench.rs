@@ -53,6 +53,7 @@ mod avr_libm {
     extern "C" {
         pub fn exp(x: f32) -> f32;
         pub fn log(x: f32) -> f32;
+        pub fn atan2(y: f32, x: f32) -> f32;
     }
 }
 
@@ -329,6 +330,10 @@ fn main() -> ! {
     b.run("check_monotone", |i| Shape::new(&shape_at(i)), |s| s.as_ref().map(|s| s.check_monotone().is_ok()).ok());
     b.run("multiplan_new", |i| (shape_at(i), [0.3f32, 1.1, -1.9]), |(p, tgt)| MultiPlan::new(&START, tgt, p).ok());
     b.run("sqrt", |i| spread(i, 0.01, 50.0), |&x| x.sqrt());
+    b.run("avrlibc_atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| {
+        // SAFETY: a pure function of two floats.
+        unsafe { avr_libm::atan2(y, x) }
+    });
     b.run("atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| y.atan2(x));
     b.run("acos", |i| spread(i, -0.99, 0.99), |&x| x.acos());
 
