@@ -1,25 +1,29 @@
-//! `exp` and `expm1` for f32 with a 32-bit integer core: the chip's per-frame
-//! exponentials, and the very same code on the host, so host tests check the
-//! chip's results bit for bit (the core is integer arithmetic; the only float
-//! operations are in the rarely used negative-`expm1` branch).
+//! `exp`, `expm1` and `ln` for f32 with a 32-bit integer core, and √ split
+//! into a rounded root plus its correction: the chip's per-frame exponentials
+//! and plan-time logarithms, and the very same code on the host, so host tests
+//! check the chip's results bit for bit (the cores are integer arithmetic; the
+//! only float operations are in the rarely used negative-`expm1` branch and
+//! one division in the split root).
 //!
-//! Why not avr-libc's `exp` (~2 500 cycles) or a float polynomial: every
-//! soft-float operation costs 150–550 cycles on the AVR, while a 32×32-bit
-//! high product built from four hardware 16×16 products costs ~100.
+//! Why not avr-libc's `exp`/`log` (~2 500 cycles each) or a float polynomial:
+//! every soft-float operation costs 150–550 cycles on the AVR, while a
+//! 32×32-bit high product built from four hardware 16×16 products costs ~100.
 //!
-//! Method: x·log₂e = k + f with k an integer and f ∈ [0, 1), formed exactly
-//! from the float's bits (|x| < 128 as Q7.25, a 64-bit product with log₂e in
-//! Q1.31). Then 2^f = 1 + f·S(f) with S(f) = (2^f − 1)/f a degree-5 polynomial
-//! (near-minimax, |error| ≤ 1.1e-8) in Q1.31 by Horner, and 2^k goes into the
-//! exponent field. `expm1` for 0 < x < ln 2 forms f = x·log₂e from the
-//! mantissa (relative precision, no cancellation) and returns f·S(f); above,
-//! 2^k·2^f − 1 loses at most one bit of 32.
+//! `exp` method: x·log₂e = k + f with k an integer and f ∈ [0, 1), formed
+//! exactly from the float's bits (|x| < 128 as Q7.25, a 64-bit product with
+//! log₂e in Q1.31). Then 2^f = 1 + f·S(f) with S(f) = (2^f − 1)/f a degree-5
+//! polynomial (near-minimax, |error| ≤ 1.1e-8) in Q1.31 by Horner, and 2^k
+//! goes into the exponent field. `expm1` for 0 < x < ln 2 forms f = x·log₂e
+//! from the mantissa (relative precision, no cancellation) and returns
+//! f·S(f); above, 2^k·2^f − 1 loses at most one bit of 32. `ln`: see [`ln`].
 //!
 //! Accuracy (checked against f64 over dense sweeps in tests/chip_accuracy.rs):
 //! `exp` and `expm1` for x ≥ 0 within 1 ulp; `expm1` for −ln 2 < x < 0 (only
-//! used at plan time) within 3 ulp. Results below the smallest normal f32
-//! are returned as 0 (avr-libc has no subnormals either). Cost on the chip:
-//! ~900 cycles for `exp`, ~1 000–1 300 for `expm1` (BENCHMARKS.md).
+//! used at plan time) within 3 ulp; `ln` within 1 ulp (measured 0.65) over
+//! the whole positive range, subnormals included. Results below the smallest
+//! normal f32 are returned as 0 (avr-libc has no subnormals either). Cost on
+//! the chip: ~950 cycles for `exp`, ~1 000–1 300 for `expm1`, ~1 250–1 500 for
+//! `ln` (BENCHMARKS.md).
 
 /// log₂e in Q1.31.
 const LOG2E_Q31: u32 = 0xB8AA_3B29;
@@ -34,8 +38,8 @@ const S2: u32 = 119_176_803;
 const S1: u32 = 515_883_993;
 const S0: u32 = 1_488_522_215;
 
-const MANT_MASK: u32 = 0x007F_FFFF;
-const HIDDEN: u32 = 0x0080_0000;
+pub(crate) const MANT_MASK: u32 = 0x007F_FFFF;
+pub(crate) const HIDDEN: u32 = 0x0080_0000;
 
 /// a·b for 16-bit a, b. On AVR written out as libgcc's `__umulhisi3` (four
 /// 8×8 `mul`s, ~20 cycles): in plain Rust, LLVM fuses the four products of
@@ -106,7 +110,7 @@ pub fn mul_hi(a: u32, b: u32) -> u32 {
 /// products instead of four). Enough inside the polynomial, where each step
 /// already truncates.
 #[inline]
-fn mul_hi_approx(a: u32, b: u32) -> u32 {
+pub(crate) fn mul_hi_approx(a: u32, b: u32) -> u32 {
     let (a1, a0) = ((a >> 16) as u16, a as u16);
     let (b1, b0) = ((b >> 16) as u16, b as u16);
     let lh = mul16(a0, b1);
@@ -136,15 +140,53 @@ fn s_poly(f: u32) -> u32 {
 /// Rounds a Q1.31 value in [1, 2)·2³¹ (bit 31 set) to a 24-bit mantissa with
 /// its hidden bit; may round up to 2²⁴ (the caller's exponent add carries it).
 #[inline(always)]
-fn round_mant(m: u32) -> u32 {
+pub(crate) fn round_mant(m: u32) -> u32 {
     (m >> 8) + ((m >> 7) & 1)
 }
 
 /// Packs 2^(e−127)·mant/2²³ for a mantissa from [`round_mant`] and a biased
 /// exponent e ≥ 1; a carry out of the mantissa bumps the exponent.
 #[inline(always)]
-fn pack(sign: u32, biased_exp: u32, mant: u32) -> f32 {
+pub(crate) fn pack(sign: u32, biased_exp: u32, mant: u32) -> f32 {
     f32::from_bits(sign | ((biased_exp - 1) << 23).wrapping_add(mant))
+}
+
+// Shifts by a variable amount need care on the AVR: LLVM emits a loop of
+// one-bit steps (~10 cycles each), and where a shift feeds one arm of an
+// `if`, it likes to compute both arms and select, simplifying the amount
+// with that arm's conditions first; run for the other arm's inputs, the
+// amount has wrapped around and the loop takes 255 steps (seen in
+// `expm1_small`: 3 400 cycles in a frame). [`shr`] and [`shl`] take the
+// amount through an empty `asm!` block, which LLVM cannot see into, and
+// mask it, so any such work stays within 31 steps. Every variable shift in
+// the integer cores goes through them.
+
+/// `n` unchanged, but opaque to LLVM's range reasoning.
+#[inline(always)]
+fn opaque(n: u32) -> u32 {
+    #[cfg(target_arch = "avr")]
+    {
+        let mut b = n as u8;
+        // SAFETY: an empty block; `b` stays in its register.
+        unsafe { core::arch::asm!("/* {0} */", inout(reg) b, options(pure, nomem, nostack)) };
+        u32::from(b)
+    }
+    #[cfg(not(target_arch = "avr"))]
+    {
+        n
+    }
+}
+
+/// x >> (n mod 32); see the note above.
+#[inline(always)]
+pub(crate) fn shr(x: u32, n: u32) -> u32 {
+    x >> (opaque(n) & 31)
+}
+
+/// x << (n mod 32); see the note above.
+#[inline(always)]
+pub(crate) fn shl(x: u32, n: u32) -> u32 {
+    x << (opaque(n) & 31)
 }
 
 /// x·log₂e = k + f, f ∈ [0, 1) in Q0.32, for 2⁻²⁵ ≤ |x| < 128 (`be` the
@@ -153,12 +195,12 @@ fn pack(sign: u32, biased_exp: u32, mant: u32) -> f32 {
 fn split(neg: bool, be: u32, m: u32) -> (i16, u32) {
     // |x| = m·2^(be − 150) = X·2⁻²⁵ with X < 2³² (exact for |x| ≥ 0.25;
     // smaller |x| round to 2⁻²⁶, far below the result's ulp near 1).
-    let xq = if be >= 125 {
-        m << (be - 125)
-    } else {
-        let r = 125 - be;
-        (m + (1 << (r - 1))) >> r
-    };
+    // = round(m·2⁸ / 2^s), s = 133 − be ∈ [0, 31]; for s ≤ 8 the low bits
+    // are zero and the rounding changes nothing. One shift, no branch on be.
+    let s = 133 - be;
+    let v = m << 8;
+    let w = shr(v, s.saturating_sub(1));
+    let xq = if s == 0 { v } else { (w + 1) >> 1 };
     // |x|·log₂e = (hi:lo)·2⁻⁵⁶: integer part hi >> 24, fraction the next 32 bits.
     let (hi, lo) = mul_full(xq, LOG2E_Q31);
     let k = (hi >> 24) as i16;
@@ -245,7 +287,9 @@ pub fn expm1(x: f32) -> f32 {
             return f32::INFINITY;
         }
         let mut e = k;
-        let mut d = if k <= 31 { mm - (1 << (31 - k)) } else { mm };
+        // 2^k·2^f − 1 = (mm − 2^(31 − k))·2^(k − 31); beyond k = 31 the 1 is lost.
+        let one = shl(1, u32::from(31u16.saturating_sub(k as u16)));
+        let mut d = if k <= 31 { mm - one } else { mm };
         // d ≥ 2³⁰ (k ≥ 1): at most one normalizing shift.
         if d < (1 << 31) {
             d <<= 1;
@@ -256,13 +300,14 @@ pub fn expm1(x: f32) -> f32 {
         // k ≤ −1 (x ≤ −ln 2): e^x = v·2⁻³² ≤ 1/2, so 1 − e^x ≥ 1/2 in Q0.32
         // needs at most one normalizing shift.
         let sh = (-k - 1) as u32;
-        let v = if sh >= 32 { 0 } else { mm >> sh };
+        let v = shr(mm, sh.min(31));
+        let v = if sh >= 32 { 0 } else { v };
         if v == 0 {
             return -1.0;
         }
         let d = 0u32.wrapping_sub(v);
         let lz = d.leading_zeros();
-        pack(1 << 31, 126 - lz, round_mant(d << lz))
+        pack(1 << 31, 126 - lz, round_mant(shl(d, lz)))
     }
 }
 
@@ -273,7 +318,9 @@ fn expm1_small(be: u32, m: u32) -> f32 {
     // f = mt·2^(be − 157), mt ∈ [1.44·2³⁰, 1.45·2³¹).
     let mt = mul_hi(m << 8, LOG2E_Q31);
     // f in Q0.32 for the polynomial (absolute precision suffices there).
-    let fq = if be == 126 { mt << 1 } else { mt >> (125 - be) };
+    // (mt << 1) >> s without losing mt's top bit.
+    let w = shr(mt, (126 - be).saturating_sub(1));
+    let fq = if be == 126 { mt << 1 } else { w };
     let s = s_poly(fq);
     // f·S = r·2^(be − 156); r ∈ [2²⁹, 2³¹) up to truncation (S ≥ ln 2).
     let r = mul_hi(mt, s);
@@ -285,4 +332,219 @@ fn expm1_small(be: u32, m: u32) -> f32 {
         (r << 3, 3)
     };
     pack(0, be + 2 - lz, round_mant(rn))
+}
+
+// ------------------------------------------------------------------- ln
+
+/// ln 2 in Q0.32 (rounded; error 0.18·2⁻³²).
+const LN2_Q32: u32 = 0xB172_17F8;
+
+/// For k = 1..14 (mantissa m ∈ [1 + k/16, 1 + (k+1)/16)): C ≈ 1/(1 + (k+½)/16)
+/// in Q0.32 and −ln C in Q0.32 (of the stored C, rounded). m·C − 1 then lies
+/// within ±1/35. In flash on the AVR (read with `lpm`), not in RAM.
+#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+static LN_TABLE: [[u32; 2]; 14] = [
+    [0xEA0E_A0EA, 0x16F0_D28B],
+    [0xDD67_C8A6, 0x252A_A5F0],
+    [0xD20D_20D2, 0x32A4_B53A],
+    [0xC7CE_0C7D, 0x3F72_30DB],
+    [0xBE82_FA0C, 0x4BA3_8AEB],
+    [0xB60B_60B6, 0x5746_F6FD],
+    [0xAE4C_415D, 0x6268_CE1A],
+    [0xA72F_0539, 0x6D13_DDF0],
+    [0xA0A0_A0A1, 0x7751_A812],
+    [0x9A90_E7D9, 0x812A_952E],
+    [0x94F2_094F, 0x8AA6_1E98],
+    [0x8FB8_23EE, 0x93CA_F094],
+    [0x8AD8_F2FC, 0x9C9F_069A],
+    [0x864B_8A7E, 0xA527_C2ED],
+];
+
+/// |S(r)| = −(ln(1 + r) − r)/r² on r ∈ [−1/32, 1/16] as Σ Tᵢ·|r|ⁱ with the
+/// signs of the alternating series folded in (see [`ln_s`]); Q0.32,
+/// near-minimax (Chebyshev fit), |error| ≤ 9.7e-8 (r² times that in ln).
+const T0: u32 = 2_147_483_562;
+const T1: u32 = 1_431_691_999;
+const T2: u32 = 1_074_270_779;
+const T3: u32 = 816_956_759;
+
+/// Reads a u32 from the flash copy of a `.progmem.data` static.
+#[cfg(target_arch = "avr")]
+#[inline(always)]
+pub(crate) fn flash_u32(p: &u32) -> u32 {
+    let (b0, b1, b2, b3): (u8, u8, u8, u8);
+    // SAFETY: `p` points into a `.progmem.data` static, whose bytes sit in
+    // the low 64 KiB of flash (the linker places it at the start of .text),
+    // which `lpm` reads; nothing else is touched.
+    unsafe {
+        core::arch::asm!(
+            "lpm {0}, Z+",
+            "lpm {1}, Z+",
+            "lpm {2}, Z+",
+            "lpm {3}, Z+",
+            out(reg) b0,
+            out(reg) b1,
+            out(reg) b2,
+            out(reg) b3,
+            inout("Z") p as *const u32 as u16 => _,
+            options(pure, readonly, nostack),
+        );
+    }
+    u32::from_le_bytes([b0, b1, b2, b3])
+}
+
+#[cfg(not(target_arch = "avr"))]
+#[inline(always)]
+pub(crate) fn flash_u32(p: &u32) -> u32 {
+    *p
+}
+
+/// |S(r)| for r = ±ρ (ρ = |r| ≤ 1/16 in Q0.32), Q0.32: S's coefficients
+/// alternate in sign, so for r < 0 every term adds and for r > 0 every
+/// bracket stays positive; either way only unsigned products.
+#[inline]
+fn ln_s(rho: u32, neg: bool) -> u32 {
+    if neg {
+        let t = T2 + mul_hi_approx(T3, rho);
+        let t = T1 + mul_hi_approx(t, rho);
+        T0 + mul_hi_approx(t, rho)
+    } else {
+        let t = T2 - mul_hi_approx(T3, rho);
+        let t = T1 - mul_hi_approx(t, rho);
+        T0 - mul_hi_approx(t, rho)
+    }
+}
+
+/// (biased exponent, fraction) of a subnormal's mantissa `m` ≠ 0, as if
+/// the exponent field could go below 1. Out of line: it shifts by an amount
+/// of its own (see the note on shifts above).
+#[cold]
+#[inline(never)]
+fn normalize_subnormal(m: u32) -> (i16, u32) {
+    let sh = m.leading_zeros() - 8;
+    (1 - sh as i16, shl(m, sh) & MANT_MASK)
+}
+
+/// Natural logarithm. ln(±0) = −∞, ln(x < 0) = NaN, ln(∞) = ∞, NaN gives
+/// NaN.
+///
+/// x = 2^e·m; the mantissa's top four fraction bits pick C ≈ 1/m from a
+/// 14-entry table (m ≥ 1.9375 is taken as m/2 with e + 1, m < 1.0625 as is),
+/// so ln x = e·ln 2 − ln C + ln(1 + r) with r = m·C − 1 ∈ [−1/32, 1/16] and
+/// ln(1 + r) = r − r²·|S(r)|. Where e = 0 and C = 1 (x ∈ [0.96875, 1.0625))
+/// r is exact and the result is formed as r·(1 − r·|S|) with relative
+/// precision; elsewhere |ln x| > 0.03 and the sum is formed in Q.32 fixed
+/// point. Within 1 ulp (tests/chip_accuracy.rs sweeps it against f64).
+pub fn ln(x: f32) -> f32 {
+    let b = x.to_bits();
+    if b >= 0x7F80_0000 {
+        // +∞, NaN, or negative (−0 included).
+        return if b == 0x7F80_0000 {
+            x
+        } else if b == 0x8000_0000 {
+            f32::NEG_INFINITY
+        } else {
+            f32::NAN
+        };
+    }
+    let mut be = (b >> 23) as i16;
+    let mut m = b & MANT_MASK;
+    if be == 0 {
+        if m == 0 {
+            return f32::NEG_INFINITY;
+        }
+        (be, m) = normalize_subnormal(m);
+    }
+    let mut e = be - 127;
+    let k = (m >> 19) as usize;
+    // r in Q0.32 as a magnitude and a sign, and −ln C in Q0.32.
+    let (rho, neg, ln_c) = if k == 0 {
+        (m << 9, false, 0)
+    } else if k == 15 {
+        e += 1;
+        ((HIDDEN << 1).wrapping_sub(m | HIDDEN) << 8, true, 0)
+    } else {
+        let (c, lc) = match LN_TABLE.get(k - 1) {
+            Some(row) => (flash_u32(&row[0]), flash_u32(&row[1])),
+            None => return f32::NAN,
+        };
+        // m·C in Q1.63; r = m·C − 1 in Q0.32 from bits 31 + 32 down.
+        let (hi, lo) = mul_full((m | HIDDEN) << 8, c);
+        let r = (hi.wrapping_sub(1 << 31) << 1) | (lo >> 31);
+        let neg = r >> 31 != 0;
+        (if neg { r.wrapping_neg() } else { r }, neg, lc)
+    };
+    let s = ln_s(rho, neg);
+    if e == 0 && ln_c == 0 {
+        if rho == 0 {
+            return 0.0;
+        }
+        // ln(1 + r) = r·P, P = 1 − r·|S| in Q1.31 (P ∈ [0.97, 1.02]).
+        let rs = mul_hi(rho, s) >> 1;
+        let p = if neg { (1u32 << 31) + rs } else { (1u32 << 31) - rs };
+        let lz = rho.leading_zeros();
+        // r·P = h·2^(−31 − lz) with h ∈ [0.48, 1.02)·2³¹.
+        let mut h = mul_hi(shl(rho, lz), p);
+        let mut sh = lz;
+        while h < 1 << 31 {
+            h <<= 1;
+            sh += 1;
+        }
+        return pack(if neg { 1 << 31 } else { 0 }, 127 - sh, round_mant(h));
+    }
+    ln_sum(e, ln_c, rho, neg, s)
+}
+
+/// e·ln 2 − ln C + r − r²·|S| (r = ±ρ) in Q.32 fixed point (|sum| < 2⁴⁰),
+/// rounded to f32; |result| > 0.03 here. Out of line: inlined into [`ln`],
+/// LLVM's AVR backend produced wrong results (seen with nightly-2026-05-20;
+/// the same code as its own function is right, and host and chip agree).
+#[inline(never)]
+fn ln_sum(e: i16, ln_c: u32, rho: u32, neg: bool, s: u32) -> f32 {
+    // |e| ≤ 128: two hardware products.
+    let ea = e.unsigned_abs();
+    let e_ln2 = ((u64::from(mul16(ea, (LN2_Q32 >> 16) as u16)) << 16) + u64::from(mul16(ea, LN2_Q32 as u16))) as i64;
+    let r2s = i64::from(mul_hi_approx(mul_hi_approx(rho, rho), s));
+    let r_part = if neg { -i64::from(rho) - r2s } else { i64::from(rho) - r2s };
+    let sum = (if e < 0 { -e_ln2 } else { e_ln2 }) + i64::from(ln_c) + r_part;
+    let sign = if sum < 0 { 1u32 << 31 } else { 0 };
+    let mag = sum.unsigned_abs();
+    if mag >> 15 == 0 {
+        // Unreachable (|ln x| > 0.03 here); keeps the shifts below in range.
+        return 0.0;
+    }
+    // Normalize the 40-bit mag from w = mag >> 8 (byte moves); |ln x| > 0.03
+    // puts mag ≥ 2²⁷, so w ≥ 2¹⁹ and lz ≤ 12.
+    let lo = mag as u32;
+    let w = (((mag >> 32) as u32) << 24) | (lo >> 8);
+    let lz = w.leading_zeros();
+    let top = shl(w, lz) | (shl(lo & 0xFF, lz) >> 8);
+    pack(sign, 134 - lz, round_mant(top))
+}
+
+// ------------------------------------------------------------- sqrt split
+
+/// √x as (s, c): s the rounded root, c ≈ √x − s (|c| ≤ ulp(s)/2, good to
+/// about 2⁻²⁴ of itself), so s + c carries √x to twice the precision. The
+/// residual x − s² is exact in integers (|x − s²| ≤ s·ulp(s), 24 bits), so
+/// only c = (x − s²)/(2s) rounds. x ≤ 0, subnormal or not finite: c = 0.
+pub fn sqrt_split(x: f32) -> (f32, f32) {
+    let s = crate::real::Real::sqrt(x);
+    let (bx, bs) = (x.to_bits(), s.to_bits());
+    let (ex, es) = ((bx >> 23) as i16, (bs >> 23) as i16);
+    if bx >> 31 != 0 || ex == 0 || ex == 0xFF || es == 0 || es == 0xFF {
+        return (s, 0.0);
+    }
+    let (mx, ms) = ((bx & MANT_MASK) | HIDDEN, (bs & MANT_MASK) | HIDDEN);
+    // x = mx·2^(ex − 150), s² = ms²·2^(2es − 300): x − s² = R·2^(2es − 300)
+    // with R = mx·2^d − ms², d = ex + 150 − 2es (23 or 24).
+    let d = ex + 150 - 2 * es;
+    if !(0..32).contains(&d) {
+        return (s, 0.0);
+    }
+    let r = shl(mx, d as u32).wrapping_sub(mul_full(ms, ms).1) as i32;
+    // c = R·2^(2es − 300)/(2s) = R/(ms·2^(151 − es)); the divisor is a float
+    // with ms's mantissa and exponent 174 − es (normal: es ∈ [64, 190]).
+    let den = f32::from_bits((((301 - es) as u32) << 23) | (ms & MANT_MASK));
+    (s, r as f32 / den)
 }

@@ -49,6 +49,8 @@ pub struct Links<R> {
     r_max_sq: R,
     /// 1 / (2·l2·l3)
     inv_2l2l3: R,
+    /// 8·ε/(2·l2·l3): the slack on 1 ± c per unit of x² + y² + l2² + l3²
+    slack_scale: R,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,7 +88,9 @@ impl<R: Real> Links<R> {
             r_min_sq: diff * diff,
             r_max_sq: sum * sum,
             inv_2l2l3: (R::TWO * l2 * l3).recip(),
+            slack_scale: R::ZERO,
         };
+        let links = Self { slack_scale: R::lit(C_SLACK_ULPS) * R::EPSILON * links.inv_2l2l3, ..links };
         // Squares can overflow or underflow even for finite positive lengths.
         if !(links.r_max_sq.is_finite() && links.inv_2l2l3.is_finite()) {
             return Err(LinksError::NotFinite);
@@ -138,15 +142,27 @@ pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<Join
     if !(x.is_finite() && y.is_finite()) {
         return Err(IkError::NotFinite);
     }
+    ik2_toward(links, x, y, y.atan2(x), branch)
+}
+
+/// [`ik2`] for finite (x, y) whose direction `phi` = atan2(y, x) the caller
+/// already has (the pose chain derives it from the base angle α, saving an
+/// arctangent).
+pub(crate) fn ik2_toward<R: Real>(
+    links: &Links<R>,
+    x: R,
+    y: R,
+    phi: R,
+    branch: Branch,
+) -> Result<JointAngles2<R>, IkError<R>> {
     let inv = links.inv_2l2l3;
     let r_sq = x * x + y * y;
     let one_plus_c = (r_sq - links.r_min_sq) * inv;
     let one_minus_c = (links.r_max_sq - r_sq) * inv;
-    let c = (r_sq - links.sum_sq) * inv;
-    let slack = R::lit(C_SLACK_ULPS) * R::EPSILON * (r_sq + links.sum_sq) * inv;
+    let slack = (r_sq + links.sum_sq) * links.slack_scale;
     // r² overflows for huge finite x; the slack would then be infinite too.
     if !(r_sq.is_finite() && one_plus_c >= -slack && one_minus_c >= -slack) {
-        return Err(IkError::Unreachable { c });
+        return Err(IkError::Unreachable { c: (r_sq - links.sum_sq) * inv });
     }
     if x == R::ZERO && y == R::ZERO {
         return Err(IkError::Singular);
@@ -168,10 +184,12 @@ pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<Join
     if sy == R::ZERO && sx == R::ZERO {
         return Err(IkError::Singular);
     }
-    let beta = sy.atan2(sx);
-    let phi = y.atan2(x);
     // = acos(c) ∈ [0, π], accurate also near c = ±1.
     let q3 = s.atan2(c);
+    // With l2 = l3 (the paper's arm) β = atan2(s, 1 + c) is exactly q3/2
+    // (the half-angle identity), one arctangent less and better conditioned
+    // near c = −1.
+    let beta = if links.diff == R::ZERO { q3 * R::HALF } else { sy.atan2(sx) };
     let (q2, q3) = match branch {
         Branch::Plus => (phi - beta, q3),
         Branch::Minus => (phi + beta, -q3),

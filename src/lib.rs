@@ -16,6 +16,7 @@ pub mod board;
 pub mod command;
 pub mod config_store;
 pub mod crc;
+pub mod f32_atan;
 pub mod f32_exp;
 pub mod ik;
 pub mod laws;

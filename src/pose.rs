@@ -2,7 +2,7 @@
 //! the touch mapping (condition and α, transform, 2-link IK). One place, used by
 //! the firmware's app and by `armsim plan`, so both compute the same pose.
 
-use crate::ik::{ik2, Branch, IkError, Links};
+use crate::ik::{ik2_toward, Branch, IkError, Links};
 use crate::real::Real;
 use crate::workspace::{Condition, WorkspaceError, WorkspacePoint};
 
@@ -39,6 +39,9 @@ pub enum PoseError<R> {
 pub fn pose_for_point<R: Real>(geo: &ArmGeometry<R>, x_p: R, y_p: R) -> Result<Pose<R>, PoseError<R>> {
     let p = WorkspacePoint::new(x_p, y_p).map_err(PoseError::Workspace)?;
     let t = p.target(geo.k).map_err(PoseError::Workspace)?;
-    let q = ik2(&geo.links, t.reach, t.height, geo.branch).map_err(PoseError::Ik)?;
+    // The IK target (k·|x_p|, k·y_p) points at atan2(y_p, |x_p|) (k > 0
+    // scales both): α itself, or π − α left of centre. One arctangent less.
+    let phi = if p.x_p() < R::ZERO { R::PI - t.alpha } else { t.alpha };
+    let q = ik2_toward(&geo.links, t.reach, t.height, phi, geo.branch).map_err(PoseError::Ik)?;
     Ok(Pose { condition: t.condition, alpha: t.alpha, reach: t.reach, height: t.height, q2: q.q2, q3: q.q3 })
 }

@@ -1,12 +1,13 @@
 //! The float abstraction: every formula in the core is written once, generic over
 //! [`Real`], and runs as `f32` on the chip and as `f64` in `armsim` and the tests.
 //!
-//! f32 `exp` and `expm1` (the per-frame functions) are [`crate::f32_exp`]'s
-//! integer-core routines on every target, so host tests check the chip's
-//! exact results. The other f32 transcendentals come from avr-libc's
-//! hand-written assembly libm on AVR (linked with `-lm`; several times faster
-//! than the portable Rust `libm` crate) and from the `libm` crate on the host;
-//! f64 always uses the `libm` crate.
+//! f32 `exp`, `expm1`, `ln` ([`crate::f32_exp`]) and `atan2`
+//! ([`crate::f32_atan`]) are integer-core routines on every target, so host
+//! tests check the chip's exact results. The other f32 transcendentals
+//! (`sqrt`, `sin`, `cos`, `acos`) come from avr-libc's hand-written assembly
+//! libm on AVR (linked with `-lm`; several times faster than the portable Rust
+//! `libm` crate) and from the `libm` crate on the host; f64 always uses the
+//! `libm` crate.
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -160,11 +161,9 @@ impl Real for f64 {
 #[cfg(target_arch = "avr")]
 mod avr_libm {
     extern "C" {
-        pub fn log(x: f32) -> f32;
         pub fn sin(x: f32) -> f32;
         pub fn cos(x: f32) -> f32;
         pub fn acos(x: f32) -> f32;
-        pub fn atan2(y: f32, x: f32) -> f32;
         pub fn sqrt(x: f32) -> f32;
     }
 }
@@ -227,7 +226,7 @@ impl Real for f32 {
     }
     #[inline]
     fn ln(self) -> Self {
-        f32_fn!(log, logf(self))
+        crate::f32_exp::ln(self)
     }
     #[inline]
     fn sin(self) -> Self {
@@ -243,10 +242,12 @@ impl Real for f32 {
     }
     #[inline]
     fn atan2(self, x: Self) -> Self {
-        f32_fn!(atan2, atan2f(self, x))
+        crate::f32_atan::atan2(self, x)
     }
     #[inline]
     fn is_finite(self) -> bool {
-        f32::is_finite(self)
+        // The exponent field is all ones only for ±∞ and NaN; a bit test,
+        // where the float comparison would be a library call on the AVR.
+        self.to_bits() & 0x7F80_0000 != 0x7F80_0000
     }
 }

@@ -8,7 +8,7 @@
 
 use crate::motion::{all_finite, Sample, TrajError};
 use crate::real::Real;
-use crate::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
+use crate::zat::{smooth_stop_a, Shape, ShapeParams};
 
 /// A via-point move q0 → (θ_v at t_v) → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,7 +69,9 @@ pub fn via_condition<R: Real>(q0: R, sv: R, sf: R) -> ViaCondition {
     }
 }
 
-/// Validates the inputs and builds (Gv, G).
+/// Validates the inputs and builds (Gv, G). Inlined so the shapes are built
+/// in place (a copy is a library call on the AVR).
+#[inline(always)]
 fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R>> {
     all_finite(&[p.q0, p.theta_v, p.sf, p.tv, p.ts, p.a, p.n, p.av, p.nv])?;
     let g = Shape::new(&ShapeParams {
@@ -176,26 +178,12 @@ impl<R: Real> ViaPlan<R> {
 
     /// ζ of the main term: (S_v → S_f, n, a, tₛ). `None` when S_v = S_f.
     pub fn zeta(&self) -> Option<R> {
-        let s = self.g.params();
-        zeta(&ZatParams {
-            q0: self.sv,
-            sf: self.sf,
-            ts: s.ts,
-            a: s.a,
-            n: s.n,
-        })
+        self.g.zeta(self.sf - self.sv)
     }
 
     /// ζ_v of the via term: (q0 → S_v, n_v, a_v, t_v). `None` when S_v = q0.
     pub fn zeta_v(&self) -> Option<R> {
-        let s = self.gv.params();
-        zeta(&ZatParams {
-            q0: self.q0,
-            sf: self.sv,
-            ts: s.ts,
-            a: s.a,
-            n: s.n,
-        })
+        self.gv.zeta(self.sv - self.q0)
     }
 
     /// S(t): q0 for t ≤ 0, exactly S_f for t ≥ tₛ.
@@ -279,7 +267,7 @@ pub fn iterate_paper<R: Real>(
     tol: R,
     max_iter: u16,
 ) -> Result<ViaIteration<R>, TrajError<R>> {
-    let (_, g) = shapes(p)?;
+    let (gv, g) = shapes(p)?;
     all_finite(&[tol])?;
     let r = g.g(p.tv);
     if !r.is_finite() {
@@ -288,27 +276,16 @@ pub fn iterate_paper<R: Real>(
     if r >= R::ONE {
         return Err(TrajError::ViaDiverges { r });
     }
-    let l = p.n.ln();
+    let l = g.ln_n();
     let u = p.tv + p.ts / p.tv - R::ONE;
     // ln(1 − n^(a − u)), u − a > 0 by admissibility.
     let ln_den_rest = (-(-(l * (u - p.a))).expm1()).ln();
     let mut sv = p.theta_v;
     let mut i: u16 = 0;
     loop {
-        let zi = zeta(&ZatParams {
-            q0: sv,
-            sf: p.sf,
-            ts: p.ts,
-            a: p.a,
-            n: p.n,
-        });
-        let zvi = zeta(&ZatParams {
-            q0: p.q0,
-            sf: sv,
-            ts: p.tv,
-            a: p.av,
-            n: p.nv,
-        });
+        // Shape::zeta is zat::zeta for these parameters, bit for bit.
+        let zi = g.zeta(p.sf - sv);
+        let zvi = gv.zeta(sv - p.q0);
         // S_i(t_v) with Gv(t_v) = 1.
         let s_tv = p.q0 + (sv - p.q0) + (p.sf - sv) * r;
         let e = s_tv - p.theta_v;

@@ -63,19 +63,16 @@ fn square_err<R: Real>(s: R) -> (R, R) {
     (p, err)
 }
 
-/// `a + b` as (rounded sum, exact rounding error) (Knuth's TwoSum).
-#[inline]
-fn two_sum<R: Real>(a: R, b: R) -> (R, R) {
-    let s = a + b;
-    let bb = s - a;
-    let err = (a - (s - bb)) + (b - bb);
-    (s, err)
-}
-
 /// √tₛ as a rounded value plus a correction (√tₛ ≈ s + c to about twice the
-/// working precision).
+/// working precision). f32 (the chip) takes the residual tₛ − s² from the
+/// integer square of s's mantissa ([`crate::f32_exp::sqrt_split`]); wider
+/// types split s by Dekker's method.
 #[inline]
 fn sqrt_split<R: Real>(ts: R) -> (R, R) {
+    if R::EPSILON.to_f64() > 1e-10 {
+        let (s, c) = crate::f32_exp::sqrt_split(ts.to_f32());
+        return (R::from_f32(s), R::from_f32(c));
+    }
     let s = ts.sqrt();
     let (p, err) = square_err(s);
     // tₛ − p is exact (Sterbenz), so only the last step rounds.
@@ -83,16 +80,23 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
     (s, r / (R::TWO * s))
 }
 
-/// δ = u_min(tₛ) − a, the distance to the pole, accurate to a few ulps of δ
-/// itself (not of u_min): every per-sample w = u − a inherits this error
+/// (u_min, δ) = (2s − 1, (2√tₛ − 1) − a) for tₛ ≥ 1 from √tₛ ≈ s + c:
+/// 2s − 1 is exact (s ≥ 1) and equals [`u_min`]'s, and where δ is small
+/// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
+#[inline]
+fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
+    let um = R::TWO * s - R::ONE;
+    (um, (um - a) + (c + c))
+}
+
+/// δ = u_min(tₛ) − a, the distance to the pole, accurate to about an ulp of
+/// δ itself (not of u_min): every per-sample w = u − a inherits this error
 /// amplified by q, so it is worth computing once carefully.
 /// `a` is admissible exactly when this is > 0.
 pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
     if ts >= R::ONE {
         let (s, c) = sqrt_split(ts);
-        let (h, e1) = two_sum(R::TWO * s, -R::ONE);
-        let (d, e2) = two_sum(h, -a);
-        d + (e1 + e2 + R::TWO * c)
+        long_bounds(s, c, a).1
     } else {
         ts - a
     }
@@ -105,7 +109,13 @@ pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
         return None;
     }
     let a = ts - ts.ln() / n.ln();
-    if a.is_finite() && a < u_min(ts) && pole_margin(ts, a) > R::ZERO {
+    if !a.is_finite() {
+        return None;
+    }
+    // The same tests as Shape::new, so every a returned here is accepted there.
+    let (s, c) = sqrt_split(ts);
+    let (um, delta) = long_bounds(s, c, a);
+    if a < um && delta > R::ZERO {
         Some(a)
     } else {
         None
@@ -146,9 +156,19 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
         return None;
     }
     let l = p.n.ln();
-    // 1 − n^(a − tₛ) = −expm1(−L·(tₛ − a)), accurate when a is close to tₛ.
-    let one_minus = -(-(l * (p.ts - p.a))).expm1();
-    let z = -(d.ln() + one_minus.ln()) / l;
+    zeta_from(l, end_e(l, p.ts - p.a).1, d)
+}
+
+/// ζ = −ln(|Δ|·(1 − n^(a − tₛ)))/L from L and 1 − n^(a − tₛ), the shape's
+/// [`end_e`]`.1`: one formula for [`zeta`] and [`Shape::zeta`], so they agree
+/// to the bit. One logarithm of the product (its rounding costs ε absolute in
+/// the logarithm, less than a second logarithm would); two where the product
+/// could be subnormal.
+#[inline]
+fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
+    let prod = d * one_minus;
+    let ln_sum = if prod >= R::EPSILON && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
+    let z = -ln_sum / l;
     if z.is_finite() {
         Some(z)
     } else {
@@ -156,8 +176,29 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
     }
 }
 
-/// A validated ζ-a-tₛ shape with its per-plan constants.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// (E, 1/(1 + Q_s)) for L·(tₛ − a) = `l·ts_a`, with E = expm1(L·(tₛ − a))
+/// = 1/Q_s and 1/(1 + Q_s) = E/(1 + E) = 1 − n^(a − tₛ): one division, no
+/// cancellation for a near tₛ either.
+#[inline]
+fn end_e<R: Real>(l: R, ts_a: R) -> (R, R) {
+    let e = (l * ts_a).expm1();
+    // E = ∞ (L·(tₛ − a) > 88 in f32): Q_s = 0 and 1 − n^(a − tₛ) = 1.
+    let one_minus = if e.is_finite() { e / (R::ONE + e) } else { R::ONE };
+    (e, one_minus)
+}
+
+/// Whether a shape is known to be monotone (decided where it came free).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mono {
+    Unknown,
+    Yes,
+    No,
+}
+
+/// A validated ζ-a-tₛ shape with its per-plan constants. Kept small: plans
+/// copy it around (a byte costs about seven cycles to copy on the AVR).
+/// Equality ignores how much is known about monotonicity (a cache).
+#[derive(Debug, Clone, Copy)]
 pub struct Shape<R> {
     ts: R,
     a: R,
@@ -167,17 +208,31 @@ pub struct Shape<R> {
     /// √tₛ ≈ sqrt_ts + sqrt_corr.
     sqrt_ts: R,
     sqrt_corr: R,
-    u_min: R,
-    /// δ = u_min − a > 0: the distance to the pole.
-    delta: R,
-    /// L·δ.
+    /// L·δ, δ = u_min − a > 0 the distance to the pole.
     l_delta: R,
     /// tₛ ≥ 1 (which form of u − a applies), decided once.
     long: bool,
-    /// Q_s = q(tₛ) = 1/expm1(L·(tₛ − a)).
-    q_s: R,
-    /// 1/(1 + Q_s).
+    /// E = expm1(L·(tₛ − a)) = 1/Q_s, Q_s = q(tₛ) (formed where needed:
+    /// only at t = tₛ).
+    e_s: R,
+    /// 1/(1 + Q_s) = 1 − n^(a − tₛ).
     inv_ps: R,
+    mono: Mono,
+}
+
+impl<R: PartialEq> PartialEq for Shape<R> {
+    fn eq(&self, o: &Self) -> bool {
+        self.ts == o.ts
+            && self.a == o.a
+            && self.n == o.n
+            && self.l == o.l
+            && self.sqrt_ts == o.sqrt_ts
+            && self.sqrt_corr == o.sqrt_corr
+            && self.l_delta == o.l_delta
+            && self.long == o.long
+            && self.e_s == o.e_s
+            && self.inv_ps == o.inv_ps
+    }
 }
 
 /// What G looks like at one instant inside (0, tₛ].
@@ -195,30 +250,69 @@ struct Inner<R> {
 }
 
 impl<R: Real> Shape<R> {
-    /// Validates (tₛ > 0, n > 1, all finite, a < u_min) and precomputes.
+    /// Validates (tₛ > 0, n > 1, all finite, a < u_min) and precomputes:
+    /// one square root, one logarithm, one expm1 and one division.
     pub fn new(p: &ShapeParams<R>) -> Result<Self, TrajError<R>> {
         all_finite(&[p.ts, p.a, p.n])?;
-        if p.ts <= R::ZERO {
+        Self::check_basics(p.ts, p.n)?;
+        Self::build(p, p.n.ln())
+    }
+
+    /// The smooth-stop shape: a = a* = tₛ − log_n tₛ ([`smooth_stop_a`]),
+    /// the same shape as [`Shape::new`] with that a, bit for bit. The plan
+    /// path: ln tₛ, ln n and √tₛ are formed once for a*, the shape and its
+    /// monotonicity, which is decided here (the check a plan makes is then
+    /// free). Not admissible (tₛ ≤ 1, or n too large for tₛ):
+    /// `ShapeNotAdmissible`.
+    pub fn smooth_stop(ts: R, n: R) -> Result<Self, TrajError<R>> {
+        Self::check_basics(ts, n)?;
+        let (ln_ts, l) = (ts.ln(), n.ln());
+        let a = ts - ln_ts / l;
+        if !a.is_finite() {
+            return Err(TrajError::NotFinite);
+        }
+        let mut s = Self::build(&ShapeParams { ts, a, n }, l)?;
+        s.mono = match s.margin_with(ln_ts) {
+            Some(m) if m < R::ZERO && m < -s.margin_tol() => Mono::No,
+            _ => Mono::Yes,
+        };
+        Ok(s)
+    }
+
+    fn check_basics(ts: R, n: R) -> Result<(), TrajError<R>> {
+        all_finite(&[ts, n])?;
+        if ts <= R::ZERO {
             return Err(TrajError::NonPositiveDuration);
         }
-        if p.n <= R::ONE {
+        if n <= R::ONE {
             return Err(TrajError::BaseNotAboveOne);
         }
-        let um = u_min(p.ts);
-        let delta = pole_margin(p.ts, p.a);
+        Ok(())
+    }
+
+    /// Admissibility and the per-plan constants, given L = ln n. Inlined so
+    /// the shape is built in place (a copy is a library call on the AVR).
+    #[inline(always)]
+    fn build(p: &ShapeParams<R>, l: R) -> Result<Self, TrajError<R>> {
+        let long = p.ts >= R::ONE;
+        let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
+        let (um, delta) = if long {
+            long_bounds(sqrt_ts, sqrt_corr, p.a)
+        } else {
+            (p.ts, p.ts - p.a)
+        };
         if !(p.a < um && delta > R::ZERO) {
             return Err(TrajError::ShapeNotAdmissible { a: p.a, u_min: um });
         }
-        let l = p.n.ln();
-        // The largest q on (0, tₛ] is at the minimum of u; if even that is not
-        // representable the plan sits numerically on the pole.
-        let q_max = (l * delta).expm1().recip();
-        let q_s = (l * (p.ts - p.a)).expm1().recip();
-        let inv_ps = (R::ONE + q_s).recip();
-        let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
-        if !(l > R::ZERO)
-            || all_finite(&[l, delta, q_max, q_s, inv_ps, sqrt_ts, sqrt_corr]).is_err()
-        {
+        let l_delta = l * delta;
+        let (e_s, inv_ps) = end_e(l, p.ts - p.a);
+        // The largest q on (0, tₛ] is 1/expm1(L·δ), at the minimum of u, and
+        // Q_s = 1/E; if they are not representable the plan sits numerically
+        // on the pole. expm1 returns its argument below ε, and only there can
+        // 1/· overflow, so the test needs no expm1; E ≥ L·δ (tₛ − a ≥ δ), so
+        // both are fine once L·δ ≥ ε. (L > 0 follows from n > 1.)
+        let on_pole = !(l_delta >= R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
+        if on_pole || all_finite(&[l, l_delta, inv_ps, sqrt_ts, sqrt_corr]).is_err() {
             return Err(TrajError::NotFinite);
         }
         Ok(Shape {
@@ -228,13 +322,11 @@ impl<R: Real> Shape<R> {
             l,
             sqrt_ts,
             sqrt_corr,
-            u_min: um,
-            delta,
-            l_delta: l * delta,
-            long: p.ts >= R::ONE,
-
-            q_s,
+            l_delta,
+            long,
+            e_s,
             inv_ps,
+            mono: Mono::Unknown,
         })
     }
 
@@ -263,9 +355,25 @@ impl<R: Real> Shape<R> {
     pub fn ln_n(&self) -> R {
         self.l
     }
+    /// u_min(tₛ), bit for bit as [`u_min`] gives it.
     #[inline]
     pub fn u_min(&self) -> R {
-        self.u_min
+        if self.long {
+            R::TWO * self.sqrt_ts - R::ONE
+        } else {
+            self.ts
+        }
+    }
+
+    /// The papers' ζ for a move of |Δ| = `d` under this shape (`None` for
+    /// d = 0); equal to [`zeta`] for the same parameters, bit for bit, at one
+    /// logarithm and a division (`zeta` also forms L and 1 − n^(a − tₛ)).
+    pub fn zeta(&self, d: R) -> Option<R> {
+        let d = d.abs();
+        if !(d > R::ZERO) || !d.is_finite() {
+            return None;
+        }
+        zeta_from(self.l, self.inv_ps, d)
     }
     /// t − √tₛ, accurate also where the two nearly cancel.
     #[inline]
@@ -286,10 +394,10 @@ impl<R: Real> Shape<R> {
         }
     }
 
-    /// u(t) − a for t > 0.
+    /// L·(u(t) − a) for t > 0.
     #[inline]
-    fn w(&self, t: R, inv_t: R) -> R {
-        self.delta + self.w_rest_t(t, self.d(t)) * inv_t
+    fn l_w(&self, t: R, inv_t: R) -> R {
+        self.l_delta + self.w_rest_t(t, self.d(t)) * (self.l * inv_t)
     }
 
     /// G and its ingredients for 0 < t < tₛ; `None` where G is below 1e-34
@@ -363,11 +471,12 @@ impl<R: Real> Shape<R> {
     /// are the left limits, consistent with [`Shape::end_rate`].
     #[inline]
     fn end(&self) -> Inner<R> {
+        let q_s = self.e_s.recip();
         let inv_t = self.ts.recip();
         Inner {
             g: R::ONE,
-            q: self.q_s,
-            p: R::ONE + self.q_s,
+            q: q_s,
+            p: R::ONE + q_s,
             t: self.ts,
             d: self.d(self.ts),
             inv_t,
@@ -420,11 +529,18 @@ impl<R: Real> Shape<R> {
         self.h1(&self.end())
     }
 
-    /// φ(t) = L·(u(t) − a) − ln(t²/tₛ). On t > √tₛ, G′(t) ≥ 0 ⇔ φ(t) ≥ 0
-    /// (from G′ = G·L·(1 − u′·(1 + q)) and 1 + q = 1/(1 − e^(−L·w))).
+    /// φ(t) = L·(u(t) − a) − ln(t²/tₛ) (`ln_ts` = ln tₛ). On t > √tₛ,
+    /// G′(t) ≥ 0 ⇔ φ(t) ≥ 0 (from G′ = G·L·(1 − u′·(1 + q)) and
+    /// 1 + q = 1/(1 − e^(−L·w))).
     #[inline]
-    fn phi(&self, t: R) -> R {
-        self.l * self.w(t, t.recip()) - (R::TWO * t.ln() - self.ts.ln())
+    fn phi(&self, t: R, ln_ts: R) -> R {
+        self.phi_it(t, t.recip(), ln_ts)
+    }
+
+    /// φ(t) given 1/t.
+    #[inline]
+    fn phi_it(&self, t: R, inv_t: R, ln_ts: R) -> R {
+        self.l_w(t, inv_t) - (R::TWO * t.ln() - ln_ts)
     }
 
     /// min of φ over [√tₛ, tₛ]: ≥ 0 exactly when G is monotone. `None` for
@@ -432,16 +548,23 @@ impl<R: Real> Shape<R> {
     ///
     /// φ″ = 2L·tₛ/t³ + 2/t² > 0, so φ is convex; its unconstrained minimum is at
     /// t* = (1 + √(1 + L²·tₛ))/L > √tₛ, and the constrained one at min(t*, tₛ).
+    /// t* ≥ tₛ ⇔ L·(tₛ − 1) ≤ 2 (square 1 + √(1 + L²tₛ) ≥ L·tₛ), which needs
+    /// neither the root nor a division; there φ(tₛ) = L·(tₛ − a) − ln tₛ.
     pub fn monotone_margin(&self) -> Option<R> {
+        self.margin_with(self.ts.ln())
+    }
+
+    /// [`Shape::monotone_margin`] given ln tₛ.
+    fn margin_with(&self, ln_ts: R) -> Option<R> {
         if self.ts <= R::ONE {
             return None;
         }
         let l = self.l;
-        let t_star = (R::ONE + (R::ONE + l * l * self.ts).sqrt()) / l;
-        if t_star >= self.ts {
-            Some(l * (self.ts - self.a) - self.ts.ln())
+        if l * (self.ts - R::ONE) <= R::TWO {
+            Some(l * (self.ts - self.a) - ln_ts)
         } else {
-            Some(self.phi(t_star))
+            let t_star = (R::ONE + (R::ONE + l * l * self.ts).sqrt()) / l;
+            Some(self.phi(t_star.min(self.ts), ln_ts))
         }
     }
 
@@ -455,6 +578,11 @@ impl<R: Real> Shape<R> {
 
     /// G stays in [0, 1] and never decreases on (0, tₛ].
     pub fn is_monotone(&self) -> bool {
+        match self.mono {
+            Mono::Yes => return true,
+            Mono::No => return false,
+            Mono::Unknown => {}
+        }
         match self.monotone_margin() {
             None => true,
             Some(m) => m >= -self.margin_tol(),
@@ -469,11 +597,12 @@ impl<R: Real> Shape<R> {
             return R::ONE;
         }
         let l = self.l;
+        let ln_ts = self.ts.ln();
         let mut t = self.sqrt_ts;
         let mut k = 0;
         while k < PEAK_NEWTON_CAP {
-            let f = self.phi(t);
             let it = t.recip();
+            let f = self.phi_it(t, it, ln_ts);
             let df = l * (R::ONE - self.ts * it * it) - R::TWO * it;
             if !(f > R::ZERO) || !(df < R::ZERO) {
                 break;
@@ -573,12 +702,6 @@ impl<R: Real> ZatPlan<R> {
 
     /// The papers' ζ; `None` for S_f = q0 (ζ = ∞).
     pub fn zeta(&self) -> Option<R> {
-        zeta(&ZatParams {
-            q0: self.q0,
-            sf: self.sf,
-            ts: self.shape.ts,
-            a: self.shape.a,
-            n: self.shape.n,
-        })
+        self.shape.zeta(self.delta)
     }
 }

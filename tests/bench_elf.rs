@@ -1,7 +1,8 @@
 //! Runs the benchmark firmware in simavr and enforces what a cycle-exact
 //! simulator can: the 50 Hz frame fits its cycle budget, the stack high-water
 //! mark fits `__budget_stack` from memory.x, and the chip's own f32 results are
-//! the host's (`exp`/`expm1` bit for bit) and within 2e-6 of f64 (G, G′).
+//! the host's (`exp`/`expm1`/`ln`/`atan2`/split `sqrt` and whole plans bit for
+//! bit) and within 2e-6 of f64 (G, G′).
 //! Cycle counts are deterministic, so these are not flaky timing tests.
 //!
 //! The ELF is built by `scripts/test.sh` (`cargo avr-bench`) before
@@ -11,6 +12,11 @@ use std::collections::HashMap;
 use std::sync::OnceLock;
 use hal_sim::firmware;
 use touch_arm::f32_exp;
+use touch_arm::ik::{Branch, Links};
+use touch_arm::plan::{JointLaw, MultiPlan};
+use touch_arm::pose::{pose_for_point, ArmGeometry};
+use touch_arm::touch_map::Calibration;
+use touch_arm::zat::Shape;
 
 /// Issue target for one 50 Hz frame of 3 joints (0.5 ms at 16 MHz).
 const FRAME_BUDGET_CYCLES: u32 = 8_000;
@@ -63,7 +69,7 @@ fn frame_fits_its_cycle_budget() {
     eprintln!("frame: median {median}, max {max} cycles");
     assert!(max <= FRAME_BUDGET_CYCLES, "frame worst case {max} cycles > {FRAME_BUDGET_CYCLES}");
     // Every routine the runner reports was measured.
-    for name in ["g", "g_rate", "plan", "via_solve", "via_paper", "frame_linear", "frame_cubic", "frame_quintic", "frame_trapezoid", "paper_frame"] {
+    for name in ["g", "g_rate", "plan", "plan_generic", "via_solve", "via_paper", "frame_linear", "frame_cubic", "frame_quintic", "frame_trapezoid", "paper_frame"] {
         assert!(b.contains_key(name), "no {name} figure");
     }
 }
@@ -111,4 +117,63 @@ fn chip_profile_within_2e6_of_f64_and_exact_at_ts() {
     eprintln!("chip: worst |G − f64| {worst_g:e}, G′ {worst_v:e}");
     assert!(at_ts > 30);
     assert!(worst_g <= 2e-6 && worst_v <= 2e-6);
+}
+
+#[test]
+fn chip_ln_atan2_and_sqrt_split_are_the_hosts_bit_for_bit() {
+    let f = f32::from_bits;
+    let l = fields("L");
+    assert!(l.len() > 150);
+    for v in l {
+        assert_eq!(f32_exp::ln(f(v[0])).to_bits(), v[1], "ln({:e})", f(v[0]));
+    }
+    let q = fields("Q");
+    assert!(q.len() > 100);
+    for v in q {
+        let (s, c) = f32_exp::sqrt_split(f(v[0]));
+        assert_eq!((s.to_bits(), c.to_bits()), (v[1], v[2]), "sqrt_split({:e})", f(v[0]));
+    }
+    let t = fields("T");
+    assert!(t.len() > 90);
+    for v in t {
+        let got = touch_arm::f32_atan::atan2(f(v[0]), f(v[1]));
+        assert_eq!(got.to_bits(), v[2], "atan2({:e}, {:e})", f(v[0]), f(v[1]));
+    }
+}
+
+/// The bench's plan inputs, as `src/bin/bench.rs` forms them.
+fn plan_input(i: usize) -> (u16, u16, f32) {
+    let ts = 1.5 + (4.0 - 1.5) * (i as f32) / 14.0;
+    (150 + (i as u16) * 50, 200 + ((i as u16 * 7) % 15) * 40, ts)
+}
+
+#[test]
+fn chip_plans_are_the_hosts_bit_for_bit() {
+    // The whole chain (touch map, pose with its arctangents, a*, the shape and
+    // its checks) on the chip equals the host's: a miscompile anywhere in it
+    // shows up here (one in `ln` once did).
+    const START: [f32; 3] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
+    let geo = ArmGeometry { k: 1.0f32, links: Links::new(1.0f32, 1.0).unwrap(), branch: Branch::Minus };
+    let p = fields("P");
+    assert_eq!(p.len(), 15);
+    let mut planned = 0;
+    for v in p {
+        let (rx, ry, ts) = plan_input(v[0] as usize);
+        let host = Calibration::DEFAULT.map::<f32>(rx, ry).ok().and_then(|m| {
+            let pose = pose_for_point(&geo, m.x_p, m.y_p).ok()?;
+            let shape = Shape::smooth_stop(ts, 2.0f32).ok()?;
+            MultiPlan::with_law(&START, &[pose.alpha, pose.q2, pose.q3], &JointLaw::Zat(shape)).ok()
+        });
+        match host {
+            Some(plan) => {
+                let JointLaw::Zat(s) = plan.law() else { panic!("not a ζ-a-tₛ plan") };
+                let t = plan.target().map(f32::to_bits);
+                assert_eq!(v[1..], [1, t[0], t[1], t[2], s.a().to_bits()], "plan {}", v[0]);
+                planned += 1;
+            }
+            None => assert_eq!(v[1], 0, "plan {}: the chip planned, the host did not", v[0]),
+        }
+    }
+    // tₛ = 4 with n = 2 is past the smooth stop's monotone range (L·(tₛ − 1) > 2).
+    assert_eq!(planned, 14);
 }

@@ -5,9 +5,13 @@
 //! itself produces these values.
 
 use proptest::prelude::*;
-use touch_arm::f32_exp::{exp, expm1, mul_full, mul_hi};
+use touch_arm::f32_atan::atan2;
+use touch_arm::f32_exp::{exp, expm1, ln, mul_full, mul_hi, sqrt_split};
 use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
 use touch_arm::servo::{JointCal, ServoMap};
+use touch_arm::ik::{fk2, ik2, Branch, Links};
+use touch_arm::pose::{pose_for_point, ArmGeometry};
+use touch_arm::motion::TrajError;
 use touch_arm::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
 
 /// |got − want| in units of the f32 spacing at `want`.
@@ -86,6 +90,146 @@ fn exp_special_values() {
     for x in [0.693_147_1f32, 0.693_147_2, 0.693_147_3, -0.693_147_1, -0.693_147_2, -0.693_147_3] {
         assert!(ulps(expm1(x), (x as f64).exp_m1()) < 3.0, "{x}");
     }
+}
+
+/// Every 61st f32 bit pattern over the positive finite range (subnormals
+/// included), plus every pattern in [0.9, 1.1] where ln x is near 0 and
+/// relative precision is the hard part. Returns the worst error and where.
+fn ln_worst() -> (f64, f32) {
+    let mut worst = (0.0, 0.0f32);
+    let mut check = |x: f32| {
+        let e = ulps(ln(x), (x as f64).ln());
+        if e > worst.0 {
+            worst = (e, x);
+        }
+    };
+    let mut b = 1u32;
+    while b < 0x7F80_0000 {
+        check(f32::from_bits(b));
+        b += 61;
+    }
+    for b in 0.9f32.to_bits()..=1.1f32.to_bits() {
+        check(f32::from_bits(b));
+    }
+    worst
+}
+
+#[test]
+fn ln_is_within_one_ulp() {
+    let (e, x) = ln_worst();
+    eprintln!("ln worst {e} ulp at {x:e}");
+    // Measured 0.59.
+    assert!(e < 1.0, "ln worst {e} ulp at {x:e}");
+}
+
+#[test]
+fn ln_special_values() {
+    assert_eq!(ln(1.0).to_bits(), 0.0f32.to_bits());
+    assert_eq!(ln(0.0), f32::NEG_INFINITY);
+    assert_eq!(ln(-0.0), f32::NEG_INFINITY);
+    assert!(ln(-1.0).is_nan());
+    assert!(ln(f32::NEG_INFINITY).is_nan());
+    assert!(ln(f32::NAN).is_nan());
+    assert_eq!(ln(f32::INFINITY), f32::INFINITY);
+    assert_eq!(ln(f32::MAX), 88.722_84);
+    assert_eq!(ln(2.0), core::f32::consts::LN_2);
+    // f32 e lies below e: its ln rounds to the float below 1.
+    assert_eq!(ln(core::f32::consts::E), 0.999_999_94);
+    // Neighbours of 1 (both sides) and of the table's interval edges.
+    for x in [1.000_000_1f32, 0.999_999_94, 1.0625, 1.062_499_9, 1.9375, 1.937_499_9, 0.968_75, 0.968_749_94] {
+        assert!(ulps(ln(x), (x as f64).ln()) < 1.0, "{x}");
+    }
+}
+
+/// atan2 against f64 on a polar sweep (every angle class, radii from 1e-30
+/// to 1e30, so all ratios and octants) plus a grid near the axes and the
+/// diagonals; returns the worst error in ulps and where.
+fn atan2_worst() -> (f64, f32, f32) {
+    let mut worst = (0.0, 0.0f32, 0.0f32);
+    let mut check = |y: f32, x: f32| {
+        let e = ulps(atan2(y, x), (y as f64).atan2(x as f64));
+        if e > worst.0 {
+            worst = (e, y, x);
+        }
+    };
+    for i in 0..200_000 {
+        let phi = -3.2 + 6.4 * i as f64 / 200_000.0;
+        let r = 10f64.powf(-30.0 + 60.0 * ((i * 7919) % 1000) as f64 / 1000.0);
+        check((r * phi.sin()) as f32, (r * phi.cos()) as f32);
+    }
+    for i in 0..300 {
+        for j in 0..300 {
+            let y = (i as f32 - 150.0) * 0.013;
+            let x = (j as f32 - 150.0) * 0.017 + 1e-4;
+            check(y, x);
+            check(y * 1e-3, x);
+            check(y, x * 1e-3);
+        }
+    }
+    // t just below and above the interval edges k/8.
+    for k in 1..=8 {
+        let t = k as f32 / 8.0;
+        for d in [-3i32, -2, -1, 0, 1, 2, 3] {
+            let tt = f32::from_bits((t.to_bits() as i32 + d) as u32);
+            for (y, x) in [(tt, 1.0), (1.0, tt), (tt, -1.0), (-1.0, -tt)] {
+                check(y, x);
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn atan2_is_within_one_and_a_half_ulp() {
+    let (e, y, x) = atan2_worst();
+    eprintln!("atan2 worst {e} ulp at ({y:e}, {x:e})");
+    assert!(e < 1.5, "atan2 worst {e} ulp at ({y:e}, {x:e})");
+}
+
+#[test]
+fn atan2_special_values() {
+    use core::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+    let inf = f32::INFINITY;
+    assert_eq!(atan2(0.0, 1.0).to_bits(), 0.0f32.to_bits());
+    assert_eq!(atan2(-0.0, 1.0).to_bits(), (-0.0f32).to_bits());
+    assert_eq!(atan2(0.0, 0.0).to_bits(), 0.0f32.to_bits());
+    assert_eq!(atan2(-0.0, 0.0).to_bits(), (-0.0f32).to_bits());
+    assert_eq!(atan2(0.0, -0.0), PI);
+    assert_eq!(atan2(-0.0, -1.0), -PI);
+    assert_eq!(atan2(1.0, 0.0), FRAC_PI_2);
+    assert_eq!(atan2(-1.0, -0.0), -FRAC_PI_2);
+    assert_eq!(atan2(1.0, 1.0), FRAC_PI_4);
+    assert_eq!(atan2(inf, inf), FRAC_PI_4);
+    assert_eq!(atan2(-inf, -inf), -3.0 * FRAC_PI_4);
+    assert_eq!(atan2(inf, -2.0), FRAC_PI_2);
+    assert_eq!(atan2(2.0, inf).to_bits(), 0.0f32.to_bits());
+    assert_eq!(atan2(-2.0, -inf), -PI);
+    assert!(atan2(f32::NAN, 1.0).is_nan() && atan2(1.0, f32::NAN).is_nan());
+    // Tiny and subnormal ratios keep their relative precision.
+    assert_eq!(atan2(1e-40, 1.0), 1e-40);
+    assert_eq!(atan2(1e-20, 1.0), 1e-20);
+    assert_eq!(atan2(1.0, -1e30), PI);
+}
+
+#[test]
+fn sqrt_split_carries_twice_the_precision() {
+    // s + c within 2⁻⁴⁶·√x (c is the residual over 2s rounded once: 2⁻⁴⁸).
+    let mut worst = 0.0f64;
+    let mut b = 0x0080_0000u32;
+    while b < 0x7F80_0000 {
+        let x = f32::from_bits(b);
+        let (s, c) = sqrt_split(x);
+        let r = (x as f64).sqrt();
+        assert_eq!(s, x.sqrt());
+        assert!(c.abs() <= (f32::from_bits(s.to_bits() + 1) - s) / 2.0, "{x}");
+        worst = worst.max(((s as f64 + c as f64) - r).abs() / r);
+        b += 997;
+    }
+    eprintln!("sqrt_split worst relative error {worst:e}");
+    assert!(worst < 2f64.powi(-46), "{worst:e}");
+    assert_eq!(sqrt_split(4.0), (2.0, 0.0));
+    assert_eq!(sqrt_split(0.0), (0.0, 0.0));
+    assert!(sqrt_split(-1.0).0.is_nan());
 }
 
 proptest! {
@@ -262,4 +406,70 @@ fn servo_track_rejects_angles_beyond_range() {
     let shape = ShapeParams { ts: 1.0f32, a: 0.5, n: 2.0 };
     let plan = MultiPlan::new(&[0.0, 0.0, 0.0], &[200.0, 0.0, 0.0], &shape).unwrap();
     assert_eq!(ServoTrack::new(&plan, &maps()), Err(touch_arm::plan::TrackError::OutOfRange));
+}
+
+// ------------------------------------------------------------ the plan path
+
+/// `Shape::smooth_stop` is `Shape::new` with a = a*, to the bit, and the
+/// monotonicity it settles on the way is the one a fresh check finds; where
+/// a* is not admissible it refuses.
+fn smooth_stop_matches_new<R: touch_arm::real::Real>(ts: R, n: R) {
+    let fast = Shape::smooth_stop(ts, n);
+    match smooth_stop_a(ts, n) {
+        Some(a) => {
+            let slow = Shape::new(&ShapeParams { ts, a, n }).unwrap();
+            let fast = fast.unwrap();
+            assert_eq!(fast, slow, "tₛ {ts:?} n {n:?}");
+            assert_eq!(fast.is_monotone(), slow.is_monotone(), "tₛ {ts:?} n {n:?}");
+            assert_eq!(fast.check_monotone(), slow.check_monotone());
+        }
+        None => assert!(
+            matches!(fast, Err(TrajError::ShapeNotAdmissible { .. })),
+            "tₛ {ts:?} n {n:?}: {fast:?}"
+        ),
+    }
+}
+
+#[test]
+fn smooth_stop_shape_is_new_with_a_star() {
+    let mut monotone = [0, 0];
+    for i in 0..=120 {
+        let ts = 0.5 + 9.5 * i as f64 / 120.0;
+        for j in 0..=40 {
+            let n = (1.1f64.ln() + (100f64.ln() - 1.1f64.ln()) * j as f64 / 40.0).exp();
+            smooth_stop_matches_new(ts, n);
+            smooth_stop_matches_new(ts as f32, n as f32);
+            if let Ok(s) = Shape::smooth_stop(ts as f32, n as f32) {
+                monotone[usize::from(s.is_monotone())] += 1;
+            }
+        }
+    }
+    // Both outcomes occur (a* is monotone iff L·(tₛ − 1) ≤ 2).
+    assert!(monotone[0] > 100 && monotone[1] > 100, "{monotone:?}");
+    assert_eq!(Shape::smooth_stop(f32::NAN, 2.0), Err(TrajError::NotFinite));
+    assert_eq!(Shape::smooth_stop(-1.0f32, 2.0), Err(TrajError::NonPositiveDuration));
+    assert_eq!(Shape::smooth_stop(2.0f32, 1.0), Err(TrajError::BaseNotAboveOne));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// The pose chain takes the shoulder direction from α (π − α left of
+    /// centre) instead of a second arctangent: the same angles as `ik2` on
+    /// the planar target to within 2 ulp of π, and the arm reaches the target.
+    #[test]
+    fn pose_reuses_alpha_and_reaches_the_target(
+        x in -1.0f32..=1.0, y in 0.0f32..=1.0, l2 in 0.6f32..1.4, l3 in 0.6f32..1.4, plus in any::<bool>()
+    ) {
+        let branch = if plus { Branch::Plus } else { Branch::Minus };
+        let geo = ArmGeometry { k: 0.9f32, links: Links::new(l2, l3).unwrap(), branch };
+        let Ok(pose) = pose_for_point(&geo, x, y) else { return Ok(()) };
+        let direct = ik2(&geo.links, pose.reach, pose.height, branch).unwrap();
+        let tol = 2.0 * 2.4e-7;
+        let d2 = (pose.q2 - direct.q2).abs();
+        prop_assert!(d2 <= tol || (d2 - 2.0 * core::f32::consts::PI).abs() <= tol, "q2 {} vs {}", pose.q2, direct.q2);
+        prop_assert_eq!(pose.q3, direct.q3);
+        let (fx, fy) = fk2(&geo.links, pose.q2, pose.q3);
+        prop_assert!((fx - pose.reach).abs() < 3e-6 && (fy - pose.height).abs() < 3e-6,
+            "fk ({fx}, {fy}) vs ({}, {})", pose.reach, pose.height);
+    }
 }

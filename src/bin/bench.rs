@@ -31,7 +31,7 @@ use touch_arm::board::usart::Usart0;
 use touch_arm::laws::Law;
 use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
 use touch_arm::pose::{pose_for_point, ArmGeometry};
-use touch_arm::ik::{Branch, Links};
+use touch_arm::ik::{ik2, Branch, Links};
 use touch_arm::real::Real;
 use touch_arm::servo::{JointCal, ServoMap};
 use touch_arm::touch_map::Calibration;
@@ -54,6 +54,7 @@ mod avr_libm {
     extern "C" {
         pub fn exp(x: f32) -> f32;
         pub fn log(x: f32) -> f32;
+        pub fn atan2(y: f32, x: f32) -> f32;
     }
 }
 
@@ -282,6 +283,60 @@ fn main() -> ! {
         },
         |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts),
     );
+    b.run(
+        "plan_generic",
+        |i| {
+            let raw_x = 150 + (i as u16) * 50;
+            let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
+            (raw_x, raw_y, spread(i, 1.5, 4.0))
+        },
+        |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts),
+    );
+
+    // The plans themselves, for the runner to compare with the host bit for
+    // bit: `P <i> <planned 0/1> <target α, q2, q3> <a*>` (f32 bit patterns).
+    for i in 0..REPS {
+        let raw_x = 150 + (i as u16) * 50;
+        let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
+        let ts = spread(i, 1.5, 4.0);
+        let (ok, t, a) = match plan_move(&cal, &geo, raw_x, raw_y, ts) {
+            Some(p) => {
+                let a = match p.law() {
+                    JointLaw::Zat(s) => s.a(),
+                    JointLaw::Classic(_) => f32::NAN,
+                };
+                (1u8, *p.target(), a)
+            }
+            None => (0, [0.0; JOINTS], 0.0),
+        };
+        let _ = uwriteln!(b.serial, "P {} {} {} {} {} {}", i, ok, t[0].to_bits(), t[1].to_bits(), t[2].to_bits(), a.to_bits());
+    }
+    // Where the plan's cycles go, step by step on the same inputs.
+    let touch = |i: usize| (150 + (i as u16) * 50, 200 + ((i as u16 * 7) % 15) * 40);
+    let mapped = |i: usize| {
+        let (rx, ry) = touch(i);
+        cal.map::<f32>(rx, ry).map_or((0.5, 0.5), |p| (p.x_p, p.y_p))
+    };
+    let shape_at = |i: usize| {
+        let ts = spread(i, 1.5, 4.0);
+        ShapeParams { ts, a: smooth_stop_a(ts, 2.0).unwrap_or(0.0), n: 2.0f32 }
+    };
+    b.run("plan_map", touch, |&(rx, ry)| cal.map::<f32>(rx, ry).ok());
+    b.run("plan_pose", mapped, |&(x, y)| pose_for_point(&geo, x, y).ok());
+    b.run("plan_ik2", mapped, |&(x, y)| ik2(&geo.links, x.abs(), y, Branch::Minus).ok());
+    b.run("plan_alpha", mapped, |&(x, y)| touch_arm::workspace::alpha(x, y).ok());
+    b.run("plan_a_star", |i| spread(i, 1.5, 4.0), |&ts| smooth_stop_a(ts, 2.0f32));
+    b.run("shape_new", shape_at, |p| Shape::new(p).ok());
+    b.run("shape_smooth_stop", |i| spread(i, 1.5, 4.0), |&ts| Shape::smooth_stop(ts, 2.0f32).ok());
+    b.run("check_monotone", |i| Shape::new(&shape_at(i)), |s| s.as_ref().map(|s| s.check_monotone().is_ok()).ok());
+    b.run("multiplan_new", |i| (shape_at(i), [0.3f32, 1.1, -1.9]), |(p, tgt)| MultiPlan::new(&START, tgt, p).ok());
+    b.run("sqrt", |i| spread(i, 0.01, 50.0), |&x| x.sqrt());
+    b.run("avrlibc_atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| {
+        // SAFETY: a pure function of two floats.
+        unsafe { avr_libm::atan2(y, x) }
+    });
+    b.run("atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| y.atan2(x));
+    b.run("acos", |i| spread(i, -0.99, 0.99), |&x| x.acos());
 
     // Via points: closed form with ζ, ζ_v; then the paper's iteration.
     let via = |i: usize| ViaParams {
@@ -298,6 +353,8 @@ fn main() -> ! {
     b.run("via_solve", via, |p| {
         ViaPlan::new(p).map(|v| (v.sv(), v.zeta(), v.zeta_v())).ok()
     });
+    b.run("via_new", via, |p| ViaPlan::new(p).ok());
+    b.run("via_zeta", via, |p| zeta(&ZatParams { q0: p.q0, sf: p.theta_v, ts: p.ts, a: p.a, n: p.n }));
     let mut iters = [0u32; REPS];
     b.run("via_paper", via, |p| iterate_paper(p, 1e-5, 200).ok());
     for (i, it) in iters.iter_mut().enumerate() {
@@ -313,9 +370,22 @@ fn main() -> ! {
     halt()
 }
 
-/// Map a touch, solve the pose, plan the move from the start pose.
+/// Map a touch, solve the pose, plan the move from the start pose: the
+/// smooth-stop shape (a = a*, `Shape::smooth_stop`, which settles
+/// monotonicity on the way) and `MultiPlan::with_law`, which checks it.
 #[inline(never)]
 fn plan_move(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f32) -> Option<MultiPlan<f32>> {
+    let p = cal.map::<f32>(rx, ry).ok()?;
+    let pose = pose_for_point(geo, p.x_p, p.y_p).ok()?;
+    let shape = Shape::smooth_stop(ts, 2.0f32).ok()?;
+    let target = [pose.alpha, pose.q2, pose.q3];
+    MultiPlan::with_law(&START, &target, &JointLaw::Zat(shape)).ok()
+}
+
+/// The same plan the generic way: `smooth_stop_a`, then `MultiPlan::new`
+/// (which builds the shape again and checks monotonicity from scratch).
+#[inline(never)]
+fn plan_move_generic(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f32) -> Option<MultiPlan<f32>> {
     let p = cal.map::<f32>(rx, ry).ok()?;
     let pose = pose_for_point(geo, p.x_p, p.y_p).ok()?;
     let n = 2.0f32;
@@ -339,6 +409,26 @@ fn accuracy_dump(b: &mut Bench) {
             let _ = uwriteln!(b.serial, "E {} {} {}", v.to_bits(), v.exp().to_bits(), v.expm1().to_bits());
         }
         x *= 0.43;
+    }
+    // ln, atan2 and the split square root, to compare bit for bit with the
+    // host: ln over 2^-30 … 2^30 in steps of 2^(1/4)·(1 + small), and near 1.
+    let mut x = 9.3e-10f32;
+    for _ in 0..125 {
+        let _ = uwriteln!(b.serial, "L {} {}", x.to_bits(), x.ln().to_bits());
+        let (s, c) = touch_arm::f32_exp::sqrt_split(x);
+        let _ = uwriteln!(b.serial, "Q {} {} {}", x.to_bits(), s.to_bits(), c.to_bits());
+        x *= 1.189_213_7;
+    }
+    for i in 0..40u16 {
+        let x = 0.96 + f32::from(i) * 0.0027;
+        let _ = uwriteln!(b.serial, "L {} {}", x.to_bits(), x.ln().to_bits());
+    }
+    // atan2 around the circle (every octant) at radii 1e-3 … 1e3.
+    for i in 0..96u16 {
+        let phi = -3.1 + f32::from(i) * 0.0653;
+        let r = [1e-3f32, 0.7, 1e3][usize::from(i % 3)];
+        let (y, x) = (r * phi.sin(), r * phi.cos());
+        let _ = uwriteln!(b.serial, "T {} {} {}", y.to_bits(), x.to_bits(), y.atan2(x).to_bits());
     }
     let tss = [0.2f32, 0.7, 1.0, 2.0, 3.5, 6.0, 10.0];
     let ns = [1.1f32, 2.0, 7.0, 30.0, 100.0];
