@@ -24,7 +24,14 @@
 
 use avr_device::atmega2560 as pac;
 use core::hint::black_box;
+use touch_arm::app::policy as app_policy;
+use touch_arm::board::adc::Adc;
 use touch_arm::board::cycles::CycleCounter;
+use touch_arm::board::shield::ShieldBus;
+use touch_arm::board::touch::TouchWiring;
+use touch_arm::plan::LawKind;
+use touch_arm::seam::TouchPanel;
+use touch_arm::touch_filter::RawSample;
 use touch_arm::board::stack;
 use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
@@ -292,6 +299,27 @@ fn main() -> ! {
         },
         |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts),
     );
+
+    // What the product firmware really runs per touch: the app's policy,
+    // which also searches tₛ so no joint exceeds its speed share.
+    let limits = app_policy::PlanLimits { speed: [0.5f32, 0.5, 0.5], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+    b.run(
+        "app_plan_move",
+        |i| app_policy::MoveRequest {
+            start: START,
+            target: [spread(i, 0.3, 2.8), spread(i, 0.4, 2.6), spread(i, -2.8, -0.4)],
+            law: LawKind::Zat,
+        },
+        |req| app_policy::plan_move(req, &limits).ok().map(|p| p.ts),
+    );
+    // One touch read: 5 samples of X, Y and the two pressure channels on the
+    // shared pins, with settle times, pins handed back after.
+    let mut bus = ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
+    let mut adc = Adc::new(dp.ADC);
+    b.run("touch_sample", |_| (), |_| {
+        let mut samples = [RawSample { x: 0, y: 0, z: 0 }; 5];
+        bus.touch(&mut adc, &TouchWiring::A).read(&mut samples)
+    });
 
     // The plans themselves, for the runner to compare with the host bit for
     // bit: `P <i> <planned 0/1> <target α, q2, q3> <a*>` (f32 bit patterns).
