@@ -39,7 +39,7 @@ use embedded_graphics::prelude::RawData;
 use embedded_graphics::primitives::{PointsIter, Rectangle};
 use embedded_graphics::Pixel;
 
-use crate::ui::draw::GlyphCell;
+use crate::ui::draw::{GlyphCell, RunPixels};
 use crate::ui::{Canvas, Run};
 
 /// Data-space addresses (ATmega2560 datasheet, register summary).
@@ -362,16 +362,7 @@ impl Bus8 for ShieldBus {
     }
 }
 
-pub mod cmd {
-    pub const SWRESET: u8 = 0x01;
-    pub const SLPOUT: u8 = 0x11;
-    pub const DISPON: u8 = 0x29;
-    pub const CASET: u8 = 0x2A;
-    pub const PASET: u8 = 0x2B;
-    pub const RAMWR: u8 = 0x2C;
-    pub const MADCTL: u8 = 0x36;
-    pub const COLMOD: u8 = 0x3A;
-}
+pub use crate::ui::ili9341 as cmd;
 
 /// Screen orientation as MADCTL values (BGR set: the shields' panels are
 /// BGR).
@@ -503,7 +494,7 @@ impl<B: Bus8> Canvas for Lcd<B> {
         };
         let whole = u32::from(x1 - x0 + 1) == area.size.width && u32::from(y1 - y0 + 1) == area.size.height;
         if !whole {
-            return self.draw_iter(area.points().zip(RunColors::new(runs)).map(|(p, c)| Pixel(p, c)));
+            return self.draw_iter(area.points().zip(RunPixels::new(runs)).map(|(p, c)| Pixel(p, c)));
         }
         self.window(x0, y0, x1, y1);
         let mut left = area.size.width * area.size.height;
@@ -538,32 +529,6 @@ impl<B: Bus8> Canvas for Lcd<B> {
         self.window(x0, y0, x1, y1);
         self.bus.glyph(&cell.rows, cell.scale, cell.gap, raw(cell.fg), raw(cell.bg));
         Ok(())
-    }
-}
-
-/// The colours of a run list, pixel by pixel (clipped fills only).
-struct RunColors<'a> {
-    runs: &'a [Run],
-    k: usize,
-    left: u16,
-}
-
-impl<'a> RunColors<'a> {
-    fn new(runs: &'a [Run]) -> Self {
-        Self { runs, k: 0, left: runs.first().map_or(0, |r| r.len) }
-    }
-}
-
-impl Iterator for RunColors<'_> {
-    type Item = Rgb565;
-
-    fn next(&mut self) -> Option<Rgb565> {
-        while self.left == 0 {
-            self.k += 1;
-            self.left = self.runs.get(self.k)?.len;
-        }
-        self.left -= 1;
-        self.runs.get(self.k).map(|r| r.color)
     }
 }
 

@@ -173,7 +173,7 @@ pub trait Canvas: DrawTarget<Color = Rgb565> {
     /// Fills `area` row by row with `runs` in order. Runs beyond the area are
     /// dropped; if they are shorter, the rest of the area is left as it was.
     fn fill_runs(&mut self, area: &Rectangle, runs: &[Run]) -> Result<(), Self::Error> {
-        self.fill_contiguous(area, RunPixels { runs, k: 0, left: runs.first().map_or(0, |r| r.len) })
+        self.fill_contiguous(area, RunPixels::new(runs))
     }
 
     /// Paints `cell` with its top-left corner at `(x, y)`, every pixel of
@@ -184,11 +184,17 @@ pub trait Canvas: DrawTarget<Color = Rgb565> {
     }
 }
 
-/// The pixels of a run list, for the default [`Canvas::fill_runs`].
-struct RunPixels<'a> {
+/// The pixels of a run list, colour by colour (for [`Canvas::fill_runs`]).
+pub struct RunPixels<'a> {
     runs: &'a [Run],
     k: usize,
     left: u16,
+}
+
+impl<'a> RunPixels<'a> {
+    pub fn new(runs: &'a [Run]) -> Self {
+        Self { runs, k: 0, left: runs.first().map_or(0, |r| r.len) }
+    }
 }
 
 impl Iterator for RunPixels<'_> {

@@ -18,6 +18,7 @@ pub mod demo;
 pub mod draw;
 pub mod flash;
 pub mod font;
+pub mod ili9341;
 pub mod layout;
 pub mod model;
 pub mod screen;
