@@ -238,13 +238,18 @@ impl<R: Real> MultiPlan<R> {
     /// Joint positions: exactly `start` for t ≤ 0 and exactly `target` from
     /// the end time on; one profile evaluation per call.
     pub fn positions(&self, t: R) -> [R; JOINTS] {
+        self.positions_with(t, self.law.g(t))
+    }
+
+    /// [`MultiPlan::positions`] from an already evaluated profile value
+    /// `g = g(t)` (the frame evaluates it once for pulses and angles).
+    pub fn positions_with(&self, t: R, g: R) -> [R; JOINTS] {
         if t >= self.duration() {
             return self.target;
         }
         if t <= R::ZERO {
             return self.start;
         }
-        let g = self.law.g(t);
         let mut out = self.start;
         for (o, d) in out.iter_mut().zip(self.delta.iter()) {
             *o += *d * g;

@@ -6,7 +6,7 @@ use super::text::Line;
 use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
 use crate::config_store::{self, Config, SpeedPreset, Warning};
 use crate::ik::IkError;
-use crate::plan::JOINTS;
+use crate::plan::{ServoTrack, JOINTS};
 use crate::pose::{pose_for_point, PoseError};
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
 use crate::touch_filter::{RawSample, TouchEvent, TouchPoint, MAX_SAMPLES};
@@ -192,7 +192,8 @@ impl App {
         self.check_limits(target)?;
         let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
         let planned = plan_move(&req, &self.plan_limits())?;
-        self.motion = Some(Motion { plan: planned.plan, frame: 0 });
+        let track = ServoTrack::new(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;
+        self.motion = Some(Motion { track, frame: 0 });
         self.last_move = MoveInfo {
             target: *target,
             ts: planned.ts,
@@ -245,10 +246,13 @@ impl App {
                 n => Mode::Homing { frames_left: n - 1 },
             };
         }
+        self.frame_pulses = None;
         if let Some(m) = &mut self.motion {
             let t = f32::from(m.frame) * FRAME_S;
-            self.commanded = m.plan.positions(t);
-            if m.plan.is_finished(t) {
+            let f = m.track.frame(t);
+            self.commanded = m.track.plan().positions_with(t, f.g);
+            self.frame_pulses = Some(f.pulses_us);
+            if m.track.plan().is_finished(t) {
                 self.motion = None;
                 self.first_move = false;
             } else {
@@ -260,6 +264,13 @@ impl App {
     /// Every setpoint through the servo layer's clamping; a refused
     /// (non-finite) setpoint holds the previous pulse and latches STOP.
     fn write_pulses<S: ServoOutputs>(&mut self, servos: &mut S) {
+        // While moving, the track already mapped this frame's pose through
+        // the calibration, inside the same angle and pulse windows.
+        if let Some(out) = self.frame_pulses {
+            servos.set_pulses(&out);
+            self.pulses = Some(out);
+            return;
+        }
         let mut out = [0u16; JOINTS];
         let mut fault = false;
         let prev = self.pulses;

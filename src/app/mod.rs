@@ -57,7 +57,7 @@ pub mod text;
 use crate::command::SerialLine;
 use crate::config_store::{Config, SpeedPreset, Source, Warning};
 use crate::ik::{Branch, Links, LinksError};
-use crate::plan::{LawKind, MultiPlan, JOINTS};
+use crate::plan::{LawKind, ServoTrack, JOINTS};
 use crate::pose::ArmGeometry;
 use crate::servo::{ServoMap, ELBOW_BRANCH};
 use crate::touch_filter::{FilterConfig, FilterConfigError, TouchFilter};
@@ -269,7 +269,9 @@ enum Mode {
 /// A running move: the plan and the frames since it started.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Motion {
-    plan: MultiPlan<f32>,
+    /// The plan with its pulse lines: one profile evaluation per frame gives
+    /// the pulses and the commanded angles.
+    track: ServoTrack,
     frame: u16,
 }
 
@@ -305,6 +307,8 @@ pub struct App {
     first_move: bool,
     commanded: [f32; JOINTS],
     pulses: Option<[u16; JOINTS]>,
+    /// This frame's pulses from the moving track (None when holding).
+    frame_pulses: Option<[u16; JOINTS]>,
     motion: Option<Motion>,
     last_move: MoveInfo,
     last_refusal: Option<Refusal>,
@@ -346,6 +350,7 @@ impl App {
             first_move: true,
             commanded: params.home,
             pulses: None,
+            frame_pulses: None,
             motion: None,
             last_move: MoveInfo {
                 target: params.home,
@@ -386,7 +391,7 @@ impl App {
     pub fn status(&self) -> Status {
         let progress = match &self.motion {
             Some(m) => {
-                let ts = m.plan.duration();
+                let ts = m.track.plan().duration();
                 let done = f32::from(m.frame) * FRAME_S;
                 if ts > 0.0 {
                     ((done / ts).clamp(0.0, 1.0) * 100.0) as u8
