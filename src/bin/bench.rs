@@ -49,7 +49,7 @@ use ufmt::uwriteln;
 /// Runs per routine (odd, so the median is one of them).
 const REPS: usize = 15;
 
-/// The demo move of the main firmware (radians): a realistic frame load.
+/// A typical move (radians, elbow-up branch): a realistic frame load.
 const START: [f32; JOINTS] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
 const TARGET: [f32; JOINTS] = [0.785_398_2, 0.2, -2.2];
 const TS: f32 = 2.0;
