@@ -46,6 +46,14 @@ use touch_arm::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
 use ufmt::uwriteln;
 
+/// The i-th plan input: a raw touch spread over the panel and a duration
+/// (shared by the plan rows and the bit-for-bit plan dump the runner checks).
+fn plan_input(i: usize) -> (u16, u16, f32) {
+    let raw_x = 150 + (i as u16) * 50;
+    let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
+    (raw_x, raw_y, spread(i, 1.5, 4.0))
+}
+
 /// Runs per routine (odd, so the median is one of them).
 const REPS: usize = 15;
 
@@ -283,20 +291,12 @@ fn main() -> ! {
     let cal = Calibration::DEFAULT;
     b.run(
         "plan",
-        |i| {
-            let raw_x = 150 + (i as u16) * 50;
-            let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
-            (raw_x, raw_y, spread(i, 1.5, 4.0))
-        },
+        plan_input,
         |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts),
     );
     b.run(
         "plan_generic",
-        |i| {
-            let raw_x = 150 + (i as u16) * 50;
-            let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
-            (raw_x, raw_y, spread(i, 1.5, 4.0))
-        },
+        plan_input,
         |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts),
     );
 
@@ -324,9 +324,7 @@ fn main() -> ! {
     // The plans themselves, for the runner to compare with the host bit for
     // bit: `P <i> <planned 0/1> <target α, q2, q3> <a*>` (f32 bit patterns).
     for i in 0..REPS {
-        let raw_x = 150 + (i as u16) * 50;
-        let raw_y = 200 + ((i as u16 * 7) % 15) * 40;
-        let ts = spread(i, 1.5, 4.0);
+        let (raw_x, raw_y, ts) = plan_input(i);
         let (ok, t, a) = match plan_move(&cal, &geo, raw_x, raw_y, ts) {
             Some(p) => {
                 let a = match p.law() {
