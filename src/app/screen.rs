@@ -132,11 +132,6 @@ impl App {
         }
     }
 
-    /// Whether the app drives a screen (see `AppParams::screen`).
-    pub fn has_screen(&self) -> bool {
-        self.params.screen
-    }
-
     /// Draws what changed since the last call (everything the first time, and
     /// after the calibration screen). Call between frames: drawing holds the
     /// shared pins, so it must not overlap a touch read.

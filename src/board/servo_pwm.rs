@@ -108,11 +108,6 @@ impl ServoPwm {
             false
         }
     }
-
-    /// Ticks elapsed in the current period (0..=TOP).
-    pub fn counter(&self) -> u16 {
-        avr_device::interrupt::free(|_| self.tc5.tcnt5().read().bits())
-    }
 }
 
 /// A limit window must lie inside one period and be ordered; anything else is

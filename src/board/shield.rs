@@ -139,12 +139,6 @@ impl ShieldBus {
     pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: &'a TouchWiring) -> TouchReader<'a> {
         TouchReader::new(self, adc, wiring)
     }
-
-    /// The current state of the 13 LCD pins in `RESTORE_ORDER` (for
-    /// self-tests: it must be identical before and after a touch read).
-    pub fn pin_modes(&self) -> [PinMode; 13] {
-        snapshot()
-    }
 }
 
 fn snapshot() -> [PinMode; 13] {

@@ -103,16 +103,6 @@ impl TouchWiring {
         }
     }
 
-    /// Preset by index: 0 = (a), 1 = (b), 2 = (c).
-    pub const fn preset(index: u8) -> Option<TouchWiring> {
-        match index {
-            0 => Some(TouchWiring::A),
-            1 => Some(TouchWiring::B),
-            2 => Some(TouchWiring::C),
-            _ => None,
-        }
-    }
-
     pub const fn xp(&self) -> Pin {
         self.xp
     }
