@@ -642,60 +642,17 @@ mod servo {
 mod config {
     use super::*;
     use touch_arm::command::{CalSet, JointField, TouchField};
+    use hal_sim::twin::devices::SimEeprom;
     use touch_arm::config_store::*;
     use touch_arm::crc::*;
     use touch_arm::plan::LawKind;
     use touch_arm::touch_map::Calibration;
     use touch_arm::servo::{Joint, JointCal, JointCalError};
 
-    /// In-memory EEPROM (erased = 0xFF) that can lose power after a number of
-    /// written bytes: the byte being written at the cut gets `torn`, and every
-    /// later write is lost.
-    struct Eeprom {
-        mem: Vec<u8>,
-        budget: Option<usize>,
-        torn: u8,
-        dead: bool,
-    }
-
-    impl Eeprom {
-        fn new() -> Self {
-            Eeprom { mem: vec![0xFF; EEPROM_SIZE as usize], budget: None, torn: 0xFF, dead: false }
-        }
-        fn slot(&mut self, addr: u16) -> &mut [u8] {
-            &mut self.mem[addr as usize..addr as usize + RECORD_LEN]
-        }
-    }
-
-    impl Storage for Eeprom {
-        fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-            let a = addr as usize;
-            let src = self.mem.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?;
-            buf.copy_from_slice(src);
-            Ok(())
-        }
-        fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-            let a = addr as usize;
-            if a + data.len() > self.mem.len() {
-                return Err(StorageError::OutOfRange);
-            }
-            for (i, &b) in data.iter().enumerate() {
-                if self.dead {
-                    return Ok(());
-                }
-                match self.budget {
-                    Some(0) => {
-                        self.mem[a + i] = self.torn;
-                        self.dead = true;
-                        return Ok(());
-                    }
-                    Some(ref mut n) => *n -= 1,
-                    None => {}
-                }
-                self.mem[a + i] = b;
-            }
-            Ok(())
-        }
+    /// The simulator's EEPROM (erased = 0xFF, power loss after a number of
+    /// written bytes), seen one record at a time.
+    fn record(e: &mut SimEeprom, addr: u16) -> &mut [u8] {
+        &mut e.mem[addr as usize..addr as usize + RECORD_LEN]
     }
 
     fn sample_config() -> Config {
@@ -871,7 +828,7 @@ mod config {
 
     #[test]
     fn blank_eeprom_gives_defaults_and_missing() {
-        let mut e = Eeprom::new();
+        let mut e = SimEeprom::new();
         let l = load(&mut e);
         assert_eq!(l.config, Config::DEFAULT);
         assert_eq!(l.source, Source::Defaults);
@@ -880,14 +837,14 @@ mod config {
 
     #[test]
     fn save_then_load_and_sequence() {
-        let mut e = Eeprom::new();
+        let mut e = SimEeprom::new();
         let c = sample_config();
         assert_eq!(save(&mut e, &c), Ok(1));
         let l = load(&mut e);
         assert_eq!((l.config, l.seq, l.warning), (c, 1, None));
         // Both copies hold the record.
-        assert_eq!(e.slot(SLOT_A_ADDR), &c.encode(1)[..]);
-        assert_eq!(e.slot(SLOT_B_ADDR), &c.encode(1)[..]);
+        assert_eq!(record(&mut e, SLOT_A_ADDR), &c.encode(1)[..]);
+        assert_eq!(record(&mut e, SLOT_B_ADDR), &c.encode(1)[..]);
         assert_eq!(save(&mut e, &Config::DEFAULT), Ok(2));
         assert_eq!(load(&mut e).config, Config::DEFAULT);
         // Nothing outside the two slots is touched.
@@ -900,9 +857,9 @@ mod config {
         let c = sample_config();
         for slot in [SLOT_A_ADDR, SLOT_B_ADDR] {
             for i in 0..RECORD_LEN {
-                let mut e = Eeprom::new();
+                let mut e = SimEeprom::new();
                 save(&mut e, &c).unwrap();
-                e.slot(slot)[i] ^= 0x10;
+                record(&mut e, slot)[i] ^= 0x10;
                 let l = load(&mut e);
                 assert_eq!(l.config, c, "slot {slot} byte {i}");
                 assert_eq!(l.warning, Some(Warning::CopyDamaged));
@@ -918,22 +875,22 @@ mod config {
     #[test]
     fn both_corrupt_gives_defaults_and_warning() {
         let c = sample_config();
-        let mut e = Eeprom::new();
+        let mut e = SimEeprom::new();
         save(&mut e, &c).unwrap();
-        e.slot(SLOT_A_ADDR)[40] ^= 1;
-        e.slot(SLOT_B_ADDR)[7] ^= 0x80;
+        record(&mut e, SLOT_A_ADDR)[40] ^= 1;
+        record(&mut e, SLOT_B_ADDR)[7] ^= 0x80;
         let l = load(&mut e);
         assert_eq!((l.config, l.source, l.warning), (Config::DEFAULT, Source::Defaults, Some(Warning::Corrupt)));
         // One copy from another layout version, the other never written.
-        let mut e = Eeprom::new();
+        let mut e = SimEeprom::new();
         let mut r = c.encode(3);
         r[2] = VERSION + 1;
-        e.slot(SLOT_A_ADDR).copy_from_slice(&r);
+        record(&mut e, SLOT_A_ADDR).copy_from_slice(&r);
         let l = load(&mut e);
         assert_eq!((l.config, l.warning), (Config::DEFAULT, Some(Warning::VersionMismatch)));
         // Version mismatch outranks corruption in the report.
-        e.slot(SLOT_B_ADDR).copy_from_slice(&c.encode(3));
-        e.slot(SLOT_B_ADDR)[50] ^= 4;
+        record(&mut e, SLOT_B_ADDR).copy_from_slice(&c.encode(3));
+        record(&mut e, SLOT_B_ADDR)[50] ^= 4;
         assert_eq!(load(&mut e).warning, Some(Warning::VersionMismatch));
         // A storage that cannot be read reports corruption, not a panic.
         struct Dead;
@@ -954,15 +911,15 @@ mod config {
     fn newest_copy_wins_with_wraparound() {
         let a = Config::DEFAULT;
         let b = sample_config();
-        let mut e = Eeprom::new();
-        e.slot(SLOT_A_ADDR).copy_from_slice(&a.encode(0xFFFF));
-        e.slot(SLOT_B_ADDR).copy_from_slice(&b.encode(0x0000));
+        let mut e = SimEeprom::new();
+        record(&mut e, SLOT_A_ADDR).copy_from_slice(&a.encode(0xFFFF));
+        record(&mut e, SLOT_B_ADDR).copy_from_slice(&b.encode(0x0000));
         let l = load(&mut e);
         assert_eq!((l.config, l.source, l.seq), (b, Source::SlotB, 0));
-        e.slot(SLOT_B_ADDR).copy_from_slice(&b.encode(0xFFFE));
+        record(&mut e, SLOT_B_ADDR).copy_from_slice(&b.encode(0xFFFE));
         assert_eq!(load(&mut e).config, a);
         // Saving past the wrap keeps counting.
-        e.slot(SLOT_B_ADDR).copy_from_slice(&b.encode(0xFFFF));
+        record(&mut e, SLOT_B_ADDR).copy_from_slice(&b.encode(0xFFFF));
         assert_eq!(save(&mut e, &b), Ok(0));
         assert_eq!(load(&mut e).seq, 0);
         assert!(seq_newer(1, 0) && seq_newer(0, 0xFFFF) && !seq_newer(5, 5) && !seq_newer(0xFFFF, 0));
@@ -970,7 +927,7 @@ mod config {
 
     #[test]
     fn invalid_config_is_not_saved() {
-        let mut e = Eeprom::new();
+        let mut e = SimEeprom::new();
         let mut c = Config::DEFAULT;
         c.touch.x_min = 2000;
         c.touch.x_max = 3000;
@@ -999,13 +956,11 @@ mod config {
     }
 
     /// Power lost after `cut` bytes of a save; the byte at the cut is torn.
-    fn interrupted_save(e: &mut Eeprom, c: &Config, cut: usize, torn: u8) {
-        e.budget = Some(cut);
-        e.torn = torn;
+    fn interrupted_save(e: &mut SimEeprom, c: &Config, cut: usize, torn: u8) {
+        e.power_loss_after(cut);
+        e.torn_value = torn;
         let _ = save(e, c);
-        // Power back on.
-        e.budget = None;
-        e.dead = false;
+        e.restore_power();
     }
 
     #[test]
@@ -1015,13 +970,13 @@ mod config {
         for prior_saves in 1..=3u16 {
             for torn in [0x00u8, 0xFF, 0xA5] {
                 for cut in 0..=2 * RECORD_LEN {
-                    let mut e = Eeprom::new();
+                    let mut e = SimEeprom::new();
                     for _ in 0..prior_saves {
                         save(&mut e, &old).unwrap();
                     }
                     interrupted_save(&mut e, &new, cut, torn);
                     let new_record = new.encode(prior_saves + 1);
-                    let complete = e.slot(SLOT_A_ADDR) == &new_record[..] || e.slot(SLOT_B_ADDR) == &new_record[..];
+                    let complete = record(&mut e, SLOT_A_ADDR) == &new_record[..] || record(&mut e, SLOT_B_ADDR) == &new_record[..];
                     let l = load(&mut e);
                     assert_ne!(l.source, Source::Defaults, "cut {cut}");
                     if cut >= RECORD_LEN {
@@ -1053,9 +1008,9 @@ mod config {
         for newest_slot in [SLOT_A_ADDR, SLOT_B_ADDR] {
             let older_slot = SLOT_A_ADDR + SLOT_B_ADDR - newest_slot;
             for cut in 0..=2 * RECORD_LEN {
-                let mut e = Eeprom::new();
-                e.slot(newest_slot).copy_from_slice(&newest.encode(9));
-                e.slot(older_slot).copy_from_slice(&older.encode(8));
+                let mut e = SimEeprom::new();
+                record(&mut e, newest_slot).copy_from_slice(&newest.encode(9));
+                record(&mut e, older_slot).copy_from_slice(&older.encode(8));
                 assert_eq!(load(&mut e).config, newest);
                 interrupted_save(&mut e, &new, cut, 0x5A);
                 let l = load(&mut e);
@@ -1074,7 +1029,7 @@ mod config {
         /// config is either the one before or the one being saved.
         #[test]
         fn repeated_power_loss(steps in prop::collection::vec((any_config(), prop::option::of(0usize..2 * RECORD_LEN), any::<u8>()), 1..8)) {
-            let mut e = Eeprom::new();
+            let mut e = SimEeprom::new();
             let mut current = load(&mut e).config;
             for (c, cut, torn) in steps {
                 match cut {
