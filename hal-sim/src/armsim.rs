@@ -88,27 +88,15 @@ pub struct TrajArgs {
 #[derive(Args, Debug, Clone)]
 #[command(allow_negative_numbers = true)]
 pub struct ViaCore {
-    /// Start value q0
-    #[arg(long)]
-    pub q0: f64,
+    /// The main segment q0 → S_f over tₛ (its shape a and base n).
+    #[command(flatten)]
+    pub main: ZatArgs,
     /// Desired value θ_v at the via time
     #[arg(long)]
     pub via: f64,
-    /// End value S_f
-    #[arg(long)]
-    pub sf: f64,
     /// Via time t_v, 0 < t_v < tₛ [s]
     #[arg(long)]
     pub tv: f64,
-    /// Duration tₛ [s]
-    #[arg(long)]
-    pub ts: f64,
-    /// Shape a of the main segment
-    #[arg(long)]
-    pub a: f64,
-    /// Base n of the main segment
-    #[arg(long)]
-    pub n: f64,
     /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v)
     #[arg(long)]
     pub av: f64,
@@ -493,13 +481,14 @@ fn zat_plan(a: &ZatArgs) -> Result<ZatPlan<f64>, String> {
 }
 
 fn via_params(a: &ViaCore) -> ViaParams<f64> {
-    ViaParams { q0: a.q0, theta_v: a.via, sf: a.sf, tv: a.tv, ts: a.ts, a: a.a, n: a.n, av: a.av, nv: a.nv }
+    let m = &a.main;
+    ViaParams { q0: m.q0, theta_v: a.via, sf: m.sf, tv: a.tv, ts: m.ts, a: m.a, n: m.n, av: a.av, nv: a.nv }
 }
 
 fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
     // Name the segment whose parameters are wrong before the combined check.
     Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv }).map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
-    Shape::new(&ShapeParams { ts: a.ts, a: a.a, n: a.n }).map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
+    Shape::new(&ShapeParams { ts: a.main.ts, a: a.main.a, n: a.main.n }).map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
     ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
 }
 
@@ -557,7 +546,7 @@ fn cmd_traj(a: &TrajArgs) -> Result<String, String> {
 fn cmd_via(a: &ViaArgs) -> Result<String, String> {
     let plan = via_plan(&a.p)?;
     if a.times.t.is_some() || a.times.samples.is_some() {
-        let ts = times(&a.times, 0.0, a.p.ts)?;
+        let ts = times(&a.times, 0.0, a.p.main.ts)?;
         return Ok(csv("t,s,v,acc,jerk", &ts, |t| sample_row(plan.sample(t))));
     }
     let r = plan.r();
@@ -622,9 +611,9 @@ fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
         }
         PlotWhat::Via(p) => {
             let plan = via_plan(&p.p)?;
-            let t = plot_times(&p.out, 0.0, p.p.ts)?;
+            let t = plot_times(&p.out, 0.0, p.p.main.ts)?;
             let s = t.iter().map(|&t| plan.sample(t)).collect();
-            let title = format!("via point: q0={} theta_v={} at tv={} -> Sf={} (S_v*={:.6})", p.p.q0, p.p.via, p.p.tv, p.p.sf, plan.sv());
+            let title = format!("via point: q0={} theta_v={} at tv={} -> Sf={} (S_v*={:.6})", p.p.main.q0, p.p.via, p.p.tv, p.p.main.sf, plan.sv());
             (title, &p.out, t, s)
         }
         PlotWhat::Law(p) => {
