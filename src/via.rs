@@ -27,6 +27,24 @@ pub struct ViaParams<R> {
     pub nv: R,
 }
 
+impl<R: Real> ViaParams<R> {
+    /// Every parameter finite. Out of line: the plan then reads each
+    /// parameter where it is used instead of holding all nine from the
+    /// start (spilled on the AVR).
+    #[inline(never)]
+    fn finite(&self) -> bool {
+        self.q0.is_finite()
+            && self.theta_v.is_finite()
+            && self.sf.is_finite()
+            && self.tv.is_finite()
+            && self.ts.is_finite()
+            && self.a.is_finite()
+            && self.n.is_finite()
+            && self.av.is_finite()
+            && self.nv.is_finite()
+    }
+}
+
 /// The a_v that makes velocity continuous at t_v (Gv′(t_v⁻) = 0):
 /// a_v = t_v − log_{n_v} t_v, `None` when not admissible.
 #[inline]
@@ -73,16 +91,7 @@ pub fn via_condition<R: Real>(q0: R, sv: R, sf: R) -> ViaCondition {
 /// in place (a copy is a library call on the AVR).
 #[inline(always)]
 fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R>> {
-    let finite = p.q0.is_finite()
-        && p.theta_v.is_finite()
-        && p.sf.is_finite()
-        && p.tv.is_finite()
-        && p.ts.is_finite()
-        && p.a.is_finite()
-        && p.n.is_finite()
-        && p.av.is_finite()
-        && p.nv.is_finite();
-    if !finite {
+    if !p.finite() {
         return Err(TrajError::NotFinite);
     }
     let g = Shape::from_finite(
