@@ -137,7 +137,7 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
 /// (u_min, δ) = (2s − 1, (2√tₛ − 1) − a) for tₛ ≥ 1 from √tₛ ≈ s + c:
 /// 2s − 1 is exact (s ≥ 1) and equals [`u_min`]'s, and where δ is small
 /// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
-#[inline]
+#[inline(always)]
 fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
     let um = R::TWO * s - R::ONE;
     (um, (um - a) + (c + c))
@@ -234,7 +234,7 @@ fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
 /// (E, 1/(1 + Q_s)) for L·(tₛ − a) = `l·ts_a`, with E = expm1(L·(tₛ − a))
 /// = 1/Q_s and 1/(1 + Q_s) = E/(1 + E) = 1 − n^(a − tₛ): one division, no
 /// cancellation for a near tₛ either.
-#[inline]
+#[inline(always)]
 fn end_e<R: Real>(l: R, ts_a: R) -> (R, R) {
     let e = (l * ts_a).expm1();
     // E = ∞ (L·(tₛ − a) > 88 in f32): Q_s = 0 and 1 − n^(a − tₛ) = 1.
