@@ -221,7 +221,9 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
 #[inline]
 fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
     let prod = d * one_minus;
-    // prod ≥ 0 (d > 0, 1 − n^(a − tₛ) ∈ (0, 1]), so `lt` applies.
+    // prod ≥ 0 (d > 0, 1 − n^(a − tₛ) ∈ [0, 1]), so `lt` applies; only
+    // d = ∞ in `zeta` can make it NaN, which the finiteness test catches
+    // either way.
     let ln_sum = if !lt(prod, R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
     let z = -ln_sum / l;
     if z.is_finite() {
@@ -306,7 +308,8 @@ struct Inner<R> {
 
 impl<R: Real> Shape<R> {
     /// Validates (tₛ > 0, n > 1, all finite, a < u_min) and precomputes:
-    /// one square root, one logarithm, one expm1 and one division.
+    /// one square root, one logarithm (none for n = 2 on f32), one expm1
+    /// and one division.
     pub fn new(p: &ShapeParams<R>) -> Result<Self, TrajError<R>> {
         if !(p.ts.is_finite() && p.a.is_finite() && p.n.is_finite()) {
             return Err(TrajError::NotFinite);
