@@ -287,8 +287,10 @@ pub fn expm1(x: f32) -> f32 {
             return f32::INFINITY;
         }
         let mut e = k;
-        // 2^k·2^f − 1 = (mm − 2^(31 − k))·2^(k − 31); beyond k = 31 the 1 is lost.
-        let one = shl(1, u32::from(31u16.saturating_sub(k as u16)));
+        // 2^k·2^f − 1 = (mm − 2^(31 − k))·2^(k − 31); beyond k = 31 the 1 is
+        // lost. 2^(31 − k) as 2³¹ >> k: k is small for the usual arguments,
+        // so the shift loop is short (31 − k steps cost up to ~350 cycles).
+        let one = shr(1 << 31, u32::from((k as u16).min(31)));
         let mut d = if k <= 31 { mm - one } else { mm };
         // d ≥ 2³⁰ (k ≥ 1): at most one normalizing shift.
         if d < (1 << 31) {
@@ -542,7 +544,11 @@ pub fn sqrt_split(x: f32) -> (f32, f32) {
     if !(0..32).contains(&d) {
         return (s, 0.0);
     }
-    let r = shl(mx, d as u32).wrapping_sub(mul_full(ms, ms).1) as i32;
+    // d is 21…24 for normal x: a constant shift by 20, then at most four
+    // one-bit steps (the 23-step loop of a plain variable shift cost ~280
+    // cycles).
+    let mxd = if d >= 20 { shl(mx << 20, d as u32 - 20) } else { shl(mx, d as u32) };
+    let r = mxd.wrapping_sub(mul_full(ms, ms).1) as i32;
     // c = R·2^(2es − 300)/(2s) = R/(ms·2^(151 − es)); the divisor is a float
     // with ms's mantissa and exponent 174 − es (normal: es ∈ [64, 190]).
     let den = f32::from_bits((((301 - es) as u32) << 23) | (ms & MANT_MASK));

@@ -5,7 +5,7 @@
 
 use crate::f32_exp::mul_hi;
 use crate::laws::{Law, LawParams, LawPlan};
-use crate::motion::{all_finite, Sample, TrajError};
+use crate::motion::{Sample, TrajError};
 use crate::real::Real;
 use crate::servo::ServoMap;
 use crate::zat::{Shape, ShapeParams};
@@ -198,18 +198,23 @@ impl<R: Real> MultiPlan<R> {
         target: &[R; JOINTS],
         law: &JointLaw<R>,
     ) -> Result<Self, TrajError<R>> {
-        all_finite(start)?;
-        all_finite(target)?;
-        law.check_monotone()?;
-        let mut delta = [R::ZERO; JOINTS];
-        for ((d, s), e) in delta.iter_mut().zip(start.iter()).zip(target.iter()) {
-            *d = *e - *s;
+        // Joint values as scalars, so the plan is written where the caller
+        // wants it instead of being assembled and copied.
+        let [s0, s1, s2] = *start;
+        let [e0, e1, e2] = *target;
+        let finite = |v: [R; JOINTS]| v.iter().all(|x| x.is_finite());
+        if !(finite([s0, s1, s2]) && finite([e0, e1, e2])) {
+            return Err(TrajError::NotFinite);
         }
-        all_finite(&delta)?;
+        law.check_monotone()?;
+        let delta = [e0 - s0, e1 - s1, e2 - s2];
+        if !finite(delta) {
+            return Err(TrajError::NotFinite);
+        }
         Ok(MultiPlan {
             law: *law,
-            start: *start,
-            target: *target,
+            start: [s0, s1, s2],
+            target: [e0, e1, e2],
             delta,
         })
     }

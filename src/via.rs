@@ -8,7 +8,7 @@
 
 use crate::motion::{all_finite, Sample, TrajError};
 use crate::real::Real;
-use crate::zat::{smooth_stop_a, Shape, ShapeParams};
+use crate::zat::{gt0, lt, same, smooth_stop_a, Shape, ShapeParams};
 
 /// A via-point move q0 → (θ_v at t_v) → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,6 +25,24 @@ pub struct ViaParams<R> {
     /// Shape and base of the via segment Gv.
     pub av: R,
     pub nv: R,
+}
+
+impl<R: Real> ViaParams<R> {
+    /// Every parameter finite. Out of line: the plan then reads each
+    /// parameter where it is used instead of holding all nine from the
+    /// start (spilled on the AVR).
+    #[inline(never)]
+    fn finite(&self) -> bool {
+        self.q0.is_finite()
+            && self.theta_v.is_finite()
+            && self.sf.is_finite()
+            && self.tv.is_finite()
+            && self.ts.is_finite()
+            && self.a.is_finite()
+            && self.n.is_finite()
+            && self.av.is_finite()
+            && self.nv.is_finite()
+    }
 }
 
 /// The a_v that makes velocity continuous at t_v (Gv′(t_v⁻) = 0):
@@ -73,20 +91,31 @@ pub fn via_condition<R: Real>(q0: R, sv: R, sf: R) -> ViaCondition {
 /// in place (a copy is a library call on the AVR).
 #[inline(always)]
 fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R>> {
-    all_finite(&[p.q0, p.theta_v, p.sf, p.tv, p.ts, p.a, p.n, p.av, p.nv])?;
-    let g = Shape::new(&ShapeParams {
-        ts: p.ts,
-        a: p.a,
-        n: p.n,
-    })?;
-    if !(p.tv > R::ZERO && p.tv < p.ts) {
+    if !p.finite() {
+        return Err(TrajError::NotFinite);
+    }
+    let g = Shape::from_finite(
+        &ShapeParams {
+            ts: p.ts,
+            a: p.a,
+            n: p.n,
+        },
+        None,
+    )?;
+    // tₛ > 0 now (G is built), so `lt` applies.
+    if !(gt0(p.tv) && lt(p.tv, p.ts)) {
         return Err(TrajError::ViaTimeOutOfRange);
     }
-    let gv = Shape::new(&ShapeParams {
-        ts: p.tv,
-        a: p.av,
-        n: p.nv,
-    })?;
+    // One logarithm when both segments share the base.
+    let lv = if g.has_base(p.nv) { Some(g.ln_n()) } else { None };
+    let gv = Shape::from_finite(
+        &ShapeParams {
+            ts: p.tv,
+            a: p.av,
+            n: p.nv,
+        },
+        lv,
+    )?;
     Ok((gv, g))
 }
 
@@ -107,11 +136,11 @@ impl<R: Real> ViaPlan<R> {
     /// `ViaDiverges { r }` when r = 1 (no solution).
     pub fn new(p: &ViaParams<R>) -> Result<Self, TrajError<R>> {
         let (gv, g) = shapes(p)?;
-        let r = g.g(p.tv);
+        let r = g.g_inline(p.tv);
         if !r.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        if r == R::ONE {
+        if same(r, R::ONE) {
             return Err(TrajError::ViaDiverges { r });
         }
         let sv = (p.theta_v - r * p.sf) / (R::ONE - r);

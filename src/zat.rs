@@ -36,6 +36,60 @@ pub struct ShapeParams<R> {
     pub n: R,
 }
 
+/// ln 2 as `f32_exp::ln(2.0)` gives it, to the bit (tested): the app's base.
+const LN_2_F32: f32 = core::f32::consts::LN_2;
+
+/// Whether `R` is the chip's f32 (decided at compile time; the other `Real`
+/// is f64).
+#[inline(always)]
+fn is_f32<R: Real>() -> bool {
+    R::EPSILON.to_f64() > 1e-10
+}
+
+/// `x < y` for x, y not NaN with x > 0 or y > 0. On f32 a signed compare of
+/// the bit patterns (with one side positive, floats order like them), where
+/// the float comparison is a library call on the AVR.
+#[inline(always)]
+pub(crate) fn lt<R: Real>(x: R, y: R) -> bool {
+    if is_f32::<R>() {
+        (x.to_f32().to_bits() as i32) < (y.to_f32().to_bits() as i32)
+    } else {
+        x < y
+    }
+}
+
+/// `x > 0` (false for −0 and NaN), from the bits on f32 as in [`lt`].
+#[inline(always)]
+pub(crate) fn gt0<R: Real>(x: R) -> bool {
+    if is_f32::<R>() {
+        let b = x.to_f32().to_bits() as i32;
+        b > 0 && b <= 0x7F80_0000
+    } else {
+        x > R::ZERO
+    }
+}
+
+/// `x == y` for x, y not NaN and not both zero: the bits on f32.
+#[inline(always)]
+pub(crate) fn same<R: Real>(x: R, y: R) -> bool {
+    if is_f32::<R>() {
+        x.to_f32().to_bits() == y.to_f32().to_bits()
+    } else {
+        x == y
+    }
+}
+
+/// L = ln n; for n = 2 on f32 (the app's base) a constant instead of a
+/// logarithm, the same value to the bit.
+#[inline(always)]
+fn ln_base<R: Real>(n: R) -> R {
+    if is_f32::<R>() && n.to_f32().to_bits() == 2.0f32.to_bits() {
+        R::from_f32(LN_2_F32)
+    } else {
+        n.ln()
+    }
+}
+
 /// Minimum of u(t) = t + tₛ/t − 1 over (0, tₛ]: the bound a must stay below.
 #[inline]
 pub fn u_min<R: Real>(ts: R) -> R {
@@ -83,7 +137,7 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
 /// (u_min, δ) = (2s − 1, (2√tₛ − 1) − a) for tₛ ≥ 1 from √tₛ ≈ s + c:
 /// 2s − 1 is exact (s ≥ 1) and equals [`u_min`]'s, and where δ is small
 /// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
-#[inline]
+#[inline(always)]
 fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
     let um = R::TWO * s - R::ONE;
     (um, (um - a) + (c + c))
@@ -105,17 +159,17 @@ pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
 /// `None` when it is not admissible (tₛ ≤ 1, or ln n ≥ ln tₛ/(√tₛ − 1)²).
 pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
-    if !(ts.is_finite() && n.is_finite()) || ts <= R::ONE || n <= R::ONE {
+    if !(ts.is_finite() && n.is_finite()) || !lt(R::ONE, ts) || !lt(R::ONE, n) {
         return None;
     }
-    let a = ts - ts.ln() / n.ln();
+    let a = ts - ts.ln() / ln_base(n);
     if !a.is_finite() {
         return None;
     }
     // The same tests as Shape::new, so every a returned here is accepted there.
     let (s, c) = sqrt_split(ts);
     let (um, delta) = long_bounds(s, c, a);
-    if a < um && delta > R::ZERO {
+    if lt(a, um) && gt0(delta) {
         Some(a)
     } else {
         None
@@ -155,7 +209,7 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
     if d == R::ZERO {
         return None;
     }
-    let l = p.n.ln();
+    let l = ln_base(p.n);
     zeta_from(l, end_e(l, p.ts - p.a).1, d)
 }
 
@@ -167,7 +221,10 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
 #[inline]
 fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
     let prod = d * one_minus;
-    let ln_sum = if prod >= R::EPSILON && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
+    // prod ≥ 0 (d > 0, 1 − n^(a − tₛ) ∈ [0, 1]), so `lt` applies; only
+    // d = ∞ in `zeta` can make it NaN, which the finiteness test catches
+    // either way.
+    let ln_sum = if !lt(prod, R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
     let z = -ln_sum / l;
     if z.is_finite() {
         Some(z)
@@ -179,7 +236,7 @@ fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
 /// (E, 1/(1 + Q_s)) for L·(tₛ − a) = `l·ts_a`, with E = expm1(L·(tₛ − a))
 /// = 1/Q_s and 1/(1 + Q_s) = E/(1 + E) = 1 − n^(a − tₛ): one division, no
 /// cancellation for a near tₛ either.
-#[inline]
+#[inline(always)]
 fn end_e<R: Real>(l: R, ts_a: R) -> (R, R) {
     let e = (l * ts_a).expm1();
     // E = ∞ (L·(tₛ − a) > 88 in f32): Q_s = 0 and 1 − n^(a − tₛ) = 1.
@@ -251,11 +308,30 @@ struct Inner<R> {
 
 impl<R: Real> Shape<R> {
     /// Validates (tₛ > 0, n > 1, all finite, a < u_min) and precomputes:
-    /// one square root, one logarithm, one expm1 and one division.
+    /// one square root, one logarithm (none for n = 2 on f32), one expm1
+    /// and one division.
     pub fn new(p: &ShapeParams<R>) -> Result<Self, TrajError<R>> {
-        all_finite(&[p.ts, p.a, p.n])?;
-        Self::check_basics(p.ts, p.n)?;
-        Self::build(p, p.n.ln())
+        if !(p.ts.is_finite() && p.a.is_finite() && p.n.is_finite()) {
+            return Err(TrajError::NotFinite);
+        }
+        Self::from_finite(p, None)
+    }
+
+    /// [`Shape::new`] for parameters already known to be finite, built in
+    /// the caller (no copy of the result); `l` = ln n when the caller has it.
+    #[inline(always)]
+    pub(crate) fn from_finite(p: &ShapeParams<R>, l: Option<R>) -> Result<Self, TrajError<R>> {
+        if !gt0(p.ts) {
+            return Err(TrajError::NonPositiveDuration);
+        }
+        if !lt(R::ONE, p.n) {
+            return Err(TrajError::BaseNotAboveOne);
+        }
+        let l = match l {
+            Some(l) => l,
+            None => ln_base(p.n),
+        };
+        Self::build(p, l, Mono::Unknown)
     }
 
     /// The smooth-stop shape: a = a* = tₛ − log_n tₛ ([`smooth_stop_a`]),
@@ -266,42 +342,64 @@ impl<R: Real> Shape<R> {
     /// `ShapeNotAdmissible`.
     pub fn smooth_stop(ts: R, n: R) -> Result<Self, TrajError<R>> {
         Self::check_basics(ts, n)?;
-        let (ln_ts, l) = (ts.ln(), n.ln());
+        let (ln_ts, l) = (ts.ln(), ln_base(n));
         let a = ts - ln_ts / l;
         if !a.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        let mut s = Self::build(&ShapeParams { ts, a, n }, l)?;
-        s.mono = match s.margin_with(ln_ts) {
+        let p = ShapeParams { ts, a, n };
+        // Where min φ is φ(tₛ) (L·(tₛ − 1) ≤ 2), a* makes φ(tₛ) = 0 exactly;
+        // computed, |φ(tₛ)| ≤ 2ε·L·(tₛ + |a|) (three roundings of ln tₛ/L, one
+        // of a, one of L·(tₛ − a)), an eighth of `margin_tol`: monotone,
+        // as `monotone_margin` finds, without forming it.
+        if !lt(R::TWO, l * (ts - R::ONE)) {
+            return Self::build(&p, l, Mono::Yes);
+        }
+        let s = Self::build(&p, l, Mono::Unknown)?;
+        let mono = match s.margin_with(ln_ts) {
             Some(m) if m < R::ZERO && m < -s.margin_tol() => Mono::No,
             _ => Mono::Yes,
         };
-        Ok(s)
+        Ok(Shape { mono, ..s })
     }
 
+    /// ts, n finite, ts > 0, n > 1 (in that order of refusal).
+    #[inline(always)]
     fn check_basics(ts: R, n: R) -> Result<(), TrajError<R>> {
-        all_finite(&[ts, n])?;
-        if ts <= R::ZERO {
+        if !(ts.is_finite() && n.is_finite()) {
+            return Err(TrajError::NotFinite);
+        }
+        if !gt0(ts) {
             return Err(TrajError::NonPositiveDuration);
         }
-        if n <= R::ONE {
+        if !lt(R::ONE, n) {
             return Err(TrajError::BaseNotAboveOne);
         }
         Ok(())
     }
 
+    /// Whether this shape's base is `n` (then ln n = [`Shape::ln_n`]).
+    #[inline(always)]
+    pub(crate) fn has_base(&self, n: R) -> bool {
+        same(self.n, n)
+    }
+
     /// Admissibility and the per-plan constants, given L = ln n. Inlined so
     /// the shape is built in place (a copy is a library call on the AVR).
+    ///
+    /// Comparisons go through [`lt`]/[`gt0`]: every operand here is finite
+    /// or ±∞ (inputs finite), never NaN, and one side of each is positive.
     #[inline(always)]
-    fn build(p: &ShapeParams<R>, l: R) -> Result<Self, TrajError<R>> {
-        let long = p.ts >= R::ONE;
+    fn build(p: &ShapeParams<R>, l: R, mono: Mono) -> Result<Self, TrajError<R>> {
+        let long = !lt(p.ts, R::ONE);
         let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
         let (um, delta) = if long {
             long_bounds(sqrt_ts, sqrt_corr, p.a)
         } else {
             (p.ts, p.ts - p.a)
         };
-        if !(p.a < um && delta > R::ZERO) {
+        // u_min > 0 (tₛ > 0).
+        if !(lt(p.a, um) && gt0(delta)) {
             return Err(TrajError::ShapeNotAdmissible { a: p.a, u_min: um });
         }
         let l_delta = l * delta;
@@ -311,8 +409,10 @@ impl<R: Real> Shape<R> {
         // on the pole. expm1 returns its argument below ε, and only there can
         // 1/· overflow, so the test needs no expm1; E ≥ L·δ (tₛ − a ≥ δ), so
         // both are fine once L·δ ≥ ε. (L > 0 follows from n > 1.)
-        let on_pole = !(l_delta >= R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
-        if on_pole || all_finite(&[l, l_delta, inv_ps, sqrt_ts, sqrt_corr]).is_err() {
+        let on_pole = lt(l_delta, R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
+        // L = ln n and √tₛ (both parts) are finite for finite n > 1, tₛ > 0,
+        // and 1 − n^(a − tₛ) lies in [0, 1]; only L·δ can overflow.
+        if on_pole || !l_delta.is_finite() {
             return Err(TrajError::NotFinite);
         }
         Ok(Shape {
@@ -326,7 +426,7 @@ impl<R: Real> Shape<R> {
             long,
             e_s,
             inv_ps,
-            mono: Mono::Unknown,
+            mono,
         })
     }
 
@@ -370,7 +470,7 @@ impl<R: Real> Shape<R> {
     /// logarithm and a division (`zeta` also forms L and 1 − n^(a − tₛ)).
     pub fn zeta(&self, d: R) -> Option<R> {
         let d = d.abs();
-        if !(d > R::ZERO) || !d.is_finite() {
+        if !gt0(d) || !d.is_finite() {
             return None;
         }
         zeta_from(self.l, self.inv_ps, d)
@@ -403,14 +503,15 @@ impl<R: Real> Shape<R> {
     /// G and its ingredients for 0 < t < tₛ; `None` where G is below 1e-34
     /// (taken as 0). The per-frame path: one division for 1/t, one for q,
     /// one `exp`, one `expm1` and six multiplications.
-    #[inline]
+    #[inline(always)]
     fn inner(&self, t: R) -> Option<Inner<R>> {
         let inv_t = t.recip();
         let l_it = self.l * inv_t;
         // L·(tₛ/t − 1) as (tₛ − t)·L/t: tₛ − t is exact near the end, where
         // forming tₛ/t first would cost up to L/2 ulp of G.
         let y = (self.ts - t) * l_it;
-        if y > R::lit(EARLY_OUT) {
+        // y > 0 here (0 < t < tₛ), not NaN.
+        if lt(R::lit(EARLY_OUT), y) {
             return None;
         }
         let d = self.d(t);
@@ -435,9 +536,15 @@ impl<R: Real> Shape<R> {
     /// G(t): 0 for t ≤ 0, 1 (exactly) for t ≥ tₛ. The cheap per-frame path.
     #[inline]
     pub fn g(&self, t: R) -> R {
-        if !(t > R::ZERO) {
+        self.g_inline(t)
+    }
+
+    /// [`Shape::g`], inlined where the shape is still in registers.
+    #[inline(always)]
+    pub(crate) fn g_inline(&self, t: R) -> R {
+        if !gt0(t) {
             R::ZERO
-        } else if t >= self.ts {
+        } else if !lt(t, self.ts) {
             R::ONE
         } else {
             match self.inner(t) {
@@ -450,11 +557,12 @@ impl<R: Real> Shape<R> {
     /// G and G′ together (three multiplications and two subtractions more
     /// than [`Shape::g`]). At t = tₛ G′ is the left limit; beyond tₛ it is 0.
     pub fn g_rate(&self, t: R) -> (R, R) {
-        if !(t > R::ZERO) {
+        if !gt0(t) {
             return (R::ZERO, R::ZERO);
         }
-        let i = if t >= self.ts {
-            if t > self.ts {
+        // t > 0 and tₛ > 0: `lt` applies.
+        let i = if !lt(t, self.ts) {
+            if lt(self.ts, t) {
                 return (R::ONE, R::ZERO);
             }
             self.end()

@@ -457,6 +457,90 @@ proptest! {
     }
 }
 
+/// Edge values for the f32 checks: signed zeros, subnormals, 1 ± ulp, the
+/// extremes, ±∞ and NaN.
+const F32_EDGES: [f32; 20] = [
+    0.0, -0.0, 1e-45, -1e-45, 1e-39, 0.5, 0.999_999_94, 1.0, 1.000_000_1, 2.0, 3.0, 10.0, -2.0, 1e30,
+    -1e30, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY, f32::NAN,
+];
+
+/// `Shape::new`'s refusals written with plain float comparisons, in its order.
+fn shape_refusal_ref(ts: f32, a: f32, n: f32) -> Result<(), TrajError<f32>> {
+    if !(ts.is_finite() && a.is_finite() && n.is_finite()) {
+        return Err(TrajError::NotFinite);
+    }
+    if !(ts > 0.0) {
+        return Err(TrajError::NonPositiveDuration);
+    }
+    if !(n > 1.0) {
+        return Err(TrajError::BaseNotAboveOne);
+    }
+    let um = u_min(ts);
+    let delta = pole_margin(ts, a);
+    if !(a < um && delta > 0.0) {
+        return Err(TrajError::ShapeNotAdmissible { a, u_min: um });
+    }
+    let l = touch_arm::f32_exp::ln(n);
+    let l_delta = l * delta;
+    let e_s = touch_arm::f32_exp::expm1(l * (ts - a));
+    let on_pole = !(l_delta >= f32::EPSILON) && !((1.0 / l_delta).is_finite() && (1.0 / e_s).is_finite());
+    if on_pole || !l_delta.is_finite() {
+        return Err(TrajError::NotFinite);
+    }
+    Ok(())
+}
+
+/// On f32 the shape's checks compare bit patterns (a float comparison is a
+/// library call on the AVR): the same refusals, in the same order, as float
+/// comparisons give, over edge values and around the u_min boundary.
+#[test]
+fn f32_shape_checks_match_float_comparisons() {
+    let mut checked = [0usize; 2];
+    for &ts in F32_EDGES.iter() {
+        let um = if ts.is_finite() && ts > 0.0 { u_min(ts) } else { 1.0 };
+        let up = |x: f32| f32::from_bits(x.to_bits().wrapping_add(1));
+        let down = |x: f32| f32::from_bits(x.to_bits().wrapping_sub(1));
+        let mut avals = F32_EDGES.to_vec();
+        avals.extend([um, up(um), down(um), down(down(um)), um - 0.01, ts, down(ts)]);
+        for &a in avals.iter() {
+            for &n in F32_EDGES.iter().chain([1.1f32, 7.0, 100.0].iter()) {
+                let got = Shape::<f32>::new(&ShapeParams { ts, a, n });
+                let want = shape_refusal_ref(ts, a, n);
+                assert_eq!(got.as_ref().err(), want.as_ref().err(), "tₛ {ts:e} a {a:e} n {n:e}");
+                checked[usize::from(got.is_ok())] += 1;
+            }
+        }
+    }
+    assert!(checked[0] > 1000 && checked[1] > 100, "{checked:?}");
+    // G at the edges of time: 0 for t ≤ 0 and NaN, 1 from tₛ on.
+    let s = Shape::<f32>::new(&ShapeParams { ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
+    for t in [0.0, -0.0, -1.0, f32::NEG_INFINITY, f32::NAN, 1e-45] {
+        assert_eq!(s.g(t), 0.0, "{t:e}");
+        assert_eq!(s.g_rate(t), (0.0, 0.0), "{t:e}");
+    }
+    for t in [3.0, 3.000_000_2, 1e30, f32::INFINITY] {
+        assert_eq!(s.g(t), 1.0, "{t:e}");
+        assert_eq!(s.g_rate(t).0, 1.0, "{t:e}");
+    }
+    assert_eq!(s.g_rate(3.000_000_2), (1.0, 0.0));
+    assert_eq!(s.g_rate(3.0), (1.0, s.end_rate()));
+    assert!(s.g(2.999_999_8) < 1.0 && s.g(2.999_999_8) > 0.999);
+}
+
+/// n = 2 (the app's base) skips the logarithm on f32: the constant is the
+/// chip's ln 2 to the bit, so shapes, a* and ζ are unchanged.
+#[test]
+fn f32_base_two_uses_the_chips_ln2() {
+    let ln2 = touch_arm::f32_exp::ln(2.0);
+    assert_eq!(ln2.to_bits(), core::f32::consts::LN_2.to_bits());
+    let s = Shape::<f32>::new(&ShapeParams { ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
+    assert_eq!(s.ln_n().to_bits(), ln2.to_bits());
+    let a = smooth_stop_a(3.0f32, 2.0).unwrap();
+    assert_eq!(a.to_bits(), (3.0f32 - touch_arm::f32_exp::ln(3.0) / ln2).to_bits());
+    let z = zeta(&ZatParams { q0: 0.1f32, sf: 0.9, ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
+    assert_eq!(Some(z), s.zeta(0.9f32 - 0.1));
+}
+
 // ---------------------------------------------------------------- via points
 
 fn via_params(theta_v: f64, tv: f64, av: f64) -> ViaParams<f64> {
@@ -591,6 +675,43 @@ fn via_validation_and_conditions() {
     let plan = ViaPlan::new(&via_params(0.95, 1.5, 0.5)).unwrap();
     assert!(plan.sv() > 0.95);
     assert_eq!(plan.condition().number(), 2);
+}
+
+/// The via plan's shapes are `Shape::new`'s, to the bit, whether or not the
+/// segments share a base (then ln n is taken once); on f32 the via-time
+/// check on bit patterns refuses as the float comparison does.
+#[test]
+fn via_shapes_are_shape_new_and_f32_checks_match() {
+    for nv in [3.0, 2.0] {
+        let p = ViaParams { nv, ..via_params(0.5, 1.5, 0.5) };
+        let plan = ViaPlan::new(&p).unwrap();
+        assert_eq!(*plan.via_shape(), shape64(1.5, 0.5, nv));
+        assert_eq!(*plan.main_shape(), shape64(3.0, 1.0, 2.0));
+        let p32 = ViaParams::<f32> {
+            q0: 0.1, theta_v: 0.5, sf: 0.8, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: nv as f32,
+        };
+        let plan = ViaPlan::new(&p32).unwrap();
+        let shape = |ts, a, n| Shape::<f32>::new(&ShapeParams { ts, a, n }).unwrap();
+        assert_eq!(*plan.via_shape(), shape(1.5, 0.5, nv as f32));
+        assert_eq!(plan.via_shape().ln_n().to_bits(), shape(1.5, 0.5, nv as f32).ln_n().to_bits());
+        assert_eq!(*plan.main_shape(), shape(3.0, 1.0, 2.0));
+        assert_eq!(plan.r().to_bits(), shape(3.0, 1.0, 2.0).g(1.5).to_bits());
+    }
+    let base = ViaParams::<f32> { q0: 0.1, theta_v: 0.5, sf: 0.8, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.2, nv: 3.0 };
+    let below_ts = f32::from_bits(3.0f32.to_bits() - 1);
+    for tv in [0.0, -0.0, -1.0, 3.0, 3.5, f32::MAX, f32::MIN] {
+        assert_eq!(ViaPlan::new(&ViaParams { tv, ..base }), Err(TrajError::ViaTimeOutOfRange), "{tv:e}");
+    }
+    for tv in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(ViaPlan::new(&ViaParams { tv, ..base }), Err(TrajError::NotFinite), "{tv:e}");
+    }
+    // Inside (0, tₛ): admitted as far as the via time goes (tiny t_v still
+    // has its own shape to pass).
+    assert!(ViaPlan::new(&ViaParams { tv: below_ts, av: 1.0, ..base }).is_ok());
+    assert!(matches!(
+        ViaPlan::new(&ViaParams { tv: 1e-45, ..base }),
+        Err(TrajError::ShapeNotAdmissible { .. })
+    ));
 }
 
 // ---------------------------------------------------------------- classic laws
@@ -771,6 +892,15 @@ fn multiplan_rejects_overshoot_and_bad_input() {
         MultiPlan::new(&[0.0, f64::NAN, 0.0], &target, &ShapeParams { ts: 3.0, a: 1.0, n: 2.0 }),
         Err(TrajError::NotFinite)
     );
+    // Refusal order: non-finite joints, then the profile, then a travel that
+    // overflows.
+    let bad = JointLaw::zat(&ShapeParams { ts: 3.0, a: 2.45, n: 2.0 }).unwrap();
+    let good = JointLaw::zat(&ShapeParams { ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
+    assert_eq!(MultiPlan::with_law(&start, &[1.0, f64::INFINITY, 0.0], &bad), Err(TrajError::NotFinite));
+    assert!(matches!(MultiPlan::with_law(&[-1e308; 3], &[1e308; 3], &bad), Err(TrajError::Overshoot { .. })));
+    assert_eq!(MultiPlan::with_law(&[0.0, -1e308, 0.0], &[1.0, 1e308, 0.0], &good), Err(TrajError::NotFinite));
+    let plan = MultiPlan::with_law(&start, &target, &good).unwrap();
+    assert_eq!((*plan.start(), *plan.target(), *plan.law()), (start, target, good));
     // The smooth-stop shape is monotone for tₛ = 3, n = 2 (L·(tₛ − 1) ≤ 2) and ends at rest.
     let a = smooth_stop_a(3.0, 2.0).unwrap();
     let plan = MultiPlan::new(&start, &target, &ShapeParams { ts: 3.0, a, n: 2.0 }).unwrap();
