@@ -149,9 +149,11 @@ pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<Join
     if !(x.is_finite() && y.is_finite()) {
         return Err(IkError::NotFinite);
     }
-    // atan2(−0, x < 0) is −π; +0 keeps φ in (−π, π], which `ik2_toward` needs.
-    let y = if y.is_zero() { R::ZERO } else { y };
-    ik2_toward(links, x, y, y.atan2(x), branch)
+    // atan2 gives −π for (−0, x < 0), and (rounded) for y a hair below the
+    // negative x axis: that direction is +π in (−π, π], which `ik2_toward` needs.
+    let phi = y.atan2(x);
+    let phi = if phi.le_num(-R::PI) { R::PI } else { phi };
+    ik2_toward(links, x, y, phi, branch)
 }
 
 /// [`ik2`] for finite (x, y) whose direction `phi` = atan2(y, x) ∈ (−π, π]

@@ -870,6 +870,7 @@ fn f32_links_and_point() -> impl Strategy<Value = (f32, f32, f32, f32)> {
         (-1e-4f64..1e-4),
         (-1e-4f64..1e-4).prop_map(|d| FRAC_PI_2 + d),
         (-1e-4f64..1e-4).prop_map(|d| PI - d.abs()),
+        (-1e-7f64..1e-7).prop_map(|d| -PI + d.abs()),
     ];
     (0.1f32..10.0, l3, u, th).prop_map(|(l2, l3, u, th)| {
         let l3 = l3.map_or(l2, |f| if f < 0.5 || f > 2.0 { f } else { l2 * f });
@@ -949,6 +950,14 @@ fn ik_f32_known_values_and_errors() {
         assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "−0 height, {b:?}");
         let q = ik2(&l, 0.0, -2.0, b).unwrap();
         assert_eq!((q.q2, q.q3), (-core::f32::consts::FRAC_PI_2, 0.0), "{b:?}");
+    }
+    // Stretched out just below the negative x axis: the direction rounds to
+    // −π, which is +π in (−π, π] (β = 0 leaves nothing to wrap it).
+    for b in branches() {
+        let q = ik2(&l, -2.0, -1e-30, b).unwrap();
+        assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "{b:?}");
+        let q = ik2(&unit(), -2.0, -1e-300, b).unwrap();
+        assert_eq!((q.q2, q.q3), (PI, 0.0), "{b:?}");
     }
     // Folded back: q2 stays in (−π, π] on the negative x axis.
     let q = ik2(&l, -1e-3, 0.0, Branch::Minus).unwrap();
