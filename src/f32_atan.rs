@@ -30,6 +30,7 @@ const PI_Q30: u32 = 3_373_259_426;
 /// |error| ≤ 9.1e-11. Rows [c₀, c₁, m₂, c₃] in Q0.32, c₃ as an i32 bit
 /// pattern (its sign changes near t = 1/√3); every other Horner stage keeps
 /// one sign, so the products are unsigned. In flash on the AVR, not in RAM.
+/// `scripts/atan_table.py` regenerates it and checks [`atan_mid`] bit for bit.
 #[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
 static ATAN_TABLE: [[u32; 4]; 56] = [
     [0x1FD5_BA9A, 0xFC0F_C2EC, 0x1F08_48BE, 0xB350_E229],
