@@ -46,13 +46,13 @@ pub(crate) const HIDDEN: u32 = 0x0080_0000;
 /// [`mul_full`] back into a 64-bit multiply, a ~700-cycle library call.
 #[cfg(not(target_arch = "avr"))]
 #[inline(always)]
-fn mul16(a: u16, b: u16) -> u32 {
+pub(crate) fn mul16(a: u16, b: u16) -> u32 {
     u32::from(a) * u32::from(b)
 }
 
 #[cfg(target_arch = "avr")]
 #[inline(always)]
-fn mul16(a: u16, b: u16) -> u32 {
+pub(crate) fn mul16(a: u16, b: u16) -> u32 {
     let lo: u16;
     let hi: u16;
     // SAFETY: register-only arithmetic; `mul` writes r1:r0, and r1 (the

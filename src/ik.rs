@@ -39,10 +39,13 @@ pub enum Branch {
 pub struct Links<R> {
     l2: R,
     l3: R,
-    /// l2 − l3
-    diff: R,
+    /// (l2 − l3)/l3: zero exactly when l2 = l3
+    diff_over_l3: R,
     /// l2² + l3²
     sum_sq: R,
+    /// l2² + l3² (where c = 0) kept within [r_min_sq, r_max_sq]: the radius²
+    /// that decides which of 1 ± c is the small one
+    mid_sq: R,
     /// (l2 − l3)², the inner radius squared
     r_min_sq: R,
     /// (l2 + l3)², the outer radius squared
@@ -80,17 +83,21 @@ impl<R: Real> Links<R> {
         }
         let diff = l2 - l3;
         let sum = l2 + l3;
+        let (sum_sq, r_min_sq, r_max_sq) = (l2 * l2 + l3 * l3, diff * diff, sum * sum);
+        let inv_2l2l3 = (R::TWO * l2 * l3).recip();
         let links = Self {
             l2,
             l3,
-            diff,
-            sum_sq: l2 * l2 + l3 * l3,
-            r_min_sq: diff * diff,
-            r_max_sq: sum * sum,
-            inv_2l2l3: (R::TWO * l2 * l3).recip(),
-            slack_scale: R::ZERO,
+            diff_over_l3: diff / l3,
+            sum_sq,
+            // r_min_sq ≤ r_max_sq holds after rounding too (both squares of
+            // rounded |l2 ∓ l3|), so the clamp is well defined.
+            mid_sq: sum_sq.max(r_min_sq).min(r_max_sq),
+            r_min_sq,
+            r_max_sq,
+            inv_2l2l3,
+            slack_scale: R::lit(C_SLACK_ULPS) * R::EPSILON * inv_2l2l3,
         };
-        let links = Self { slack_scale: R::lit(C_SLACK_ULPS) * R::EPSILON * links.inv_2l2l3, ..links };
         // Squares can overflow or underflow even for finite positive lengths.
         if !(links.r_max_sq.is_finite() && links.inv_2l2l3.is_finite()) {
             return Err(LinksError::NotFinite);
@@ -129,8 +136,8 @@ impl<R: Real> Links<R> {
 /// Here `1 + c = (r² − (l2 − l3)²)/(2·l2·l3)` and
 /// `1 − c = ((l2 + l3)² − r²)/(2·l2·l3)` are formed directly, the smaller one
 /// fixes the other, and `sin|q3| = √((1 + c)(1 − c))`, `|q3| = atan2(sin|q3|, c)`
-/// (= acos c), `l2 + l3·c = (l2 − l3) + l3·(1 + c)`. Near the outer rim q3 is
-/// inherently sensitive (∝ √(r_max − r)); the reached position is not.
+/// (= acos c), `(l2 + l3·c)/l3 = (1 + c) + (l2 − l3)/l3`. Near the outer rim q3
+/// is inherently sensitive (∝ √(r_max − r)); the reached position is not.
 ///
 /// Boundary: a point exactly on a boundary circle (r = l2 + l3 or |l2 − l3|)
 /// is reachable, but rounding can push its computed c a few ulps past ±1. So
@@ -142,12 +149,17 @@ pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<Join
     if !(x.is_finite() && y.is_finite()) {
         return Err(IkError::NotFinite);
     }
-    ik2_toward(links, x, y, y.atan2(x), branch)
+    // atan2 gives −π for (−0, x < 0), and (rounded) for y a hair below the
+    // negative x axis: that direction is +π in (−π, π], which `ik2_toward` needs.
+    let phi = y.atan2(x);
+    let phi = if phi.le_num(-R::PI) { R::PI } else { phi };
+    ik2_toward(links, x, y, phi, branch)
 }
 
-/// [`ik2`] for finite (x, y) whose direction `phi` = atan2(y, x) the caller
-/// already has (the pose chain derives it from the base angle α, saving an
-/// arctangent).
+/// [`ik2`] for finite (x, y) whose direction `phi` = atan2(y, x) ∈ (−π, π]
+/// the caller already has (the pose chain derives it from the base angle α,
+/// saving an arctangent).
+#[inline]
 pub(crate) fn ik2_toward<R: Real>(
     links: &Links<R>,
     x: R,
@@ -155,61 +167,73 @@ pub(crate) fn ik2_toward<R: Real>(
     phi: R,
     branch: Branch,
 ) -> Result<JointAngles2<R>, IkError<R>> {
-    let inv = links.inv_2l2l3;
-    let r_sq = x * x + y * y;
-    let one_plus_c = (r_sq - links.r_min_sq) * inv;
-    let one_minus_c = (links.r_max_sq - r_sq) * inv;
-    let slack = (r_sq + links.sum_sq) * links.slack_scale;
-    // r² overflows for huge finite x; the slack would then be infinite too.
-    if !(r_sq.is_finite() && one_plus_c >= -slack && one_minus_c >= -slack) {
-        return Err(IkError::Unreachable { c: (r_sq - links.sum_sq) * inv });
-    }
-    if x == R::ZERO && y == R::ZERO {
-        return Err(IkError::Singular);
-    }
-    // One value must drive s, l2 + l3·c and q3 alike, or a short l2 (large 1/(2·l2·l3))
-    // turns their independent rounding into a tangential miss. The smaller of 1 ± c
-    // is the accurate one (its boundary is near); the other follows from it.
-    let (one_plus_c, one_minus_c) = if one_plus_c <= one_minus_c {
-        let p = one_plus_c.max(R::ZERO);
-        (p, R::TWO - p)
+    let Elbow { s, p } = elbow(links, x, y)?;
+    let (beta, q3) = if links.diff_over_l3.is_zero() {
+        // s = 0 too: c = −1 with l2 = l3, i.e. (numerically) the shoulder.
+        if p.is_zero() {
+            return Err(IkError::Singular);
+        }
+        // With l2 = l3, β = atan2(s, 1 + c) is exactly |q3|/2 (the half-angle
+        // identity): one arctangent less, and well conditioned near c = −1.
+        let beta = s.atan2(p);
+        (beta, beta.twice())
     } else {
-        let m = one_minus_c.max(R::ZERO);
-        (R::TWO - m, m)
+        // tan β = l3·s/(l2 + l3·c) = s/(1 + c + (l2 − l3)/l3).
+        let bx = p + links.diff_over_l3;
+        if s.is_zero() && bx.is_zero() {
+            return Err(IkError::Singular);
+        }
+        // |q3| = atan2(s, c) = acos c, accurate also near c = ±1.
+        (s.atan2(bx), s.atan2(p - R::ONE))
     };
-    let c = one_plus_c - R::ONE;
-    let s = (one_plus_c * one_minus_c).sqrt();
-    let (sy, sx) = (links.l3 * s, links.diff + links.l3 * one_plus_c);
-    // Both zero only at c = −1 with l2 = l3, i.e. (numerically) the shoulder.
-    if sy == R::ZERO && sx == R::ZERO {
-        return Err(IkError::Singular);
-    }
-    // = acos(c) ∈ [0, π], accurate also near c = ±1.
-    let q3 = s.atan2(c);
-    // With l2 = l3 (the paper's arm) β = atan2(s, 1 + c) is exactly q3/2
-    // (the half-angle identity), one arctangent less and better conditioned
-    // near c = −1.
-    let beta = if links.diff == R::ZERO { q3 * R::HALF } else { sy.atan2(sx) };
-    let (q2, q3) = match branch {
-        Branch::Plus => (phi - beta, q3),
-        Branch::Minus => (phi + beta, -q3),
-    };
-    Ok(JointAngles2 {
-        q2: wrap_pi(q2),
-        q3,
+    // φ ∈ (−π, π] and β ∈ [0, π]: each branch can leave (−π, π] on one side only.
+    let two_pi = R::TWO * R::PI;
+    Ok(match branch {
+        Branch::Plus => {
+            let q2 = phi - beta;
+            JointAngles2 { q2: if q2.le_num(-R::PI) { (q2 + two_pi).barrier() } else { q2 }, q3 }
+        }
+        Branch::Minus => {
+            let q2 = phi + beta;
+            JointAngles2 { q2: if q2.le_num(R::PI) { q2 } else { (q2 - two_pi).barrier() }, q3: -q3 }
+        }
     })
 }
 
-/// Into (−π, π]; the input is within (−2π, 2π].
-fn wrap_pi<R: Real>(a: R) -> R {
-    let two_pi = R::TWO * R::PI;
-    if a > R::PI {
-        a - two_pi
-    } else if a <= -R::PI {
-        a + two_pi
-    } else {
-        a
+/// The elbow of the planar IK: `s = sin|q3|` and `p = 1 + c`.
+struct Elbow<R> {
+    s: R,
+    p: R,
+}
+
+/// Reach check and elbow of [`ik2`] for finite (x, y).
+///
+/// Of `1 + c = (r² − (l2 − l3)²)/(2·l2·l3)` and `1 − c = ((l2 + l3)² − r²)/(2·l2·l3)`
+/// only the smaller is formed (which one follows from comparing r² with
+/// `mid_sq`); the other is 2 minus it. One value then drives s, β and q3
+/// alike, or a short l2 (large 1/(2·l2·l3)) would turn independent roundings
+/// into a tangential miss; and the larger one is ≥ 0 by construction, so only
+/// the smaller needs the reach check.
+#[inline]
+fn elbow<R: Real>(links: &Links<R>, x: R, y: R) -> Result<Elbow<R>, IkError<R>> {
+    let inv = links.inv_2l2l3;
+    let r_sq = x * x + y * y;
+    let inner = r_sq.le_num(links.mid_sq);
+    let d = if inner { r_sq - links.r_min_sq } else { links.r_max_sq - r_sq };
+    let mut small = d * inv;
+    // r² overflows for huge finite x: then d = −∞, and the slack would be ∞ too.
+    if small.is_negative() {
+        let slack = (r_sq + links.sum_sq) * links.slack_scale;
+        if !(r_sq.is_finite() && small >= -slack) {
+            return Err(IkError::Unreachable { c: (r_sq - links.sum_sq) * inv });
+        }
+        small = R::ZERO;
     }
+    if x.is_zero() && y.is_zero() {
+        return Err(IkError::Singular);
+    }
+    let (p, m) = if inner { (small, R::TWO - small) } else { (R::TWO - small, small) };
+    Ok(Elbow { s: (p * m).sqrt(), p })
 }
 
 /// Planar FK: `x = l2·cos q2 + l3·cos(q2 + q3)`, `y = l2·sin q2 + l3·sin(q2 + q3)`.

@@ -41,7 +41,7 @@ pub fn pose_for_point<R: Real>(geo: &ArmGeometry<R>, x_p: R, y_p: R) -> Result<P
     let t = p.target(geo.k).map_err(PoseError::Workspace)?;
     // The IK target (k·|x_p|, k·y_p) points at atan2(y_p, |x_p|) (k > 0
     // scales both): α itself, or π − α left of centre. One arctangent less.
-    let phi = if p.x_p() < R::ZERO { R::PI - t.alpha } else { t.alpha };
+    let phi = if p.x_p().is_negative() { (R::PI - t.alpha).barrier() } else { t.alpha };
     let q = ik2_toward(&geo.links, t.reach, t.height, phi, geo.branch).map_err(PoseError::Ik)?;
     Ok(Pose { condition: t.condition, alpha: t.alpha, reach: t.reach, height: t.height, q2: q.q2, q3: q.q3 })
 }

@@ -70,6 +70,36 @@ pub trait Real:
             self
         }
     }
+    /// `self == 0` (either sign).
+    #[inline]
+    fn is_zero(self) -> bool {
+        self == Self::ZERO
+    }
+    /// `self < 0`: false for −0 and NaN.
+    #[inline]
+    fn is_negative(self) -> bool {
+        self < Self::ZERO
+    }
+    /// `2·self`, exactly (a power of two).
+    #[inline]
+    fn twice(self) -> Self {
+        self + self
+    }
+    /// `self`, opaque to the optimizer. On the AVR, LLVM takes a float
+    /// operation for one cheap instruction and runs it on both paths of an
+    /// `if` to select the result afterwards; it is a ~170-cycle library call
+    /// there. The result of a conditional operation passed through this stays
+    /// on its path.
+    #[inline(always)]
+    fn barrier(self) -> Self {
+        self
+    }
+    /// `self <= o` for operands that are not NaN (with a NaN the answer is
+    /// unspecified: callers have checked finiteness).
+    #[inline]
+    fn le_num(self, o: Self) -> bool {
+        self <= o
+    }
     #[inline]
     fn recip(self) -> Self {
         Self::ONE / self
@@ -180,6 +210,25 @@ macro_rules! f32_fn {
     }};
 }
 
+/// The bits of `v`. On the AVR the top byte passes an empty `asm!` block:
+/// LLVM otherwise recognizes sign and zero tests on a float's bits and turns
+/// them back into float comparisons, i.e. library calls.
+#[inline(always)]
+fn opaque_bits(v: f32) -> u32 {
+    let b = v.to_bits();
+    #[cfg(target_arch = "avr")]
+    {
+        let mut hi = (b >> 24) as u8;
+        // SAFETY: an empty block; `hi` stays in its register.
+        unsafe { core::arch::asm!("/* {0} */", inout(reg) hi, options(pure, nomem, nostack)) };
+        (b & 0x00FF_FFFF) | (u32::from(hi) << 24)
+    }
+    #[cfg(not(target_arch = "avr"))]
+    {
+        b
+    }
+}
+
 impl Real for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
@@ -243,6 +292,47 @@ impl Real for f32 {
     #[inline]
     fn atan2(self, x: Self) -> Self {
         crate::f32_atan::atan2(self, x)
+    }
+    // Sign, zero and order tests on the bits: a float comparison is a library
+    // call of ~100 cycles on the AVR, these are a few instructions.
+    #[inline]
+    fn is_zero(self) -> bool {
+        opaque_bits(self) << 1 == 0
+    }
+    #[inline]
+    fn is_negative(self) -> bool {
+        // Above −0 and at most −∞: the negative numbers, not the NaNs.
+        opaque_bits(self).wrapping_sub(0x8000_0001) < 0x7F80_0000
+    }
+    #[inline]
+    fn twice(self) -> Self {
+        let b = self.to_bits();
+        // Exponent field 1..=253: one more in the exponent is the exact double
+        // (zero, subnormals, the largest binade, ∞ and NaN take the add).
+        if (b & 0x7F80_0000).wrapping_sub(0x0080_0000) < 0x7E80_0000 {
+            f32::from_bits(b + 0x0080_0000)
+        } else {
+            (self + self).barrier()
+        }
+    }
+    #[inline(always)]
+    fn barrier(self) -> Self {
+        f32::from_bits(opaque_bits(self))
+    }
+    #[inline]
+    fn le_num(self, o: Self) -> bool {
+        // Sign and magnitude to two's complement: the integers are then in the
+        // order of the numbers, ±0 both 0 (NaNs land beyond ±∞).
+        fn key(v: f32) -> i32 {
+            let b = v.to_bits();
+            let m = (b & 0x7FFF_FFFF) as i32;
+            if b >> 31 != 0 {
+                -m
+            } else {
+                m
+            }
+        }
+        key(self) <= key(o)
     }
     #[inline]
     fn is_finite(self) -> bool {

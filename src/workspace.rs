@@ -50,14 +50,15 @@ impl Condition {
     /// Exact comparisons of the coordinates, never of a rounded α, so the
     /// boundary rules hold to the last bit. Requires `y ≥ 0` (a
     /// [`WorkspacePoint`] guarantees it).
+    #[inline]
     fn classify<R: Real>(x: R, y: R) -> Self {
-        if x >= y {
+        if y.le_num(x) {
             // 0..=45°, and the origin.
             Condition::C1
-        } else if x >= R::ZERO {
+        } else if !x.is_negative() {
             // (45°, 90°]
             Condition::C2
-        } else if y >= -x {
+        } else if (-x).le_num(y) {
             // (90°, 135°]
             Condition::C3
         } else {
@@ -104,7 +105,7 @@ fn to_deg<R: Real>(rad: R) -> R {
 }
 
 fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
-    if k.is_finite() && k > R::ZERO {
+    if k.is_finite() && !(k.is_negative() || k.is_zero()) {
         Ok(())
     } else {
         Err(WorkspaceError::BadScale)
@@ -112,14 +113,15 @@ fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
 }
 
 impl<R: Real> WorkspacePoint<R> {
+    #[inline]
     pub fn new(x_p: R, y_p: R) -> Result<Self, WorkspaceError> {
         if !(x_p.is_finite() && y_p.is_finite()) {
             return Err(WorkspaceError::NotFinite);
         }
-        if x_p < -R::ONE || x_p > R::ONE || y_p < R::ZERO || y_p > R::ONE {
+        if !(x_p.abs().le_num(R::ONE) && !y_p.is_negative() && y_p.le_num(R::ONE)) {
             return Err(WorkspaceError::OutOfWorkspace);
         }
-        let plus_zero = |v: R| if v == R::ZERO { R::ZERO } else { v };
+        let plus_zero = |v: R| if v.is_zero() { R::ZERO } else { v };
         Ok(Self {
             x_p: plus_zero(x_p),
             y_p: plus_zero(y_p),
@@ -136,10 +138,11 @@ impl<R: Real> WorkspacePoint<R> {
 
     /// α = atan2(y_p, x_p) ∈ [0, π]: π/2 straight up, 0 at the origin (SPEC
     /// §3; the printed atan(y/x) is off by π for x < 0).
+    #[inline]
     pub fn alpha(&self) -> R {
-        if self.y_p == R::ZERO {
+        if self.y_p.is_zero() {
             // Explicit so that no libm's atan2(0, 0) or atan2(0, −x) convention matters.
-            if self.x_p < R::ZERO {
+            if self.x_p.is_negative() {
                 R::PI
             } else {
                 R::ZERO
@@ -154,6 +157,7 @@ impl<R: Real> WorkspacePoint<R> {
         to_deg(self.alpha())
     }
 
+    #[inline]
     pub fn condition(&self) -> Condition {
         Condition::classify(self.x_p, self.y_p)
     }
@@ -187,6 +191,7 @@ impl<R: Real> WorkspacePoint<R> {
 
     /// SPEC §3 "net effect": conditions 1–2 use transform 1, 3–4 transform 2;
     /// either way the planar target is `(k·|x_p|, k·y_p)` and the base turns to α.
+    #[inline]
     pub fn target(&self, k: R) -> Result<Target<R>, WorkspaceError> {
         check_scale(k)?;
         Ok(Target {

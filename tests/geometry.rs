@@ -569,6 +569,43 @@ fn workspace_errors() {
     assert_eq!(ik_target(0.5, 1.5, 1.0), Err(OutOfWorkspace));
 }
 
+/// f32 (the chip) validates, labels and scales exactly as f64 does on the
+/// same values: the edges of the workspace, signed zeros, subnormals and
+/// non-finite values included.
+#[test]
+fn workspace_f32_agrees_with_f64() {
+    let tiny = f32::from_bits(1);
+    let mut vals = vec![0.0f32, -0.0, 1.0, -1.0, tiny, -tiny, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.5, -0.5];
+    for v in [1.0f32, -1.0, 0.5, -0.5, 0.0] {
+        vals.push(v.next_up());
+        vals.push(v.next_down());
+    }
+    for i in 0..=40 {
+        vals.push(-1.0 + i as f32 / 20.0);
+    }
+    for &x in &vals {
+        for &y in &vals {
+            let (p32, p64) = (WorkspacePoint::new(x, y), WorkspacePoint::new(x as f64, y as f64));
+            match (p32, p64) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!((a.x_p() as f64).to_bits(), b.x_p().to_bits(), "({x:e}, {y:e})");
+                    assert_eq!((a.y_p() as f64).to_bits(), b.y_p().to_bits(), "({x:e}, {y:e})");
+                    assert_eq!(a.condition(), b.condition(), "({x:e}, {y:e})");
+                    let (a32, a64) = (a.alpha() as f64, b.alpha());
+                    assert!((a32 - a64).abs() <= 1.5 * 2.4e-7 * a64.max(0.5), "({x:e}, {y:e}): {a32} vs {a64}");
+                }
+                (a, b) => assert_eq!(a.err(), b.err(), "({x:e}, {y:e})"),
+            }
+        }
+    }
+    let p = WorkspacePoint::new(-0.25f32, 0.5).unwrap();
+    for k in [0.0f32, -0.0, -1.0, -tiny, f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(p.target(k), Err(WorkspaceError::BadScale), "k = {k:e}");
+    }
+    let t = p.target(tiny).unwrap();
+    assert_eq!((t.reach, t.height), (tiny * 0.25, tiny * 0.5));
+}
+
 // ---------------------------------------------------------------------- IK
 
 fn unit() -> Links<f64> {
@@ -804,6 +841,180 @@ fn ik_f32_accurate_near_the_shoulder() {
             assert!(close(q.q3.abs() as f64, PI - fold, 5e-7), "({x}, {y}) {b:?}: {q:?}");
             let (fx, fy) = fk2(&l, q.q2, q.q3);
             assert!((fx - x).abs() <= 5e-7 && (fy - y).abs() <= 5e-7, "({x}, {y}) {b:?}: ({fx}, {fy})");
+        }
+    }
+}
+
+// ------------------------------------------------ IK in f32 against f64
+
+/// Links (equal ones often) and a point of the annulus in f32, biased to the
+/// hard places: both rims and their close neighbourhood, the shoulder side of
+/// the hole (r → 0 with l2 = l3), and the axes (x ≈ 0 or y ≈ 0, either sign).
+fn f32_links_and_point() -> impl Strategy<Value = (f32, f32, f32, f32)> {
+    let l3 = prop_oneof![Just(None), (0.1f32..10.0).prop_map(Some), (-1e-3f32..1e-3).prop_map(|d| Some(1.0 + d))];
+    let u = prop_oneof![
+        Just(0.0),
+        Just(1.0),
+        0.0f64..1e-6,
+        0.0f64..1e-3,
+        (1.0 - 1e-6)..=1.0f64,
+        (1.0 - 1e-3)..=1.0f64,
+        0.0f64..=1.0,
+    ];
+    let th = prop_oneof![
+        -PI..=PI,
+        Just(0.0),
+        Just(FRAC_PI_2),
+        Just(PI),
+        Just(-FRAC_PI_2),
+        (-1e-4f64..1e-4),
+        (-1e-4f64..1e-4).prop_map(|d| FRAC_PI_2 + d),
+        (-1e-4f64..1e-4).prop_map(|d| PI - d.abs()),
+        (-1e-7f64..1e-7).prop_map(|d| -PI + d.abs()),
+    ];
+    (0.1f32..10.0, l3, u, th).prop_map(|(l2, l3, u, th)| {
+        let l3 = l3.map_or(l2, |f| if f < 0.5 || f > 2.0 { f } else { l2 * f });
+        let (l2d, l3d) = (l2 as f64, l3 as f64);
+        let (rmin, rmax) = ((l2d - l3d).abs(), l2d + l3d);
+        let r = (rmin + u * (rmax - rmin)).max(1e-5 * rmax);
+        (l2, l3, (r * th.cos()) as f32, (r * th.sin()) as f32)
+    })
+}
+
+/// The f64 IK of (x, y) moved radially by the factor `f`, kept inside the annulus.
+fn ik64_radial(links: &Links<f64>, x: f64, y: f64, f: f64, b: Branch) -> (f64, f64) {
+    let r = x.hypot(y);
+    let to = (r * f).clamp(links.r_min(), links.r_max());
+    let q = ik2(links, x * (to / r), y * (to / r), b).unwrap();
+    (q.q2, q.q3)
+}
+
+/// |a − b| as angles (q2 wraps at ±π).
+fn angle_gap(a: f64, b: f64) -> f64 {
+    let d = (a - b).abs();
+    d.min(2.0 * PI - d)
+}
+
+/// f32 rounding of the target's radius (forming r² and the rim constants
+/// from f32 values): a few ε relative.
+const RADIAL_F32: f64 = 4.0 * f32::EPSILON as f64;
+/// What f32 adds on top: the arctangents φ and β (≤ 1.5 ulp each, of up to
+/// π) and the rounding of φ ∓ β (up to 2π) before it is wrapped: at most
+/// 3¼ ulps of π (3 seen in 2·10⁵ cases).
+const ANGLE_F32: f64 = 4.0 * 2.4e-7;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2048))]
+
+    /// The chip's f32 IK is the f64 IK of the same point to within what f32
+    /// rounding of the radius does to the angles (which near the rims is
+    /// much more than an ulp: q3 ∝ √(r_max − r) there) plus a few ulps of π,
+    /// and FK brings both angles back to the point.
+    #[test]
+    fn ik_in_f32_tracks_f64((l2, l3, x, y) in f32_links_and_point()) {
+        let links32 = Links::new(l2, l3).unwrap();
+        let links = Links::new(l2 as f64, l3 as f64).unwrap();
+        let (xd, yd) = (x as f64, y as f64);
+        for b in branches() {
+            let q = ik2(&links32, x, y, b).unwrap();
+            prop_assert!(q.q2 > -core::f32::consts::PI && q.q2 <= core::f32::consts::PI);
+            let (q2, q3) = ik64_radial(&links, xd, yd, 1.0, b);
+            let (lo2, lo3) = ik64_radial(&links, xd, yd, 1.0 - RADIAL_F32, b);
+            let (hi2, hi3) = ik64_radial(&links, xd, yd, 1.0 + RADIAL_F32, b);
+            let tol2 = angle_gap(lo2, q2).max(angle_gap(hi2, q2)) + ANGLE_F32;
+            let tol3 = (lo3 - q3).abs().max((hi3 - q3).abs()) + ANGLE_F32;
+            prop_assert!(angle_gap(q.q2 as f64, q2) <= tol2,
+                "{:?} l=({}, {}) p=({:e}, {:e}): q2 {} vs {} (tol {:e})", b, l2, l3, x, y, q.q2, q2, tol2);
+            prop_assert!((q.q3 as f64 - q3).abs() <= tol3,
+                "{:?} l=({}, {}) p=({:e}, {:e}): q3 {} vs {} (tol {:e})", b, l2, l3, x, y, q.q3, q3, tol3);
+            // The position, computed in f64 from the f32 angles.
+            let (fx, fy) = fk2(&links, q.q2 as f64, q.q3 as f64);
+            let tol = 1.5e-6 * (links.r_max());
+            prop_assert!((fx - xd).abs() <= tol && (fy - yd).abs() <= tol,
+                "{:?} l=({}, {}) p=({:e}, {:e}): fk ({:e}, {:e})", b, l2, l3, x, y, fx, fy);
+        }
+    }
+}
+
+#[test]
+fn ik_f32_known_values_and_errors() {
+    let l = Links::new(1.0f32, 1.0).unwrap();
+    let q = ik2(&l, 1.0, 1.0, Branch::Minus).unwrap();
+    assert!((q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7 && (q.q3 + core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7, "{q:?}");
+    // Straight out along either axis: both branches agree, q2 on the axis.
+    for b in branches() {
+        assert_eq!(ik2(&l, 2.0, 0.0, b).unwrap(), touch_arm::ik::JointAngles2 { q2: 0.0, q3: 0.0 });
+        let q = ik2(&l, -2.0, 0.0, b).unwrap();
+        assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "{b:?}");
+        let q = ik2(&l, -2.0, -0.0, b).unwrap();
+        assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "−0 height, {b:?}");
+        let q = ik2(&l, 0.0, -2.0, b).unwrap();
+        assert_eq!((q.q2, q.q3), (-core::f32::consts::FRAC_PI_2, 0.0), "{b:?}");
+    }
+    // Stretched out just below the negative x axis: the direction rounds to
+    // −π, which is +π in (−π, π] (β = 0 leaves nothing to wrap it).
+    for b in branches() {
+        let q = ik2(&l, -2.0, -1e-30, b).unwrap();
+        assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "{b:?}");
+        let q = ik2(&unit(), -2.0, -1e-300, b).unwrap();
+        assert_eq!((q.q2, q.q3), (PI, 0.0), "{b:?}");
+    }
+    // Folded back: q2 stays in (−π, π] on the negative x axis.
+    let q = ik2(&l, -1e-3, 0.0, Branch::Minus).unwrap();
+    assert!(q.q2 > -core::f32::consts::PI && q.q2 <= core::f32::consts::PI, "{q:?}");
+    assert_eq!(ik2(&l, 0.0, 0.0, Branch::Plus), Err(IkError::Singular));
+    assert_eq!(ik2(&l, -0.0, -0.0, Branch::Minus), Err(IkError::Singular));
+    assert_eq!(ik2(&l, f32::NAN, 0.5, Branch::Plus), Err(IkError::NotFinite));
+    assert_eq!(ik2(&l, 0.5, f32::INFINITY, Branch::Plus), Err(IkError::NotFinite));
+    assert_eq!(ik2(&l, 3.0, 0.0, Branch::Plus), Err(IkError::Unreachable { c: 3.5 }));
+    assert!(matches!(ik2(&l, 1e30, 1e30, Branch::Plus), Err(IkError::Unreachable { c }) if c == f32::INFINITY));
+    // Just outside the outer rim (by far more than the rounding slack).
+    assert!(matches!(ik2(&l, 2.0 * (1.0 + 1e-5), 0.0, Branch::Minus), Err(IkError::Unreachable { c }) if c > 1.0));
+    // Nearly equal links: the origin is within the slack of the (tiny) hole,
+    // but still the shoulder itself.
+    let l = Links::new(1.0f32, 1.0 + 1e-6).unwrap();
+    assert_eq!(ik2(&l, 0.0, 0.0, Branch::Plus), Err(IkError::Singular));
+    let l = Links::new(1.0f32, 0.5).unwrap();
+    assert!(matches!(ik2(&l, 0.0, 0.0, Branch::Plus), Err(IkError::Unreachable { c }) if c < -1.0));
+    assert!(matches!(ik2(&l, 0.0, 0.4999, Branch::Plus), Err(IkError::Unreachable { c }) if c < -1.0));
+    let q = ik2(&l, 0.0, 0.5, Branch::Minus).unwrap();
+    assert!((q.q3 + core::f32::consts::PI).abs() <= 2.4e-7 && (q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7, "{q:?}");
+}
+
+// ------------------------------------ f32 bit tests the geometry relies on
+
+/// Sign, zero and order tests and the doubling that the geometry runs on the
+/// bits of an f32 (a float comparison is a library call on the AVR) agree
+/// with the float operations, on special values and random bit patterns.
+#[test]
+fn f32_bit_tests_agree_with_float_operations() {
+    use touch_arm::real::Real;
+    let mut vals = vec![
+        0.0f32, -0.0, 1.0, -1.0, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45, f32::MAX, -f32::MAX,
+        f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, core::f32::consts::PI, -core::f32::consts::PI,
+        1.0 + f32::EPSILON, 1.0 - f32::EPSILON / 2.0, 3.4e38, 1.7e38, 8.5e37,
+    ];
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    for _ in 0..20_000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        vals.push(f32::from_bits(state as u32));
+    }
+    for &a in &vals {
+        assert_eq!(a.is_zero(), a == 0.0, "{a:e}");
+        assert_eq!(a.is_negative(), a < 0.0, "{a:e}");
+        assert_eq!(a.barrier().to_bits(), a.to_bits());
+        let t = a.twice();
+        assert!(t.to_bits() == (a + a).to_bits() || (a.is_nan() && t.is_nan()), "{a:e}: {t:e}");
+        if a.is_nan() {
+            continue;
+        }
+        for &b in vals.iter().take(40) {
+            if !b.is_nan() {
+                assert_eq!(a.le_num(b), a <= b, "{a:e} <= {b:e}");
+                assert_eq!(b.le_num(a), b <= a, "{b:e} <= {a:e}");
+            }
         }
     }
 }
