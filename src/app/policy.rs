@@ -614,6 +614,25 @@ struct ZatCandidate<R> {
 }
 
 impl<R: Real> ZatCandidate<R> {
+    /// A candidate of this shape, its peak not yet estimated.
+    fn of(z: ZatShape<R>) -> Self {
+        let ts = z.shape.ts();
+        ZatCandidate {
+            z,
+            peak: R::ZERO,
+            slope: R::ZERO,
+            hump: R::ZERO,
+            t_peak: ts,
+            next: ts,
+            bound: -R::ONE,
+            creep_next: ts,
+            over: false,
+            hump_exact: false,
+            creep_won: false,
+            exact: false,
+        }
+    }
+
     fn ts(&self) -> R {
         self.z.shape.ts()
     }
@@ -651,30 +670,9 @@ struct Search<R> {
     /// distance before √tₛ), from the previous candidate.
     off: R,
     /// A candidate's creep rose above its first hump: estimate it from now
-    /// on (before, only [`verify`] looks at it; with n = 2 it never wins
-    /// below tₛ ≈ 50 s).
+    /// on (before, only [`verify`] looks at it; with n = 2 it wins only
+    /// beyond tₛ ≈ 85 s).
     creep: bool,
-}
-
-impl<R: Real> ZatCandidate<R> {
-    /// A candidate of this shape, its peak not yet estimated.
-    fn of(z: ZatShape<R>) -> Self {
-        let ts = z.shape.ts();
-        ZatCandidate {
-            z,
-            peak: R::ZERO,
-            slope: R::ZERO,
-            hump: R::ZERO,
-            t_peak: ts,
-            next: ts,
-            bound: -R::ONE,
-            creep_next: ts,
-            over: false,
-            hump_exact: false,
-            creep_won: false,
-            exact: false,
-        }
-    }
 }
 
 /// Estimates a candidate's peak to [`PEAK_ROUGH`], enough to steer (its
@@ -718,7 +716,7 @@ fn estimate<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) {
 }
 
 /// Adds the creep after t* to a candidate's P, to `tol`, wherever
-/// [`creep_bound`] cannot rule it out (for n = 2 it can up to tₛ ≈ 50 s).
+/// [`creep_bound`] cannot rule it out (for n = 2 it can up to tₛ ≈ 37 s).
 #[inline(never)]
 fn creep<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>, tol: R) {
     let t_star = c.z.t_star;
