@@ -608,27 +608,15 @@ impl<R: Real> Shape<R> {
         if t <= R::ZERO || t > self.ts {
             return Sample::at_rest(self.g(t));
         }
-        let i = match self.at(t) {
-            Some(i) => i,
-            None => return Sample::at_rest(R::ZERO),
+        let Some(r) = self.rate_terms(t) else {
+            return Sample::at_rest(R::ZERO);
         };
-        let l = self.l;
-        let (q, p, it) = (i.q, i.p, i.inv_t);
-        let x_t = self.ts * it * it; // tₛ/t²
-        let up = R::ONE - x_t;
-        let upp = R::TWO * x_t * it;
-        let uppp = -R::lit(3.0) * upp * it;
-        let pp = -l * up * p * q;
-        let ppp = -l * (upp * p * q + up * pp * (R::TWO * p - R::ONE));
-        let h1 = self.h1(&i);
-        let h2 = -l * (upp * p + up * pp);
-        let h3 = -l * (uppp * p + R::TWO * upp * pp + up * ppp);
-        let g = i.g;
+        let (g, h1, h2) = (r.g, r.h1, r.h2);
         Sample {
             s: g,
             v: g * h1,
             acc: g * (h1 * h1 + h2),
-            jerk: g * (h1 * (h1 * h1 + R::lit(3.0) * h2) + h3),
+            jerk: g * (h1 * (h1 * h1 + R::lit(3.0) * h2) + r.h3),
         }
     }
 
@@ -733,6 +721,50 @@ impl<R: Real> Shape<R> {
             Err(TrajError::Overshoot { peak: self.peak() })
         }
     }
+
+    /// G, q and h1 = G′/G with h1′, h1″ at 0 < t ≤ tₛ (left limits at tₛ),
+    /// so G″ = G·(h1² + h1′): [`Shape::g_derivs`] and searches over G′ use
+    /// them. `None` for t ≤ 0, t > tₛ and where G is below 1e-34.
+    pub fn rate_terms(&self, t: R) -> Option<RateTerms<R>> {
+        if !(t > R::ZERO) || t > self.ts {
+            return None;
+        }
+        let i = self.at(t)?;
+        let l = self.l;
+        let (q, p, it) = (i.q, i.p, i.inv_t);
+        let x_t = self.ts * it * it; // tₛ/t²
+        let up = R::ONE - x_t;
+        let upp = R::TWO * x_t * it;
+        let uppp = -R::lit(3.0) * upp * it;
+        let pp = -l * up * p * q;
+        let ppp = -l * (upp * p * q + up * pp * (R::TWO * p - R::ONE));
+        Some(RateTerms {
+            g: i.g,
+            q,
+            h1: self.h1(&i),
+            h2: -l * (upp * p + up * pp),
+            h3: -l * (uppp * p + R::TWO * upp * pp + up * ppp),
+        })
+    }
+
+    /// Q_s = q(tₛ) = 1/expm1(L·(tₛ − a)).
+    #[inline]
+    pub fn end_q(&self) -> R {
+        self.e_s.recip()
+    }
+}
+
+/// See [`Shape::rate_terms`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RateTerms<R> {
+    pub g: R,
+    pub q: R,
+    /// G′/G.
+    pub h1: R,
+    /// h1′.
+    pub h2: R,
+    /// h1″.
+    pub h3: R,
 }
 
 /// One ζ-a-tₛ move q0 → S_f: S(t) = q0 + Δ·G(t).
