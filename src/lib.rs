@@ -21,6 +21,7 @@ pub mod f32_exp;
 pub mod ik;
 pub mod laws;
 pub mod motion;
+pub mod peak_rate;
 pub mod plan;
 pub mod pose;
 pub mod real;

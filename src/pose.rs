@@ -35,7 +35,7 @@ pub enum PoseError<R> {
     Ik(IkError<R>),
 }
 
-/// Solves the pose for a normalized screen point (x_p, y_p) ∈ [−1,1]×[0,1].
+/// Solves the pose for a normalized screen point (x_p, y_p) ∈ \[−1,1\]×\[0,1\].
 pub fn pose_for_point<R: Real>(geo: &ArmGeometry<R>, x_p: R, y_p: R) -> Result<Pose<R>, PoseError<R>> {
     let p = WorkspacePoint::new(x_p, y_p).map_err(PoseError::Workspace)?;
     let t = p.target(geo.k).map_err(PoseError::Workspace)?;

@@ -6,10 +6,10 @@ use proptest::prelude::*;
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use touch_arm::app::policy::{
-    choose_a, classic_peak_factor, monotone_limit_a, plan_move, zat_peak_rate, AKind, MoveRequest, PlanLimits,
-    Refusal, TS_SEARCH_TOL,
-};
+use touch_arm::app::policy::{plan_move, MoveRequest, PlanLimits, Refusal};
+use touch_arm::app::shape_choice::{choose_a, monotone_limit_a, AKind};
+use touch_arm::app::duration::TS_SEARCH_TOL;
+use touch_arm::peak_rate::{classic_peak_factor, zat_peak_rate};
 use touch_arm::app::text::{centideg, Line};
 use touch_arm::app::{App, AppParams, Io, State};
 use touch_arm::config_store::{Storage, StorageError, EEPROM_SIZE};

@@ -47,10 +47,12 @@
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
 
+pub mod duration;
 mod machine;
 mod screen;
 pub mod policy;
 mod serial;
+pub mod shape_choice;
 mod telemetry;
 pub mod text;
 
@@ -63,7 +65,8 @@ use crate::servo::{ServoMap, ELBOW_BRANCH};
 use crate::touch_filter::{FilterConfig, FilterConfigError, TouchFilter};
 use crate::workspace::Condition;
 
-pub use policy::{AChoice, AKind, MoveRequest, PlanLimits, PlannedMove, Refusal};
+pub use policy::{MoveRequest, PlanLimits, PlannedMove, Refusal};
+pub use shape_choice::{AChoice, AKind};
 
 /// One frame = one servo PWM period.
 pub const FRAME_MS: u32 = 20;
