@@ -404,7 +404,7 @@ pub(crate) fn flash_u32(p: &u32) -> u32 {
 /// |S(r)| for r = ±ρ (ρ = |r| ≤ 1/16 in Q0.32), Q0.32: S's coefficients
 /// alternate in sign, so for r < 0 every term adds and for r > 0 every
 /// bracket stays positive; either way only unsigned products.
-#[inline]
+#[inline(always)]
 fn ln_s(rho: u32, neg: bool) -> u32 {
     if neg {
         let t = T2 + mul_hi_approx(T3, rho);
@@ -457,71 +457,151 @@ pub fn ln(x: f32) -> f32 {
         }
         (be, m) = normalize_subnormal(m);
     }
-    let mut e = be - 127;
+    let e = be - 127;
     let k = (m >> 19) as usize;
-    // r in Q0.32 as a magnitude and a sign, and −ln C in Q0.32.
-    let (rho, neg, ln_c) = if k == 0 {
-        (m << 9, false, 0)
+    // r in Q0.32 as a magnitude and a sign; −ln C = 0 here. Each path ends
+    // in a call, so `ln` itself holds nothing across one.
+    if k == 0 {
+        let rho = m << 9;
+        if e == 0 {
+            return ln_near_one(rho, false);
+        }
+        ln_sum(e, 0, rho, false)
     } else if k == 15 {
-        e += 1;
-        ((HIDDEN << 1).wrapping_sub(m | HIDDEN) << 8, true, 0)
+        // m/2 with e + 1: r = m/2 − 1 < 0.
+        let rho = (HIDDEN << 1).wrapping_sub(m | HIDDEN) << 8;
+        if e == -1 {
+            return ln_near_one(rho, true);
+        }
+        ln_sum(e + 1, 0, rho, true)
     } else {
-        let (c, lc) = match LN_TABLE.get(k - 1) {
-            Some(row) => (flash_u32(&row[0]), flash_u32(&row[1])),
-            None => return f32::NAN,
-        };
-        // m·C in Q1.63; r = m·C − 1 in Q0.32 from bits 31 + 32 down.
-        let (hi, lo) = mul_full((m | HIDDEN) << 8, c);
-        let r = (hi.wrapping_sub(1 << 31) << 1) | (lo >> 31);
-        let neg = r >> 31 != 0;
-        (if neg { r.wrapping_neg() } else { r }, neg, lc)
-    };
-    let s = ln_s(rho, neg);
-    if e == 0 && ln_c == 0 {
-        if rho == 0 {
-            return 0.0;
-        }
-        // ln(1 + r) = r·P, P = 1 − r·|S| in Q1.31 (P ∈ [0.97, 1.02]).
-        let rs = mul_hi(rho, s) >> 1;
-        let p = if neg { (1u32 << 31) + rs } else { (1u32 << 31) - rs };
-        let lz = rho.leading_zeros();
-        // r·P = h·2^(−31 − lz) with h ∈ [0.48, 1.02)·2³¹.
-        let mut h = mul_hi(shl(rho, lz), p);
-        let mut sh = lz;
-        while h < 1 << 31 {
-            h <<= 1;
-            sh += 1;
-        }
-        return pack(if neg { 1 << 31 } else { 0 }, 127 - sh, round_mant(h));
+        ln_table(e, m, k)
     }
-    ln_sum(e, ln_c, rho, neg, s)
+}
+
+/// [`ln`] for mantissas 1 + k/16 + … with k = 1..14: r = m·C − 1 from the
+/// table's C, then the sum. The product and the sum in one frame.
+#[inline(never)]
+fn ln_table(e: i16, m: u32, k: usize) -> f32 {
+    let (c, ln_c) = match LN_TABLE.get(k.wrapping_sub(1)) {
+        Some(row) => (flash_u32(&row[0]), flash_u32(&row[1])),
+        None => return f32::NAN,
+    };
+    // m·C in Q1.63; r = m·C − 1 in Q0.32 from bits 31 + 32 down.
+    let (hi, lo) = mul_full((m | HIDDEN) << 8, c);
+    let r = (hi.wrapping_sub(1 << 31) << 1) | (lo >> 31);
+    let neg = r >> 31 != 0;
+    ln_sum_core(e, ln_c, if neg { r.wrapping_neg() } else { r }, neg)
+}
+
+/// ln(1 + r) for r = ±ρ exact (x ∈ [0.96875, 1.0625)), with relative
+/// precision.
+#[inline(never)]
+fn ln_near_one(rho: u32, neg: bool) -> f32 {
+    if rho == 0 {
+        return 0.0;
+    }
+    let s = ln_s(rho, neg);
+    // ln(1 + r) = r·P, P = 1 − r·|S| in Q1.31 (P ∈ [0.97, 1.02]).
+    let rs = mul_hi(rho, s) >> 1;
+    let p = if neg { (1u32 << 31) + rs } else { (1u32 << 31) - rs };
+    let lz = rho.leading_zeros();
+    // r·P = h·2^(−31 − lz) with h ∈ [0.48, 1.02)·2³¹.
+    let mut h = mul_hi(shl(rho, lz), p);
+    let mut sh = lz;
+    while h < 1 << 31 {
+        h <<= 1;
+        sh += 1;
+    }
+    pack(if neg { 1 << 31 } else { 0 }, 127 - sh, round_mant(h))
+}
+
+/// [`ln_sum_core`] for k = 0 and 15 (−ln C = 0). Out of line, like
+/// [`ln_table`]: with the sum inlined into [`ln`], LLVM's AVR backend
+/// produced wrong results (seen with nightly-2026-05-20; as code of its own
+/// it is right, and bench_elf checks the chip against the host).
+#[inline(never)]
+fn ln_sum(e: i16, ln_c: u32, rho: u32, neg: bool) -> f32 {
+    ln_sum_core(e, ln_c, rho, neg)
 }
 
 /// e·ln 2 − ln C + r − r²·|S| (r = ±ρ) in Q.32 fixed point (|sum| < 2⁴⁰),
-/// rounded to f32; |result| > 0.03 here. Out of line: inlined into [`ln`],
-/// LLVM's AVR backend produced wrong results (seen with nightly-2026-05-20;
-/// the same code as its own function is right, and host and chip agree).
-#[inline(never)]
-fn ln_sum(e: i16, ln_c: u32, rho: u32, neg: bool, s: u32) -> f32 {
-    // |e| ≤ 128: two hardware products.
+/// rounded to f32; |result| > 0.03 here.
+#[inline(always)]
+fn ln_sum_core(e: i16, ln_c: u32, rho: u32, neg: bool) -> f32 {
+    let s = ln_s(rho, neg);
+    // |e| ≤ 149: two hardware products.
     let ea = e.unsigned_abs();
-    let e_ln2 = ((u64::from(mul16(ea, (LN2_Q32 >> 16) as u16)) << 16) + u64::from(mul16(ea, LN2_Q32 as u16))) as i64;
-    let r2s = i64::from(mul_hi_approx(mul_hi_approx(rho, rho), s));
-    let r_part = if neg { -i64::from(rho) - r2s } else { i64::from(rho) - r2s };
-    let sum = (if e < 0 { -e_ln2 } else { e_ln2 }) + i64::from(ln_c) + r_part;
-    let sign = if sum < 0 { 1u32 << 31 } else { 0 };
-    let mag = sum.unsigned_abs();
-    if mag >> 15 == 0 {
-        // Unreachable (|ln x| > 0.03 here); keeps the shifts below in range.
+    let e_ln2 = (u64::from(mul16(ea, (LN2_Q32 >> 16) as u16)) << 16) + u64::from(mul16(ea, LN2_Q32 as u16));
+    let r2s = mul_hi_approx(mul_hi_approx(rho, rho), s);
+    // −ln C ± ρ − r²·|S| as a sum and a difference of magnitudes (each
+    // < 2³²: −ln C < 0.65, ρ ≤ 1/16), so no signed 64-bit work.
+    let (plus, minus) = if neg { (ln_c, rho + r2s) } else { (ln_c + rho, r2s) };
+    // The sum has the sign of ln x, which is e's: e < 0 means x < 1, and
+    // e ≥ 0 here means x > 1.06 (e = 0 with C = 1 took the other path);
+    // |ln x| > 0.03 dwarfs the sum's error. So the magnitude is formed
+    // directly, |e|·ln 2 plus one part minus the other, with no sign test
+    // or negation on 64 bits.
+    let (sign, add, sub) = if e < 0 { (1u32 << 31, minus, plus) } else { (0, plus, minus) };
+    let mag = e_ln2 + u64::from(add) - u64::from(sub);
+    // Normalize the 40-bit mag: its top 32 bits and the byte below them,
+    // shifted left until bit 31 is set; the exponent counts down from 134
+    // (lz = 0: mag ≥ 2³⁹). |ln x| > 0.03 puts mag ≥ 2²⁷, so where the top
+    // byte is zero the next one is ≥ 8 and a byte move leaves at most 4
+    // one-bit steps; otherwise at most 7.
+    let (top, low, be) = if mag >> 32 == 0 { (mag as u32, 0, 126) } else { ((mag >> 8) as u32, mag as u8, 134) };
+    if top == 0 {
+        // Unreachable (mag ≥ 2²⁷); keeps the normalization finite.
         return 0.0;
     }
-    // Normalize the 40-bit mag from w = mag >> 8 (byte moves); |ln x| > 0.03
-    // puts mag ≥ 2²⁷, so w ≥ 2¹⁹ and lz ≤ 12.
-    let lo = mag as u32;
-    let w = (((mag >> 32) as u32) << 24) | (lo >> 8);
-    let lz = w.leading_zeros();
-    let top = shl(w, lz) | (shl(lo & 0xFF, lz) >> 8);
-    pack(sign, 134 - lz, round_mant(top))
+    let (top, be) = normalize(top, low, be);
+    pack(sign, u32::from(be), round_mant(top))
+}
+
+/// Shifts the 40-bit `top:low` left until bit 31 of `top` is set, one bit
+/// per step, decrementing `be` per step; `top` ≠ 0. On the AVR a five-byte
+/// rotate loop (8 cycles a step): LLVM's code for the same loop in Rust
+/// took 20.
+#[inline(always)]
+fn normalize(top: u32, low: u8, be: u8) -> (u32, u8) {
+    #[cfg(target_arch = "avr")]
+    {
+        let (mut hi, mut lo, mut low, mut be) = ((top >> 16) as u16, top as u16, low, be);
+        // SAFETY: register-only arithmetic on the operands; terminates as
+        // top ≠ 0.
+        unsafe {
+            core::arch::asm!(
+                "tst {hi:h}",
+                "brmi 2f",
+                "1:",
+                "dec {be}",
+                "lsl {low}",
+                "rol {lo:l}",
+                "rol {lo:h}",
+                "rol {hi:l}",
+                "rol {hi:h}",
+                "brpl 1b",
+                "2:",
+                hi = inout(reg_pair) hi,
+                lo = inout(reg_pair) lo,
+                low = inout(reg) low,
+                be = inout(reg) be,
+                options(pure, nomem, nostack),
+            );
+        }
+        let _ = low;
+        ((u32::from(hi) << 16) | u32::from(lo), be)
+    }
+    #[cfg(not(target_arch = "avr"))]
+    {
+        let (mut top, mut low, mut be) = (top, low, be);
+        while top < 1 << 31 {
+            top = (top << 1) | u32::from(low >> 7);
+            low <<= 1;
+            be -= 1;
+        }
+        (top, be)
+    }
 }
 
 // ------------------------------------------------------------- sqrt split
