@@ -111,7 +111,7 @@ pub fn mul_hi(a: u32, b: u32) -> u32 {
 /// already truncates.
 #[cfg(not(target_arch = "avr"))]
 #[inline]
-pub(crate) fn mul_hi_approx(a: u32, b: u32) -> u32 {
+pub fn mul_hi_approx(a: u32, b: u32) -> u32 {
     let (a1, a0) = ((a >> 16) as u16, a as u16);
     let (b1, b0) = ((b >> 16) as u16, b as u16);
     let lh = mul16(a0, b1);
@@ -127,7 +127,7 @@ pub(crate) fn mul_hi_approx(a: u32, b: u32) -> u32 {
 /// between them took ~80).
 #[cfg(target_arch = "avr")]
 #[inline(always)]
-pub(crate) fn mul_hi_approx(a: u32, b: u32) -> u32 {
+pub fn mul_hi_approx(a: u32, b: u32) -> u32 {
     let (a1, a0) = ((a >> 16) as u16, a as u16);
     let (b1, b0) = ((b >> 16) as u16, b as u16);
     let lo: u16;
