@@ -282,12 +282,12 @@ pub(crate) fn shl(x: u32, n: u32) -> u32 {
 /// x·log₂e = k + f, f ∈ [0, 1) in Q0.32, for 2⁻²⁵ ≤ |x| < 128 (`be` the
 /// biased exponent, `m` the mantissa with hidden bit).
 #[inline]
-fn split(neg: bool, be: u32, m: u32) -> (i16, u32) {
+fn split(neg: bool, be: u8, m: u32) -> (i16, u32) {
     // |x| = m·2^(be − 150) = X·2⁻²⁵ with X < 2³² (exact for |x| ≥ 0.25;
     // smaller |x| round to 2⁻²⁶, far below the result's ulp near 1).
     // = round(m·2⁸ / 2^s), s = 133 − be ∈ [0, 31]; for s ≤ 8 the low bits
     // are zero and the rounding changes nothing. One shift, no branch on be.
-    let s = 133 - be;
+    let s = u32::from(133 - be);
     let v = m << 8;
     let w = shr(v, s.saturating_sub(1));
     let xq = if s == 0 { v } else { (w + 1) >> 1 };
@@ -309,7 +309,8 @@ fn split(neg: bool, be: u32, m: u32) -> (i16, u32) {
 pub fn exp(x: f32) -> f32 {
     let b = x.to_bits();
     let neg = b >> 31 != 0;
-    let be = (b >> 23) & 0xFF;
+    // One byte: compares on it are single instructions on the AVR.
+    let be = (b >> 23) as u8;
     if be == 0xFF {
         return if b & MANT_MASK != 0 {
             x
@@ -341,7 +342,8 @@ pub fn exp(x: f32) -> f32 {
 pub fn expm1(x: f32) -> f32 {
     let b = x.to_bits();
     let neg = b >> 31 != 0;
-    let be = (b >> 23) & 0xFF;
+    // One byte: compares on it are single instructions on the AVR.
+    let be = (b >> 23) as u8;
     if be == 0xFF {
         return if b & MANT_MASK != 0 {
             x
@@ -406,12 +408,12 @@ pub fn expm1(x: f32) -> f32 {
 /// expm1 for 2⁻²⁴ ≤ x < ln 2: f = x·log₂e < 1 carried with its own exponent,
 /// e^x − 1 = 2^f − 1 = f·S(f).
 #[inline]
-fn expm1_small(be: u32, m: u32) -> f32 {
+fn expm1_small(be: u8, m: u32) -> f32 {
     // f = mt·2^(be − 157), mt ∈ [1.44·2³⁰, 1.45·2³¹).
     let mt = mul_hi(m << 8, LOG2E_Q31);
     // f in Q0.32 for the polynomial (absolute precision suffices there).
     // (mt << 1) >> s without losing mt's top bit.
-    let w = shr(mt, (126 - be).saturating_sub(1));
+    let w = shr(mt, u32::from(126 - be).saturating_sub(1));
     let fq = if be == 126 { mt << 1 } else { w };
     let s = s_poly(fq);
     // f·S = r·2^(be − 156); r ∈ [2²⁹, 2³¹) up to truncation (S ≥ ln 2).
@@ -423,7 +425,7 @@ fn expm1_small(be: u32, m: u32) -> f32 {
     } else {
         (r << 3, 3)
     };
-    pack(0, be + 2 - lz, round_mant(rn))
+    pack(0, u32::from(be) + 2 - lz, round_mant(rn))
 }
 
 // ------------------------------------------------------------------- ln
