@@ -22,7 +22,7 @@
 //! used at plan time) within 3 ulp; `ln` within 1 ulp (measured 0.65) over
 //! the whole positive range, subnormals included. Results below the smallest
 //! normal f32 are returned as 0 (avr-libc has no subnormals either). Cost on
-//! the chip: ~950 cycles for `exp`, ~1 000–1 300 for `expm1`, ~1 250–1 500 for
+//! the chip: ~800 cycles for `exp`, ~870–1 000 for `expm1`, ~900–1 150 for
 //! `ln` (BENCHMARKS.md).
 
 /// log₂e in Q1.31.
