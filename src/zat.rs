@@ -79,6 +79,28 @@ pub(crate) fn same<R: Real>(x: R, y: R) -> bool {
     }
 }
 
+/// 2x, exactly as `x + x`. On f32 a normal x with 2x finite gets one added
+/// to its exponent field (the float add is a ~170-cycle library call on the
+/// AVR); zeros, subnormals and overflow take `x + x`, out of line: inline,
+/// LLVM computes the add on every path and selects.
+#[inline(always)]
+fn twice<R: Real>(x: R) -> R {
+    if is_f32::<R>() {
+        let b = x.to_f32().to_bits();
+        let e = b & 0x7F80_0000;
+        if e != 0 && e < 0x7F00_0000 {
+            return R::from_f32(f32::from_bits(b + 0x0080_0000));
+        }
+    }
+    twice_slow(x)
+}
+
+#[cold]
+#[inline(never)]
+fn twice_slow<R: Real>(x: R) -> R {
+    x + x
+}
+
 /// L = ln n; for n = 2 on f32 (the app's base) a constant instead of a
 /// logarithm, the same value to the bit.
 #[inline(always)]
@@ -94,7 +116,7 @@ fn ln_base<R: Real>(n: R) -> R {
 #[inline]
 pub fn u_min<R: Real>(ts: R) -> R {
     if ts >= R::ONE {
-        R::TWO * ts.sqrt() - R::ONE
+        twice(ts.sqrt()) - R::ONE
     } else {
         ts
     }
@@ -139,8 +161,8 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
 /// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
 #[inline(always)]
 fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
-    let um = R::TWO * s - R::ONE;
-    (um, (um - a) + (c + c))
+    let um = twice(s) - R::ONE;
+    (um, (um - a) + twice(c))
 }
 
 /// δ = u_min(tₛ) − a, the distance to the pole, accurate to about an ulp of
@@ -459,7 +481,7 @@ impl<R: Real> Shape<R> {
     #[inline]
     pub fn u_min(&self) -> R {
         if self.long {
-            R::TWO * self.sqrt_ts - R::ONE
+            twice(self.sqrt_ts) - R::ONE
         } else {
             self.ts
         }

@@ -95,6 +95,16 @@ fn chip_exp_is_the_hosts_bit_for_bit() {
 }
 
 #[test]
+fn chip_mul_hi_approx_is_the_hosts() {
+    // The chip's is hand-written assembly, the host's plain Rust.
+    let m = fields("M");
+    assert!(m.len() >= 128);
+    for v in m {
+        assert_eq!(f32_exp::mul_hi_approx(v[0], v[1]), v[2], "mul_hi_approx({:#x}, {:#x})", v[0], v[1]);
+    }
+}
+
+#[test]
 fn chip_profile_within_2e6_of_f64_and_exact_at_ts() {
     let a = fields("A");
     assert!(a.len() > 300);

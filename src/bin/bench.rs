@@ -449,6 +449,21 @@ fn accuracy_dump(b: &mut Bench) {
         let x = 0.96 + f32::from(i) * 0.0027;
         let _ = uwriteln!(b.serial, "L {} {}", x.to_bits(), x.ln().to_bits());
     }
+    // mul_hi_approx (assembly on the chip): every pair of carry-heavy
+    // patterns, then pseudo-random pairs.
+    let pats = [0u32, 1, 0xFFFF_FFFF, 0x8000_0000, 0xFFFF_0000, 0x0000_FFFF, 0x00FF_00FF, 0xFF00_FF00];
+    for &a in pats.iter() {
+        for &c in pats.iter() {
+            let _ = uwriteln!(b.serial, "M {} {} {}", a, c, touch_arm::f32_exp::mul_hi_approx(a, c));
+        }
+    }
+    let mut r = 0x2545_F491u32;
+    for _ in 0..64 {
+        let a = r;
+        r = r.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        let _ = uwriteln!(b.serial, "M {} {} {}", a, r, touch_arm::f32_exp::mul_hi_approx(a, r));
+        r = r.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+    }
     // atan2 around the circle (every octant) at radii 1e-3 … 1e3.
     for i in 0..96u16 {
         let phi = -3.1 + f32::from(i) * 0.0653;
