@@ -100,6 +100,21 @@ pub trait Real:
     fn le_num(self, o: Self) -> bool {
         self <= o
     }
+    /// `self < o` for operands that are not NaN (as [`Real::le_num`]).
+    #[inline]
+    fn lt_num(self, o: Self) -> bool {
+        !o.le_num(self)
+    }
+    /// `self > 0`: false for ±0 and NaN.
+    #[inline]
+    fn is_positive(self) -> bool {
+        self > Self::ZERO
+    }
+    /// `self == o` for operands that are not NaN.
+    #[inline]
+    fn eq_num(self, o: Self) -> bool {
+        self == o
+    }
     #[inline]
     fn recip(self) -> Self {
         Self::ONE / self
@@ -333,6 +348,19 @@ impl Real for f32 {
             }
         }
         key(self) <= key(o)
+    }
+    #[inline]
+    fn is_positive(self) -> bool {
+        // Positive numbers up to +∞ are the positive i32 patterns up to ∞'s;
+        // NaNs lie beyond it, −0 and the negatives are negative.
+        let b = self.to_bits() as i32;
+        b > 0 && b <= 0x7F80_0000
+    }
+    #[inline]
+    fn eq_num(self, o: Self) -> bool {
+        let (a, b) = (self.to_bits(), o.to_bits());
+        // Equal patterns, or +0 against −0.
+        a == b || (a | b) << 1 == 0
     }
     #[inline]
     fn is_finite(self) -> bool {

@@ -8,7 +8,7 @@
 
 use crate::motion::{all_finite, Sample, TrajError};
 use crate::real::Real;
-use crate::zat::{gt0, lt, same, smooth_stop_a, Shape, ShapeParams};
+use crate::zat::{smooth_stop_a, Shape, ShapeParams};
 
 /// A via-point move q0 → (θ_v at t_v) → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,7 +103,7 @@ fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R
         None,
     )?;
     // tₛ > 0 now (G is built), so `lt` applies.
-    if !(gt0(p.tv) && lt(p.tv, p.ts)) {
+    if !(p.tv.is_positive() && p.tv.lt_num(p.ts)) {
         return Err(TrajError::ViaTimeOutOfRange);
     }
     // One logarithm when both segments share the base.
@@ -140,7 +140,7 @@ impl<R: Real> ViaPlan<R> {
         if !r.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        if same(r, R::ONE) {
+        if r.eq_num(R::ONE) {
             return Err(TrajError::ViaDiverges { r });
         }
         let sv = (p.theta_v - r * p.sf) / (R::ONE - r);

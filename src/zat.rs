@@ -46,61 +46,6 @@ fn is_f32<R: Real>() -> bool {
     R::EPSILON.to_f64() > 1e-10
 }
 
-/// `x < y` for x, y not NaN with x > 0 or y > 0. On f32 a signed compare of
-/// the bit patterns (with one side positive, floats order like them), where
-/// the float comparison is a library call on the AVR.
-#[inline(always)]
-pub(crate) fn lt<R: Real>(x: R, y: R) -> bool {
-    if is_f32::<R>() {
-        (x.to_f32().to_bits() as i32) < (y.to_f32().to_bits() as i32)
-    } else {
-        x < y
-    }
-}
-
-/// `x > 0` (false for −0 and NaN), from the bits on f32 as in [`lt`].
-#[inline(always)]
-pub(crate) fn gt0<R: Real>(x: R) -> bool {
-    if is_f32::<R>() {
-        let b = x.to_f32().to_bits() as i32;
-        b > 0 && b <= 0x7F80_0000
-    } else {
-        x > R::ZERO
-    }
-}
-
-/// `x == y` for x, y not NaN and not both zero: the bits on f32.
-#[inline(always)]
-pub(crate) fn same<R: Real>(x: R, y: R) -> bool {
-    if is_f32::<R>() {
-        x.to_f32().to_bits() == y.to_f32().to_bits()
-    } else {
-        x == y
-    }
-}
-
-/// 2x, exactly as `x + x`. On f32 a normal x with 2x finite gets one added
-/// to its exponent field (the float add is a ~170-cycle library call on the
-/// AVR); zeros, subnormals and overflow take `x + x`, out of line: inline,
-/// LLVM computes the add on every path and selects.
-#[inline(always)]
-fn twice<R: Real>(x: R) -> R {
-    if is_f32::<R>() {
-        let b = x.to_f32().to_bits();
-        let e = b & 0x7F80_0000;
-        if e != 0 && e < 0x7F00_0000 {
-            return R::from_f32(f32::from_bits(b + 0x0080_0000));
-        }
-    }
-    twice_slow(x)
-}
-
-#[cold]
-#[inline(never)]
-fn twice_slow<R: Real>(x: R) -> R {
-    x + x
-}
-
 /// L = ln n; for n = 2 on f32 (the app's base) a constant instead of a
 /// logarithm, the same value to the bit.
 #[inline(always)]
@@ -116,7 +61,7 @@ fn ln_base<R: Real>(n: R) -> R {
 #[inline]
 pub fn u_min<R: Real>(ts: R) -> R {
     if ts >= R::ONE {
-        twice(ts.sqrt()) - R::ONE
+        ts.sqrt().twice() - R::ONE
     } else {
         ts
     }
@@ -161,8 +106,8 @@ fn sqrt_split<R: Real>(ts: R) -> (R, R) {
 /// u_min − a is exact too (Sterbenz), so δ is good to about one ulp of itself.
 #[inline(always)]
 fn long_bounds<R: Real>(s: R, c: R, a: R) -> (R, R) {
-    let um = twice(s) - R::ONE;
-    (um, (um - a) + twice(c))
+    let um = s.twice() - R::ONE;
+    (um, (um - a) + c.twice())
 }
 
 /// δ = u_min(tₛ) − a, the distance to the pole, accurate to about an ulp of
@@ -181,7 +126,7 @@ pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
 /// `None` when it is not admissible (tₛ ≤ 1, or ln n ≥ ln tₛ/(√tₛ − 1)²).
 pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
-    if !(ts.is_finite() && n.is_finite()) || !lt(R::ONE, ts) || !lt(R::ONE, n) {
+    if !(ts.is_finite() && n.is_finite()) || !R::ONE.lt_num(ts) || !R::ONE.lt_num(n) {
         return None;
     }
     let a = ts - ts.ln() / ln_base(n);
@@ -191,7 +136,7 @@ pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
     // The same tests as Shape::new, so every a returned here is accepted there.
     let (s, c) = sqrt_split(ts);
     let (um, delta) = long_bounds(s, c, a);
-    if lt(a, um) && gt0(delta) {
+    if a.lt_num(um) && delta.is_positive() {
         Some(a)
     } else {
         None
@@ -246,7 +191,7 @@ fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
     // prod ≥ 0 (d > 0, 1 − n^(a − tₛ) ∈ [0, 1]), so `lt` applies; only
     // d = ∞ in `zeta` can make it NaN, which the finiteness test catches
     // either way.
-    let ln_sum = if !lt(prod, R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
+    let ln_sum = if !prod.lt_num(R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
     let z = -ln_sum / l;
     if z.is_finite() {
         Some(z)
@@ -343,10 +288,10 @@ impl<R: Real> Shape<R> {
     /// the caller (no copy of the result); `l` = ln n when the caller has it.
     #[inline(always)]
     pub(crate) fn from_finite(p: &ShapeParams<R>, l: Option<R>) -> Result<Self, TrajError<R>> {
-        if !gt0(p.ts) {
+        if !p.ts.is_positive() {
             return Err(TrajError::NonPositiveDuration);
         }
-        if !lt(R::ONE, p.n) {
+        if !R::ONE.lt_num(p.n) {
             return Err(TrajError::BaseNotAboveOne);
         }
         let l = match l {
@@ -374,7 +319,7 @@ impl<R: Real> Shape<R> {
         // computed, |φ(tₛ)| ≤ 2ε·L·(tₛ + |a|) (three roundings of ln tₛ/L, one
         // of a, one of L·(tₛ − a)), an eighth of `margin_tol`: monotone,
         // as `monotone_margin` finds, without forming it.
-        if !lt(R::TWO, l * (ts - R::ONE)) {
+        if !R::TWO.lt_num(l * (ts - R::ONE)) {
             return Self::build(&p, l, Mono::Yes);
         }
         let s = Self::build(&p, l, Mono::Unknown)?;
@@ -391,10 +336,10 @@ impl<R: Real> Shape<R> {
         if !(ts.is_finite() && n.is_finite()) {
             return Err(TrajError::NotFinite);
         }
-        if !gt0(ts) {
+        if !ts.is_positive() {
             return Err(TrajError::NonPositiveDuration);
         }
-        if !lt(R::ONE, n) {
+        if !R::ONE.lt_num(n) {
             return Err(TrajError::BaseNotAboveOne);
         }
         Ok(())
@@ -403,7 +348,7 @@ impl<R: Real> Shape<R> {
     /// Whether this shape's base is `n` (then ln n = [`Shape::ln_n`]).
     #[inline(always)]
     pub(crate) fn has_base(&self, n: R) -> bool {
-        same(self.n, n)
+        self.n.eq_num(n)
     }
 
     /// Admissibility and the per-plan constants, given L = ln n. Inlined so
@@ -413,7 +358,7 @@ impl<R: Real> Shape<R> {
     /// or ±∞ (inputs finite), never NaN, and one side of each is positive.
     #[inline(always)]
     fn build(p: &ShapeParams<R>, l: R, mono: Mono) -> Result<Self, TrajError<R>> {
-        let long = !lt(p.ts, R::ONE);
+        let long = !p.ts.lt_num(R::ONE);
         let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
         let (um, delta) = if long {
             long_bounds(sqrt_ts, sqrt_corr, p.a)
@@ -421,7 +366,7 @@ impl<R: Real> Shape<R> {
             (p.ts, p.ts - p.a)
         };
         // u_min > 0 (tₛ > 0).
-        if !(lt(p.a, um) && gt0(delta)) {
+        if !(p.a.lt_num(um) && delta.is_positive()) {
             return Err(TrajError::ShapeNotAdmissible { a: p.a, u_min: um });
         }
         let l_delta = l * delta;
@@ -431,7 +376,7 @@ impl<R: Real> Shape<R> {
         // on the pole. expm1 returns its argument below ε, and only there can
         // 1/· overflow, so the test needs no expm1; E ≥ L·δ (tₛ − a ≥ δ), so
         // both are fine once L·δ ≥ ε. (L > 0 follows from n > 1.)
-        let on_pole = lt(l_delta, R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
+        let on_pole = l_delta.lt_num(R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
         // L = ln n and √tₛ (both parts) are finite for finite n > 1, tₛ > 0,
         // and 1 − n^(a − tₛ) lies in [0, 1]; only L·δ can overflow.
         if on_pole || !l_delta.is_finite() {
@@ -481,7 +426,7 @@ impl<R: Real> Shape<R> {
     #[inline]
     pub fn u_min(&self) -> R {
         if self.long {
-            twice(self.sqrt_ts) - R::ONE
+            self.sqrt_ts.twice() - R::ONE
         } else {
             self.ts
         }
@@ -492,7 +437,7 @@ impl<R: Real> Shape<R> {
     /// logarithm and a division (`zeta` also forms L and 1 − n^(a − tₛ)).
     pub fn zeta(&self, d: R) -> Option<R> {
         let d = d.abs();
-        if !gt0(d) || !d.is_finite() {
+        if !d.is_positive() || !d.is_finite() {
             return None;
         }
         zeta_from(self.l, self.inv_ps, d)
@@ -533,7 +478,7 @@ impl<R: Real> Shape<R> {
         // forming tₛ/t first would cost up to L/2 ulp of G.
         let y = (self.ts - t) * l_it;
         // y > 0 here (0 < t < tₛ), not NaN.
-        if lt(R::lit(EARLY_OUT), y) {
+        if R::lit(EARLY_OUT).lt_num(y) {
             return None;
         }
         let d = self.d(t);
@@ -564,9 +509,9 @@ impl<R: Real> Shape<R> {
     /// [`Shape::g`], inlined where the shape is still in registers.
     #[inline(always)]
     pub(crate) fn g_inline(&self, t: R) -> R {
-        if !gt0(t) {
+        if !t.is_positive() {
             R::ZERO
-        } else if !lt(t, self.ts) {
+        } else if !t.lt_num(self.ts) {
             R::ONE
         } else {
             match self.inner(t) {
@@ -579,12 +524,12 @@ impl<R: Real> Shape<R> {
     /// G and G′ together (three multiplications and two subtractions more
     /// than [`Shape::g`]). At t = tₛ G′ is the left limit; beyond tₛ it is 0.
     pub fn g_rate(&self, t: R) -> (R, R) {
-        if !gt0(t) {
+        if !t.is_positive() {
             return (R::ZERO, R::ZERO);
         }
         // t > 0 and tₛ > 0: `lt` applies.
-        let i = if !lt(t, self.ts) {
-            if lt(self.ts, t) {
+        let i = if !t.lt_num(self.ts) {
+            if self.ts.lt_num(t) {
                 return (R::ONE, R::ZERO);
             }
             self.end()
