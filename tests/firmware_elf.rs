@@ -75,3 +75,19 @@ fn firmware_has_no_function_reading_stack_passed_arguments() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// Function pointers on the ATmega2560 are 16-bit word addresses: code past
+/// the first 128 KiB is reached only through EIND and linker trampolines,
+/// which this project does not rely on. The product has its tighter budget
+/// above; the bench firmware
+/// (many more routines) must stay below this line too, or its figures would
+/// come from a binary that cannot be trusted.
+#[test]
+fn bench_firmware_stays_below_128_kib() {
+    let elf = firmware::bench_elf();
+    assert!(elf.exists(), "{} missing: build it first with `cargo avr`", elf.display());
+    let s = sections(&elf);
+    let flash = size_of(&s, ".text") + size_of(&s, ".data");
+    eprintln!("bench firmware: flash {flash} B");
+    assert!(flash <= 128 * 1024, "bench firmware flash {flash} B is past the 128 KiB that 16-bit function pointers reach");
+}
