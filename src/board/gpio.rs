@@ -116,6 +116,7 @@ impl Pin {
     }
 
     /// The pin's current (DDR, PORT) state.
+    #[inline]
     pub(crate) fn mode(self) -> PinMode {
         let base = self.port.pin_reg();
         avr_device::interrupt::free(|_| {
@@ -134,6 +135,7 @@ impl Pin {
     /// becoming an input, DDR is cleared first (so it stops driving before the
     /// pull-up setting changes). An LCD strobe line (WR, CS) therefore never
     /// sees a spurious low pulse from a mode change.
+    #[inline]
     pub(crate) fn set_mode(self, mode: PinMode) {
         let base = self.port.pin_reg();
         let ddr_reg = (base + 1) as *mut u8;
@@ -157,6 +159,7 @@ impl Pin {
     }
 
     /// Sets the PORT bit (drives the level if the pin is an output).
+    #[inline]
     pub(crate) fn write(self, high: bool) {
         let port_reg = (self.port.pin_reg() + 2) as *mut u8;
         let m = self.mask();

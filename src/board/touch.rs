@@ -145,6 +145,7 @@ impl<'a> TouchPins<'a> {
 
     /// Floats two pins first (so no two plates are ever driven against each
     /// other through the contact point), then drives the pair, then waits.
+    #[inline]
     fn drive(high: Pin, low: Pin, float_a: Pin, float_b: Pin) {
         float_a.set_mode(PinMode::Floating);
         float_b.set_mode(PinMode::Floating);
