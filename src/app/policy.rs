@@ -32,8 +32,8 @@
 //!
 //! # Cost on the chip
 //! Measured (bench row `app_plan_move`, n = 2, joint speeds 0.5 rad/s, moves
-//! needing tₛ from 1.6 s to 20 s): median 212 000 cycles (13 ms at 16 MHz),
-//! at most 222 000; the search this replaced took 1 756 000 (max 2 060 000).
+//! needing tₛ from 1.6 s to 20 s): median 192 000 cycles (12 ms at 16 MHz),
+//! at most 201 000; the search this replaced took 1 756 000 (max 2 060 000).
 //! A search evaluates 2–4 candidates for n = 2 (at most 12 for any n): each
 //! builds its shape (~12 000–16 000 cycles) and estimates P from about one
 //! evaluation of G with its first three log-derivatives (~14 000), and the
