@@ -251,20 +251,27 @@ pub(crate) fn pack(sign: u32, biased_exp: u32, mant: u32) -> f32 {
 // mask it, so any such work stays within 31 steps. Every variable shift in
 // the integer cores goes through them.
 
-/// `n` unchanged, but opaque to LLVM's range reasoning.
+/// `b` unchanged, but opaque to LLVM (an empty `asm!` block on the AVR):
+/// it can no longer reason about the value's range or origin.
 #[inline(always)]
-fn opaque(n: u32) -> u32 {
+pub(crate) fn opaque_byte(b: u8) -> u8 {
     #[cfg(target_arch = "avr")]
     {
-        let mut b = n as u8;
+        let mut b = b;
         // SAFETY: an empty block; `b` stays in its register.
         unsafe { core::arch::asm!("/* {0} */", inout(reg) b, options(pure, nomem, nostack)) };
-        u32::from(b)
+        b
     }
     #[cfg(not(target_arch = "avr"))]
     {
-        n
+        b
     }
+}
+
+/// A shift amount (< 256) hidden from LLVM's range reasoning.
+#[inline(always)]
+fn opaque(n: u32) -> u32 {
+    u32::from(opaque_byte(n as u8))
 }
 
 /// x >> (n mod 32); see the note above.

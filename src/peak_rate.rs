@@ -7,7 +7,7 @@
 use crate::laws::Law;
 use crate::plan::JointLaw;
 use crate::real::Real;
-use crate::zat::Shape;
+use crate::zat::{t_star, Shape};
 
 /// The peak search stops once the last Newton step predicts G′ to rise by
 /// less than this (relative), and reports the quadratic model's maximum plus
@@ -58,7 +58,7 @@ pub fn classic_peak_factor(law: Law) -> f64 {
 pub fn zat_peak_rate<R: Real>(shape: &Shape<R>) -> R {
     let ts = shape.ts();
     let l = shape.ln_n();
-    let t_star = (R::ONE + (R::ONE + l * l * ts).sqrt()) / l;
+    let t_star = t_star(ts, l);
     let split = t_star < ts && t_star > R::ZERO;
     let hi = if split { t_star } else { ts };
     let mut pc = Piece {

@@ -5,7 +5,7 @@
 
 use crate::f32_exp::mul_hi;
 use crate::laws::{Law, LawParams, LawPlan};
-use crate::motion::{Sample, TrajError};
+use crate::motion::{all_finite, Sample, TrajError};
 use crate::real::Real;
 use crate::servo::ServoMap;
 use crate::zat::{Shape, ShapeParams};
@@ -202,15 +202,11 @@ impl<R: Real> MultiPlan<R> {
         // wants it instead of being assembled and copied.
         let [s0, s1, s2] = *start;
         let [e0, e1, e2] = *target;
-        let finite = |v: [R; JOINTS]| v.iter().all(|x| x.is_finite());
-        if !(finite([s0, s1, s2]) && finite([e0, e1, e2])) {
-            return Err(TrajError::NotFinite);
-        }
+        all_finite(&[s0, s1, s2])?;
+        all_finite(&[e0, e1, e2])?;
         law.check_monotone()?;
         let delta = [e0 - s0, e1 - s1, e2 - s2];
-        if !finite(delta) {
-            return Err(TrajError::NotFinite);
-        }
+        all_finite(&delta)?;
         Ok(MultiPlan {
             law: *law,
             start: [s0, s1, s2],

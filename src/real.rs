@@ -225,23 +225,15 @@ macro_rules! f32_fn {
     }};
 }
 
-/// The bits of `v`. On the AVR the top byte passes an empty `asm!` block:
-/// LLVM otherwise recognizes sign and zero tests on a float's bits and turns
-/// them back into float comparisons, i.e. library calls.
+/// The bits of `v`, the top byte passed through
+/// [`crate::f32_exp::opaque_byte`]: LLVM otherwise recognizes sign and zero
+/// tests on a float's bits and turns them back into float comparisons, i.e.
+/// library calls on the AVR.
 #[inline(always)]
 fn opaque_bits(v: f32) -> u32 {
     let b = v.to_bits();
-    #[cfg(target_arch = "avr")]
-    {
-        let mut hi = (b >> 24) as u8;
-        // SAFETY: an empty block; `hi` stays in its register.
-        unsafe { core::arch::asm!("/* {0} */", inout(reg) hi, options(pure, nomem, nostack)) };
-        (b & 0x00FF_FFFF) | (u32::from(hi) << 24)
-    }
-    #[cfg(not(target_arch = "avr"))]
-    {
-        b
-    }
+    let hi = crate::f32_exp::opaque_byte((b >> 24) as u8);
+    (b & 0x00FF_FFFF) | (u32::from(hi) << 24)
 }
 
 impl Real for f32 {

@@ -105,7 +105,7 @@ fn to_deg<R: Real>(rad: R) -> R {
 }
 
 fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
-    if k.is_finite() && !(k.is_negative() || k.is_zero()) {
+    if k.is_finite() && k.is_positive() {
         Ok(())
     } else {
         Err(WorkspaceError::BadScale)

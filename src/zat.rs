@@ -57,6 +57,14 @@ fn ln_base<R: Real>(n: R) -> R {
     }
 }
 
+/// t* = (1 + √(1 + L²·tₛ))/L, where the monotonicity margin φ of
+/// [`Shape::monotone_margin`] is smallest on [√tₛ, ∞) (and where G′ dips on a
+/// long move), for L = ln n.
+#[inline]
+pub fn t_star<R: Real>(ts: R, l: R) -> R {
+    (R::ONE + (R::ONE + l * l * ts).sqrt()) / l
+}
+
 /// Minimum of u(t) = t + tₛ/t − 1 over (0, tₛ]: the bound a must stay below.
 #[inline]
 pub fn u_min<R: Real>(ts: R) -> R {
@@ -71,7 +79,7 @@ pub fn u_min<R: Real>(ts: R) -> R {
 /// precision's splitter 2^⌈p/2⌉ + 1 makes each half's products exact.
 #[inline]
 fn square_err<R: Real>(s: R) -> (R, R) {
-    let splitter = if R::EPSILON.to_f64() > 1e-10 {
+    let splitter = if is_f32::<R>() {
         R::lit(4097.0)
     } else {
         R::lit(134_217_729.0)
@@ -90,7 +98,7 @@ fn square_err<R: Real>(s: R) -> (R, R) {
 /// types split s by Dekker's method.
 #[inline]
 fn sqrt_split<R: Real>(ts: R) -> (R, R) {
-    if R::EPSILON.to_f64() > 1e-10 {
+    if is_f32::<R>() {
         let (s, c) = crate::f32_exp::sqrt_split(ts.to_f32());
         return (R::from_f32(s), R::from_f32(c));
     }
@@ -188,9 +196,8 @@ pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
 #[inline]
 fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
     let prod = d * one_minus;
-    // prod ≥ 0 (d > 0, 1 − n^(a − tₛ) ∈ [0, 1]), so `lt` applies; only
-    // d = ∞ in `zeta` can make it NaN, which the finiteness test catches
-    // either way.
+    // Only d = ∞ in `zeta` can make prod NaN, which the finiteness test
+    // catches either way.
     let ln_sum = if !prod.lt_num(R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
     let z = -ln_sum / l;
     if z.is_finite() {
@@ -354,8 +361,8 @@ impl<R: Real> Shape<R> {
     /// Admissibility and the per-plan constants, given L = ln n. Inlined so
     /// the shape is built in place (a copy is a library call on the AVR).
     ///
-    /// Comparisons go through [`lt`]/[`gt0`]: every operand here is finite
-    /// or ±∞ (inputs finite), never NaN, and one side of each is positive.
+    /// Comparisons are the bit tests of [`Real`] (`lt_num`, `is_positive`):
+    /// every operand here is finite or ±∞ (inputs finite), never NaN.
     #[inline(always)]
     fn build(p: &ShapeParams<R>, l: R, mono: Mono) -> Result<Self, TrajError<R>> {
         let long = !p.ts.lt_num(R::ONE);
@@ -527,7 +534,6 @@ impl<R: Real> Shape<R> {
         if !t.is_positive() {
             return (R::ZERO, R::ZERO);
         }
-        // t > 0 and tₛ > 0: `lt` applies.
         let i = if !t.lt_num(self.ts) {
             if self.ts.lt_num(t) {
                 return (R::ONE, R::ZERO);
@@ -626,8 +632,7 @@ impl<R: Real> Shape<R> {
         if l * (self.ts - R::ONE) <= R::TWO {
             Some(l * (self.ts - self.a) - ln_ts)
         } else {
-            let t_star = (R::ONE + (R::ONE + l * l * self.ts).sqrt()) / l;
-            Some(self.phi(t_star.min(self.ts), ln_ts))
+            Some(self.phi(t_star(self.ts, l).min(self.ts), ln_ts))
         }
     }
 

@@ -10,7 +10,7 @@
 
 use crate::motion::TrajError;
 use crate::real::Real;
-use crate::zat::{u_min, Shape, ShapeParams};
+use crate::zat::{t_star, u_min, Shape, ShapeParams};
 
 /// tₛ ≤ 1: a = tₛ − A_FLOOR/L, q(tₛ) = 1/expm1(16) ≈ 1e-7.
 const A_FLOOR: f64 = 16.0;
@@ -54,7 +54,7 @@ fn monotone_limit<R: Real>(ts: R, l: R) -> Option<(R, R)> {
     if !(ts.is_finite() && l.is_finite()) || ts <= R::ONE || l <= R::ZERO {
         return None;
     }
-    let t_star = (R::ONE + (R::ONE + l * l * ts).sqrt()) / l;
+    let t_star = t_star(ts, l);
     let tm = t_star.min(ts);
     let a = tm + ts / tm - R::ONE - (tm * tm / ts).ln() / l;
     if a.is_finite() {
