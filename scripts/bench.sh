@@ -227,7 +227,7 @@ o.append("inlining), about 36 KiB is the screen (drawing, layout, calibration fl
 o.append("the math (integer-core exp/ln/atan2, ζ-a-tₛ, via, classic laws, IK, touch mapping), 17 KiB the")
 o.append("app (state machine, planning policy, telemetry), 10 KiB the serial protocol and configuration")
 o.append("store, the rest the board layer and runtime. The 120 KiB budget is met. AVR builds use")
-o.append("`-inline-threshold=25` (`.cargo/config.toml`): 4.7 KiB less flash at no measured cost. The")
+o.append("`-inline-threshold=25` (`.cargo/config.toml`): 4.6 KiB less flash at no measured cost. The")
 o.append("bench's static")
 o.append("RAM holds its routine names (string literals live in RAM on the AVR unless placed in flash).\n")
 o.append("## What made the frame fast\n")
