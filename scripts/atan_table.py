@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Regenerates ATAN_TABLE in src/f32_atan.rs and checks its fixed-point error.
+"""Regenerates ATAN_TABLE in src/math/atan.rs and checks its fixed-point error.
 
 atan t on [k/64, (k+1)/64], k = 8..63, as a degree-3 minimax polynomial in
 d = t - k/64 (Remez exchange, mpmath at 100 bits), coefficients rounded to

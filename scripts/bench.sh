@@ -90,8 +90,8 @@ desc = {
     "f32_to_i32": "f32 → i32", "i32_to_f32": "i32 → f32", "u32_mul": "u32 × u32 (libgcc)",
     "u64_mul_hi": "u64 product, high word (compiler-builtins `__muldi3`)",
     "avrlibc_exp": "avr-libc `exp`", "avrlibc_log": "avr-libc `log`",
-    "exp": "`exp` (f32_exp, integer core)", "expm1": "`expm1` (f32_exp, integer core)",
-    "ln": "`ln` (f32_exp, integer core)", "libm_powf": "`libm::powf` (Rust libm crate)",
+    "exp": "`exp` (math::exp, integer core)", "expm1": "`expm1` (math::exp, integer core)",
+    "ln": "`ln` (math::exp, integer core)", "libm_powf": "`libm::powf` (Rust libm crate)",
     "g": "ζ-a-tₛ G alone", "g_rate": "ζ-a-tₛ G and G′",
     "sample3": "`MultiPlan::sample`: 3 joints, positions + velocities (rad)",
     "frame": "**50 Hz frame**: `ServoTrack::frame`, 3 joints, G + G′ → pulse widths + speed check",
@@ -112,7 +112,7 @@ desc = {
     "multiplan_new": "`MultiPlan::new` (shape + checks + copies)",
     "sqrt": "`sqrt` (avr-libc)",
     "avrlibc_atan2": "avr-libc `atan2`",
-    "atan2": "`atan2` (f32_atan, integer core)",
+    "atan2": "`atan2` (math::atan, integer core)",
     "acos": "`acos` (avr-libc; unused, the IK takes atan2)",
     "via_solve": "**via point**, closed form + ζ + ζ_v",
     "via_new": "`ViaPlan::new` alone (two shapes, r = G(t_v), S_v)",
@@ -231,12 +231,12 @@ o.append("`-inline-threshold=25` (`.cargo/config.toml`): 4.6 KiB less flash at n
 o.append("bench's static")
 o.append("RAM holds its routine names (string literals live in RAM on the AVR unless placed in flash).\n")
 o.append("## What made the frame fast\n")
-o.append("- `f32_exp`: `exp`/`expm1` with a 32-bit integer core (x·log₂e split exactly from the float's")
+o.append("- `math::exp`: `exp`/`expm1` with a 32-bit integer core (x·log₂e split exactly from the float's")
 o.append("  bits, degree-5 polynomial for (2^f − 1)/f in Q1.31, 16×16 hardware products in inline")
 o.append("  assembly) instead of avr-libc's `exp`; the same code runs on the host, bit for bit.")
 o.append("- One profile evaluation per frame for all joints (G and G′ together); the SPEC §5 recipe with")
 o.append("  L/t formed once and reused; u′ formed as (t − √tₛ)(t + √tₛ)/t² so G′ stays accurate near the pole.")
-o.append("- `ServoTrack`: pulse = base + span·g in 32-bit fixed point per joint (servo.rs's mapping with")
+o.append("- `ServoTrack`: pulse = base + span·g in 32-bit fixed point per joint (servo::map's mapping with")
 o.append("  its clamps folded into one window); the speed check is one comparison of |g′| with the")
 o.append("  tightest joint's limit; joint velocities in rad/s only on request.\n")
 o.append("## What made plan and via faster\n")
@@ -244,7 +244,7 @@ o.append("Before this work (same inputs): plan 57 771 cycles median, via 64 138.
 o.append("judges the median (the frame: its max). The plan row's max is its one refused input")
 o.append("(tₛ = 4: a* is not monotone there, and the refusal computes the overshoot peak by Newton's")
 o.append("method for the error); the app never plans it, it picks the monotone limit instead.\n")
-o.append("- `ln`, `exp`, `expm1` (f32_exp) and `atan2` (f32_atan) with 32-bit integer cores and")
+o.append("- `ln`, `exp`, `expm1` (math::exp) and `atan2` (math::atan) with 32-bit integer cores and")
 o.append("  coefficient tables in flash, in place of avr-libc's `log`/`atan2` (~2 500 / ~3 000 cycles);")
 o.append("  the 32×32 high product and the normalisation loops in inline assembly on the chip; the same")
 o.append("  results on host and chip, checked bit for bit. `atan2`: 56 degree-3 minimax pieces.")
@@ -269,7 +269,7 @@ o.append("  Newton on ln(ratio·P) with d ln P/dtₛ from the envelope theorem: 
 o.append("  (was 1 756 000 cycles median, 8 candidates of 32 evaluations each).")
 o.append("- avr-libc's `memcpy`/`memset` linked in place of compiler-builtins' generic ones (which cost")
 o.append("  ~500 cycles per struct copy).")
-o.append("- Variable shifts in the integer cores go through `f32_exp::shr`/`shl`: LLVM speculates a shift")
+o.append("- Variable shifts in the integer cores go through `math::fixed::shr`/`shl`: LLVM speculates a shift")
 o.append("  into the other arm of an `if` with a wrapped amount, and its AVR shift loop then runs 255 times.")
 open(out, "w").write("\n".join(o) + "\n")
 print(f"wrote {out}")

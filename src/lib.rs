@@ -1,7 +1,13 @@
 //! touch-arm core: pure, `no_std` logic shared by the ATmega2560 firmware (f32)
 //! and the desktop tool `armsim` (f64).
+//!
+//! The modules follow the pipeline, lowest layer first; a module uses only
+//! the ones above it in this list (`tests/layers.rs` enforces it):
+//! [`text`], [`math`] → [`seam`] → [`touch`], [`geometry`] → [`motion`] →
+//! [`servo`] → [`config`] → [`protocol`] → [`ui`] → [`app`] → `board` (AVR
+//! only).
 #![no_std]
-// f32_exp's 16×16 multiply is inline assembly on the chip.
+// The fixed-point 16×16 multiply is inline assembly on the chip.
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 // The board layer's interrupt handlers use the AVR interrupt calling convention.
 #![cfg_attr(target_arch = "avr", feature(abi_avr_interrupt))]
@@ -13,23 +19,12 @@ pub mod text;
 pub mod app;
 #[cfg(target_arch = "avr")]
 pub mod board;
-pub mod command;
-pub mod config_store;
-pub mod crc;
-pub mod f32_atan;
-pub mod f32_exp;
-pub mod ik;
-pub mod laws;
+pub mod config;
+pub mod geometry;
+pub mod math;
 pub mod motion;
-pub mod peak_rate;
-pub mod plan;
-pub mod pose;
-pub mod real;
+pub mod protocol;
 pub mod seam;
 pub mod servo;
-pub mod touch_filter;
-pub mod touch_map;
+pub mod touch;
 pub mod ui;
-pub mod via;
-pub mod workspace;
-pub mod zat;

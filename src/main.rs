@@ -19,11 +19,11 @@ use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::tick::Tick;
-use touch_arm::board::touch::TouchWiring;
+use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
-use touch_arm::config_store::Config;
+use touch_arm::config::settings::Config;
 use ufmt::uwriteln;
 
 /// How the resistive panel is wired on this shield (SPEC §8 variants a/b/c;

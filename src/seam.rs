@@ -2,8 +2,15 @@
 //! the AVR board layer (`board`, on the chip) and by `hal-sim` (the host twin).
 //! Everything above these traits is pure and tested on the host.
 
-pub use crate::config_store::{Storage, StorageError};
-use crate::touch_filter::RawSample;
+
+/// One sample of the panel: X and Y positions and the pressure measure
+/// (see [`crate::touch::filter::pressure`]), all in ADC counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RawSample {
+    pub x: u16,
+    pub y: u16,
+    pub z: u16,
+}
 
 /// The 4-wire resistive panel. An implementation drives and floats the panel
 /// pins, lets the voltage settle, samples, and hands every pin it shares with
@@ -36,3 +43,18 @@ pub trait SerialPort {
     /// Queues bytes for transmission.
     fn write(&mut self, bytes: &[u8]);
 }
+
+/// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).
+pub trait Storage {
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError>;
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError>;
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StorageError {
+    /// The access would run past the end of the memory.
+    OutOfRange,
+    /// The device reported a failure.
+    Device,
+}
+

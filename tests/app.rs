@@ -6,20 +6,23 @@ use proptest::prelude::*;
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use touch_arm::app::policy::{plan_move, MoveRequest, PlanLimits, Refusal};
-use touch_arm::app::shape_choice::{choose_a, monotone_limit_a, AKind};
-use touch_arm::app::duration::TS_SEARCH_TOL;
-use touch_arm::peak_rate::{classic_peak_factor, zat_peak_rate};
+use touch_arm::app::Refusal;
+use touch_arm::motion::planner::plan_move::plan_move;
+use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
+use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
+use touch_arm::motion::planner::duration::TS_SEARCH_TOL;
+use touch_arm::motion::planner::peak_rate::{classic_peak_factor, zat_peak_rate};
 use touch_arm::app::text::{centideg, Line};
 use touch_arm::app::{App, AppParams, Io, State};
-use touch_arm::config_store::{Storage, StorageError, EEPROM_SIZE};
-use touch_arm::ik::Branch;
-use touch_arm::laws::Law;
-use touch_arm::plan::{LawKind, MultiPlan};
+use touch_arm::config::store::EEPROM_SIZE;
+use touch_arm::seam::{Storage, StorageError};
+use touch_arm::geometry::ik::Branch;
+use touch_arm::motion::laws::Law;
+use touch_arm::motion::plan::{LawKind, MultiPlan};
 use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
-use touch_arm::servo::{JointCal, ServoMap, ELBOW_BRANCH};
-use touch_arm::touch_filter::RawSample;
-use touch_arm::zat::{smooth_stop_a, Shape, ShapeParams};
+use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
+use touch_arm::seam::RawSample;
+use touch_arm::motion::zat::{smooth_stop_a, Shape, ShapeParams};
 
 fn cfg() -> ProptestConfig {
     ProptestConfig::with_cases(256)
@@ -269,7 +272,7 @@ fn classic_peak_factors_are_the_laws_maximum_velocity() {
         let plan = MultiPlan::with_law(
             &[0.0; 3],
             &[1.0, 0.5, -1.0],
-            &touch_arm::plan::JointLaw::classic(law, t).unwrap(),
+            &touch_arm::motion::plan::JointLaw::classic(law, t).unwrap(),
         )
         .unwrap();
         let mut peak = 0.0f64;
@@ -464,7 +467,7 @@ proptest! {
         let lim = PlanLimits { speed, ts_min: 0.5, zat_ts_min, ts_max, n };
         let want = ref_shortest(ratio, n, zat_ts_min, ts_max);
         match (plan_move(&req, &lim), want) {
-            (Err(Refusal::SpeedLimit), None) => {}
+            (Err(PlanError::SpeedLimit), None) => {}
             (Ok(m), Some(w)) => {
                 let a = m.a.unwrap().a;
                 let share = ratio * ref_peak(m.ts, a, n);
@@ -499,11 +502,11 @@ proptest! {
 fn too_slow_for_ts_max_is_refused() {
     let req = MoveRequest { start: [0.0; 3], target: [PI, 0.0, 0.0], law: LawKind::Quintic };
     // 1.875·π/0.1 = 59 s > 30 s.
-    assert_eq!(plan_move(&req, &limits([0.1, 1.0, 1.0])).unwrap_err(), Refusal::SpeedLimit);
+    assert_eq!(plan_move(&req, &limits([0.1, 1.0, 1.0])).unwrap_err(), PlanError::SpeedLimit);
     let req = MoveRequest { law: LawKind::Zat, ..req };
-    assert_eq!(plan_move(&req, &limits([0.05, 1.0, 1.0])).unwrap_err(), Refusal::SpeedLimit);
+    assert_eq!(plan_move(&req, &limits([0.05, 1.0, 1.0])).unwrap_err(), PlanError::SpeedLimit);
     let req = MoveRequest { start: [f64::NAN, 0.0, 0.0], ..req };
-    assert_eq!(plan_move(&req, &limits([1.0; 3])).unwrap_err(), Refusal::NotFinite);
+    assert_eq!(plan_move(&req, &limits([1.0; 3])).unwrap_err(), PlanError::NotFinite);
 }
 
 // ---------------------------------------------------------------------------
@@ -511,8 +514,8 @@ fn too_slow_for_ts_max_is_refused() {
 
 #[test]
 fn elbow_branch_keeps_the_whole_workspace_inside_the_default_limits() {
-    use touch_arm::ik::Links;
-    use touch_arm::pose::{pose_for_point, ArmGeometry};
+    use touch_arm::geometry::ik::Links;
+    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
     let maps = JointCal::DEFAULTS.map(|c| ServoMap::new(&c).unwrap());
     let inside = |branch: Branch| {
         let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).unwrap(), branch };

@@ -1,18 +1,21 @@
-//! The chip's f32 code path, run on the host: `f32_exp` (the same integer
+//! The chip's f32 code path, run on the host: `math::exp` (the same integer
 //! core the AVR runs, bit for bit) and the per-frame evaluator built on it
 //! (`Shape::g_rate`, `MultiPlan::sample`, `ServoTrack::frame`), checked against
 //! independent f64 references. `tests/bench_elf.rs` checks that the chip
 //! itself produces these values.
 
 use proptest::prelude::*;
-use touch_arm::f32_atan::atan2;
-use touch_arm::f32_exp::{exp, expm1, ln, mul_full, mul_hi, sqrt_split};
-use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
-use touch_arm::servo::{JointCal, ServoMap};
-use touch_arm::ik::{fk2, ik2, Branch, Links};
-use touch_arm::pose::{pose_for_point, ArmGeometry};
+use touch_arm::math::atan::atan2;
+use touch_arm::math::exp::{exp, expm1, ln};
+use touch_arm::math::fixed::{mul_full, mul_hi};
+use touch_arm::math::sqrt_split::sqrt_split;
+use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
+use touch_arm::servo::track::ServoTrack;
+use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::geometry::ik::{fk2, ik2, Branch, Links};
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::motion::TrajError;
-use touch_arm::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
+use touch_arm::motion::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
 
 /// |got − want| in units of the f32 spacing at `want`.
 fn ulps(got: f32, want: f64) -> f64 {
@@ -359,7 +362,7 @@ fn sample_is_one_profile_evaluation() {
     assert_eq!(plan.sample(2.0).map(|j| j.pos), TARGET);
 }
 
-/// The pulse servo.rs would command for `angle`, from an exact (f64) angle:
+/// The pulse servo::map would command for `angle`, from an exact (f64) angle:
 /// (unrounded µs after both clamps, rounded µs).
 fn exact_pulse(c: &JointCal, angle: f64) -> (f64, u16) {
     let a = angle.clamp(c.min_rad as f64, c.max_rad as f64);
@@ -378,7 +381,7 @@ fn servo_track_matches_servo_mapping() {
     ];
     let mut checked = 0;
     for (start, target) in moves {
-        for law in [None, Some(touch_arm::laws::Law::Cubic)] {
+        for law in [None, Some(touch_arm::motion::laws::Law::Cubic)] {
             let l = match law {
                 None => JointLaw::zat(&ShapeParams { ts: 1.5f32, a: 0.5, n: 3.0 }).unwrap(),
                 Some(l) => JointLaw::classic(l, 1.5f32).unwrap(),
@@ -426,7 +429,7 @@ fn servo_track_matches_servo_mapping() {
 fn servo_track_rejects_angles_beyond_range() {
     let shape = ShapeParams { ts: 1.0f32, a: 0.5, n: 2.0 };
     let plan = MultiPlan::new(&[0.0, 0.0, 0.0], &[200.0, 0.0, 0.0], &shape).unwrap();
-    assert_eq!(ServoTrack::new(&plan, &maps()), Err(touch_arm::plan::TrackError::OutOfRange));
+    assert_eq!(ServoTrack::new(&plan, &maps()), Err(touch_arm::servo::track::TrackError::OutOfRange));
 }
 
 // ------------------------------------------------------------ the plan path
@@ -434,7 +437,7 @@ fn servo_track_rejects_angles_beyond_range() {
 /// `Shape::smooth_stop` is `Shape::new` with a = a*, to the bit, and the
 /// monotonicity it settles on the way is the one a fresh check finds; where
 /// a* is not admissible it refuses.
-fn smooth_stop_matches_new<R: touch_arm::real::Real>(ts: R, n: R) {
+fn smooth_stop_matches_new<R: touch_arm::math::real::Real>(ts: R, n: R) {
     let fast = Shape::smooth_stop(ts, n);
     match smooth_stop_a(ts, n) {
         Some(a) => {

@@ -3,11 +3,11 @@
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, PI};
 
 use proptest::prelude::*;
-use touch_arm::ik::{fk2, fk3, ik2, ik3, Branch, IkError, Links, LinksError};
-use touch_arm::touch_map::{
+use touch_arm::geometry::ik::{fk2, fk3, ik2, ik3, Branch, IkError, Links, LinksError};
+use touch_arm::touch::map::{
     Axis, Calibration, CalibrationError, Crosshair, MappedPoint, RawPoint, SwapMode, ADC_MAX,
 };
-use touch_arm::workspace::{
+use touch_arm::geometry::workspace::{
     alpha, alpha_deg, condition, ik_target, Condition, WorkspaceError, WorkspacePoint,
 };
 
@@ -943,7 +943,7 @@ fn ik_f32_known_values_and_errors() {
     assert!((q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7 && (q.q3 + core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7, "{q:?}");
     // Straight out along either axis: both branches agree, q2 on the axis.
     for b in branches() {
-        assert_eq!(ik2(&l, 2.0, 0.0, b).unwrap(), touch_arm::ik::JointAngles2 { q2: 0.0, q3: 0.0 });
+        assert_eq!(ik2(&l, 2.0, 0.0, b).unwrap(), touch_arm::geometry::ik::JointAngles2 { q2: 0.0, q3: 0.0 });
         let q = ik2(&l, -2.0, 0.0, b).unwrap();
         assert_eq!((q.q2, q.q3), (core::f32::consts::PI, 0.0), "{b:?}");
         let q = ik2(&l, -2.0, -0.0, b).unwrap();
@@ -988,7 +988,7 @@ fn ik_f32_known_values_and_errors() {
 /// with the float operations, on special values and random bit patterns.
 #[test]
 fn f32_bit_tests_agree_with_float_operations() {
-    use touch_arm::real::Real;
+    use touch_arm::math::real::Real;
     let mut vals = vec![
         0.0f32, -0.0, 1.0, -1.0, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45, f32::MAX, -f32::MAX,
         f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, core::f32::consts::PI, -core::f32::consts::PI,

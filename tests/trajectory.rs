@@ -2,13 +2,13 @@
 //! (§7) and the synchronized multi-joint plan.
 
 use proptest::prelude::*;
-use touch_arm::laws::{eval, Law, LawParams, LawPlan};
+use touch_arm::motion::laws::{eval, Law, LawParams, LawPlan};
 use touch_arm::motion::{Sample, TrajError};
-use touch_arm::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
-use touch_arm::via::{
+use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
+use touch_arm::motion::via::{
     iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan,
 };
-use touch_arm::zat::{
+use touch_arm::motion::zat::{
     pole_margin, smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan,
 };
 
@@ -480,9 +480,9 @@ fn shape_refusal_ref(ts: f32, a: f32, n: f32) -> Result<(), TrajError<f32>> {
     if !(a < um && delta > 0.0) {
         return Err(TrajError::ShapeNotAdmissible { a, u_min: um });
     }
-    let l = touch_arm::f32_exp::ln(n);
+    let l = touch_arm::math::exp::ln(n);
     let l_delta = l * delta;
-    let e_s = touch_arm::f32_exp::expm1(l * (ts - a));
+    let e_s = touch_arm::math::exp::expm1(l * (ts - a));
     let on_pole = !(l_delta >= f32::EPSILON) && !((1.0 / l_delta).is_finite() && (1.0 / e_s).is_finite());
     if on_pole || !l_delta.is_finite() {
         return Err(TrajError::NotFinite);
@@ -531,12 +531,12 @@ fn f32_shape_checks_match_float_comparisons() {
 /// chip's ln 2 to the bit, so shapes, a* and ζ are unchanged.
 #[test]
 fn f32_base_two_uses_the_chips_ln2() {
-    let ln2 = touch_arm::f32_exp::ln(2.0);
+    let ln2 = touch_arm::math::exp::ln(2.0);
     assert_eq!(ln2.to_bits(), core::f32::consts::LN_2.to_bits());
     let s = Shape::<f32>::new(&ShapeParams { ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
     assert_eq!(s.ln_n().to_bits(), ln2.to_bits());
     let a = smooth_stop_a(3.0f32, 2.0).unwrap();
-    assert_eq!(a.to_bits(), (3.0f32 - touch_arm::f32_exp::ln(3.0) / ln2).to_bits());
+    assert_eq!(a.to_bits(), (3.0f32 - touch_arm::math::exp::ln(3.0) / ln2).to_bits());
     let z = zeta(&ZatParams { q0: 0.1f32, sf: 0.9, ts: 3.0, a: 1.0, n: 2.0 }).unwrap();
     assert_eq!(Some(z), s.zeta(0.9f32 - 0.1));
 }

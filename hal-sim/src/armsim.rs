@@ -4,14 +4,14 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use touch_arm::ik::{fk2, ik2, ik3, Branch, IkError, Links};
-use touch_arm::laws::{Law, LawParams, LawPlan};
+use touch_arm::geometry::ik::{fk2, ik2, ik3, Branch, IkError, Links};
+use touch_arm::motion::laws::{Law, LawParams, LawPlan};
 use touch_arm::motion::{Sample, TrajError};
-use touch_arm::via::{iterate_paper, ViaParams, ViaPlan};
-use touch_arm::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
-use touch_arm::pose::{pose_for_point, ArmGeometry, PoseError};
-use touch_arm::touch_map::Calibration;
-use touch_arm::workspace::WorkspacePoint;
+use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
+use touch_arm::touch::map::Calibration;
+use touch_arm::geometry::workspace::WorkspacePoint;
 
 use crate::plot::{self, Curve, Panel};
 use crate::report::{csv_row, Json};

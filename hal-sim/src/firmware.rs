@@ -184,7 +184,7 @@ pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
     use touch_arm::ui::layout;
     let (px, py) = layout::ws_point_to_pixel(x, y)?;
     let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
-    let (raw_x, raw_y) = touch_arm::touch_map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
+    let (raw_x, raw_y) = touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
     let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
     Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
 }
@@ -193,7 +193,7 @@ pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
 /// on the map at all.
 pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     use touch_arm::ui::layout;
-    let m = touch_arm::touch_map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
+    let m = touch_arm::touch::map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
     let (px, py) = layout::panel_to_pixel(m.x_p, m.y_p)?;
     let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))

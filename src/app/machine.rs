@@ -1,15 +1,20 @@
 //! The frame: boot, touch, motion and servo output (the order is in the
 //! module doc of `app`).
 
-use super::policy::{plan_move, MoveRequest, PlanLimits, Refusal};
+use super::refusal::Refusal;
+use crate::motion::planner::plan_move::plan_move;
+use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use super::text::Line;
 use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
-use crate::config_store::{self, Config, SpeedPreset, Warning};
-use crate::ik::IkError;
-use crate::plan::{ServoTrack, JOINTS};
-use crate::pose::{pose_for_point, PoseError};
+use crate::config::store::{self, Warning};
+use crate::config::settings::{Config, SpeedPreset};
+use crate::geometry::ik::IkError;
+use crate::motion::plan::JOINTS;
+use crate::servo::track::ServoTrack;
+use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
-use crate::touch_filter::{RawSample, TouchEvent, TouchPoint, MAX_SAMPLES};
+use crate::seam::RawSample;
+use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
 impl App {
     /// One 20 ms frame. Call once per servo PWM period.
@@ -39,7 +44,7 @@ impl App {
 
     /// Loads the configuration and starts homing (no pulse in this frame).
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
-        let loaded = config_store::load(storage);
+        let loaded = store::load(storage);
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {
@@ -60,9 +65,9 @@ impl App {
         self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };
         let mut line = Line::new();
         line.str(t!("info boot config")).word(match self.source {
-            config_store::Source::SlotA => t!("slotA"),
-            config_store::Source::SlotB => t!("slotB"),
-            config_store::Source::Defaults => t!("defaults"),
+            store::Source::SlotA => t!("slotA"),
+            store::Source::SlotB => t!("slotB"),
+            store::Source::Defaults => t!("defaults"),
         });
         line.word(t!("seq")).num(i32::from(loaded.seq));
         serial.write(line.finish());
@@ -207,7 +212,7 @@ impl App {
     /// A target angle the servo layer would have to clamp (angle or pulse
     /// limit, beyond its 0.5 µs rounding allowance) is refused.
     fn check_limits(&self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
-        for ((q, m), j) in target.iter().zip(self.maps.iter()).zip(crate::servo::Joint::ALL.iter()) {
+        for ((q, m), j) in target.iter().zip(self.maps.iter()).zip(crate::servo::map::Joint::ALL.iter()) {
             match m.angle_to_pulse(*q) {
                 Ok(p) if p.clamped.is_none() => {}
                 Ok(_) => return Err(Refusal::JointLimit(*j)),

@@ -47,26 +47,26 @@
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
 
-pub mod duration;
 mod machine;
+pub mod refusal;
 mod screen;
-pub mod policy;
 mod serial;
-pub mod shape_choice;
 mod telemetry;
 pub mod text;
 
-use crate::command::SerialLine;
-use crate::config_store::{Config, SpeedPreset, Source, Warning};
-use crate::ik::{Branch, Links, LinksError};
-use crate::plan::{LawKind, ServoTrack, JOINTS};
-use crate::pose::ArmGeometry;
-use crate::servo::{ServoMap, ELBOW_BRANCH};
-use crate::touch_filter::{FilterConfig, FilterConfigError, TouchFilter};
-use crate::workspace::Condition;
+use crate::protocol::command::SerialLine;
+use crate::config::store::{Source, Warning};
+use crate::config::settings::{Config, SpeedPreset};
+use crate::geometry::ik::{Branch, Links, LinksError};
+use crate::motion::plan::{LawKind, JOINTS};
+use crate::servo::track::ServoTrack;
+use crate::geometry::pose::ArmGeometry;
+use crate::motion::planner::shape_choice::AChoice;
+use crate::servo::map::{ServoMap, ELBOW_BRANCH};
+use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter};
+use crate::geometry::workspace::Condition;
 
-pub use policy::{MoveRequest, PlanLimits, PlannedMove, Refusal};
-pub use shape_choice::{AChoice, AKind};
+pub use refusal::Refusal;
 
 /// One frame = one servo PWM period.
 pub const FRAME_MS: u32 = 20;
@@ -92,7 +92,7 @@ pub struct AppParams {
     pub n: f32,
     /// Shortest classic move, s.
     pub ts_min: f32,
-    /// Shortest ζ-a-tₛ move, s, at least [`policy::ZAT_TS_FLOOR`]: above 1 so
+    /// Shortest ζ-a-tₛ move, s, at least [`crate::motion::planner::request::ZAT_TS_FLOOR`]: above 1 so
     /// the smooth stop exists (for tₛ ≤ 1 a ζ-a-tₛ move ends with a velocity
     /// step of at least |Δ|·ln n / tₛ), and not just above 1, where the
     /// smooth-stop shape sits next to its pole.
@@ -143,7 +143,7 @@ impl AppParams {
             return Err(ParamsError::Base);
         }
         let durations_ok = self.ts_min > 0.0
-            && self.zat_ts_min >= policy::ZAT_TS_FLOOR
+            && self.zat_ts_min >= crate::motion::planner::request::ZAT_TS_FLOOR
             && self.ts_max.is_finite()
             && self.ts_max >= self.ts_min
             && self.ts_max >= self.zat_ts_min;

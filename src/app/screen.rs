@@ -4,12 +4,13 @@
 //! crosshair flow), and the app draws its state through the UI after each
 //! frame. Without a screen the whole panel is the workspace, as in the paper.
 
-use crate::config_store::{self, Storage};
+use crate::config::store;
+use crate::seam::Storage;
 use crate::seam::SerialPort;
-use crate::touch_filter::TouchPoint;
+use crate::touch::filter::TouchPoint;
 use crate::ui::{self, CalibrationEvent, CalibrationFlow, Canvas, Hit, Redrawn, Ui, UiConfig, UiModel, UiState};
 
-use super::policy::Refusal;
+use super::refusal::Refusal;
 use super::text::Line;
 use super::{App, State};
 
@@ -46,7 +47,7 @@ impl App {
                     self.screen.ui.invalidate();
                     let mut next = self.config;
                     next.touch = cal;
-                    match config_store::save(storage, &next) {
+                    match store::save(storage, &next) {
                         Ok(seq) => {
                             self.config = next;
                             line.str(t!("info cal touch saved seq")).num(i32::from(seq));

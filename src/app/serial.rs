@@ -6,15 +6,17 @@
 //! answered with `err` and changes nothing. While a multi-line reply is being
 //! sent no new line is read (the bytes wait in the port).
 
-use super::policy::Refusal;
+use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::Line;
 use super::{build_maps, App, Io, Pending};
-use crate::command::{centideg_to_rad, parse, CalSet, CmdError, Command, LINE_LEN};
-use crate::config_store::{self, Config, ConfigError, SaveError};
-use crate::plan::JOINTS;
+use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
+use crate::config::settings::CalSet;
+use crate::config::store::{self, SaveError};
+use crate::config::settings::{Config, ConfigError};
+use crate::motion::plan::JOINTS;
 use crate::seam::{SerialPort, Storage};
-use crate::touch_filter::TouchPoint;
+use crate::touch::filter::TouchPoint;
 
 impl App {
     /// Reads up to the byte budget, stopping after the first complete line,
@@ -177,7 +179,7 @@ impl App {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
-        match config_store::save(storage, &self.config) {
+        match store::save(storage, &self.config) {
             Ok(seq) => {
                 // Both copies now hold this configuration.
                 self.warning = None;

@@ -2,10 +2,11 @@
 //! `cal show` and the per-frame telemetry of `log on`.
 
 use super::text::{centideg, milli, Line};
-use super::{App, AKind, Pending, Status};
-use crate::command::{JointField, TouchField};
+use super::{App, Pending, Status};
+use crate::motion::planner::shape_choice::AKind;
+use crate::config::settings::{JointField, TouchField};
 use crate::seam::SerialPort;
-use crate::servo::Joint;
+use crate::servo::map::Joint;
 
 /// `cal show` lines before its final `ok` line.
 const CAL_SHOW_LINES: u8 = 4;
@@ -140,10 +141,10 @@ pub(super) fn status_line(s: &Status, line: &mut Line) {
     }
     if let Some(w) = s.config_warning {
         line.word(t!("warn")).word(match w {
-            crate::config_store::Warning::Missing => t!("missing"),
-            crate::config_store::Warning::Corrupt => t!("corrupt"),
-            crate::config_store::Warning::VersionMismatch => t!("version"),
-            crate::config_store::Warning::CopyDamaged => t!("copy_damaged"),
+            crate::config::store::Warning::Missing => t!("missing"),
+            crate::config::store::Warning::Corrupt => t!("corrupt"),
+            crate::config::store::Warning::VersionMismatch => t!("version"),
+            crate::config::store::Warning::CopyDamaged => t!("copy_damaged"),
         });
     }
     if let Some(r) = s.last_refusal {

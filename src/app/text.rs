@@ -1,7 +1,7 @@
 //! Output lines built in a fixed buffer from integers, so the chip links no
 //! `core::fmt` float code. Fixed-point values print as `-12.05`.
 
-use crate::config_store::round_i32;
+use crate::config::settings::round_i32;
 use crate::text::Text;
 
 /// Longest line the app writes, terminator included.

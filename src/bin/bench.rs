@@ -24,26 +24,27 @@
 
 use avr_device::atmega2560 as pac;
 use core::hint::black_box;
-use touch_arm::app::policy as app_policy;
+use touch_arm::motion::planner::{plan_move, request as app_policy};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::cycles::CycleCounter;
 use touch_arm::board::shield::ShieldBus;
-use touch_arm::board::touch::TouchWiring;
-use touch_arm::plan::LawKind;
+use touch_arm::board::shield::TouchWiring;
+use touch_arm::motion::plan::LawKind;
 use touch_arm::seam::TouchPanel;
-use touch_arm::touch_filter::RawSample;
+use touch_arm::seam::RawSample;
 use touch_arm::board::stack;
 use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
-use touch_arm::laws::Law;
-use touch_arm::plan::{JointLaw, MultiPlan, ServoTrack, JOINTS};
-use touch_arm::pose::{pose_for_point, ArmGeometry};
-use touch_arm::ik::{ik2, Branch, Links};
-use touch_arm::real::Real;
-use touch_arm::servo::{JointCal, ServoMap};
-use touch_arm::touch_map::Calibration;
-use touch_arm::via::{iterate_paper, ViaParams, ViaPlan};
-use touch_arm::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
+use touch_arm::motion::laws::Law;
+use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
+use touch_arm::servo::track::ServoTrack;
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+use touch_arm::geometry::ik::{ik2, Branch, Links};
+use touch_arm::math::real::Real;
+use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::touch::map::Calibration;
+use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::motion::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
 use ufmt::uwriteln;
 
 /// The i-th plan input: a raw touch spread over the panel and a duration
@@ -310,7 +311,7 @@ fn main() -> ! {
             target: [spread(i, 0.3, 2.8), spread(i, 0.4, 2.6), spread(i, -2.8, -0.4)],
             law: LawKind::Zat,
         },
-        |req| app_policy::plan_move(req, &limits).ok().map(|p| p.ts),
+        |req| plan_move::plan_move(req, &limits).ok().map(|p| p.ts),
     );
     // One touch read: 5 samples of X, Y and the two pressure channels on the
     // shared pins, with settle times, pins handed back after.
@@ -350,7 +351,7 @@ fn main() -> ! {
     b.run("plan_map", touch, |&(rx, ry)| cal.map::<f32>(rx, ry).ok());
     b.run("plan_pose", mapped, |&(x, y)| pose_for_point(&geo, x, y).ok());
     b.run("plan_ik2", mapped, |&(x, y)| ik2(&geo.links, x.abs(), y, Branch::Minus).ok());
-    b.run("plan_alpha", mapped, |&(x, y)| touch_arm::workspace::alpha(x, y).ok());
+    b.run("plan_alpha", mapped, |&(x, y)| touch_arm::geometry::workspace::alpha(x, y).ok());
     b.run("plan_a_star", |i| spread(i, 1.5, 4.0), |&ts| smooth_stop_a(ts, 2.0f32));
     b.run("shape_new", shape_at, |p| Shape::new(p).ok());
     b.run("shape_smooth_stop", |i| spread(i, 1.5, 4.0), |&ts| Shape::smooth_stop(ts, 2.0f32).ok());
@@ -441,7 +442,7 @@ fn accuracy_dump(b: &mut Bench) {
     let mut x = 9.3e-10f32;
     for _ in 0..125 {
         let _ = uwriteln!(b.serial, "L {} {}", x.to_bits(), x.ln().to_bits());
-        let (s, c) = touch_arm::f32_exp::sqrt_split(x);
+        let (s, c) = touch_arm::math::sqrt_split::sqrt_split(x);
         let _ = uwriteln!(b.serial, "Q {} {} {}", x.to_bits(), s.to_bits(), c.to_bits());
         x *= 1.189_213_7;
     }
@@ -454,14 +455,14 @@ fn accuracy_dump(b: &mut Bench) {
     let pats = [0u32, 1, 0xFFFF_FFFF, 0x8000_0000, 0xFFFF_0000, 0x0000_FFFF, 0x00FF_00FF, 0xFF00_FF00];
     for &a in pats.iter() {
         for &c in pats.iter() {
-            let _ = uwriteln!(b.serial, "M {} {} {}", a, c, touch_arm::f32_exp::mul_hi_approx(a, c));
+            let _ = uwriteln!(b.serial, "M {} {} {}", a, c, touch_arm::math::fixed::mul_hi_approx(a, c));
         }
     }
     let mut r = 0x2545_F491u32;
     for _ in 0..64 {
         let a = r;
         r = r.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        let _ = uwriteln!(b.serial, "M {} {} {}", a, r, touch_arm::f32_exp::mul_hi_approx(a, r));
+        let _ = uwriteln!(b.serial, "M {} {} {}", a, r, touch_arm::math::fixed::mul_hi_approx(a, r));
         r = r.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
     }
     // atan2 around the circle (every octant) at radii 1e-3 … 1e3.
@@ -477,7 +478,7 @@ fn accuracy_dump(b: &mut Bench) {
     for &ts in tss.iter() {
         for &n in ns.iter() {
             for &m in margins.iter() {
-                let ps = ShapeParams { ts, a: touch_arm::zat::u_min(ts) - m, n };
+                let ps = ShapeParams { ts, a: touch_arm::motion::zat::u_min(ts) - m, n };
                 let Ok(s) = Shape::new(&ps) else { continue };
                 if !s.is_monotone() {
                     continue;

@@ -9,7 +9,7 @@
 
 use avr_device::atmega2560::EEPROM;
 
-use crate::config_store::{Storage, StorageError};
+use crate::seam::{Storage, StorageError};
 
 use super::delay_us;
 use super::watchdog;

@@ -4,7 +4,7 @@
 //! A [`Pin`] is only a descriptor (two bytes, `Copy`). Its register accessors
 //! are crate-private: the right to change a pin comes from owning the PAC port
 //! peripheral, and the shield's ports E, F, G and H are owned by
-//! [`ShieldBus`](super::touch::ShieldBus). So nothing outside the board layer
+//! [`ShieldBus`](super::shield::ShieldBus). So nothing outside the board layer
 //! can reach a shared LCD/touch pin except through the bus.
 //!
 //! Every read-modify-write of DDRx/PORTx runs with interrupts disabled. Ports

@@ -17,9 +17,8 @@
 use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
 use super::adc::Adc;
-use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
+use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9, LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
-use super::touch::{TouchPins, TouchReader, TouchWiring};
 
 /// Every LCD pin, in the order they are restored after a touch read: data and
 /// RS first, then the RD/WR strobes, chip select last. Had CS been left active
@@ -32,7 +31,7 @@ const RESTORE_ORDER: [Pin; 13] = [
 
 /// Pins the panel may use: only these are owned (through their ports) and
 /// saved/restored by the bus.
-pub(crate) const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
+const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
 
 /// A control line of the LCD.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,12 +132,6 @@ impl ShieldBus {
         restore(&saved);
         r
     }
-
-    /// A [`TouchPanel`](crate::seam::TouchPanel) over this bus: each `read`
-    /// is one `with_touch` call.
-    pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: &'a TouchWiring) -> TouchReader<'a> {
-        TouchReader::new(self, adc, wiring)
-    }
 }
 
 fn snapshot() -> [PinMode; 13] {
@@ -148,5 +141,115 @@ fn snapshot() -> [PinMode; 13] {
 fn restore(saved: &[PinMode; 13]) {
     for (p, m) in RESTORE_ORDER.iter().zip(saved.iter()) {
         p.set_mode(*m);
+    }
+}
+
+/// Which shield pins carry the panel's four electrodes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TouchWiring {
+    pub(super) xp: Pin,
+    pub(super) xm: Pin,
+    pub(super) yp: Pin,
+    pub(super) ym: Pin,
+    pub(super) xm_channel: u8,
+    pub(super) yp_channel: u8,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WiringError {
+    /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
+    NotShieldPin,
+    /// X− or Y+ has no ADC channel.
+    NotAnalog,
+    /// The same pin is named twice.
+    Duplicate,
+}
+
+const fn same(a: Pin, b: Pin) -> bool {
+    a.bit() == b.bit() && a.port() as u8 == b.port() as u8
+}
+
+const fn is_shield_pin(p: Pin) -> bool {
+    let mut i = 0;
+    while i < SHIELD_PINS.len() {
+        if same(p, SHIELD_PINS[i]) {
+            return true;
+        }
+        i += 1;
+    }
+    false
+}
+
+/// Unwraps a preset at compile time (an invalid preset fails the build).
+const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
+    match w {
+        Ok(w) => w,
+        Err(_) => panic!("invalid touch wiring preset"),
+    }
+}
+
+impl TouchWiring {
+    /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
+    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
+    /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
+    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
+    /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
+    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+
+    /// Checks that all four are distinct shield pins and X−, Y+ are analog.
+    pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {
+        if !(is_shield_pin(xp) && is_shield_pin(xm) && is_shield_pin(yp) && is_shield_pin(ym)) {
+            return Err(WiringError::NotShieldPin);
+        }
+        if same(xp, xm) || same(xp, yp) || same(xp, ym) || same(xm, yp) || same(xm, ym) || same(yp, ym) {
+            return Err(WiringError::Duplicate);
+        }
+        match (xm.adc_channel(), yp.adc_channel()) {
+            (Some(xm_channel), Some(yp_channel)) => {
+                Ok(TouchWiring { xp, xm, yp, ym, xm_channel, yp_channel })
+            }
+            _ => Err(WiringError::NotAnalog),
+        }
+    }
+
+    pub const fn xp(&self) -> Pin {
+        self.xp
+    }
+    pub const fn xm(&self) -> Pin {
+        self.xm
+    }
+    pub const fn yp(&self) -> Pin {
+        self.yp
+    }
+    pub const fn ym(&self) -> Pin {
+        self.ym
+    }
+
+    /// True if `p` is one of the four panel pins.
+    pub fn uses(&self, p: Pin) -> bool {
+        p == self.xp || p == self.xm || p == self.yp || p == self.ym
+    }
+}
+
+/// The panel pins while they are lent out by [`ShieldBus::with_touch`]; only
+/// exists inside that call.
+pub struct TouchPins<'a> {
+    adc: &'a mut Adc,
+    wiring: &'a TouchWiring,
+}
+
+impl<'a> TouchPins<'a> {
+    fn lend(adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
+        Self { adc, wiring }
+    }
+
+    /// The ADC, for the measurement (`touch.rs`).
+    pub(super) fn adc(&mut self) -> &mut Adc {
+        self.adc
+    }
+
+    /// Which pins are the panel's.
+    pub(super) fn wiring(&self) -> &'a TouchWiring {
+        self.wiring
     }
 }

@@ -16,16 +16,18 @@
 //! source to the plate and bias the reading.
 //!
 //! The pins are only reachable through [`ShieldBus::with_touch`], which saves
-//! and restores them; see `shield.rs` for why that matters.
+//! and restores them; see `shield.rs` for why that matters. The shield owns
+//! the wiring ([`TouchWiring`]) and the lent handle ([`TouchPins`]); this
+//! module is the measurement made with them.
 
 use crate::seam::TouchPanel;
-use crate::touch_filter::{pressure, RawSample};
+use crate::seam::RawSample;
+use crate::touch::filter::pressure;
 
 use super::adc::{Adc, AdcError};
 use super::delay_us;
-use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9};
 use super::gpio::{Pin, PinMode};
-use super::shield::{ShieldBus, SHIELD_PINS};
+use super::shield::{ShieldBus, TouchPins, TouchWiring};
 
 /// Wait after switching the drive pins, before sampling. The plates are a few
 /// hundred ohms and the floating one reaches the ADC through the contact
@@ -34,93 +36,6 @@ use super::shield::{ShieldBus, SHIELD_PINS};
 /// that put small filter capacitors on the lines, and is cheap next to the
 /// 104 µs of a conversion.
 pub const PANEL_SETTLE_US: u32 = 20;
-
-/// Which shield pins carry the panel's four electrodes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TouchWiring {
-    xp: Pin,
-    xm: Pin,
-    yp: Pin,
-    ym: Pin,
-    xm_channel: u8,
-    yp_channel: u8,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WiringError {
-    /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
-    NotShieldPin,
-    /// X− or Y+ has no ADC channel.
-    NotAnalog,
-    /// The same pin is named twice.
-    Duplicate,
-}
-
-const fn same(a: Pin, b: Pin) -> bool {
-    a.bit() == b.bit() && a.port() as u8 == b.port() as u8
-}
-
-const fn is_shield_pin(p: Pin) -> bool {
-    let mut i = 0;
-    while i < SHIELD_PINS.len() {
-        if same(p, SHIELD_PINS[i]) {
-            return true;
-        }
-        i += 1;
-    }
-    false
-}
-
-/// Unwraps a preset at compile time (an invalid preset fails the build).
-const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
-    match w {
-        Ok(w) => w,
-        Err(_) => panic!("invalid touch wiring preset"),
-    }
-}
-
-impl TouchWiring {
-    /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
-    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
-    /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
-    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
-    /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
-    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
-
-    /// Checks that all four are distinct shield pins and X−, Y+ are analog.
-    pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {
-        if !(is_shield_pin(xp) && is_shield_pin(xm) && is_shield_pin(yp) && is_shield_pin(ym)) {
-            return Err(WiringError::NotShieldPin);
-        }
-        if same(xp, xm) || same(xp, yp) || same(xp, ym) || same(xm, yp) || same(xm, ym) || same(yp, ym) {
-            return Err(WiringError::Duplicate);
-        }
-        match (xm.adc_channel(), yp.adc_channel()) {
-            (Some(xm_channel), Some(yp_channel)) => {
-                Ok(TouchWiring { xp, xm, yp, ym, xm_channel, yp_channel })
-            }
-            _ => Err(WiringError::NotAnalog),
-        }
-    }
-
-    pub const fn xp(&self) -> Pin {
-        self.xp
-    }
-    pub const fn xm(&self) -> Pin {
-        self.xm
-    }
-    pub const fn yp(&self) -> Pin {
-        self.yp
-    }
-    pub const fn ym(&self) -> Pin {
-        self.ym
-    }
-
-    /// True if `p` is one of the four panel pins.
-    pub fn uses(&self, p: Pin) -> bool {
-        p == self.xp || p == self.xm || p == self.yp || p == self.ym
-    }
-}
 
 /// The two raw pressure readings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,18 +46,7 @@ pub struct PressurePair {
     pub z2: u16,
 }
 
-/// The panel pins while they are lent out by [`ShieldBus::with_touch`]; only
-/// exists inside that call.
-pub struct TouchPins<'a> {
-    adc: &'a mut Adc,
-    wiring: &'a TouchWiring,
-}
-
-impl<'a> TouchPins<'a> {
-    pub(super) fn lend(adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
-        Self { adc, wiring }
-    }
-
+impl TouchPins<'_> {
     /// Floats two pins first (so no two plates are ever driven against each
     /// other through the contact point), then drives the pair, then waits.
     #[inline]
@@ -156,24 +60,24 @@ impl<'a> TouchPins<'a> {
 
     /// X position in ADC counts.
     pub fn read_x(&mut self) -> Result<u16, AdcError> {
-        let w = self.wiring;
+        let w = self.wiring();
         Self::drive(w.xp, w.xm, w.yp, w.ym);
-        self.adc.read(w.yp_channel)
+        self.adc().read(w.yp_channel)
     }
 
     /// Y position in ADC counts.
     pub fn read_y(&mut self) -> Result<u16, AdcError> {
-        let w = self.wiring;
+        let w = self.wiring();
         Self::drive(w.yp, w.ym, w.xp, w.xm);
-        self.adc.read(w.xm_channel)
+        self.adc().read(w.xm_channel)
     }
 
     /// z1 (XM) and z2 (YP) with XP low and YM high.
     pub fn read_pressure(&mut self) -> Result<PressurePair, AdcError> {
-        let w = self.wiring;
+        let w = self.wiring();
         Self::drive(w.ym, w.xp, w.xm, w.yp);
-        let z1 = self.adc.read(w.xm_channel)?;
-        let z2 = self.adc.read(w.yp_channel)?;
+        let z1 = self.adc().read(w.xm_channel)?;
+        let z2 = self.adc().read(w.yp_channel)?;
         Ok(PressurePair { z1, z2 })
     }
 
@@ -225,5 +129,13 @@ impl<'a> TouchReader<'a> {
 impl TouchPanel for TouchReader<'_> {
     fn read(&mut self, out: &mut [RawSample]) -> usize {
         self.bus.with_touch(self.adc, self.wiring, |p| p.fill(out))
+    }
+}
+
+impl ShieldBus {
+    /// A [`TouchPanel`](crate::seam::TouchPanel) over this bus: each `read`
+    /// is one `with_touch` call.
+    pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: &'a TouchWiring) -> TouchReader<'a> {
+        TouchReader::new(self, adc, wiring)
     }
 }

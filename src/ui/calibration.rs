@@ -19,8 +19,8 @@ use crate::text::Text;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
 use super::text_buf::Line;
 use super::theme;
-use crate::config_store::MIN_TOUCH_SPAN;
-use crate::touch_map::{Calibration, CalibrationError, Crosshair, SwapMode};
+use crate::config::settings::MIN_TOUCH_SPAN;
+use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 
 /// Crosshair centres in screen pixels: four corners inset by 10 % and the
 /// centre (five points average touch noise and detect swap and inversion).

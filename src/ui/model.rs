@@ -1,7 +1,7 @@
 //! What the screen shows, as plain data the app fills in each frame.
 
-use crate::config_store::SpeedPreset;
-use crate::workspace::Condition;
+use crate::config::settings::SpeedPreset;
+use crate::geometry::workspace::Condition;
 
 /// Why a touched point was not accepted as a target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,7 +39,7 @@ pub enum UiState {
 /// several are set, so put the most important highest).
 pub mod warn {
     /// The last touch lay outside the calibrated span and was pulled onto
-    /// its edge (`touch_map::MappedPoint::clamped`).
+    /// its edge (`touch::map::MappedPoint::clamped`).
     pub const TOUCH_CLAMPED: u8 = 1 << 0;
     /// EEPROM settings were invalid; defaults are in use.
     pub const DEFAULT_SETTINGS: u8 = 1 << 1;

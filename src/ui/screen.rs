@@ -17,7 +17,7 @@ use super::model::{warn, Refusal, UiModel, UiState};
 use super::text_buf::{rad_to_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
-use crate::config_store::SpeedPreset;
+use crate::config::settings::SpeedPreset;
 
 /// Which regions a draw call repainted (bit set).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

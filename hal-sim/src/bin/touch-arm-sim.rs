@@ -16,10 +16,10 @@ use hal_sim::firmware::{self, Session};
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
-use touch_arm::config_store::Config;
-use touch_arm::pose::{pose_for_point, ArmGeometry};
-use touch_arm::servo::{ServoMap, ELBOW_BRANCH};
-use touch_arm::ik::Links;
+use touch_arm::config::settings::Config;
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+use touch_arm::servo::map::{ServoMap, ELBOW_BRANCH};
+use touch_arm::geometry::ik::Links;
 
 const USAGE: &str = "usage: touch-arm-sim [--raw X,Y | --xy X,Y] [--elf FILE] [--out DIR]
 Runs the firmware in simavr, touches the panel at the given point and writes

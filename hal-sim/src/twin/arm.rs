@@ -2,7 +2,7 @@
 //! the app's f32 IK): the planar 2-link FK gives reach and height in the arm
 //! plane, the base turns that plane by its angle.
 
-use touch_arm::ik::{fk2, Links};
+use touch_arm::geometry::ik::{fk2, Links};
 
 /// End effector of joint angles (base, shoulder, elbow), rad.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,7 +2,7 @@
 
 use std::collections::VecDeque;
 
-use touch_arm::config_store::EEPROM_SIZE;
+use touch_arm::config::store::EEPROM_SIZE;
 use touch_arm::seam::{Clock, SerialPort, Storage, StorageError};
 
 /// Millisecond clock set by the runner.

@@ -19,8 +19,9 @@
 //!   z2 = 1023: pressure 0.
 
 use touch_arm::seam::TouchPanel;
-use touch_arm::touch_filter::{pressure, RawSample, ADC_MAX};
-use touch_arm::touch_map::Calibration;
+use touch_arm::seam::RawSample;
+use touch_arm::touch::filter::{pressure, ADC_MAX};
+use touch_arm::touch::map::Calibration;
 
 use super::rng::Rng;
 

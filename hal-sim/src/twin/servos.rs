@@ -4,7 +4,7 @@
 //! stays where it is.
 
 use touch_arm::seam::ServoOutputs;
-use touch_arm::servo::{JointCal, ABS_MAX_US, ABS_MIN_US};
+use touch_arm::servo::map::{JointCal, ABS_MAX_US, ABS_MIN_US};
 
 /// Mechanical behaviour shared by the three servos.
 #[derive(Debug, Clone, Copy, PartialEq)]

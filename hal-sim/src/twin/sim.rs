@@ -1,8 +1,8 @@
 //! The runner: the app and its twin devices, stepped one 20 ms frame at a time.
 
 use touch_arm::app::{App, AppParams, Io, State, FRAME_MS};
-use touch_arm::ik::Links;
-use touch_arm::servo::JointCal;
+use touch_arm::geometry::ik::Links;
+use touch_arm::servo::map::JointCal;
 
 use super::arm::{effector, Effector};
 use super::devices::{SimClock, SimEeprom, SimSerial};

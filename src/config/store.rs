@@ -1,0 +1,342 @@
+//! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
+//!
+//! # Record layout (version 1, little-endian, 90 bytes)
+//! | offset | size | field |
+//! |-------:|-----:|-------|
+//! | 0  | 2  | magic `b"TA"` |
+//! | 2  | 1  | layout version (1) |
+//! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
+//! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
+//! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
+//! | 85 | 1  | touch flags: bit 0 swap, bit 1 invert_x, bit 2 invert_y (other bits 0) |
+//! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
+//! | 87 | 1  | motion law id ([`LawKind::id`]) |
+//! | 88 | 2  | CRC-16/CCITT-FALSE of bytes 0..88 |
+//!
+//! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
+//! record is bit-identical on the chip and on the host.
+//!
+//! # Two copies
+//! Copy A lives at [`SLOT_A_ADDR`], copy B at [`SLOT_B_ADDR`]. [`save`] writes the
+//! new record (sequence + 1) to both, **first to the slot that does not hold the
+//! newest valid copy, then to the other**, verifying each by reading it back.
+//! A power loss while writing the first slot leaves the other slot's old copy
+//! intact; a loss while writing the second leaves the first slot's complete new
+//! copy, which has the higher sequence number. A torn record fails the CRC
+//! (a 16-bit CRC catches every error burst of up to 16 bits, so any single
+//! garbled byte). [`load`] takes the valid copy with the newer sequence number;
+//! with no valid copy it returns the defaults and a [`Warning`].
+
+use super::crc::crc16;
+use super::settings::{Config, ConfigError, SpeedPreset};
+use crate::motion::plan::LawKind;
+use crate::seam::{Storage, StorageError};
+use crate::servo::map::JointCal;
+use crate::touch::map::Calibration;
+
+/// EEPROM size of the ATmega2560.
+pub const EEPROM_SIZE: u16 = 4096;
+pub const RECORD_LEN: usize = 90;
+pub const SLOT_A_ADDR: u16 = 0;
+/// Leaves room for the record to grow to 128 bytes.
+pub const SLOT_B_ADDR: u16 = 128;
+pub const MAGIC: [u8; 2] = *b"TA";
+pub const VERSION: u8 = 1;
+
+const CRC_OFFSET: usize = RECORD_LEN - 2;
+const FLAG_SWAP: u8 = 1 << 0;
+const FLAG_INVERT_X: u8 = 1 << 1;
+const FLAG_INVERT_Y: u8 = 1 << 2;
+
+impl Config {
+    /// Serializes with sequence number `seq`.
+    pub fn encode(&self, seq: u16) -> [u8; RECORD_LEN] {
+        let mut buf = [0u8; RECORD_LEN];
+        let mut w = Writer { buf: &mut buf, pos: 0 };
+        w.put(&MAGIC);
+        w.put(&[VERSION]);
+        w.put(&seq.to_le_bytes());
+        for j in self.joints.iter() {
+            w.put(&j.offset_us.to_le_bytes());
+            w.put(&j.us_per_rad.to_le_bytes());
+            w.put(&j.min_us.to_le_bytes());
+            w.put(&j.max_us.to_le_bytes());
+            w.put(&j.min_rad.to_le_bytes());
+            w.put(&j.max_rad.to_le_bytes());
+            w.put(&j.max_speed_rad_s.to_le_bytes());
+        }
+        let t = &self.touch;
+        for v in [t.x_min, t.x_max, t.y_min, t.y_max] {
+            w.put(&v.to_le_bytes());
+        }
+        let mut flags = 0u8;
+        if t.swap_xy {
+            flags |= FLAG_SWAP;
+        }
+        if t.invert_x {
+            flags |= FLAG_INVERT_X;
+        }
+        if t.invert_y {
+            flags |= FLAG_INVERT_Y;
+        }
+        w.put(&[flags, self.speed.id(), self.law.id()]);
+        let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
+        if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
+            dst.copy_from_slice(&crc.to_le_bytes());
+        }
+        buf
+    }
+
+    /// Parses and validates a record. Checks, in order: magic, version, CRC,
+    /// field values.
+    pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
+        let mut r = Reader { buf, pos: 0 };
+        if r.take::<2>() != MAGIC {
+            return Err(RecordError::NoMagic);
+        }
+        let [version] = r.take::<1>();
+        if version != VERSION {
+            return Err(RecordError::Version(version));
+        }
+        let (body, stored) = buf.split_at(CRC_OFFSET);
+        if crc16(body).to_le_bytes() != stored {
+            return Err(RecordError::Crc);
+        }
+        let seq = u16::from_le_bytes(r.take());
+        let mut joints = JointCal::DEFAULTS;
+        for j in joints.iter_mut() {
+            j.offset_us = f32::from_le_bytes(r.take());
+            j.us_per_rad = f32::from_le_bytes(r.take());
+            j.min_us = u16::from_le_bytes(r.take());
+            j.max_us = u16::from_le_bytes(r.take());
+            j.min_rad = f32::from_le_bytes(r.take());
+            j.max_rad = f32::from_le_bytes(r.take());
+            j.max_speed_rad_s = f32::from_le_bytes(r.take());
+        }
+        let x_min = u16::from_le_bytes(r.take());
+        let x_max = u16::from_le_bytes(r.take());
+        let y_min = u16::from_le_bytes(r.take());
+        let y_max = u16::from_le_bytes(r.take());
+        let [flags, speed, law] = r.take::<3>();
+        if flags & !(FLAG_SWAP | FLAG_INVERT_X | FLAG_INVERT_Y) != 0 {
+            return Err(RecordError::Invalid);
+        }
+        let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
+            return Err(RecordError::Invalid);
+        };
+        let config = Config {
+            joints,
+            touch: Calibration {
+                x_min,
+                x_max,
+                y_min,
+                y_max,
+                swap_xy: flags & FLAG_SWAP != 0,
+                invert_x: flags & FLAG_INVERT_X != 0,
+                invert_y: flags & FLAG_INVERT_Y != 0,
+            },
+            speed,
+            law,
+        };
+        config.validate().map_err(|_| RecordError::Invalid)?;
+        Ok(Record { seq, config })
+    }
+}
+
+struct Writer<'a> {
+    buf: &'a mut [u8; RECORD_LEN],
+    pos: usize,
+}
+
+impl Writer<'_> {
+    fn put(&mut self, bytes: &[u8]) {
+        let end = self.pos + bytes.len();
+        if let Some(dst) = self.buf.get_mut(self.pos..end) {
+            dst.copy_from_slice(bytes);
+        }
+        self.pos = end;
+    }
+}
+
+struct Reader<'a> {
+    buf: &'a [u8; RECORD_LEN],
+    pos: usize,
+}
+
+impl Reader<'_> {
+    fn take<const K: usize>(&mut self) -> [u8; K] {
+        let mut out = [0u8; K];
+        if let Some(src) = self.buf.get(self.pos..self.pos + K) {
+            out.copy_from_slice(src);
+        }
+        self.pos += K;
+        out
+    }
+}
+
+/// A decoded, valid record.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Record {
+    pub seq: u16,
+    pub config: Config,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RecordError {
+    /// No magic: never written (erased EEPROM reads 0xFF) or overwritten.
+    NoMagic,
+    /// Written by another layout version.
+    Version(u8),
+    Crc,
+    /// CRC correct but a value is out of range (written by a buggy build).
+    Invalid,
+    /// The storage could not be read.
+    Storage(StorageError),
+}
+
+/// Which copy a loaded configuration came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    SlotA,
+    SlotB,
+    Defaults,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Warning {
+    /// Neither copy was ever written: defaults in use.
+    Missing,
+    /// No usable copy (CRC, values or read failure): defaults in use.
+    Corrupt,
+    /// A copy of another layout version and no usable one: defaults in use.
+    VersionMismatch,
+    /// One copy is bad, the other was used; the next save repairs it.
+    CopyDamaged,
+}
+
+impl Warning {
+    pub fn reason(self) -> crate::text::Text {
+        match self {
+            Warning::Missing => t!("no stored config, defaults"),
+            Warning::Corrupt => t!("stored config corrupt, defaults"),
+            Warning::VersionMismatch => t!("stored config version mismatch, defaults"),
+            Warning::CopyDamaged => t!("one config copy damaged"),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Loaded {
+    pub config: Config,
+    pub source: Source,
+    /// Sequence number of the copy used (0 for defaults).
+    pub seq: u16,
+    pub warning: Option<Warning>,
+}
+
+/// True if sequence `a` is newer than `b` (RFC 1982 serial arithmetic, so the
+/// counter may wrap).
+pub fn seq_newer(a: u16, b: u16) -> bool {
+    (a.wrapping_sub(b) as i16) > 0
+}
+
+fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordError> {
+    let mut buf = [0u8; RECORD_LEN];
+    storage.read(addr, &mut buf).map_err(RecordError::Storage)?;
+    Config::decode(&buf)
+}
+
+/// Reads both copies and picks the configuration to run with.
+pub fn load<S: Storage>(storage: &mut S) -> Loaded {
+    let a = read_slot(storage, SLOT_A_ADDR);
+    let b = read_slot(storage, SLOT_B_ADDR);
+    let pick = |r: &Record, source| Loaded {
+        config: r.config,
+        source,
+        seq: r.seq,
+        warning: None,
+    };
+    match (&a, &b) {
+        (Ok(ra), Ok(rb)) => {
+            if seq_newer(rb.seq, ra.seq) {
+                pick(rb, Source::SlotB)
+            } else {
+                pick(ra, Source::SlotA)
+            }
+        }
+        (Ok(ra), Err(_)) => Loaded {
+            warning: Some(Warning::CopyDamaged),
+            ..pick(ra, Source::SlotA)
+        },
+        (Err(_), Ok(rb)) => Loaded {
+            warning: Some(Warning::CopyDamaged),
+            ..pick(rb, Source::SlotB)
+        },
+        (Err(ea), Err(eb)) => Loaded {
+            config: Config::DEFAULT,
+            source: Source::Defaults,
+            seq: 0,
+            warning: Some(worse(classify(*ea), classify(*eb))),
+        },
+    }
+}
+
+fn classify(e: RecordError) -> Warning {
+    match e {
+        RecordError::NoMagic => Warning::Missing,
+        RecordError::Version(_) => Warning::VersionMismatch,
+        RecordError::Crc | RecordError::Invalid | RecordError::Storage(_) => Warning::Corrupt,
+    }
+}
+
+/// The more informative of two warnings: a version mismatch explains more
+/// than corruption, and corruption more than absence.
+fn worse(a: Warning, b: Warning) -> Warning {
+    let rank = |w| match w {
+        Warning::VersionMismatch => 3,
+        Warning::Corrupt => 2,
+        Warning::CopyDamaged => 1,
+        Warning::Missing => 0,
+    };
+    if rank(b) > rank(a) {
+        b
+    } else {
+        a
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SaveError {
+    /// The configuration is invalid and was not written.
+    Invalid(ConfigError),
+    Storage(StorageError),
+    /// A slot read back differently from what was written.
+    Verify,
+}
+
+/// Writes `config` to both copies (see the module doc for the order) and
+/// returns the new sequence number.
+pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveError> {
+    config.validate().map_err(SaveError::Invalid)?;
+    let a = read_slot(storage, SLOT_A_ADDR).ok();
+    let b = read_slot(storage, SLOT_B_ADDR).ok();
+    // `first` must not be the slot holding the newest valid copy.
+    let (newest, first, second) = match (a, b) {
+        (Some(ra), Some(rb)) if seq_newer(ra.seq, rb.seq) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
+        (Some(_), Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
+        (Some(ra), None) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
+        (None, Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
+        (None, None) => (0, SLOT_A_ADDR, SLOT_B_ADDR),
+    };
+    let seq = newest.wrapping_add(1);
+    let record = config.encode(seq);
+    for addr in [first, second] {
+        storage.write(addr, &record).map_err(SaveError::Storage)?;
+        let mut check = [0u8; RECORD_LEN];
+        storage.read(addr, &mut check).map_err(SaveError::Storage)?;
+        if check != record {
+            return Err(SaveError::Verify);
+        }
+    }
+    Ok(seq)
+}

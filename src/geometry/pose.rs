@@ -1,0 +1,47 @@
+//! From a screen point to the arm's joint angles: the paper's whole chain after
+//! the touch mapping (condition and α, transform, 2-link IK). One place, used by
+//! the firmware's app and by `armsim plan`, so both compute the same pose.
+
+use crate::geometry::ik::{ik2_toward, Branch, IkError, Links};
+use crate::math::real::Real;
+use crate::geometry::workspace::{Condition, WorkspaceError, WorkspacePoint};
+
+/// The arm's geometry as the mapping sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmGeometry<R> {
+    /// Screen-to-arm scale of the linear transform.
+    pub k: R,
+    pub links: Links<R>,
+    pub branch: Branch,
+}
+
+/// Where a screen point sends the arm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose<R> {
+    pub condition: Condition,
+    /// Base direction α in radians, [0, π].
+    pub alpha: R,
+    /// Planar IK target: k·|x_p| and k·y_p.
+    pub reach: R,
+    pub height: R,
+    /// Shoulder and elbow angles (radians) from the IK.
+    pub q2: R,
+    pub q3: R,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PoseError<R> {
+    Workspace(WorkspaceError),
+    Ik(IkError<R>),
+}
+
+/// Solves the pose for a normalized screen point (x_p, y_p) ∈ \[−1,1\]×\[0,1\].
+pub fn pose_for_point<R: Real>(geo: &ArmGeometry<R>, x_p: R, y_p: R) -> Result<Pose<R>, PoseError<R>> {
+    let p = WorkspacePoint::new(x_p, y_p).map_err(PoseError::Workspace)?;
+    let t = p.target(geo.k).map_err(PoseError::Workspace)?;
+    // The IK target (k·|x_p|, k·y_p) points at atan2(y_p, |x_p|) (k > 0
+    // scales both): α itself, or π − α left of centre. One arctangent less.
+    let phi = if p.x_p().is_negative() { (R::PI - t.alpha).barrier() } else { t.alpha };
+    let q = ik2_toward(&geo.links, t.reach, t.height, phi, geo.branch).map_err(PoseError::Ik)?;
+    Ok(Pose { condition: t.condition, alpha: t.alpha, reach: t.reach, height: t.height, q2: q.q2, q3: q.q3 })
+}

@@ -1,0 +1,282 @@
+//! The largest rate `max g′` of a motion profile: what a move's joint speeds
+//! peak at (joint j at `|Δ_j|·max g′`). Closed form for the classic laws;
+//! for ζ-a-tₛ a safeguarded Newton search on G″ = 0 ([`zat_peak_rate`]),
+//! plus what a duration search needs to steer with it (rough estimates,
+//! a bound for the slow creep before the end, and d ln P/dtₛ).
+
+use crate::motion::laws::Law;
+use crate::motion::plan::JointLaw;
+use crate::math::real::Real;
+use crate::motion::zat::{t_star, Shape};
+
+/// The peak search stops once the last Newton step predicts G′ to rise by
+/// less than this (relative), and reports the quadratic model's maximum plus
+/// that rise once more: never below the true peak in the tests (the model's
+/// own error, cubic in the step, stayed below 2.1e-6), at most 1e-4 above.
+pub const PEAK_TOL: f64 = 1e-4;
+/// The estimate a candidate steers the duration search with: the model's
+/// maximum once the predicted rise is below this (usually after one
+/// evaluation; its error is second order in the remaining step).
+pub(crate) const PEAK_ROUGH: f64 = 3e-2;
+/// Cap on the peak search's iterations (Newton needs 1–3; a step it cannot
+/// take bisects the bracket).
+const PEAK_STEPS: u8 = 32;
+/// First guess of where G′ peaks, in units of √tₛ (0.77 for n = 2 at
+/// tₛ = 1.2, 0.69–0.94 over tₛ ∈ [1.2, 30]); later candidates of a search
+/// start from the previous candidate's peak.
+pub(crate) const PEAK_GUESS: f64 = 0.8;
+
+/// `max g′` of a classic law per unit of 1/T.
+pub fn classic_peak_factor(law: Law) -> f64 {
+    match law {
+        Law::Linear => 1.0,
+        Law::Cubic => 1.5,
+        Law::Quintic => 1.875,
+        Law::Trapezoid => 1.5,
+    }
+}
+
+/// `max g′` over (0, tₛ] of a ζ-a-tₛ profile.
+///
+/// G′ is not unimodal in general: where the monotonicity margin φ is
+/// smallest, at t* = (1 + √(1 + L²tₛ))/L, G′ dips (to about 0 for the
+/// monotone-limit shapes the app chooses for long tₛ), so a long move is a
+/// hump near √tₛ, a near-stop at t* and a slow creep to the target whose
+/// rate rises to the end or peaks once before it. The search treats (0, t*]
+/// and [t*, tₛ] separately when t* < tₛ, each one hump: safeguarded Newton
+/// on G″ = 0 (G‴ from [`Shape::rate_terms`]; a step leaving the bracket that
+/// the signs of G″ keep bisects it), stopped when the step predicts a rise
+/// of G′ below 1e-4 (`PEAK_TOL`); it reports that quadratic model's maximum plus
+/// the predicted rise once more, which covers the model's neglected cubic
+/// term: never below the true peak and at most 1e-4 above it (f32: 2e-5
+/// below to 1.2e-4 above), checked against dense scans refined by golden
+/// section in f64 in the tests for n ∈ [1.1, 10]. A piece ending at
+/// tₛ first looks at G″(tₛ⁻): when G′ still rises there, its end value is
+/// the piece's maximum. Just above tₛ = 1 the smooth stop a* lies within
+/// 1e-3 of the pole and G′ is a spike that f32 resolves poorly; the app never
+/// plans below [`super::request::ZAT_TS_FLOOR`].
+pub fn zat_peak_rate<R: Real>(shape: &Shape<R>) -> R {
+    let ts = shape.ts();
+    let l = shape.ln_n();
+    let t_star = t_star(ts, l);
+    let split = t_star < ts && t_star > R::ZERO;
+    let hi = if split { t_star } else { ts };
+    let mut pc = Piece {
+        lo: R::ZERO,
+        hi,
+        guess: peak_guess(ts, hi, R::lit(PEAK_GUESS)),
+        limit: R::lit(f64::MAX),
+        tol: R::lit(PEAK_TOL),
+        end: !split,
+    };
+    let p = piece_max(shape, &pc).rate;
+    if split {
+        pc.lo = t_star;
+        pc.hi = ts;
+        pc.guess = ts;
+        pc.end = true;
+        p.max(piece_max(shape, &pc).rate)
+    } else {
+        p
+    }
+}
+
+/// ρ·√tₛ inside (0, hi).
+pub(crate) fn peak_guess<R: Real>(ts: R, hi: R, rho: R) -> R {
+    let g = rho * ts.sqrt();
+    if g > R::ZERO && g < hi {
+        g
+    } else {
+        R::lit(0.9) * hi
+    }
+}
+
+/// One piece (lo, hi] of (0, tₛ] on which G′ is taken to be unimodal.
+pub(crate) struct Piece<R> {
+    pub(crate) lo: R,
+    pub(crate) hi: R,
+    /// Where to start inside the piece (≥ hi: from the end's Newton step).
+    pub(crate) guess: R,
+    /// A G′ above this fails the candidate anyway, so a rough maximum does.
+    pub(crate) limit: R,
+    /// Predicted relative rise at which to stop.
+    pub(crate) tol: R,
+    /// The maximum may be at hi = tₛ: look at G″(tₛ⁻) first.
+    pub(crate) end: bool,
+}
+
+/// The largest G′ of a piece, and where.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Hump<R> {
+    pub(crate) rate: R,
+    /// Where it is, with q and h1 = G′/G there (for d ln P/dtₛ).
+    pub(crate) t: R,
+    pub(crate) q: R,
+    pub(crate) h1: R,
+    /// Where the search would go on (the last Newton step's target).
+    pub(crate) next: R,
+    /// The maximum is the end value G′(tₛ⁻).
+    pub(crate) at_end: bool,
+    /// An evaluated G′ exceeds the piece's limit.
+    pub(crate) over: bool,
+    /// `rate` is the maximum to [`PEAK_TOL`] (not only the piece's `tol`).
+    pub(crate) exact: bool,
+}
+
+/// Safeguarded Newton for the maximum of G′ on a piece (see [`zat_peak_rate`]).
+// Not inlined: several call sites, and one inlined search makes a function
+// too long for the AVR's relative jumps (the linker refuses it).
+#[inline(never)]
+pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
+    let (mut lo, mut hi) = (pc.lo, pc.hi);
+    let mut t = pc.guess;
+    let mut best = Hump {
+        rate: R::ZERO,
+        t,
+        q: R::ZERO,
+        h1: R::ZERO,
+        next: t,
+        at_end: false,
+        over: false,
+        exact: false,
+    };
+    if pc.end {
+        if let Some(r) = shape.rate_terms(hi) {
+            let rate = r.g * r.h1;
+            let c2 = r.h1 * r.h1 + r.h2;
+            best = Hump { rate, t: hi, q: r.q, h1: r.h1, next: hi, at_end: true, over: rate > pc.limit, exact: true };
+            if !(c2 < R::ZERO) {
+                return best;
+            }
+            best.exact = false;
+            let c3 = r.h1 * (r.h1 * r.h1 + R::lit(3.0) * r.h2) + r.h3;
+            let next = hi - c2 / c3;
+            if t >= hi && c3 < R::ZERO && next > lo && next < hi {
+                t = next;
+            }
+        }
+    }
+    if !(t > lo && t < hi) {
+        t = R::HALF * (lo + hi);
+    }
+    let mut k = 0;
+    while k < PEAK_STEPS {
+        k += 1;
+        let mut next = None;
+        match shape.rate_terms(t) {
+            // G below 1e-34: far left of the peak.
+            None => lo = t,
+            Some(r) => {
+                let h1 = r.h1;
+                let rate = r.g * h1;
+                // G″/G and G‴/G.
+                let c2 = h1 * h1 + r.h2;
+                let c3 = h1 * (h1 * h1 + R::lit(3.0) * r.h2) + r.h3;
+                if rate > pc.limit {
+                    best.over = true;
+                }
+                if c2 > R::ZERO {
+                    lo = t;
+                } else {
+                    hi = t;
+                }
+                if rate > best.rate {
+                    best = Hump { rate, t, q: r.q, h1, next: t, at_end: false, over: best.over, exact: false };
+                }
+                if c3 < R::ZERO {
+                    let dt = -c2 / c3;
+                    // The quadratic model's rise of G′/G to its maximum (≥ 0).
+                    let gain = R::HALF * c2 * dt;
+                    let stepped = t + dt;
+                    // A candidate that fails anyway only needs the estimate.
+                    let tol = if best.over { pc.tol.max(R::lit(PEAK_ROUGH)) } else { pc.tol };
+                    if gain <= tol * h1 {
+                        // Converged: the model's maximum plus the rise once
+                        // more, which covers the neglected cubic term (the
+                        // tests find no underestimate). Rough: the model's.
+                        let exact = gain <= R::lit(PEAK_TOL) * h1;
+                        let top = r.g * (h1 + if exact { gain + gain } else { gain });
+                        if top >= best.rate {
+                            // q and h1 carried to the model's maximizer to first
+                            // order (q′ = −L·q·(1 + q)·u′), so that
+                            // [`ln_peak_slope`] sees the maximum, not t.
+                            let up = R::ONE - shape.ts() / (t * t);
+                            let dq = -shape.ln_n() * r.q * (R::ONE + r.q) * up * dt;
+                            best = Hump {
+                                rate: top,
+                                t: stepped,
+                                q: r.q + dq,
+                                h1: h1 + r.h2 * dt,
+                                next: stepped,
+                                at_end: false,
+                                over: best.over,
+                                exact,
+                            };
+                        }
+                        return best;
+                    }
+                    if stepped > lo && stepped < hi {
+                        next = Some(stepped);
+                    }
+                }
+            }
+        }
+        let t_next = next.unwrap_or(R::HALF * (lo + hi));
+        best.next = t_next;
+        if !(hi - lo > R::lit(8.0) * R::EPSILON * hi) {
+            // Bracket collapsed onto the maximum.
+            best.exact = true;
+            break;
+        }
+        t = t_next;
+    }
+    best
+}
+
+/// An upper bound of G′ on [t*, tₛ] for a monotone shape: there 1 + q(t) ≤
+/// 1 + q(t*) ≤ t*²/(t*² − tₛ) (from φ(t*) ≥ 0), so G ≤ n^(1 − tₛ/t)·t*²/(t*² − tₛ),
+/// and G′/G = L·(tₛ/t² − q·u′) ≤ L·tₛ/t²; the product of the t-dependent
+/// parts peaks at t = L·tₛ/2.
+pub(crate) fn creep_bound<R: Real>(shape: &Shape<R>, t_star: R) -> R {
+    let (ts, l) = (shape.ts(), shape.ln_n());
+    let tb = (R::HALF * l * ts).max(t_star).min(ts);
+    let it = tb.recip();
+    let s2 = t_star * t_star;
+    s2 / (s2 - ts) * (l * ts * it * it) * (l * (R::ONE - ts * it)).exp()
+}
+
+/// d ln P/dtₛ at a candidate's maximum (`da` = da/dtₛ of its a), by the
+/// envelope theorem: the partial derivatives of ln G′ in tₛ and a at the
+/// fixed maximizer (for an end maximum, of ln G′(tₛ⁻), G(tₛ) = 1).
+/// With ln G = −L·(tₛ/t − 1) + ψ(u − a) − ψ(tₛ − a), ψ(w) = ln(1 + q(w)),
+/// ψ′ = −L·q, q′ = −L·q·p and h1 = L·(tₛ·p/t² − q):
+/// ∂ln G′/∂tₛ = L·(Q_s − p/t) + (L·p/t)·(1/t + L·q·u′)/h1,
+/// ∂ln G′/∂a = L·(q − Q_s) − L²·q·p·u′/h1.
+pub(crate) fn ln_peak_slope<R: Real>(shape: &Shape<R>, h: &Hump<R>, da: R) -> R {
+    let (ts, l) = (shape.ts(), shape.ln_n());
+    let qs = shape.end_q();
+    if h.at_end {
+        // G′(tₛ⁻) = L·((1 + Q_s)/tₛ − Q_s), dQ_s/dtₛ = −L·Q_s·(1 + Q_s)·(1 − a′).
+        let ps = R::ONE + qs;
+        let it = ts.recip();
+        l * (l * qs * ps * (R::ONE - da) * (R::ONE - it) - ps * it * it) / h.rate
+    } else {
+        let it = h.t.recip();
+        let p = R::ONE + h.q;
+        let up = R::ONE - ts * it * it;
+        let lp_t = l * p * it;
+        let ih1 = h.h1.recip();
+        let d_ts = l * qs - lp_t + lp_t * (it + l * h.q * up) * ih1;
+        let d_a = l * (h.q - qs) - l * l * h.q * p * up * ih1;
+        d_ts + da * d_a
+    }
+}
+
+/// `max g′` of any profile (closed form for the classic laws).
+pub fn peak_rate<R: Real>(law: &JointLaw<R>) -> R {
+    match law {
+        JointLaw::Zat(s) => zat_peak_rate(s),
+        JointLaw::Classic(p) => R::lit(classic_peak_factor(p.law())) / p.duration(),
+    }
+}
+

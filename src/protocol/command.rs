@@ -1,0 +1,375 @@
+//! The serial command protocol: one command per line, parsed without
+//! allocation into a [`Command`].
+//!
+//! # Grammar
+//! Tokens are separated by any run of spaces or tabs (CR and LF count as
+//! whitespace too, for callers that pass the terminator); leading and trailing
+//! whitespace is ignored. Keywords are lowercase and exact. Every byte of the
+//! line must be printable ASCII or whitespace, else [`CmdError::BadCharacter`].
+//!
+//! | line | meaning |
+//! |------|---------|
+//! | `move <raw_x> <raw_y>` | go to a touch point given as raw ADC values, integers 0..=1023 |
+//! | `goto <deg1> <deg2> <deg3>` | joint angles base, shoulder, elbow in degrees (−360..=360, ≤ 2 decimals), in the convention of [`crate::servo::map`] (elbow relative to the upper arm, negative = elbow up, see [`crate::servo::map::ELBOW_BRANCH`]) |
+//! | `stop` / `resume` / `status` | |
+//! | `law <zat\|quintic\|cubic\|trapezoid\|linear>` | motion law |
+//! | `speed <slow\|normal\|fast>` | 25 / 50 / 100 % of each joint's max speed |
+//! | `cal show` / `cal save` / `cal reset` | print / store to EEPROM / back to defaults (in RAM) |
+//! | `cal set <base\|shoulder\|elbow> <field> <value>` | see [`JointField`] |
+//! | `cal set touch <field> <value>` | see [`TouchField`] |
+//! | `log <on\|off>` | |
+//!
+//! # Numbers
+//! Integers: optional sign, decimal digits. Decimals: optional sign, at least
+//! one digit, optionally `.` and one or two digits (`12`, `-0.5`, `90.25`; not
+//! `.5`, `1.`, `1e3` or `1.234`). Decimals are parsed as fixed-point hundredths
+//! into an `i32`, so the chip parses no floats. A syntactically bad number is
+//! [`CmdError::BadNumber`]; a good one outside the field's range is
+//! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
+//! error is reported.
+
+use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
+use crate::motion::plan::LawKind;
+use crate::math::real::Real;
+use crate::servo::map::Joint;
+
+/// Capacity of the serial line buffer (bytes of a line, terminator excluded).
+pub const LINE_LEN: usize = 64;
+
+/// The firmware's line buffer.
+pub type SerialLine = LineBuffer<LINE_LEN>;
+
+/// `goto` accepts ±360.00° (joint limits are the servo layer's business).
+pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Command {
+    Move { x: u16, y: u16 },
+    /// Angles in hundredths of a degree, in [`Joint::index`] order.
+    Goto { centideg: [i32; 3] },
+    Stop,
+    Resume,
+    Status,
+    Law(LawKind),
+    Speed(SpeedPreset),
+    CalShow,
+    CalSet(CalSet),
+    CalSave,
+    CalReset,
+    Log(bool),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CmdError {
+    Empty,
+    UnknownCommand,
+    /// An unknown keyword argument (law, speed, joint, field, on/off, cal verb).
+    BadArgument,
+    MissingArgument,
+    ExtraArgument,
+    BadNumber,
+    OutOfRange,
+    TooLong,
+    /// A byte that is not printable ASCII, space or tab.
+    BadCharacter,
+}
+
+impl CmdError {
+    /// Short text for the `err <reason>` reply.
+    pub fn reason(self) -> crate::text::Text {
+        match self {
+            CmdError::Empty => t!("empty line"),
+            CmdError::UnknownCommand => t!("unknown command"),
+            CmdError::BadArgument => t!("bad argument"),
+            CmdError::MissingArgument => t!("missing argument"),
+            CmdError::ExtraArgument => t!("extra argument"),
+            CmdError::BadNumber => t!("bad number"),
+            CmdError::OutOfRange => t!("out of range"),
+            CmdError::TooLong => t!("line too long"),
+            CmdError::BadCharacter => t!("bad character"),
+        }
+    }
+}
+
+fn is_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\n')
+}
+
+/// Whitespace-separated tokens of a line.
+struct Tokens<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Tokens<'a> {
+    fn next(&mut self) -> Option<&'a [u8]> {
+        let start = self.rest.iter().position(|&b| !is_space(b))?;
+        let rest = self.rest.get(start..).unwrap_or(&[]);
+        let len = rest.iter().position(|&b| is_space(b)).unwrap_or(rest.len());
+        let (tok, tail) = rest.split_at(len);
+        self.rest = tail;
+        Some(tok)
+    }
+
+    fn arg(&mut self) -> Result<&'a [u8], CmdError> {
+        self.next().ok_or(CmdError::MissingArgument)
+    }
+
+    fn end(&mut self) -> Result<(), CmdError> {
+        match self.next() {
+            Some(_) => Err(CmdError::ExtraArgument),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Splits an optional leading sign.
+fn sign(tok: &[u8]) -> (bool, &[u8]) {
+    match tok.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, tok),
+    }
+}
+
+/// `v·10 + d` unless it would pass `i32::MAX`. Written with comparisons
+/// rather than `checked_mul`: the overflow-checking multiply helper that
+/// `checked_mul` calls crashes on the ATmega2560 (found in simavr).
+fn push_digit(v: i32, d: i32) -> Option<i32> {
+    const LAST: i32 = i32::MAX / 10;
+    const LAST_DIGIT: i32 = i32::MAX % 10;
+    if v > LAST || (v == LAST && d > LAST_DIGIT) {
+        None
+    } else {
+        Some(v * 10 + d)
+    }
+}
+
+fn digits_value(d: &[u8]) -> Result<i32, CmdError> {
+    let mut v: i32 = 0;
+    for &b in d {
+        v = push_digit(v, (b - b'0') as i32).ok_or(CmdError::OutOfRange)?;
+    }
+    Ok(v)
+}
+
+fn all_digits(d: &[u8]) -> bool {
+    !d.is_empty() && d.iter().all(u8::is_ascii_digit)
+}
+
+/// Parses a signed decimal integer in `min..=max`.
+pub fn parse_int(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
+    let (neg, d) = sign(tok);
+    if !all_digits(d) {
+        return Err(CmdError::BadNumber);
+    }
+    let v = digits_value(d)?;
+    let v = if neg { -v } else { v };
+    if v < min || v > max {
+        return Err(CmdError::OutOfRange);
+    }
+    Ok(v)
+}
+
+/// Parses a decimal with at most two fractional digits into hundredths, in
+/// `min..=max` (hundredths).
+pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
+    let (neg, d) = sign(tok);
+    let (int, frac) = match d.iter().position(|&b| b == b'.') {
+        Some(p) => {
+            let (i, f) = d.split_at(p);
+            (i, f.get(1..).unwrap_or(&[]))
+        }
+        None => (d, &[][..]),
+    };
+    let has_point = int.len() != d.len();
+    if !all_digits(int) || (has_point && (!all_digits(frac) || frac.len() > 2)) {
+        return Err(CmdError::BadNumber);
+    }
+    let f = match frac {
+        [a] => (a - b'0') as i32 * 10,
+        [a, b] => (a - b'0') as i32 * 10 + (b - b'0') as i32,
+        _ => 0,
+    };
+    // ×100 + f as two more digits, with the same overflow guard.
+    let v = push_digit(digits_value(int)?, f / 10)
+        .and_then(|v| push_digit(v, f % 10))
+        .ok_or(CmdError::OutOfRange)?;
+    let v = if neg { -v } else { v };
+    if v < min || v > max {
+        return Err(CmdError::OutOfRange);
+    }
+    Ok(v)
+}
+
+/// Hundredths of a degree to radians (any `i32`, without an integer-to-float
+/// conversion wider than `u16`, which `Real` does not offer).
+pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
+    let mag = centideg.unsigned_abs();
+    let hi = R::from_u16((mag >> 16) as u16);
+    let lo = R::from_u16((mag & 0xFFFF) as u16);
+    let rad = (hi * R::lit(65_536.0) + lo) * (R::PI / R::lit(18_000.0));
+    if centideg < 0 {
+        -rad
+    } else {
+        rad
+    }
+}
+
+fn parse_joint(tok: &[u8]) -> Option<Joint> {
+    Joint::ALL.iter().copied().find(|j| j.name().eq_bytes(tok))
+}
+
+fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
+    let target = t.arg()?;
+    if target == b"touch" {
+        let name = t.arg()?;
+        let field = TouchField::ALL
+            .iter()
+            .copied()
+            .find(|f| f.name().eq_bytes(name))
+            .ok_or(CmdError::BadArgument)?;
+        let value = parse_int(t.arg()?, 0, field.max())? as u16;
+        return Ok(CalSet::Touch { field, value });
+    }
+    let joint = parse_joint(target).ok_or(CmdError::BadArgument)?;
+    let name = t.arg()?;
+    let field = JointField::ALL
+        .iter()
+        .copied()
+        .find(|f| f.name().eq_bytes(name))
+        .ok_or(CmdError::BadArgument)?;
+    let tok = t.arg()?;
+    let value = match field {
+        JointField::Offset => parse_centi(tok, -2_000_000, 2_000_000)?,
+        JointField::Scale => parse_centi(tok, -10_000, 10_000)?,
+        JointField::MinUs | JointField::MaxUs => parse_int(tok, 500, 2500)?,
+        JointField::MinDeg | JointField::MaxDeg => {
+            parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?
+        }
+        JointField::MaxSpeed => parse_centi(tok, 0, 360_000)?,
+    };
+    Ok(CalSet::Joint { joint, field, value })
+}
+
+/// Parses one line (without or with its terminator).
+pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
+    // A line from the buffer is at most LINE_LEN bytes; allow a caller that
+    // passes its terminator too.
+    if line.len() > LINE_LEN + 2 {
+        return Err(CmdError::TooLong);
+    }
+    if line.iter().any(|&b| !(b.is_ascii_graphic() || is_space(b))) {
+        return Err(CmdError::BadCharacter);
+    }
+    let mut t = Tokens { rest: line };
+    let word = t.next().ok_or(CmdError::Empty)?;
+    let cmd = match word {
+        b"move" => {
+            let x = parse_int(t.arg()?, 0, RAW_MAX)? as u16;
+            let y = parse_int(t.arg()?, 0, RAW_MAX)? as u16;
+            Command::Move { x, y }
+        }
+        b"goto" => {
+            let mut centideg = [0i32; 3];
+            for v in centideg.iter_mut() {
+                *v = parse_centi(t.arg()?, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?;
+            }
+            Command::Goto { centideg }
+        }
+        b"stop" => Command::Stop,
+        b"resume" => Command::Resume,
+        b"status" => Command::Status,
+        b"law" => Command::Law(LawKind::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"speed" => Command::Speed(SpeedPreset::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"log" => match t.arg()? {
+            b"on" => Command::Log(true),
+            b"off" => Command::Log(false),
+            _ => return Err(CmdError::BadArgument),
+        },
+        b"cal" => match t.arg()? {
+            b"show" => Command::CalShow,
+            b"save" => Command::CalSave,
+            b"reset" => Command::CalReset,
+            b"set" => Command::CalSet(parse_cal_set(&mut t)?),
+            _ => return Err(CmdError::BadArgument),
+        },
+        _ => return Err(CmdError::UnknownCommand),
+    };
+    t.end()?;
+    Ok(cmd)
+}
+
+/// Accumulates received bytes into lines.
+///
+/// A line ends at `\n`, `\r` or `\r\n` (the `\n` of a `\r\n` pair does not
+/// make a second, empty line). Backspace (0x08) and DEL (0x7F) remove the last
+/// byte, for typing in a terminal. A line longer than `N` bytes is discarded
+/// up to its terminator and reported once as [`CmdError::TooLong`]; the next
+/// line is received normally.
+#[derive(Debug, Clone)]
+pub struct LineBuffer<const N: usize> {
+    buf: [u8; N],
+    len: usize,
+    overflowed: bool,
+    after_cr: bool,
+}
+
+impl<const N: usize> Default for LineBuffer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> LineBuffer<N> {
+    pub const fn new() -> Self {
+        LineBuffer {
+            buf: [0; N],
+            len: 0,
+            overflowed: false,
+            after_cr: false,
+        }
+    }
+
+    /// Feeds one byte. Returns `Some` when a line is complete: `Ok(line)`
+    /// (possibly empty; terminator excluded) or `Err(TooLong)`.
+    pub fn push(&mut self, byte: u8) -> Option<Result<&[u8], CmdError>> {
+        let after_cr = core::mem::replace(&mut self.after_cr, byte == b'\r');
+        match byte {
+            b'\n' if after_cr => None,
+            b'\r' | b'\n' => {
+                let len = core::mem::replace(&mut self.len, 0);
+                if core::mem::replace(&mut self.overflowed, false) {
+                    Some(Err(CmdError::TooLong))
+                } else {
+                    Some(Ok(self.buf.get(..len).unwrap_or(&[])))
+                }
+            }
+            0x08 | 0x7F => {
+                if !self.overflowed {
+                    self.len = self.len.saturating_sub(1);
+                }
+                None
+            }
+            _ => {
+                if self.overflowed {
+                    return None;
+                }
+                match self.buf.get_mut(self.len) {
+                    Some(slot) => {
+                        *slot = byte;
+                        self.len += 1;
+                    }
+                    None => self.overflowed = true,
+                }
+                None
+            }
+        }
+    }
+
+    /// Drops a partial line (e.g. after a receive error).
+    pub fn clear(&mut self) {
+        self.len = 0;
+        self.overflowed = false;
+        self.after_cr = false;
+    }
+}

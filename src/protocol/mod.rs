@@ -1,0 +1,3 @@
+//! The serial protocol: command lines parsed into [`command::Command`]s.
+
+pub mod command;

@@ -1,0 +1,6 @@
+//! The first stage of the pipeline: raw panel samples are filtered into one
+//! confirmed press ([`filter`]) and mapped through the calibration to the
+//! normalized workspace ([`map`]).
+
+pub mod filter;
+pub mod map;
