@@ -15,12 +15,12 @@ use avr_device::atmega2560 as pac;
 use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
+use touch_arm::board::fault::halt;
 use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
-use touch_arm::board::tick::Tick;
 use touch_arm::board::shield::TouchWiring;
-use touch_arm::board::fault::halt;
+use touch_arm::board::tick::Tick;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config::settings::Config;
@@ -100,7 +100,13 @@ fn start_app() -> Option<&'static mut App> {
 fn frame(app: &mut App, b: &mut Board) {
     b.pwm.set_limits(&tick_limits(app.config()));
     let mut panel = b.bus.touch(&mut b.adc, &TOUCH_WIRING);
-    app.frame(&mut Io { panel: &mut panel, servos: &mut b.pwm, clock: &b.tick, storage: &mut b.eeprom, serial: &mut b.serial });
+    app.frame(&mut Io {
+        panel: &mut panel,
+        servos: &mut b.pwm,
+        clock: &b.tick,
+        storage: &mut b.eeprom,
+        serial: &mut b.serial,
+    });
     // After the touch read, never during it: drawing holds the shared pins.
     // Only what changed is redrawn; the PWM keeps its pulses meanwhile.
     let _ = app.draw_screen(&mut Lcd::new(&mut b.bus));
@@ -126,5 +132,3 @@ fn reset_name(c: ResetCause) -> touch_arm::text::Text {
         touch_arm::t!("unknown")
     }
 }
-
-

@@ -2,7 +2,6 @@
 //! the AVR board layer (`board`, on the chip) and by `hal-sim` (the host twin).
 //! Everything above these traits is pure and tested on the host.
 
-
 /// One sample of the panel: X and Y positions and the pressure measure
 /// (see [`crate::touch::filter::pressure`]), all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,4 +56,3 @@ pub enum StorageError {
     /// The device reported a failure.
     Device,
 }
-

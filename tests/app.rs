@@ -6,23 +6,23 @@ use proptest::prelude::*;
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
-use touch_arm::app::Refusal;
-use touch_arm::motion::planner::plan_move::plan_move;
-use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
-use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
-use touch_arm::motion::planner::duration::TS_SEARCH_TOL;
-use touch_arm::motion::planner::peak_rate::{classic_peak_factor, zat_peak_rate};
 use touch_arm::app::text::{centideg, Line};
+use touch_arm::app::Refusal;
 use touch_arm::app::{App, AppParams, Io, State};
 use touch_arm::config::store::EEPROM_SIZE;
-use touch_arm::seam::{Storage, StorageError};
 use touch_arm::geometry::ik::Branch;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::plan::{LawKind, MultiPlan};
-use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
-use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
-use touch_arm::seam::RawSample;
+use touch_arm::motion::planner::duration::TS_SEARCH_TOL;
+use touch_arm::motion::planner::peak_rate::{classic_peak_factor, zat_peak_rate};
+use touch_arm::motion::planner::plan_move::plan_move;
+use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
+use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
 use touch_arm::motion::zat::{smooth_stop_a, Shape, ShapeParams};
+use touch_arm::seam::RawSample;
+use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
+use touch_arm::seam::{Storage, StorageError};
+use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
 
 fn cfg() -> ProptestConfig {
     ProptestConfig::with_cases(256)
@@ -309,12 +309,9 @@ fn classic_durations_are_the_closed_form_bound() {
     let w = 3.0 * 0.5 * 0.98;
     let speed = [w, w, w];
     let req = |law| MoveRequest { start: [0.0, 1.0, -1.0], target: [1.2, 0.4, -2.5], law };
-    for (kind, c) in [
-        (LawKind::Linear, 1.0),
-        (LawKind::Cubic, 1.5),
-        (LawKind::Quintic, 1.875),
-        (LawKind::Trapezoid, 1.5),
-    ] {
+    for (kind, c) in
+        [(LawKind::Linear, 1.0), (LawKind::Cubic, 1.5), (LawKind::Quintic, 1.875), (LawKind::Trapezoid, 1.5)]
+    {
         let m = plan_move(&req(kind), &limits(speed)).unwrap();
         // The elbow moves most: 1.5 rad.
         let want = c * 1.5 / w;
@@ -324,11 +321,9 @@ fn classic_durations_are_the_closed_form_bound() {
         assert!(m.a.is_none());
     }
     // A tiny move takes ts_min.
-    let m = plan_move(
-        &MoveRequest { start: [0.0; 3], target: [0.01, 0.0, 0.0], law: LawKind::Quintic },
-        &limits(speed),
-    )
-    .unwrap();
+    let m =
+        plan_move(&MoveRequest { start: [0.0; 3], target: [0.01, 0.0, 0.0], law: LawKind::Quintic }, &limits(speed))
+            .unwrap();
     assert_eq!(m.ts, 0.5);
     // Per-joint limits: a slow base binds although the elbow moves further.
     let m = plan_move(
@@ -386,11 +381,8 @@ fn zat_duration_is_verified_and_near_minimal() {
         assert!((m.end_velocity[0] - d * e).abs() < 1e-6);
     }
     // Small moves: the floor zat_ts_min with the smooth stop.
-    let m = plan_move(
-        &MoveRequest { start: [0.0; 3], target: [0.1, 0.0, 0.0], law: LawKind::Zat },
-        &limits([1.47; 3]),
-    )
-    .unwrap();
+    let m = plan_move(&MoveRequest { start: [0.0; 3], target: [0.1, 0.0, 0.0], law: LawKind::Zat }, &limits([1.47; 3]))
+        .unwrap();
     assert_eq!(m.ts, 1.2);
     assert_eq!(m.a.unwrap().kind, AKind::SmoothStop);
     assert!(m.end_velocity.iter().all(|v| v.abs() < 1e-9));
@@ -736,7 +728,16 @@ fn first_move_is_slow_and_reports_its_plan() {
 #[test]
 fn text_formatting() {
     let mut l = Line::new();
-    l.i32(i32::MIN).word(touch_arm::t!("x")).num(0).num(-7).bytes(b" ").centi(-5).bytes(b" ").centi(123_456).bytes(b" ").u32(u32::MAX);
+    l.i32(i32::MIN)
+        .word(touch_arm::t!("x"))
+        .num(0)
+        .num(-7)
+        .bytes(b" ")
+        .centi(-5)
+        .bytes(b" ")
+        .centi(123_456)
+        .bytes(b" ")
+        .u32(u32::MAX);
     assert_eq!(l.finish(), b"-2147483648 x 0 -7 -0.05 1234.56 4294967295\r\n");
     assert_eq!(centideg(std::f32::consts::FRAC_PI_2), 9000);
     assert_eq!(centideg(-2.0), -11459);

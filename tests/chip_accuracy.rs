@@ -5,26 +5,23 @@
 //! itself produces these values.
 
 use proptest::prelude::*;
+use touch_arm::geometry::ik::{fk2, ik2, Branch, Links};
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::atan::atan2;
 use touch_arm::math::exp::{exp, expm1, ln};
 use touch_arm::math::fixed::{mul_full, mul_hi};
 use touch_arm::math::sqrt_split::sqrt_split;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
-use touch_arm::servo::track::ServoTrack;
-use touch_arm::servo::map::{JointCal, ServoMap};
-use touch_arm::geometry::ik::{fk2, ik2, Branch, Links};
-use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
-use touch_arm::motion::TrajError;
 use touch_arm::motion::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
+use touch_arm::motion::TrajError;
+use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::track::ServoTrack;
 
 /// |got − want| in units of the f32 spacing at `want`.
 fn ulps(got: f32, want: f64) -> f64 {
     let w = (want as f32).abs();
-    let ulp = if w < f32::MIN_POSITIVE {
-        f32::MIN_POSITIVE as f64
-    } else {
-        (f32::from_bits(w.to_bits() + 1) - w) as f64
-    };
+    let ulp =
+        if w < f32::MIN_POSITIVE { f32::MIN_POSITIVE as f64 } else { (f32::from_bits(w.to_bits() + 1) - w) as f64 };
     (got as f64 - want).abs() / ulp
 }
 
@@ -374,11 +371,8 @@ fn exact_pulse(c: &JointCal, angle: f64) -> (f64, u16) {
 fn servo_track_matches_servo_mapping() {
     let maps = maps();
     // Endpoints inside and outside the joints' limits (clamped pulses).
-    let moves: [([f32; 3], [f32; 3]); 3] = [
-        (START, TARGET),
-        ([0.1, 3.0, -0.2], [3.0, 0.1, -3.0]),
-        ([-0.5, 3.5, 0.4], [3.6, -0.3, -3.5]),
-    ];
+    let moves: [([f32; 3], [f32; 3]); 3] =
+        [(START, TARGET), ([0.1, 3.0, -0.2], [3.0, 0.1, -3.0]), ([-0.5, 3.5, 0.4], [3.6, -0.3, -3.5])];
     let mut checked = 0;
     for (start, target) in moves {
         for law in [None, Some(touch_arm::motion::laws::Law::Cubic)] {
@@ -447,10 +441,7 @@ fn smooth_stop_matches_new<R: touch_arm::math::real::Real>(ts: R, n: R) {
             assert_eq!(fast.is_monotone(), slow.is_monotone(), "tₛ {ts:?} n {n:?}");
             assert_eq!(fast.check_monotone(), slow.check_monotone());
         }
-        None => assert!(
-            matches!(fast, Err(TrajError::ShapeNotAdmissible { .. })),
-            "tₛ {ts:?} n {n:?}: {fast:?}"
-        ),
+        None => assert!(matches!(fast, Err(TrajError::ShapeNotAdmissible { .. })), "tₛ {ts:?} n {n:?}: {fast:?}"),
     }
 }
 

@@ -4,12 +4,10 @@ use core::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, PI};
 
 use proptest::prelude::*;
 use touch_arm::geometry::ik::{fk2, fk3, ik2, ik3, Branch, IkError, Links, LinksError};
-use touch_arm::touch::map::{
-    Axis, Calibration, CalibrationError, Crosshair, MappedPoint, RawPoint, SwapMode, ADC_MAX,
-};
 use touch_arm::geometry::workspace::{
     alpha, alpha_deg, condition, ik_target, Condition, WorkspaceError, WorkspacePoint,
 };
+use touch_arm::touch::map::{Axis, Calibration, CalibrationError, Crosshair, MappedPoint, RawPoint, SwapMode, ADC_MAX};
 
 const D: Calibration = Calibration::DEFAULT;
 
@@ -84,17 +82,8 @@ fn out_of_range_raw_gives_clamped_point_and_flag() {
 
 #[test]
 fn swap_exchanges_panel_channels_before_mapping() {
-    let plain = Calibration {
-        x_min: 100,
-        x_max: 900,
-        y_min: 200,
-        y_max: 800,
-        ..D
-    };
-    let swapped = Calibration {
-        swap_xy: true,
-        ..plain
-    };
+    let plain = Calibration { x_min: 100, x_max: 900, y_min: 200, y_max: 800, ..D };
+    let swapped = Calibration { swap_xy: true, ..plain };
     for (a, b) in [(100u16, 200u16), (900, 800), (300, 700), (50, 1000), (640, 333)] {
         assert_eq!(map64(&swapped, a, b), map64(&plain, b, a));
     }
@@ -105,11 +94,7 @@ fn swap_exchanges_panel_channels_before_mapping() {
 
 #[test]
 fn inversion_flips_axes() {
-    let inv = Calibration {
-        invert_x: true,
-        invert_y: true,
-        ..D
-    };
+    let inv = Calibration { invert_x: true, invert_y: true, ..D };
     // Ends swap roles exactly.
     let p = map64(&inv, 123, 128);
     assert_eq!((p.x_p, p.y_p), (1.0, 1.0));
@@ -145,14 +130,8 @@ fn invalid_calibrations_are_rejected() {
 
 #[test]
 fn unmap_rejects_points_outside_the_workspace() {
-    for (x, y) in [
-        (1.0000001, 0.5),
-        (-1.5, 0.5),
-        (0.0, -1e-9),
-        (0.0, 1.0000001),
-        (f64::NAN, 0.5),
-        (0.0, f64::INFINITY),
-    ] {
+    for (x, y) in [(1.0000001, 0.5), (-1.5, 0.5), (0.0, -1e-9), (0.0, 1.0000001), (f64::NAN, 0.5), (0.0, f64::INFINITY)]
+    {
         assert_eq!(D.unmap(x, y), Err(CalibrationError::PointOutOfRange), "({x}, {y})");
     }
     assert_eq!(D.unmap(-1.0f64, 0.0), Ok(RawPoint { x: 123, y: 128 }));
@@ -212,12 +191,7 @@ fn crosshairs(cal: &Calibration, at: &[(f64, f64)], noise: &[(i32, i32)]) -> Vec
         .map(|(&(x, y), &(nx, ny))| {
             // Ideal (unrounded) reading, then noise, then the ADC's rounding.
             let (rx, ry) = unmap_any(cal, x, y);
-            Crosshair {
-                x_p: x,
-                y_p: y,
-                raw_x: (rx + nx as f64).round() as u16,
-                raw_y: (ry + ny as f64).round() as u16,
-            }
+            Crosshair { x_p: x, y_p: y, raw_x: (rx + nx as f64).round() as u16, raw_y: (ry + ny as f64).round() as u16 }
         })
         .collect()
 }
@@ -308,10 +282,7 @@ fn crosshair_fit_rejects_degenerate_readings() {
     // Same point twice.
     assert_eq!(fit(&[(0.5, 0.5), (0.5, 0.5)], SwapMode::Known(false)), Err(DegeneratePositions));
     // Three crosshairs on one diagonal cannot tell the channels apart.
-    assert_eq!(
-        fit(&[(-1.0, 0.0), (0.0, 0.5), (1.0, 1.0)], SwapMode::Detect),
-        Err(DegeneratePositions)
-    );
+    assert_eq!(fit(&[(-1.0, 0.0), (0.0, 0.5), (1.0, 1.0)], SwapMode::Detect), Err(DegeneratePositions));
     // Non-finite position.
     let mut pts = crosshairs(&cal, &CORNERS, &[]);
     pts[2].x_p = f64::NAN;
@@ -337,10 +308,7 @@ fn crosshair_fit_rejects_degenerate_readings() {
         p.raw_y = 400;
     }
     assert_eq!(Calibration::from_crosshairs(&dead, SwapMode::Detect), Err(AmbiguousAxes));
-    assert_eq!(
-        Calibration::from_crosshairs(&dead, SwapMode::Known(false)),
-        Err(EmptyRange { axis: Axis::Y })
-    );
+    assert_eq!(Calibration::from_crosshairs(&dead, SwapMode::Known(false)), Err(EmptyRange { axis: Axis::Y }));
     // Readings that extrapolate past the ADC at the screen edges.
     let steep: Vec<Crosshair<f64>> = [(-0.1, 0.4), (0.1, 0.4), (0.1, 0.6), (-0.1, 0.6)]
         .iter()
@@ -351,10 +319,7 @@ fn crosshair_fit_rejects_degenerate_readings() {
             raw_y: (300.0 + 500.0 * y) as u16,
         })
         .collect();
-    assert_eq!(
-        Calibration::from_crosshairs(&steep, SwapMode::Detect),
-        Err(FitOutOfAdcRange { axis: Axis::X })
-    );
+    assert_eq!(Calibration::from_crosshairs(&steep, SwapMode::Detect), Err(FitOutOfAdcRange { axis: Axis::X }));
 }
 
 // ---------------------------------------------------------------- workspace
@@ -657,14 +622,7 @@ fn touched_corner_through_the_whole_chain() {
 /// point of the annulus, its rims and their close neighbourhood included.
 fn links_and_reachable_point() -> impl Strategy<Value = (f64, f64, f64, f64)> {
     let l3 = prop_oneof![Just(None), (0.1f64..10.0).prop_map(Some)];
-    let u = prop_oneof![
-        Just(0.0),
-        Just(1.0),
-        0.0f64..1e-4,
-        (1.0 - 1e-4)..=1.0f64,
-        0.0f64..=1.0,
-        0.0f64..=1.0,
-    ];
+    let u = prop_oneof![Just(0.0), Just(1.0), 0.0f64..1e-4, (1.0 - 1e-4)..=1.0f64, 0.0f64..=1.0, 0.0f64..=1.0,];
     (0.1f64..10.0, l3, u, -PI..=PI).prop_map(|(l2, l3, u, th)| {
         let l3 = l3.unwrap_or(l2);
         let (rmin, rmax) = ((l2 - l3).abs(), l2 + l3);
@@ -940,7 +898,10 @@ proptest! {
 fn ik_f32_known_values_and_errors() {
     let l = Links::new(1.0f32, 1.0).unwrap();
     let q = ik2(&l, 1.0, 1.0, Branch::Minus).unwrap();
-    assert!((q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7 && (q.q3 + core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7, "{q:?}");
+    assert!(
+        (q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7 && (q.q3 + core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7,
+        "{q:?}"
+    );
     // Straight out along either axis: both branches agree, q2 on the axis.
     for b in branches() {
         assert_eq!(ik2(&l, 2.0, 0.0, b).unwrap(), touch_arm::geometry::ik::JointAngles2 { q2: 0.0, q3: 0.0 });
@@ -978,7 +939,10 @@ fn ik_f32_known_values_and_errors() {
     assert!(matches!(ik2(&l, 0.0, 0.0, Branch::Plus), Err(IkError::Unreachable { c }) if c < -1.0));
     assert!(matches!(ik2(&l, 0.0, 0.4999, Branch::Plus), Err(IkError::Unreachable { c }) if c < -1.0));
     let q = ik2(&l, 0.0, 0.5, Branch::Minus).unwrap();
-    assert!((q.q3 + core::f32::consts::PI).abs() <= 2.4e-7 && (q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7, "{q:?}");
+    assert!(
+        (q.q3 + core::f32::consts::PI).abs() <= 2.4e-7 && (q.q2 - core::f32::consts::FRAC_PI_2).abs() <= 2.4e-7,
+        "{q:?}"
+    );
 }
 
 // ------------------------------------ f32 bit tests the geometry relies on
@@ -990,9 +954,27 @@ fn ik_f32_known_values_and_errors() {
 fn f32_bit_tests_agree_with_float_operations() {
     use touch_arm::math::real::Real;
     let mut vals = vec![
-        0.0f32, -0.0, 1.0, -1.0, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45, f32::MAX, -f32::MAX,
-        f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, core::f32::consts::PI, -core::f32::consts::PI,
-        1.0 + f32::EPSILON, 1.0 - f32::EPSILON / 2.0, 3.4e38, 1.7e38, 8.5e37,
+        0.0f32,
+        -0.0,
+        1.0,
+        -1.0,
+        f32::MIN_POSITIVE,
+        -f32::MIN_POSITIVE,
+        1e-45,
+        -1e-45,
+        f32::MAX,
+        -f32::MAX,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -f32::NAN,
+        core::f32::consts::PI,
+        -core::f32::consts::PI,
+        1.0 + f32::EPSILON,
+        1.0 - f32::EPSILON / 2.0,
+        3.4e38,
+        1.7e38,
+        8.5e37,
     ];
     let mut state = 0x2545_F491_4F6C_DD1Du64;
     for _ in 0..20_000 {

@@ -95,12 +95,15 @@ fn is_ident(c: char) -> bool {
 fn references(module: &[String], is_mod_file: bool, text: &str) -> Vec<Vec<String>> {
     let code = code(text);
     let mut refs = Vec::new();
-    for (kw, base) in [("crate::", Vec::new()), ("super::", {
-        // `super` in `a/b.rs` (module a::b) is `a`; in `a/b/mod.rs` (module
-        // a::b) it is `a` as well.
-        let _ = is_mod_file;
-        module[..module.len().saturating_sub(1)].to_vec()
-    })] {
+    for (kw, base) in [
+        ("crate::", Vec::new()),
+        ("super::", {
+            // `super` in `a/b.rs` (module a::b) is `a`; in `a/b/mod.rs` (module
+            // a::b) it is `a` as well.
+            let _ = is_mod_file;
+            module[..module.len().saturating_sub(1)].to_vec()
+        }),
+    ] {
         let mut from = 0;
         while let Some(i) = code[from..].find(kw) {
             let at = from + i;

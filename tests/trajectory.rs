@@ -3,14 +3,10 @@
 
 use proptest::prelude::*;
 use touch_arm::motion::laws::{eval, Law, LawParams, LawPlan};
-use touch_arm::motion::{Sample, TrajError};
 use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
-use touch_arm::motion::via::{
-    iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan,
-};
-use touch_arm::motion::zat::{
-    pole_margin, smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan,
-};
+use touch_arm::motion::via::{iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan};
+use touch_arm::motion::zat::{pole_margin, smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
+use touch_arm::motion::{Sample, TrajError};
 
 // ---------------------------------------------------------------- references
 
@@ -69,8 +65,7 @@ fn scan_monotone(s: &Shape<f64>) -> (bool, f64) {
 
 /// Admissible shape parameters with a below u_min by at least `min_margin`.
 fn admissible(min_margin: f64) -> impl Strategy<Value = (f64, f64, f64)> {
-    (0.2f64..10.0, 1.1f64..100.0, min_margin..3.0)
-        .prop_map(|(ts, n, m)| (ts, u_min(ts) - m, n))
+    (0.2f64..10.0, 1.1f64..100.0, min_margin..3.0).prop_map(|(ts, n, m)| (ts, u_min(ts) - m, n))
 }
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -86,12 +81,7 @@ fn endpoints_exact_f32_and_f64() {
         assert_eq!(s64.g(ts), 1.0);
         assert_eq!(s64.g_derivs(ts).s, 1.0);
         assert_eq!(s64.g(0.0), 0.0);
-        let s32 = Shape::<f32>::new(&ShapeParams {
-            ts: ts as f32,
-            a: a as f32,
-            n: n as f32,
-        })
-        .unwrap();
+        let s32 = Shape::<f32>::new(&ShapeParams { ts: ts as f32, a: a as f32, n: n as f32 }).unwrap();
         assert_eq!(s32.g(ts as f32), 1.0f32);
         // The formula just before tₛ joins continuously.
         assert!((s64.g(ts * (1.0 - 1e-12)) - 1.0).abs() < 1e-9);
@@ -276,10 +266,7 @@ fn admissibility_errors() {
     assert_eq!(e(f64::NAN, 0.0, 2.0), TrajError::NotFinite);
     assert_eq!(e(2.0, f64::NEG_INFINITY, 2.0), TrajError::NotFinite);
     assert_eq!(e(2.0, 0.0, f64::INFINITY), TrajError::NotFinite);
-    assert_eq!(
-        ZatPlan::new(&ZatParams { q0: f64::NAN, sf: 1.0, ts: 2.0, a: 0.0, n: 2.0 }),
-        Err(TrajError::NotFinite)
-    );
+    assert_eq!(ZatPlan::new(&ZatParams { q0: f64::NAN, sf: 1.0, ts: 2.0, a: 0.0, n: 2.0 }), Err(TrajError::NotFinite));
 }
 
 #[test]
@@ -347,7 +334,9 @@ fn end_velocity_and_smooth_stop() {
     }
     // SPEC's admissibility condition is not enough for a usable a*: at tₛ, φ = 0
     // and φ′(tₛ) ≤ 0 ⇔ L·(tₛ − 1) ≤ 2 decides whether G dips before the end.
-    for &(ts, n, mono) in &[(3.0, 2.6, true), (3.0, 2.8, false), (3.0, 7.7, false), (9.0, 1.3, false), (9.0, 1.28, true)] {
+    for &(ts, n, mono) in
+        &[(3.0, 2.6, true), (3.0, 2.8, false), (3.0, 7.7, false), (9.0, 1.3, false), (9.0, 1.28, true)]
+    {
         let s = shape64(ts, smooth_stop_a(ts, n).unwrap(), n);
         assert_eq!(s.is_monotone(), mono, "{ts} {n}");
         assert_eq!(scan_monotone(&s).0, mono, "{ts} {n}");
@@ -460,8 +449,26 @@ proptest! {
 /// Edge values for the f32 checks: signed zeros, subnormals, 1 ± ulp, the
 /// extremes, ±∞ and NaN.
 const F32_EDGES: [f32; 20] = [
-    0.0, -0.0, 1e-45, -1e-45, 1e-39, 0.5, 0.999_999_94, 1.0, 1.000_000_1, 2.0, 3.0, 10.0, -2.0, 1e30,
-    -1e30, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY, f32::NAN,
+    0.0,
+    -0.0,
+    1e-45,
+    -1e-45,
+    1e-39,
+    0.5,
+    0.999_999_94,
+    1.0,
+    1.000_000_1,
+    2.0,
+    3.0,
+    10.0,
+    -2.0,
+    1e30,
+    -1e30,
+    f32::MAX,
+    f32::MIN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NAN,
 ];
 
 /// `Shape::new`'s refusals written with plain float comparisons, in its order.
@@ -568,14 +575,8 @@ fn via_closed_form_hits_the_via_value() {
                 assert!(close(plan.position(t), want, 1e-15));
             }
             // ζ, ζ_v as SPEC restates eq. 10.
-            assert_eq!(
-                plan.zeta(),
-                zeta(&ZatParams { q0: plan.sv(), sf: 0.8, ts: 3.0, a: 1.0, n: 2.0 })
-            );
-            assert_eq!(
-                plan.zeta_v(),
-                zeta(&ZatParams { q0: 0.1, sf: plan.sv(), ts: tv, a: av, n: 3.0 })
-            );
+            assert_eq!(plan.zeta(), zeta(&ZatParams { q0: plan.sv(), sf: 0.8, ts: 3.0, a: 1.0, n: 2.0 }));
+            assert_eq!(plan.zeta_v(), zeta(&ZatParams { q0: 0.1, sf: plan.sv(), ts: tv, a: av, n: 3.0 }));
         }
     }
 }
@@ -688,7 +689,15 @@ fn via_shapes_are_shape_new_and_f32_checks_match() {
         assert_eq!(*plan.via_shape(), shape64(1.5, 0.5, nv));
         assert_eq!(*plan.main_shape(), shape64(3.0, 1.0, 2.0));
         let p32 = ViaParams::<f32> {
-            q0: 0.1, theta_v: 0.5, sf: 0.8, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: nv as f32,
+            q0: 0.1,
+            theta_v: 0.5,
+            sf: 0.8,
+            tv: 1.5,
+            ts: 3.0,
+            a: 1.0,
+            n: 2.0,
+            av: 0.5,
+            nv: nv as f32,
         };
         let plan = ViaPlan::new(&p32).unwrap();
         let shape = |ts, a, n| Shape::<f32>::new(&ShapeParams { ts, a, n }).unwrap();
@@ -708,10 +717,7 @@ fn via_shapes_are_shape_new_and_f32_checks_match() {
     // Inside (0, tₛ): admitted as far as the via time goes (tiny t_v still
     // has its own shape to pass).
     assert!(ViaPlan::new(&ViaParams { tv: below_ts, av: 1.0, ..base }).is_ok());
-    assert!(matches!(
-        ViaPlan::new(&ViaParams { tv: 1e-45, ..base }),
-        Err(TrajError::ShapeNotAdmissible { .. })
-    ));
+    assert!(matches!(ViaPlan::new(&ViaParams { tv: 1e-45, ..base }), Err(TrajError::ShapeNotAdmissible { .. })));
 }
 
 // ---------------------------------------------------------------- classic laws
@@ -863,12 +869,8 @@ fn multiplan_joints_arrive_together() {
     assert!(after.iter().zip(target.iter()).all(|(s, t)| s.pos == *t && s.vel == 0.0));
 
     // f32, as the chip runs it.
-    let p32 = MultiPlan::<f32>::new(
-        &[0.1, 0.7, -0.4],
-        &[0.9, 0.2, 0.3],
-        &ShapeParams { ts: 2.5, a: 1.0, n: 3.0 },
-    )
-    .unwrap();
+    let p32 =
+        MultiPlan::<f32>::new(&[0.1, 0.7, -0.4], &[0.9, 0.2, 0.3], &ShapeParams { ts: 2.5, a: 1.0, n: 3.0 }).unwrap();
     assert_eq!(p32.positions(2.5), [0.9f32, 0.2, 0.3]);
     let mid = p32.positions(1.25);
     for j in 0..JOINTS {

@@ -5,19 +5,23 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use touch_arm::geometry::ik::{fk2, ik2, ik3, Branch, IkError, Links};
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
+use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
-use touch_arm::motion::{Sample, TrajError};
 use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
-use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
+use touch_arm::motion::{Sample, TrajError};
 use touch_arm::touch::map::Calibration;
-use touch_arm::geometry::workspace::WorkspacePoint;
 
 use crate::plot::{self, Curve, Panel};
 use crate::report::{csv_row, Json};
 
 #[derive(Parser, Debug)]
-#[command(name = "armsim", version, about = "The touch-arm method on a PC (f64): touch mapping, IK, ζ-a-tₛ / via-point / classic trajectories and plots")]
+#[command(
+    name = "armsim",
+    version,
+    about = "The touch-arm method on a PC (f64): touch mapping, IK, ζ-a-tₛ / via-point / classic trajectories and plots"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Cmd,
@@ -347,7 +351,8 @@ fn resolve_touch(t: &TouchArg) -> Result<Touched, String> {
 }
 
 fn links(a: &LinkArgs) -> Result<Links<f64>, String> {
-    Links::new(a.l2, a.l3).map_err(|e| format!("link lengths l2={}, l3={}: {e:?} (must be positive and finite)", a.l2, a.l3))
+    Links::new(a.l2, a.l3)
+        .map_err(|e| format!("link lengths l2={}, l3={}: {e:?} (must be positive and finite)", a.l2, a.l3))
 }
 
 fn ik_error(e: &IkError<f64>) -> Option<String> {
@@ -394,7 +399,11 @@ fn cmd_ik(a: &IkArgs) -> Result<String, String> {
                 if let Some(msg) = ik_error(&e) {
                     return Err(msg);
                 }
-                Json::new().set("reachable", false).set("th1", None::<f64>).set("th2", None::<f64>).set("th3", None::<f64>)
+                Json::new()
+                    .set("reachable", false)
+                    .set("th1", None::<f64>)
+                    .set("th2", None::<f64>)
+                    .set("th3", None::<f64>)
             }
         };
         return Ok(j.render() + "\n");
@@ -487,8 +496,10 @@ fn via_params(a: &ViaCore) -> ViaParams<f64> {
 
 fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
     // Name the segment whose parameters are wrong before the combined check.
-    Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv }).map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
-    Shape::new(&ShapeParams { ts: a.main.ts, a: a.main.a, n: a.main.n }).map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
+    Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv })
+        .map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
+    Shape::new(&ShapeParams { ts: a.main.ts, a: a.main.a, n: a.main.n })
+        .map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
     ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
 }
 
@@ -613,7 +624,14 @@ fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
             let plan = via_plan(&p.p)?;
             let t = plot_times(&p.out, 0.0, p.p.main.ts)?;
             let s = t.iter().map(|&t| plan.sample(t)).collect();
-            let title = format!("via point: q0={} theta_v={} at tv={} -> Sf={} (S_v*={:.6})", p.p.main.q0, p.p.via, p.p.tv, p.p.main.sf, plan.sv());
+            let title = format!(
+                "via point: q0={} theta_v={} at tv={} -> Sf={} (S_v*={:.6})",
+                p.p.main.q0,
+                p.p.via,
+                p.p.tv,
+                p.p.main.sf,
+                plan.sv()
+            );
             (title, &p.out, t, s)
         }
         PlotWhat::Law(p) => {
@@ -626,12 +644,18 @@ fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
     };
     let col = |f: fn(&Sample<f64>) -> f64| samples.iter().map(f).collect::<Vec<f64>>();
     let (s, v, acc, jerk) = (col(|x| x.s), col(|x| x.v), col(|x| x.acc), col(|x| x.jerk));
-    let panel = |ylabel: &'static str, y: &'static str, data| Panel { ylabel, curves: vec![Curve { label: y, y: data }] };
+    let panel =
+        |ylabel: &'static str, y: &'static str, data| Panel { ylabel, curves: vec![Curve { label: y, y: data }] };
     plot::panels(
         &out.out,
         &title,
         &t,
-        &[panel("position", "", &s), panel("velocity", "", &v), panel("acceleration", "", &acc), panel("jerk", "", &jerk)],
+        &[
+            panel("position", "", &s),
+            panel("velocity", "", &v),
+            panel("acceleration", "", &acc),
+            panel("jerk", "", &jerk),
+        ],
     )
     .map_err(|e| e.to_string())?;
     Ok(format!("wrote {}\n", out.out.display()))

@@ -230,7 +230,8 @@ impl<D: DrawTarget<Color = Rgb565>> DrawTarget for Counting<'_, D> {
         I: IntoIterator<Item = Rgb565>,
     {
         self.fill_contiguous_calls += 1;
-        let colors: Vec<Rgb565> = colors.into_iter().take(area.size.width as usize * area.size.height as usize).collect();
+        let colors: Vec<Rgb565> =
+            colors.into_iter().take(area.size.width as usize * area.size.height as usize).collect();
         assert_eq!(
             colors.len(),
             (area.size.width * area.size.height) as usize,

@@ -20,7 +20,8 @@ fn avr_elf(name: &str, override_var: &str) -> PathBuf {
     if let Some(p) = std::env::var_os(override_var) {
         return PathBuf::from(p);
     }
-    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
+    let target =
+        std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
     target.join("avr-none/release").join(format!("{name}.elf"))
 }
 
@@ -39,10 +40,8 @@ pub fn budget(name: &str) -> Result<u64, String> {
     let path = workspace_root().join("memory.x");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let key = format!("__budget_{name}");
-    let line = text
-        .lines()
-        .find(|l| l.trim_start().starts_with(&key))
-        .ok_or_else(|| format!("memory.x has no {key}"))?;
+    let line =
+        text.lines().find(|l| l.trim_start().starts_with(&key)).ok_or_else(|| format!("memory.x has no {key}"))?;
     let value = line.split('=').nth(1).and_then(|v| v.split(';').next()).map(str::trim).unwrap_or("");
     let parsed = match value.strip_suffix('K') {
         Some(k) => k.parse::<u64>().map(|k| k * 1024),
@@ -55,7 +54,8 @@ pub fn budget(name: &str) -> Result<u64, String> {
 pub fn run_to_done(elf: &Path, max_seconds: f64) -> Result<String, String> {
     let mut avr = load(elf)?;
     let max = (max_seconds * CPU_HZ as f64) as u64;
-    avr.run_until_output(b"done\n", max).map_err(|e| format!("{} did not finish: {e:?}\n{}", elf.display(), avr.uart_output_string()))?;
+    avr.run_until_output(b"done\n", max)
+        .map_err(|e| format!("{} did not finish: {e:?}\n{}", elf.display(), avr.uart_output_string()))?;
     Ok(avr.uart_output_string())
 }
 
@@ -92,7 +92,8 @@ impl Session {
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
-        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD).map_err(|e| format!("{e:?}"))?;
+        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD)
+            .map_err(|e| format!("{e:?}"))?;
         let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
             wiring,
             panel: crate::twin::panel::SimPanel::new(seed),
@@ -162,11 +163,7 @@ impl Session {
     /// Every complete servo pulse measured so far, per joint: (rise time s, width µs).
     pub fn pulses(&self) -> [Vec<(f64, f64)>; 3] {
         SERVO_PINS.map(|pin| {
-            self.avr
-                .pulses(pin)
-                .iter()
-                .map(|p| (p.rise_cycle as f64 / CPU_HZ as f64, p.width_us(CPU_HZ)))
-                .collect()
+            self.avr.pulses(pin).iter().map(|p| (p.rise_cycle as f64 / CPU_HZ as f64, p.width_us(CPU_HZ))).collect()
         })
     }
 
@@ -184,7 +181,8 @@ pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
     use touch_arm::ui::layout;
     let (px, py) = layout::ws_point_to_pixel(x, y)?;
     let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
-    let (raw_x, raw_y) = touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
+    let (raw_x, raw_y) =
+        touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
     let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
     Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
 }

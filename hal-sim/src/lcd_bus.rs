@@ -314,7 +314,8 @@ impl BusPins {
     };
 
     fn ports(&self) -> Vec<char> {
-        let mut v: Vec<char> = [self.rd, self.wr, self.rs, self.cs, self.rst].iter().chain(&self.data).map(|p| p.port).collect();
+        let mut v: Vec<char> =
+            [self.rd, self.wr, self.rs, self.cs, self.rst].iter().chain(&self.data).map(|p| p.port).collect();
         v.sort_unstable();
         v.dedup();
         v

@@ -8,11 +8,7 @@ use serde_json::Value;
 
 fn armsim(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_armsim")).args(args).output().expect("run armsim");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
+    (out.status.code().unwrap_or(-1), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
 }
 
 fn json(args: &[&str]) -> Value {
@@ -29,7 +25,10 @@ fn fails(args: &[&str], needle: &str) {
     let (code, out, err) = armsim(args);
     assert_ne!(code, 0, "armsim {args:?} should fail, printed {out}");
     assert!(out.is_empty(), "a failing command prints nothing on stdout: {out}");
-    assert!(err.to_lowercase().contains(&needle.to_lowercase()), "armsim {args:?}: error {err:?} should mention {needle:?}");
+    assert!(
+        err.to_lowercase().contains(&needle.to_lowercase()),
+        "armsim {args:?}: error {err:?} should mention {needle:?}"
+    );
 }
 
 #[test]
@@ -61,7 +60,13 @@ fn map_out_of_range_raw_is_clamped_and_flagged() {
 
 #[test]
 fn map_conditions_on_the_boundaries_take_the_lower_number() {
-    for (xy, cond, alpha) in [("0.5,0.5", 1, 45.0), ("0,0.5", 2, 90.0), ("-0.5,0.5", 3, 135.0), ("0,0", 1, 0.0), ("-0.9,0.1", 4, 173.65980825409008)] {
+    for (xy, cond, alpha) in [
+        ("0.5,0.5", 1, 45.0),
+        ("0,0.5", 2, 90.0),
+        ("-0.5,0.5", 3, 135.0),
+        ("0,0", 1, 0.0),
+        ("-0.9,0.1", 4, 173.65980825409008),
+    ] {
         let v = json(&["map", "--xy", xy]);
         assert_eq!(v["condition"], cond, "{xy}");
         assert!((f(&v, "alpha_deg") - alpha).abs() < 1e-12, "{xy}: {}", v["alpha_deg"]);
@@ -198,7 +203,21 @@ fn printed_zat(q0: f64, sf: f64, ts: f64, a: f64, n: f64, t: f64) -> f64 {
 #[test]
 fn traj_samples_match_the_printed_formula_and_end_exactly() {
     let (q0, sf, ts, a, n) = (0.2, 1.3, 2.5, 1.1, 3.0);
-    let (h, rows) = csv(&["traj", "--q0", "0.2", "--sf", "1.3", "--ts", "2.5", "--a", "1.1", "--n", "3", "--t", "-1,0,0.3,0.9,1.6,2.2,2.5,4"]);
+    let (h, rows) = csv(&[
+        "traj",
+        "--q0",
+        "0.2",
+        "--sf",
+        "1.3",
+        "--ts",
+        "2.5",
+        "--a",
+        "1.1",
+        "--n",
+        "3",
+        "--t",
+        "-1,0,0.3,0.9,1.6,2.2,2.5,4",
+    ]);
     assert_eq!(h, ["t", "s", "v", "acc", "jerk"]);
     for r in &rows {
         let expect = printed_zat(q0, sf, ts, a, n, r[0]);
@@ -216,7 +235,8 @@ fn traj_samples_match_the_printed_formula_and_end_exactly() {
 
 #[test]
 fn traj_descending_motion_and_sample_count() {
-    let (_, rows) = csv(&["traj", "--q0", "1", "--sf", "-0.5", "--ts", "0.8", "--a", "0.3", "--n", "2", "--samples", "9"]);
+    let (_, rows) =
+        csv(&["traj", "--q0", "1", "--sf", "-0.5", "--ts", "0.8", "--a", "0.3", "--n", "2", "--samples", "9"]);
     assert_eq!(rows.len(), 9);
     assert_eq!(rows[0][0], 0.0);
     assert_eq!(rows[8][0], 0.8);
@@ -262,17 +282,26 @@ fn traj_info_domain_smooth_stop_and_overshoot() {
 
 #[test]
 fn traj_inadmissible_parameters_name_the_bound() {
-    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.9", "--n", "2", "--t", "1"], "u_min = 2.46410161513775");
+    fails(
+        &["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.9", "--n", "2", "--t", "1"],
+        "u_min = 2.46410161513775",
+    );
     fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "0", "--a", "-1", "--n", "2", "--t", "1"], "duration");
     fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "1", "--t", "1"], "n");
     fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2"], "--samples");
     fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2", "--samples", "1"], "at least 2");
-    fails(&["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2", "--t", "0,x"], "not a finite number");
+    fails(
+        &["traj", "--q0", "0", "--sf", "1", "--ts", "1", "--a", "0", "--n", "2", "--t", "0,x"],
+        "not a finite number",
+    );
 }
 
 #[test]
 fn via_closed_form_passes_through_the_via_point() {
-    let args = ["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.2", "--ts", "2", "--a", "1", "--n", "2", "--av", "0.8", "--nv", "2"];
+    let args = [
+        "via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.2", "--ts", "2", "--a", "1", "--n", "2", "--av",
+        "0.8", "--nv", "2",
+    ];
     let v = json(&[&args[..], &["--iterate", "1e-10"]].concat());
     // r = G(t_v) of the main segment: the printed form with q0 = 0, S_f = 1.
     let r = printed_zat(0.0, 1.0, 2.0, 1.0, 2.0, 1.2);
@@ -292,7 +321,29 @@ fn via_closed_form_passes_through_the_via_point() {
 #[test]
 fn via_paper_iteration_diverges_when_r_exceeds_one() {
     // SPEC §6: tₛ = 3, a = 2.45, n = 2, t_v = 1.7 gives r = 18.4.
-    let v = json(&["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.7", "--ts", "3", "--a", "2.45", "--n", "2", "--av", "1", "--nv", "2", "--iterate", "1e-9"]);
+    let v = json(&[
+        "via",
+        "--q0",
+        "0",
+        "--via",
+        "0.5",
+        "--sf",
+        "1",
+        "--tv",
+        "1.7",
+        "--ts",
+        "3",
+        "--a",
+        "2.45",
+        "--n",
+        "2",
+        "--av",
+        "1",
+        "--nv",
+        "2",
+        "--iterate",
+        "1e-9",
+    ]);
     assert!((f(&v, "r") - 18.4).abs() < 0.01);
     assert_eq!(v["converges"], false);
     assert!(v["iterations"].is_null());
@@ -303,18 +354,28 @@ fn via_smooth_via_shape_has_no_velocity_jump() {
     let (tv, nv): (f64, f64) = (1.5, 2.0);
     let av = tv - tv.ln() / nv.ln();
     let av = format!("{av}");
-    let v = json(&["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--tv", "1.5", "--ts", "2", "--a", "1", "--n", "2", "--av", &av, "--nv", "2"]);
+    let v = json(&[
+        "via", "--q0", "0", "--via", "0.6", "--sf", "1", "--tv", "1.5", "--ts", "2", "--a", "1", "--n", "2", "--av",
+        &av, "--nv", "2",
+    ]);
     assert!(f(&v, "velocity_jump").abs() < 1e-9, "{}", v["velocity_jump"]);
 }
 
 #[test]
 fn via_bad_segment_is_named() {
-    fails(&["via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1", "--ts", "2", "--a", "1", "--n", "2", "--av", "1", "--nv", "2"], "via segment");
+    fails(
+        &[
+            "via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1", "--ts", "2", "--a", "1", "--n", "2", "--av",
+            "1", "--nv", "2",
+        ],
+        "via segment",
+    );
 }
 
 #[test]
 fn law_values_match_the_corrected_formulas() {
-    let (h, rows) = csv(&["law", "--kind", "quintic", "--t0", "1", "--tf", "3", "--s0", "2", "--sf", "-1", "--t", "0,1.5,2.2,3,5"]);
+    let (h, rows) =
+        csv(&["law", "--kind", "quintic", "--t0", "1", "--tf", "3", "--s0", "2", "--sf", "-1", "--t", "0,1.5,2.2,3,5"]);
     assert_eq!(h, ["t", "s", "v", "acc"]);
     let (t0, tf, s0, d) = (1.0, 3.0, 2.0, -3.0);
     let big_t: f64 = tf - t0;
@@ -329,20 +390,42 @@ fn law_values_match_the_corrected_formulas() {
     assert_eq!(&rows[4][1..], &[-1.0, 0.0, 0.0]);
 
     // Cubic reaches its end exactly (SPEC §7: the papers' 3.053 was read at 0.9 s).
-    let (_, rows) = csv(&["law", "--kind", "cubic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "3.141592653589793", "--t", "0.9,1"]);
+    let (_, rows) = csv(&[
+        "law",
+        "--kind",
+        "cubic",
+        "--t0",
+        "0",
+        "--tf",
+        "1",
+        "--s0",
+        "0",
+        "--sf",
+        "3.141592653589793",
+        "--t",
+        "0.9,1",
+    ]);
     assert!((rows[0][1] - 3.0536).abs() < 1e-4);
     assert_eq!(rows[1][1], std::f64::consts::PI);
 
     // Trapezoid: cruise velocity 1.5Δ/T, acceleration 4.5Δ/T².
-    let (_, rows) = csv(&["law", "--kind", "trapezoid", "--t0", "0", "--tf", "2", "--s0", "0", "--sf", "4", "--t", "0.2,1"]);
+    let (_, rows) =
+        csv(&["law", "--kind", "trapezoid", "--t0", "0", "--tf", "2", "--s0", "0", "--sf", "4", "--t", "0.2,1"]);
     assert!((rows[0][3] - 4.5 * 4.0 / 4.0).abs() < 1e-12);
     assert!((rows[1][2] - 1.5 * 4.0 / 2.0).abs() < 1e-12);
     assert!((rows[1][1] - (6.0 * 0.5 - 1.0) * 4.0 / 4.0).abs() < 1e-12);
 
-    let (_, rows) = csv(&["law", "--kind", "linear", "--t0", "0", "--tf", "2", "--s0", "1", "--sf", "3", "--samples", "3"]);
+    let (_, rows) =
+        csv(&["law", "--kind", "linear", "--t0", "0", "--tf", "2", "--s0", "1", "--sf", "3", "--samples", "3"]);
     assert_eq!(rows.iter().map(|r| r[1]).collect::<Vec<_>>(), [1.0, 2.0, 3.0]);
-    fails(&["law", "--kind", "cubic", "--t0", "1", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"], "tf must be > t0");
-    fails(&["law", "--kind", "septic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"], "invalid value");
+    fails(
+        &["law", "--kind", "cubic", "--t0", "1", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"],
+        "tf must be > t0",
+    );
+    fails(
+        &["law", "--kind", "septic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "1", "--t", "1"],
+        "invalid value",
+    );
 }
 
 #[test]
@@ -350,23 +433,112 @@ fn plot_writes_png_and_svg() {
     let dir = std::env::temp_dir().join(format!("armsim-plot-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join("traj.png");
-    let (code, _, err) = armsim(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "1", "--n", "2", "--out", png.to_str().unwrap()]);
+    let (code, _, err) = armsim(&[
+        "plot",
+        "traj",
+        "--q0",
+        "0",
+        "--sf",
+        "1",
+        "--ts",
+        "2",
+        "--a",
+        "1",
+        "--n",
+        "2",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{err}");
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     assert!(bytes.len() > 10_000, "a real picture, not an empty canvas");
 
     let svg = dir.join("law.svg");
-    let (code, _, err) = armsim(&["plot", "law", "--kind", "quintic", "--t0", "0", "--tf", "1", "--s0", "0", "--sf", "1", "--out", svg.to_str().unwrap()]);
+    let (code, _, err) = armsim(&[
+        "plot",
+        "law",
+        "--kind",
+        "quintic",
+        "--t0",
+        "0",
+        "--tf",
+        "1",
+        "--s0",
+        "0",
+        "--sf",
+        "1",
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.starts_with("<svg") && text.matches("<polyline").count() >= 4, "four panels drawn");
 
     let via = dir.join("via.png");
-    let (code, _, err) = armsim(&["plot", "via", "--q0", "0", "--via", "0.5", "--sf", "1", "--tv", "1.2", "--ts", "2", "--a", "1", "--n", "2", "--av", "0.8", "--nv", "2", "--out", via.to_str().unwrap()]);
+    let (code, _, err) = armsim(&[
+        "plot",
+        "via",
+        "--q0",
+        "0",
+        "--via",
+        "0.5",
+        "--sf",
+        "1",
+        "--tv",
+        "1.2",
+        "--ts",
+        "2",
+        "--a",
+        "1",
+        "--n",
+        "2",
+        "--av",
+        "0.8",
+        "--nv",
+        "2",
+        "--out",
+        via.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{err}");
 
-    fails(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "1", "--n", "2", "--out", dir.join("x.jpg").to_str().unwrap()], ".png or .svg");
-    fails(&["plot", "traj", "--q0", "0", "--sf", "1", "--ts", "2", "--a", "5", "--n", "2", "--out", png.to_str().unwrap()], "u_min");
+    fails(
+        &[
+            "plot",
+            "traj",
+            "--q0",
+            "0",
+            "--sf",
+            "1",
+            "--ts",
+            "2",
+            "--a",
+            "1",
+            "--n",
+            "2",
+            "--out",
+            dir.join("x.jpg").to_str().unwrap(),
+        ],
+        ".png or .svg",
+    );
+    fails(
+        &[
+            "plot",
+            "traj",
+            "--q0",
+            "0",
+            "--sf",
+            "1",
+            "--ts",
+            "2",
+            "--a",
+            "5",
+            "--n",
+            "2",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "u_min",
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

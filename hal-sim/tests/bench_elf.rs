@@ -8,15 +8,15 @@
 //! The ELF is built by `scripts/test.sh` (`cargo avr-bench`) before
 //! `cargo test` runs; `TOUCH_ARM_BENCH_ELF` overrides its path.
 
+use hal_sim::firmware;
 use std::collections::HashMap;
 use std::sync::OnceLock;
-use hal_sim::firmware;
-use touch_arm::math::{exp, fixed, sqrt_split};
 use touch_arm::geometry::ik::{Branch, Links};
-use touch_arm::motion::plan::{JointLaw, MultiPlan};
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
-use touch_arm::touch::map::Calibration;
+use touch_arm::math::{exp, fixed, sqrt_split};
+use touch_arm::motion::plan::{JointLaw, MultiPlan};
 use touch_arm::motion::zat::Shape;
+use touch_arm::touch::map::Calibration;
 
 /// Issue target for one 50 Hz frame of 3 joints (0.5 ms at 16 MHz).
 const FRAME_BUDGET_CYCLES: u32 = 8_000;
@@ -69,7 +69,19 @@ fn frame_fits_its_cycle_budget() {
     eprintln!("frame: median {median}, max {max} cycles");
     assert!(max <= FRAME_BUDGET_CYCLES, "frame worst case {max} cycles > {FRAME_BUDGET_CYCLES}");
     // Every routine the runner reports was measured.
-    for name in ["g", "g_rate", "plan", "plan_generic", "via_solve", "via_paper", "frame_linear", "frame_cubic", "frame_quintic", "frame_trapezoid", "paper_frame"] {
+    for name in [
+        "g",
+        "g_rate",
+        "plan",
+        "plan_generic",
+        "via_solve",
+        "via_paper",
+        "frame_linear",
+        "frame_cubic",
+        "frame_quintic",
+        "frame_trapezoid",
+        "paper_frame",
+    ] {
         assert!(b.contains_key(name), "no {name} figure");
     }
 }

@@ -74,14 +74,20 @@ fn touches_on_the_map_in_all_four_conditions_reach_the_ik_pose() {
         let mut s = start();
         touch(&mut s, raw_x, raw_y);
         let out = s.avr.uart_output_string();
-        let line = out.lines().find(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("no touch reply:\n{out}"));
+        let line =
+            out.lines().find(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("no touch reply:\n{out}"));
         assert!(line.starts_with(&format!("info touch {raw_x} {raw_y} cond {cond} ts_ms")), "({x}, {y}): {line}");
-        let ts: f64 = line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse::<f64>().unwrap() / 1000.0;
+        let ts: f64 =
+            line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse::<f64>().unwrap() / 1000.0;
         s.run_for(ts + 0.5).unwrap();
         let last = s.last_pulses();
         for j in 0..3 {
             let got = last[j].unwrap();
-            assert!((got - want[j]).abs() <= 1.0, "map point ({wx:.4},{wy:.4}) joint {j}: {got} µs, want {:.2}", want[j]);
+            assert!(
+                (got - want[j]).abs() <= 1.0,
+                "map point ({wx:.4},{wy:.4}) joint {j}: {got} µs, want {:.2}",
+                want[j]
+            );
         }
         assert!(s.command("status").unwrap().starts_with("ok status holding"));
     }
@@ -93,7 +99,10 @@ fn screen_buttons_stop_resume_and_set_the_speed() {
     assert!(s.command("goto 20 150 -30").unwrap().starts_with("ok goto"));
     s.run_for(1.0).unwrap();
     // The STOP button (right edge, top): panel point of its centre.
-    let stop = layout::pixel_center_to_panel(layout::STOP.x + layout::STOP.w as i16 / 2, layout::STOP.y + layout::STOP.h as i16 / 2);
+    let stop = layout::pixel_center_to_panel(
+        layout::STOP.x + layout::STOP.w as i16 / 2,
+        layout::STOP.y + layout::STOP.h as i16 / 2,
+    );
     let (rx, ry) = Calibration::DEFAULT.unmap_exact::<f64>(stop.0 as f64, stop.1 as f64).unwrap();
     touch(&mut s, rx.round(), ry.round());
     assert!(s.avr.uart_output_string().contains("info screen stop"));
@@ -108,7 +117,10 @@ fn screen_buttons_stop_resume_and_set_the_speed() {
     touch(&mut s, rx.round(), ry.round());
     assert!(s.avr.uart_output_string().contains("info screen resume"));
     // Speed buttons.
-    let fast = layout::pixel_center_to_panel(layout::FAST.x + layout::FAST.w as i16 / 2, layout::FAST.y + layout::FAST.h as i16 / 2);
+    let fast = layout::pixel_center_to_panel(
+        layout::FAST.x + layout::FAST.w as i16 / 2,
+        layout::FAST.y + layout::FAST.h as i16 / 2,
+    );
     let (fx, fy) = Calibration::DEFAULT.unmap_exact::<f64>(fast.0 as f64, fast.1 as f64).unwrap();
     s.run_for(0.3).unwrap();
     touch(&mut s, fx.round(), fy.round());
@@ -138,7 +150,11 @@ fn all_joints_arrive_together_at_ts() {
     }
     let spread = arrivals.iter().cloned().fold(f64::MIN, f64::max) - arrivals.iter().cloned().fold(f64::MAX, f64::min);
     assert!(spread <= FRAME_S + 1e-6, "arrivals {arrivals:?}");
-    assert!((arrivals[0] - (t_cmd + ts)).abs() <= 3.0 * FRAME_S, "arrival {} vs command at {t_cmd} + tₛ {ts}", arrivals[0]);
+    assert!(
+        (arrivals[0] - (t_cmd + ts)).abs() <= 3.0 * FRAME_S,
+        "arrival {} vs command at {t_cmd} + tₛ {ts}",
+        arrivals[0]
+    );
 }
 
 #[test]
@@ -149,7 +165,11 @@ fn refused_targets_leave_the_arm_where_it_is() {
     // reach (the host scenarios cover the unreachable case with a larger k);
     // on the chip: a target outside a joint's limits, and a raw point outside
     // the calibrated span, are refused, never clamped into another pose.
-    for (line, want) in [("goto 200 90 -90", "err joint limit base"), ("goto 90 90 30", "err joint limit elbow"), ("move 60 500", "err outside calibrated area")] {
+    for (line, want) in [
+        ("goto 200 90 -90", "err joint limit base"),
+        ("goto 90 90 30", "err joint limit elbow"),
+        ("move 60 500", "err outside calibrated area"),
+    ] {
         assert_eq!(s.command(line).unwrap(), want, "{line}");
     }
     s.run_for(1.0).unwrap();
@@ -165,7 +185,11 @@ fn idle_panel_noise_moves_nothing() {
     s.run_for(3.0).unwrap();
     for (j, p) in pulses_after(&s, t0).iter().enumerate() {
         assert!(p.len() >= 140, "joint {j} kept pulsing ({} pulses)", p.len());
-        assert!(p.iter().all(|(_, w)| (w - 1500.0).abs() <= 0.5), "joint {j} moved: {:?}", p.iter().find(|(_, w)| (w - 1500.0).abs() > 0.5));
+        assert!(
+            p.iter().all(|(_, w)| (w - 1500.0).abs() <= 0.5),
+            "joint {j} moved: {:?}",
+            p.iter().find(|(_, w)| (w - 1500.0).abs() > 0.5)
+        );
     }
     assert!(!s.avr.uart_output_string().contains("info touch "));
 }
@@ -185,7 +209,10 @@ fn stop_mid_move_freezes_the_pulses_within_a_frame() {
     for (j, p) in trains.iter().enumerate() {
         let first = p[0].1;
         assert!(p.iter().all(|(_, w)| (w - first).abs() <= 0.25), "joint {j} moved after STOP");
-        assert!((first - home[j]).abs() > 20.0 && (first - target[j]).abs() > 20.0, "joint {j} stopped at {first}, not mid-move");
+        assert!(
+            (first - home[j]).abs() > 20.0 && (first - target[j]).abs() > 20.0,
+            "joint {j} stopped at {first}, not mid-move"
+        );
     }
     // Held until resume; a new target is refused while stopped.
     assert!(s.command("goto 90 90 -90").unwrap().starts_with("err stopped"));
@@ -242,7 +269,11 @@ fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
     let t_hang = s.avr.time_s();
     s.avr.run_until_output(b"reset watchdog", firmware::CPU_HZ as u64).expect("watchdog reset within 1 s");
     let t_reset = s.avr.time_s();
-    assert!(t_reset - t_hang > 0.4 && t_reset - t_hang < 0.8, "watchdog fired after {:.3} s (500 ms timeout)", t_reset - t_hang);
+    assert!(
+        t_reset - t_hang > 0.4 && t_reset - t_hang < 0.8,
+        "watchdog fired after {:.3} s (500 ms timeout)",
+        t_reset - t_hang
+    );
     // After the reset: no pulses until the configuration is loaded, then the
     // home pose, never the interrupted move's target.
     s.avr.clear_edges();
@@ -292,7 +323,8 @@ fn pixel_raw(cal: &Calibration, x: i16, y: i16) -> (f64, f64) {
 fn on_screen_calibration_learns_the_panel_and_saves_it() {
     let mut s = start();
     // A panel whose true span differs from the defaults, with X inverted.
-    let truth = Calibration { x_min: 150, x_max: 900, y_min: 100, y_max: 880, swap_xy: false, invert_x: true, invert_y: false };
+    let truth =
+        Calibration { x_min: 150, x_max: 900, y_min: 100, y_max: 880, swap_xy: false, invert_x: true, invert_y: false };
     // The Calibrate button is found through the *current* (default) mapping...
     let c = layout::CALIBRATE;
     let (bx, by) = pixel_raw(&Calibration::DEFAULT, c.x + c.w as i16 / 2, c.y + c.h as i16 / 2);
@@ -316,7 +348,8 @@ fn on_screen_calibration_learns_the_panel_and_saves_it() {
     s.command("cal show").unwrap();
     let out = s.avr.uart_output_string();
     let line = out.lines().rev().find(|l| l.starts_with("cal touch")).expect("cal touch line");
-    let field = |name: &str| -> i64 { line.split_whitespace().skip_while(|w| *w != name).nth(1).unwrap().parse().unwrap() };
+    let field =
+        |name: &str| -> i64 { line.split_whitespace().skip_while(|w| *w != name).nth(1).unwrap().parse().unwrap() };
     for (name, want) in [("x_min", 150), ("x_max", 900), ("y_min", 100), ("y_max", 880)] {
         assert!((field(name) - want).abs() <= 3, "{name}: {} vs {want} ({line})", field(name));
     }

@@ -14,7 +14,11 @@ fn root() -> PathBuf {
 
 fn firmware_elf() -> PathBuf {
     let elf = firmware::default_elf();
-    assert!(elf.exists(), "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)", elf.display());
+    assert!(
+        elf.exists(),
+        "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
+        elf.display()
+    );
     elf
 }
 
@@ -58,7 +62,11 @@ fn firmware_fits_flash_and_static_ram_budgets() {
     assert!(text > 0, "no .text in the ELF");
     let flash = text + data;
     let ram = data + bss;
-    eprintln!("firmware: flash {flash} B (budget {}), static RAM {ram} B (budget {})", budget("flash"), budget("static_ram"));
+    eprintln!(
+        "firmware: flash {flash} B (budget {}), static RAM {ram} B (budget {})",
+        budget("flash"),
+        budget("static_ram")
+    );
     assert!(flash <= budget("flash"), "flash {flash} B exceeds the memory.x budget {}", budget("flash"));
     assert!(ram <= budget("static_ram"), "static RAM {ram} B exceeds the memory.x budget {}", budget("static_ram"));
 }
@@ -89,5 +97,8 @@ fn bench_firmware_stays_below_128_kib() {
     let s = sections(&elf);
     let flash = size_of(&s, ".text") + size_of(&s, ".data");
     eprintln!("bench firmware: flash {flash} B");
-    assert!(flash <= 128 * 1024, "bench firmware flash {flash} B is past the 128 KiB that 16-bit function pointers reach");
+    assert!(
+        flash <= 128 * 1024,
+        "bench firmware flash {flash} B is past the 128 KiB that 16-bit function pointers reach"
+    );
 }

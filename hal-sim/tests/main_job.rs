@@ -15,13 +15,15 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         .expect("run touch-arm-sim");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    for key in ["raw", "x_p", "y_p", "condition", "alpha_deg", "q", "target_pulses_us", "final_pulses_us", "arrival_s"] {
+    for key in ["raw", "x_p", "y_p", "condition", "alpha_deg", "q", "target_pulses_us", "final_pulses_us", "arrival_s"]
+    {
         assert!(!summary[key].is_null(), "summary.json lacks {key}: {summary}");
     }
     assert_eq!(summary["condition"], 3);
     let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
     assert!((x + 0.4).abs() < 0.01 && (y - 0.5).abs() < 0.01, "the map pixel holding (-0.4, 0.5): ({x}, {y})");
-    let target: Vec<f64> = summary["target_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let target: Vec<f64> =
+        summary["target_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let last: Vec<f64> = summary["final_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     for j in 0..3 {
         assert!((target[j] - last[j]).abs() <= 1.0, "joint {j}: {} vs {}", last[j], target[j]);

@@ -104,14 +104,8 @@ mod touch {
             let c = FilterConfig { z_min, z_max, ..C };
             assert_eq!(c.validate(), Err(FilterConfigError::PressureWindow));
         }
-        assert_eq!(
-            FilterConfig { press_confirm: 1, ..C }.validate(),
-            Err(FilterConfigError::Confirm)
-        );
-        assert_eq!(
-            FilterConfig { release_confirm: 1, ..C }.validate(),
-            Err(FilterConfigError::Confirm)
-        );
+        assert_eq!(FilterConfig { press_confirm: 1, ..C }.validate(), Err(FilterConfigError::Confirm));
+        assert_eq!(FilterConfig { release_confirm: 1, ..C }.validate(), Err(FilterConfigError::Confirm));
         assert!(TouchFilter::new(&FilterConfig { samples: 4, ..C }).is_err());
     }
 
@@ -124,24 +118,15 @@ mod touch {
         s[1].x = 495;
         s[4].y = 615;
         s[2].z = 420;
-        assert_eq!(
-            f.classify(&s),
-            Read::Touched { point: pt(500, 600), z: 400 }
-        );
+        assert_eq!(f.classify(&s), Read::Touched { point: pt(500, 600), z: 400 });
         assert_eq!(f.classify(&s[..4]), Read::Rejected(Reject::SampleCount));
         assert_eq!(f.classify(&[]), Read::Rejected(Reject::SampleCount));
         assert_eq!(f.classify(&idle()), Read::NotTouched(NoTouch::PressureLow));
-        assert_eq!(
-            f.classify(&steady(500, 500, 1500)),
-            Read::NotTouched(NoTouch::PressureHigh)
-        );
+        assert_eq!(f.classify(&steady(500, 500, 1500)), Read::NotTouched(NoTouch::PressureHigh));
         // Window edges are inclusive.
         assert!(matches!(f.classify(&steady(1, 2, C.z_min)), Read::Touched { .. }));
         assert!(matches!(f.classify(&steady(1, 2, C.z_max)), Read::Touched { .. }));
-        assert_eq!(
-            f.classify(&steady(1, 2, C.z_min - 1)),
-            Read::NotTouched(NoTouch::PressureLow)
-        );
+        assert_eq!(f.classify(&steady(1, 2, C.z_min - 1)), Read::NotTouched(NoTouch::PressureLow));
         // One sample lifting off: partial contact, not a point.
         let mut s = steady(500, 600, 400);
         s[3].z = 10;
@@ -204,10 +189,7 @@ mod touch {
         assert_eq!(f.update(&steady(500, 300, 400)).event, None);
         assert_eq!(f.update(&steady(504, 302, 400)).event, None);
         // (500 + 504 + 507) / 3 = 503.67 → 504; (300 + 302 + 306) / 3 = 302.67 → 303.
-        assert_eq!(
-            f.update(&steady(507, 306, 400)).event,
-            Some(TouchEvent::Pressed(pt(504, 303)))
-        );
+        assert_eq!(f.update(&steady(507, 306, 400)).event, Some(TouchEvent::Pressed(pt(504, 303))));
     }
 
     #[test]
@@ -248,10 +230,7 @@ mod touch {
         for _ in 0..n - 1 {
             assert_eq!(f.update(&steady(400, 400, 400)).event, None);
         }
-        assert_eq!(
-            f.update(&steady(400, 400, 400)).event,
-            Some(TouchEvent::Pressed(pt(400, 400)))
-        );
+        assert_eq!(f.update(&steady(400, 400, 400)).event, Some(TouchEvent::Pressed(pt(400, 400))));
         // Reads hopping by more than the radius never confirm.
         let mut f = filter();
         for i in 0..50u16 {
@@ -268,10 +247,7 @@ mod touch {
         let mut f = filter();
         f.update(&steady(300, 300, 400));
         f.update(&steady(300 + r, 300, 400));
-        assert!(matches!(
-            f.update(&steady(300, 300 + r, 400)).event,
-            Some(TouchEvent::Pressed(_))
-        ));
+        assert!(matches!(f.update(&steady(300, 300 + r, 400)).event, Some(TouchEvent::Pressed(_))));
     }
 
     #[test]
@@ -307,9 +283,7 @@ mod touch {
             assert_eq!(f.update(&idle()).event, None);
         }
         // And a new press works after the release.
-        let evs: Vec<_> = (0..C.press_confirm)
-            .filter_map(|_| f.update(&steady(100, 900, 400)).event)
-            .collect();
+        let evs: Vec<_> = (0..C.press_confirm).filter_map(|_| f.update(&steady(100, 900, 400)).event).collect();
         assert_eq!(evs, vec![TouchEvent::Pressed(pt(100, 900))]);
     }
 
@@ -447,18 +421,9 @@ mod servo {
     #[test]
     fn clamps_and_reports() {
         let [base, _, elbow] = maps();
-        assert_eq!(
-            base.angle_to_pulse(-0.1f64).unwrap(),
-            Pulse { us: 600, clamped: Some(Limit::AngleMin) }
-        );
-        assert_eq!(
-            base.angle_to_pulse(4.0f32).unwrap(),
-            Pulse { us: 2400, clamped: Some(Limit::AngleMax) }
-        );
-        assert_eq!(
-            elbow.angle_to_pulse(0.5f32).unwrap(),
-            Pulse { us: 2400, clamped: Some(Limit::AngleMax) }
-        );
+        assert_eq!(base.angle_to_pulse(-0.1f64).unwrap(), Pulse { us: 600, clamped: Some(Limit::AngleMin) });
+        assert_eq!(base.angle_to_pulse(4.0f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
+        assert_eq!(elbow.angle_to_pulse(0.5f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
         // Pulse limits narrower than the angle range: the pulse limit binds.
         let cal = JointCal { min_us: 1000, max_us: 2000, ..JointCal::BASE_DEFAULT };
         let m = ServoMap::new(&cal).unwrap();
@@ -642,15 +607,15 @@ mod servo {
 
 mod config {
     use super::*;
-    use touch_arm::config::settings::{CalSet, JointField, TouchField};
     use hal_sim::twin::devices::SimEeprom;
-    use touch_arm::config::settings::*;
-    use touch_arm::seam::{Storage, StorageError};
-    use touch_arm::config::store::*;
     use touch_arm::config::crc::*;
+    use touch_arm::config::settings::*;
+    use touch_arm::config::settings::{CalSet, JointField, TouchField};
+    use touch_arm::config::store::*;
     use touch_arm::motion::plan::LawKind;
-    use touch_arm::touch::map::Calibration;
+    use touch_arm::seam::{Storage, StorageError};
     use touch_arm::servo::map::{Joint, JointCal, JointCalError};
+    use touch_arm::touch::map::Calibration;
 
     /// The simulator's EEPROM (erased = 0xFF, power loss after a number of
     /// written bytes), seen one record at a time.
@@ -665,7 +630,15 @@ mod config {
         c.joints[1].offset_us = 2500.0;
         c.joints[2].min_us = 700;
         c.joints[2].max_speed_rad_s = 4.5;
-        c.touch = Calibration { x_min: 100, x_max: 950, y_min: 90, y_max: 900, swap_xy: true, invert_x: false, invert_y: true };
+        c.touch = Calibration {
+            x_min: 100,
+            x_max: 950,
+            y_min: 90,
+            y_max: 900,
+            swap_xy: true,
+            invert_x: false,
+            invert_y: true,
+        };
         c.speed = SpeedPreset::Fast;
         c.law = LawKind::Quintic;
         assert_eq!(c.validate(), Ok(()));
@@ -781,7 +754,15 @@ mod config {
                 max_speed_rad_s: v,
             });
         let touch = (0u16..400, 600u16..=1023, 0u16..400, 600u16..=1023, any::<[bool; 3]>()).prop_map(
-            |(x_min, x_max, y_min, y_max, f)| Calibration { x_min, x_max, y_min, y_max, swap_xy: f[0], invert_x: f[1], invert_y: f[2] },
+            |(x_min, x_max, y_min, y_max, f)| Calibration {
+                x_min,
+                x_max,
+                y_min,
+                y_max,
+                swap_xy: f[0],
+                invert_x: f[1],
+                invert_y: f[2],
+            },
         );
         (prop::array::uniform3(joint), touch, 0u8..3, 0u8..5)
             .prop_map(|(joints, touch, s, l)| Config {
@@ -823,10 +804,7 @@ mod config {
         }
         assert_eq!(LawKind::from_id(5), None);
         assert_eq!(SpeedPreset::from_id(3), None);
-        assert_eq!(
-            SpeedPreset::ALL.map(|p| p.percent()),
-            [25, 50, 100]
-        );
+        assert_eq!(SpeedPreset::ALL.map(|p| p.percent()), [25, 50, 100]);
     }
 
     #[test]
@@ -979,7 +957,8 @@ mod config {
                     }
                     interrupted_save(&mut e, &new, cut, torn);
                     let new_record = new.encode(prior_saves + 1);
-                    let complete = record(&mut e, SLOT_A_ADDR) == &new_record[..] || record(&mut e, SLOT_B_ADDR) == &new_record[..];
+                    let complete = record(&mut e, SLOT_A_ADDR) == &new_record[..]
+                        || record(&mut e, SLOT_B_ADDR) == &new_record[..];
                     let l = load(&mut e);
                     assert_ne!(l.source, Source::Defaults, "cut {cut}");
                     if cut >= RECORD_LEN {
@@ -1106,10 +1085,10 @@ mod config {
 
 mod command {
     use super::*;
-    use touch_arm::config::settings::{CalSet, JointField, TouchField};
-    use touch_arm::protocol::command::*;
     use touch_arm::config::settings::SpeedPreset;
+    use touch_arm::config::settings::{CalSet, JointField, TouchField};
     use touch_arm::motion::plan::LawKind as Law;
+    use touch_arm::protocol::command::*;
     use touch_arm::servo::map::Joint;
 
     #[test]

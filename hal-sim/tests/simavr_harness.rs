@@ -36,9 +36,7 @@ fn fixture(name: &str, defines: &[&str]) -> PathBuf {
     let elf = out_dir.join(format!("{tag}.elf"));
     let src = fixture_dir().join(format!("{name}.c"));
     let mut cmd = Command::new("avr-gcc");
-    cmd.args(["-mmcu=atmega2560", "-DF_CPU=16000000UL", "-Os", "-Wall", "-Werror", "-o"])
-        .arg(&elf)
-        .arg(&src);
+    cmd.args(["-mmcu=atmega2560", "-DF_CPU=16000000UL", "-Os", "-Wall", "-Werror", "-o"]).arg(&elf).arg(&src);
     for d in defines {
         cmd.arg(format!("-D{d}"));
     }
@@ -154,8 +152,11 @@ fn uart_echo_round_trip_with_flow_control() {
     let start = avr.cycles();
     avr.uart_send(&long);
     avr.uart_send(b"\n");
-    avr.run_until(|a| a.uart_rx_pending() == 0 && a.uart_output().ends_with(b"\n") && a.uart_output().len() >= 6 + 17 + 401, 16_000_000)
-        .unwrap();
+    avr.run_until(
+        |a| a.uart_rx_pending() == 0 && a.uart_output().ends_with(b"\n") && a.uart_output().len() >= 6 + 17 + 401,
+        16_000_000,
+    )
+    .unwrap();
     let lines = avr.take_lines();
     assert_eq!(lines, [String::from_utf8(long.to_ascii_uppercase()).unwrap()]);
     assert_eq!(avr.uart_overruns(), 0);
@@ -274,8 +275,7 @@ fn adc_values_and_channels_round_trip() {
     let mut avr = load("adc", &[]);
     avr.set_adc(5, AdcInput::Raw(123)).unwrap();
     avr.set_adc(10, AdcInput::Millivolts(2500)).unwrap();
-    avr.run_until(|a| a.uart_output().iter().filter(|&&b| b == b'\n').count() >= 2, 16_000_000)
-        .unwrap();
+    avr.run_until(|a| a.uart_output().iter().filter(|&&b| b == b'\n').count() >= 2, 16_000_000).unwrap();
     // 2500 mV * 1023 / 5000 mV = 511.5, truncated.
     assert_eq!(avr.take_lines(), ["A5=123 A10=511", "A5=123 A10=511"]);
     let conv = avr.adc_conversions();
@@ -295,8 +295,7 @@ fn adc_values_and_channels_round_trip() {
         assert_eq!(req.ports.ports.len(), 11, "ports A..L without I");
         AdcInput::Raw(u16::from(req.channel) * 100 + u16::from(pf0))
     });
-    avr.run_until(|a| a.uart_output().iter().filter(|&&b| b == b'\n').count() >= 5, 16_000_000)
-        .unwrap();
+    avr.run_until(|a| a.uart_output().iter().filter(|&&b| b == b'\n').count() >= 5, 16_000_000).unwrap();
     let lines = avr.take_lines();
     assert_eq!(lines.last().map(String::as_str), Some("A5=501 A10=1000"));
 }
@@ -335,7 +334,10 @@ fn driven_inputs_reach_the_firmware_and_its_outputs_are_recorded() {
     }
     // High from start-up until the input went low; the last rise is still open.
     let first_rise = avr.edges(led)[0].cycle;
-    assert_eq!(avr.pulses(led), [hal_sim::avr::Pulse { rise_cycle: first_rise, width_cycles: outs[0].cycle - first_rise }]);
+    assert_eq!(
+        avr.pulses(led),
+        [hal_sim::avr::Pulse { rise_cycle: first_rise, width_cycles: outs[0].cycle - first_rise }]
+    );
     assert_eq!(avr.read_symbol("pc_count").unwrap(), [2]);
     assert_eq!(avr.pin_level(led), Ok(true));
 }

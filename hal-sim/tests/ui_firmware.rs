@@ -14,10 +14,14 @@ use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
 
 fn demo_elf() -> PathBuf {
-    let elf = std::env::var_os("UI_DEMO_ELF").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/avr-none/release/ui-demo.elf")
-    });
-    assert!(elf.exists(), "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)", elf.display());
+    let elf = std::env::var_os("UI_DEMO_ELF")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/avr-none/release/ui-demo.elf"));
+    assert!(
+        elf.exists(),
+        "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
+        elf.display()
+    );
     elf
 }
 
@@ -69,7 +73,10 @@ fn the_chip_draws_exactly_what_the_host_renders() {
         if chip != fb {
             chip.save_png(dir.join(format!("chip_step{k}.png"))).unwrap();
             fb.save_png(dir.join(format!("host_step{k}.png"))).unwrap();
-            let diff = (0..240).flat_map(|y| (0..320).map(move |x| (x, y))).filter(|&(x, y)| chip.pixel(x, y) != fb.pixel(x, y)).count();
+            let diff = (0..240)
+                .flat_map(|y| (0..320).map(move |x| (x, y)))
+                .filter(|&(x, y)| chip.pixel(x, y) != fb.pixel(x, y))
+                .count();
             panic!("step {k}: the decoded screen differs from the host rendering in {diff} pixels (PNGs written)");
         }
         let after = bus.stats();
@@ -86,7 +93,10 @@ fn the_chip_draws_exactly_what_the_host_renders() {
     assert_eq!(s.stray_data, 0);
     assert_eq!(s.wrong_format, 0);
     let per_byte = s.cycles_per_stream_byte().unwrap();
-    eprintln!("bus: {per_byte:.2} cycles per pixel byte on average inside RAMWR streams, fastest strobe gap {:?} cycles", s.min_gap_cycles);
+    eprintln!(
+        "bus: {per_byte:.2} cycles per pixel byte on average inside RAMWR streams, fastest strobe gap {:?} cycles",
+        s.min_gap_cycles
+    );
     eprintln!("step  cycles      ms   pixels  commands");
     for (k, c, p, n) in &report {
         eprintln!("{k:>4} {c:>8} {:>7.2} {p:>8} {n:>9}", *c as f64 / 16_000.0);
@@ -105,7 +115,10 @@ fn the_chip_draws_exactly_what_the_host_renders() {
     // fraction of a full redraw, and well inside one 20 ms servo frame.
     let (_, step_cycles, step_pixels, _) = report[3];
     assert!(step_pixels < 72 * 16 + 12 * 40, "{step_pixels}");
-    assert!(step_cycles < full_cycles / 20 && step_cycles < 100_000, "progress step {step_cycles} vs full {full_cycles}");
+    assert!(
+        step_cycles < full_cycles / 20 && step_cycles < 100_000,
+        "progress step {step_cycles} vs full {full_cycles}"
+    );
     avr.uart_send(b"g");
     avr.run_until_output(b"done\n", 16_000_000).unwrap();
 }

@@ -15,6 +15,7 @@ use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use hal_sim::display::{Counting, Framebuffer};
 use touch_arm::config::settings::SpeedPreset;
+use touch_arm::geometry::workspace::{condition, Condition};
 use touch_arm::touch::map::{Calibration, CalibrationError};
 use touch_arm::ui::calibration::{cal_point, CAL_COUNT, CAL_PIXELS, CANCEL_AREA, CROSS_R, SAVE_AREA};
 use touch_arm::ui::draw::{text, Area, TextStyle};
@@ -22,10 +23,9 @@ use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
 use touch_arm::ui::layout::{self, pixel_center_to_panel, ws_pixel_to_point, ws_point_to_pixel, WS};
 use touch_arm::ui::ws_view::{BASE_AREA, MARKER_R};
 use touch_arm::ui::{
-    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Redrawn, Refusal, Ui, UiConfig,
-    UiModel, UiState,
+    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Redrawn, Refusal, Ui, UiConfig, UiModel,
+    UiState,
 };
-use touch_arm::geometry::workspace::{condition, Condition};
 
 fn snapshot(fb: &Framebuffer, name: &str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/ui-snapshots");
@@ -127,7 +127,8 @@ fn font_glyphs_are_distinct_and_scale_to_the_expected_pixel_counts() {
         assert_eq!(c.total_writes(), cells);
         assert_eq!(c.touched() as u64, cells);
         assert_eq!(c.fill_contiguous_calls, word.len(), "one window per glyph");
-        let area = Rectangle::new(Point::new(3, 5), Size::new(u32::from(cell.0) * word.len() as u32, u32::from(cell.1)));
+        let area =
+            Rectangle::new(Point::new(3, 5), Size::new(u32::from(cell.0) * word.len() as u32, u32::from(cell.1)));
         assert_eq!(fb.count_in(&area, fg) as u32, expected_ink);
         assert_eq!(fb.count_in(&area, bg) as u64, cells - u64::from(expected_ink));
 
@@ -191,7 +192,8 @@ fn pixel_and_coordinate_mappings_round_trip() {
     // Regions tile the screen without overlapping (each pixel belongs to
     // exactly one region or gap).
     let mut owner = vec![0u8; 320 * 240];
-    let mut regions = vec![WS, layout::STOP, layout::HEADLINE, layout::DETAIL, layout::INFO, layout::WARN, layout::JOINTS];
+    let mut regions =
+        vec![WS, layout::STOP, layout::HEADLINE, layout::DETAIL, layout::INFO, layout::WARN, layout::JOINTS];
     regions.extend([layout::SLOW, layout::NORMAL, layout::FAST, layout::CALIBRATE]);
     regions.extend(layout::GAPS);
     for a in regions {
@@ -210,10 +212,8 @@ fn map_colours_follow_workspace_conditions_and_reach() {
     model.state = UiState::Idle;
     let fb = full(&model);
     snapshot(&fb, "idle");
-    let labels: Vec<Area> = [(200, 80), (160, 40), (80, 40), (40, 80)]
-        .iter()
-        .map(|&(x, y)| Area::new(x - 7, y - 10, 18, 24))
-        .collect();
+    let labels: Vec<Area> =
+        [(200, 80), (160, 40), (80, 40), (40, 80)].iter().map(|&(x, y)| Area::new(x - 7, y - 10, 18, 24)).collect();
     let mut checked = 0;
     for y in WS.y..WS.bottom() {
         for x in WS.x..WS.right() {
@@ -412,7 +412,16 @@ fn hits_map_to_buttons_and_workspace_points() {
             let px = fb.pixel(x.into(), y.into()).unwrap();
             let (col, row) = (x, y);
             let decorated = col == row || col == 239 - row || col == 119 || col == 120 || BASE_AREA.contains(x, y);
-            if !decorated && (px == theme::ZONE[0] || px == theme::ZONE_OUT[0] || px == theme::ZONE[1] || px == theme::ZONE[2] || px == theme::ZONE[3] || px == theme::ZONE_OUT[1] || px == theme::ZONE_OUT[2] || px == theme::ZONE_OUT[3]) {
+            if !decorated
+                && (px == theme::ZONE[0]
+                    || px == theme::ZONE_OUT[0]
+                    || px == theme::ZONE[1]
+                    || px == theme::ZONE[2]
+                    || px == theme::ZONE[3]
+                    || px == theme::ZONE_OUT[1]
+                    || px == theme::ZONE_OUT[2]
+                    || px == theme::ZONE_OUT[3])
+            {
                 assert!(px == theme::ZONE[zone] || px == theme::ZONE_OUT[zone], "zone colour at ({x},{y})");
             }
         }
@@ -614,9 +623,13 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
             let (x, y) = raw_at(&truth, i);
             assert_eq!(flow.feed(x, y), None);
         }
-        let CalPhase::Review { result: Ok(fit) } = flow.phase() else { panic!("fit failed for {truth:?}: {:?}", flow.phase()) };
+        let CalPhase::Review { result: Ok(fit) } = flow.phase() else {
+            panic!("fit failed for {truth:?}: {:?}", flow.phase())
+        };
         assert_eq!((fit.swap_xy, fit.invert_x, fit.invert_y), (truth.swap_xy, truth.invert_x, truth.invert_y));
-        for (a, b) in [(fit.x_min, truth.x_min), (fit.x_max, truth.x_max), (fit.y_min, truth.y_min), (fit.y_max, truth.y_max)] {
+        for (a, b) in
+            [(fit.x_min, truth.x_min), (fit.x_max, truth.x_max), (fit.y_min, truth.y_min), (fit.y_max, truth.y_max)]
+        {
             assert!(a.abs_diff(b) <= 1, "fit {fit:?} vs truth {truth:?}");
         }
         // Touches outside the buttons do nothing; Save (mapped with the new
@@ -696,11 +709,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
         ui.draw_calibration(&flow, &mut c).unwrap();
         if i + 1 < CAL_COUNT {
             let (nx, ny) = CAL_PIXELS[i + 1];
-            let allowed = [
-                Area::around(cx, cy, CROSS_R),
-                Area::around(nx, ny, CROSS_R),
-                Area::new(0, 146, 320, 16),
-            ];
+            let allowed = [Area::around(cx, cy, CROSS_R), Area::around(nx, ny, CROSS_R), Area::new(0, 146, 320, 16)];
             assert_only_in(&c, &allowed, "next cross");
         }
     }
@@ -724,7 +733,13 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     ui2.draw_calibration(&bad, &mut c).unwrap();
     assert_eq!(c.touched(), 320 * 240);
     snapshot(&fb2, "calibration_failed");
-    assert_text_at(&fb2, b"Calibration failed", (320 - 12 * 18 + 2) / 2, 16, &TextStyle::opaque(2, theme::REFUSED, theme::WHITE));
+    assert_text_at(
+        &fb2,
+        b"Calibration failed",
+        (320 - 12 * 18 + 2) / 2,
+        16,
+        &TextStyle::opaque(2, theme::REFUSED, theme::WHITE),
+    );
     assert_text_at(&fb2, b"Touches did not line up", (320 - 12 * 23 + 2) / 2, 64, &style);
     // Back to the main screen: a full redraw.
     let mut c = Counting::new(&mut fb);

@@ -2,18 +2,18 @@
 //! module doc of `app`).
 
 use super::refusal::Refusal;
-use crate::motion::planner::plan_move::plan_move;
-use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use super::text::Line;
 use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
-use crate::config::store::{self, Warning};
 use crate::config::settings::{Config, SpeedPreset};
+use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
-use crate::motion::plan::JOINTS;
-use crate::servo::track::ServoTrack;
 use crate::geometry::pose::{pose_for_point, PoseError};
-use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
+use crate::motion::plan::JOINTS;
+use crate::motion::planner::plan_move::plan_move;
+use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
+use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
+use crate::servo::track::ServoTrack;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
 impl App {
@@ -139,11 +139,7 @@ impl App {
     /// Raw reading → normalized panel point through the calibration; a
     /// reading outside the calibrated span is refused, never clamped.
     pub(super) fn raw_to_panel(&self, p: &TouchPoint) -> Result<(f32, f32), Refusal> {
-        let m = self
-            .config
-            .touch
-            .map::<f32>(p.x, p.y)
-            .map_err(|_| Refusal::OutsideCalibration)?;
+        let m = self.config.touch.map::<f32>(p.x, p.y).map_err(|_| Refusal::OutsideCalibration)?;
         if m.clamped {
             return Err(Refusal::OutsideCalibration);
         }
@@ -152,7 +148,12 @@ impl App {
 
     /// Workspace point → pose (the paper's chain), remembering the raw
     /// reading it came from.
-    pub(super) fn point_to_target(&self, p: &TouchPoint, x_p: f32, y_p: f32) -> Result<([f32; JOINTS], TouchTarget), Refusal> {
+    pub(super) fn point_to_target(
+        &self,
+        p: &TouchPoint,
+        x_p: f32,
+        y_p: f32,
+    ) -> Result<([f32; JOINTS], TouchTarget), Refusal> {
         let pose = pose_for_point(&self.geo, x_p, y_p).map_err(|e| match e {
             PoseError::Workspace(_) => Refusal::OutsideWorkspace,
             PoseError::Ik(IkError::Unreachable { .. }) => Refusal::Unreachable,

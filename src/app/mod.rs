@@ -54,17 +54,17 @@ mod serial;
 mod telemetry;
 pub mod text;
 
-use crate::protocol::command::SerialLine;
-use crate::config::store::{Source, Warning};
 use crate::config::settings::{Config, SpeedPreset};
+use crate::config::store::{Source, Warning};
 use crate::geometry::ik::{Branch, Links, LinksError};
-use crate::motion::plan::{LawKind, JOINTS};
-use crate::servo::track::ServoTrack;
 use crate::geometry::pose::ArmGeometry;
-use crate::motion::planner::shape_choice::AChoice;
-use crate::servo::map::{ServoMap, ELBOW_BRANCH};
-use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter};
 use crate::geometry::workspace::Condition;
+use crate::motion::plan::{LawKind, JOINTS};
+use crate::motion::planner::shape_choice::AChoice;
+use crate::protocol::command::SerialLine;
+use crate::servo::map::{ServoMap, ELBOW_BRANCH};
+use crate::servo::track::ServoTrack;
+use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter};
 
 pub use refusal::Refusal;
 
@@ -355,13 +355,7 @@ impl App {
             pulses: None,
             frame_pulses: None,
             motion: None,
-            last_move: MoveInfo {
-                target: params.home,
-                ts: 0.0,
-                a: None,
-                end_velocity: [0.0; JOINTS],
-                touch: None,
-            },
+            last_move: MoveInfo { target: params.home, ts: 0.0, a: None, end_velocity: [0.0; JOINTS], touch: None },
             last_refusal: None,
             source: Source::Defaults,
             warning: None,

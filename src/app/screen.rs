@@ -5,8 +5,8 @@
 //! frame. Without a screen the whole panel is the workspace, as in the paper.
 
 use crate::config::store;
-use crate::seam::Storage;
 use crate::seam::SerialPort;
+use crate::seam::Storage;
 use crate::touch::filter::TouchPoint;
 use crate::ui::{self, CalibrationEvent, CalibrationFlow, Canvas, Hit, Redrawn, Ui, UiConfig, UiModel, UiState};
 

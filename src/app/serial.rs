@@ -10,11 +10,11 @@ use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::Line;
 use super::{build_maps, App, Io, Pending};
-use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
 use crate::config::settings::CalSet;
-use crate::config::store::{self, SaveError};
 use crate::config::settings::{Config, ConfigError};
+use crate::config::store::{self, SaveError};
 use crate::motion::plan::JOINTS;
+use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 

@@ -3,8 +3,8 @@
 
 use super::text::{centideg, milli, Line};
 use super::{App, Pending, Status};
-use crate::motion::planner::shape_choice::AKind;
 use crate::config::settings::{JointField, TouchField};
+use crate::motion::planner::shape_choice::AKind;
 use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
@@ -98,10 +98,7 @@ impl App {
             }
             return;
         }
-        line.str(t!("ok cal show law "))
-            .str(self.config.law.name())
-            .word(t!("speed"))
-            .word(self.config.speed.name());
+        line.str(t!("ok cal show law ")).str(self.config.law.name()).word(t!("speed")).word(self.config.speed.name());
     }
 }
 

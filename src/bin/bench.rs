@@ -24,27 +24,27 @@
 
 use avr_device::atmega2560 as pac;
 use core::hint::black_box;
-use touch_arm::motion::planner::{plan_move, request as app_policy};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::cycles::CycleCounter;
+use touch_arm::board::fault::halt;
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
-use touch_arm::motion::plan::LawKind;
-use touch_arm::seam::TouchPanel;
-use touch_arm::seam::RawSample;
 use touch_arm::board::stack;
-use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
-use touch_arm::motion::laws::Law;
-use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
-use touch_arm::servo::track::ServoTrack;
-use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::geometry::ik::{ik2, Branch, Links};
+use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
-use touch_arm::servo::map::{JointCal, ServoMap};
-use touch_arm::touch::map::Calibration;
+use touch_arm::motion::laws::Law;
+use touch_arm::motion::plan::LawKind;
+use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
+use touch_arm::motion::planner::{plan_move, request as app_policy};
 use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
+use touch_arm::seam::RawSample;
+use touch_arm::seam::TouchPanel;
+use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::track::ServoTrack;
+use touch_arm::touch::map::Calibration;
 use ufmt::uwriteln;
 
 /// The i-th plan input: a raw touch spread over the panel and a duration
@@ -223,33 +223,53 @@ fn main() -> ! {
     b.run("f32_mul", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x * y);
     b.run("f32_add", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)), |&(x, y)| x + y);
     b.run("f32_div", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x / y);
-    b.run("f32_mul_x10", |i| (spread(i, 0.3, 7.0), spread(i, 0.9, 1.1)), |&(x, y)| {
-        let mut r = x;
-        for _ in 0..10 {
-            r = r * y;
-        }
-        r
-    });
-    b.run("f32_add_x10", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)), |&(x, y)| {
-        let mut r = x;
-        for _ in 0..10 {
-            r = r + y;
-        }
-        r
-    });
+    b.run(
+        "f32_mul_x10",
+        |i| (spread(i, 0.3, 7.0), spread(i, 0.9, 1.1)),
+        |&(x, y)| {
+            let mut r = x;
+            for _ in 0..10 {
+                r = r * y;
+            }
+            r
+        },
+    );
+    b.run(
+        "f32_add_x10",
+        |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)),
+        |&(x, y)| {
+            let mut r = x;
+            for _ in 0..10 {
+                r = r + y;
+            }
+            r
+        },
+    );
     b.run("f32_lt", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 9.9)), |&(x, y)| x < y);
     b.run("f32_to_i32", |i| spread(i, -3000.0, 3000.0), |&x| x as i32);
     b.run("i32_to_f32", |i| (i as i32) * 12345 - 7, |&x| x as f32);
     b.run("u32_mul", |i| (i as u32 * 0x1234_5677, i as u32 * 0x0ABC_DEF1 + 3), |&(x, y)| x.wrapping_mul(y));
-    b.run("u64_mul_hi", |i| (i as u32 * 0x1234_5677, i as u32 * 0x0ABC_DEF1 + 3), |&(x, y)| ((u64::from(x) * u64::from(y)) >> 32) as u32);
-    b.run("avrlibc_exp", |i| spread(i, -9.0, 3.0), |&x| {
-        // SAFETY: a pure function of a float.
-        unsafe { avr_libm::exp(x) }
-    });
-    b.run("avrlibc_log", |i| spread(i, 0.01, 50.0), |&x| {
-        // SAFETY: a pure function of a float.
-        unsafe { avr_libm::log(x) }
-    });
+    b.run(
+        "u64_mul_hi",
+        |i| (i as u32 * 0x1234_5677, i as u32 * 0x0ABC_DEF1 + 3),
+        |&(x, y)| ((u64::from(x) * u64::from(y)) >> 32) as u32,
+    );
+    b.run(
+        "avrlibc_exp",
+        |i| spread(i, -9.0, 3.0),
+        |&x| {
+            // SAFETY: a pure function of a float.
+            unsafe { avr_libm::exp(x) }
+        },
+    );
+    b.run(
+        "avrlibc_log",
+        |i| spread(i, 0.01, 50.0),
+        |&x| {
+            // SAFETY: a pure function of a float.
+            unsafe { avr_libm::log(x) }
+        },
+    );
     b.run("exp", |i| spread(i, -9.0, 3.0), |&x| x.exp());
     b.run("expm1", |i| spread(i, 0.001, 3.0), |&x| x.expm1());
     b.run("ln", |i| spread(i, 0.01, 50.0), |&x| x.ln());
@@ -290,20 +310,13 @@ fn main() -> ! {
         Err(_) => halt(),
     };
     let cal = Calibration::DEFAULT;
-    b.run(
-        "plan",
-        plan_input,
-        |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts),
-    );
-    b.run(
-        "plan_generic",
-        plan_input,
-        |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts),
-    );
+    b.run("plan", plan_input, |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts));
+    b.run("plan_generic", plan_input, |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts));
 
     // What the product firmware really runs per touch: the app's policy,
     // which also searches tₛ so no joint exceeds its speed share.
-    let limits = app_policy::PlanLimits { speed: [0.5f32, 0.5, 0.5], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+    let limits =
+        app_policy::PlanLimits { speed: [0.5f32, 0.5, 0.5], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
     b.run(
         "app_plan_move",
         |i| app_policy::MoveRequest {
@@ -317,10 +330,14 @@ fn main() -> ! {
     // shared pins, with settle times, pins handed back after.
     let mut bus = ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
     let mut adc = Adc::new(dp.ADC);
-    b.run("touch_sample", |_| (), |_| {
-        let mut samples = [RawSample { x: 0, y: 0, z: 0 }; 5];
-        bus.touch(&mut adc, &TouchWiring::A).read(&mut samples)
-    });
+    b.run(
+        "touch_sample",
+        |_| (),
+        |_| {
+            let mut samples = [RawSample { x: 0, y: 0, z: 0 }; 5];
+            bus.touch(&mut adc, &TouchWiring::A).read(&mut samples)
+        },
+    );
 
     // The plans themselves, for the runner to compare with the host bit for
     // bit: `P <i> <planned 0/1> <target α, q2, q3> <a*>` (f32 bit patterns).
@@ -336,7 +353,16 @@ fn main() -> ! {
             }
             None => (0, [0.0; JOINTS], 0.0),
         };
-        let _ = uwriteln!(b.serial, "P {} {} {} {} {} {}", i, ok, t[0].to_bits(), t[1].to_bits(), t[2].to_bits(), a.to_bits());
+        let _ = uwriteln!(
+            b.serial,
+            "P {} {} {} {} {} {}",
+            i,
+            ok,
+            t[0].to_bits(),
+            t[1].to_bits(),
+            t[2].to_bits(),
+            a.to_bits()
+        );
     }
     // Where the plan's cycles go, step by step on the same inputs.
     let touch = |i: usize| (150 + (i as u16) * 50, 200 + ((i as u16 * 7) % 15) * 40);
@@ -358,10 +384,14 @@ fn main() -> ! {
     b.run("check_monotone", |i| Shape::new(&shape_at(i)), |s| s.as_ref().map(|s| s.check_monotone().is_ok()).ok());
     b.run("multiplan_new", |i| (shape_at(i), [0.3f32, 1.1, -1.9]), |(p, tgt)| MultiPlan::new(&START, tgt, p).ok());
     b.run("sqrt", |i| spread(i, 0.01, 50.0), |&x| x.sqrt());
-    b.run("avrlibc_atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| {
-        // SAFETY: a pure function of two floats.
-        unsafe { avr_libm::atan2(y, x) }
-    });
+    b.run(
+        "avrlibc_atan2",
+        |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)),
+        |&(y, x)| {
+            // SAFETY: a pure function of two floats.
+            unsafe { avr_libm::atan2(y, x) }
+        },
+    );
     b.run("atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| y.atan2(x));
     b.run("acos", |i| spread(i, -0.99, 0.99), |&x| x.acos());
 
@@ -377,9 +407,7 @@ fn main() -> ! {
         av: 0.5,
         nv: 3.0,
     };
-    b.run("via_solve", via, |p| {
-        ViaPlan::new(p).map(|v| (v.sv(), v.zeta(), v.zeta_v())).ok()
-    });
+    b.run("via_solve", via, |p| ViaPlan::new(p).map(|v| (v.sv(), v.zeta(), v.zeta_v())).ok());
     b.run("via_new", via, |p| ViaPlan::new(p).ok());
     b.run("via_zeta", via, |p| zeta(&ZatParams { q0: p.q0, sf: p.theta_v, ts: p.ts, a: p.a, n: p.n }));
     let mut iters = [0u32; REPS];
@@ -508,5 +536,3 @@ fn accuracy_dump(b: &mut Bench) {
         }
     }
 }
-
-

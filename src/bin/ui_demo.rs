@@ -8,9 +8,9 @@
 #![no_main]
 
 use avr_device::atmega2560 as pac;
+use touch_arm::board::fault::halt;
 use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::shield::ShieldBus;
-use touch_arm::board::fault::halt;
 use touch_arm::board::usart::Usart0;
 use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
@@ -50,5 +50,3 @@ fn wait_byte() -> u8 {
     while dp.USART0.ucsr0a().read().rxc0().bit_is_clear() {}
     dp.USART0.udr0().read().bits()
 }
-
-

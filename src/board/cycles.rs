@@ -43,12 +43,8 @@ impl CycleCounter {
     pub fn new(tc1: TC1, tc3: TC3) -> Self {
         tc1.tccr1b().write(|w| w.cs1().no_clock());
         tc3.tccr3b().write(|w| w.cs3().no_clock());
-        tc1.tccr1a().write(|w| {
-            w.wgm1().set(0).com1a().disconnected().com1b().disconnected().com1c().disconnected()
-        });
-        tc3.tccr3a().write(|w| {
-            w.wgm3().set(0).com3a().disconnected().com3b().disconnected().com3c().disconnected()
-        });
+        tc1.tccr1a().write(|w| w.wgm1().set(0).com1a().disconnected().com1b().disconnected().com1c().disconnected());
+        tc3.tccr3a().write(|w| w.wgm3().set(0).com3a().disconnected().com3b().disconnected().com3c().disconnected());
         tc1.timsk1().reset();
         tc3.timsk3().reset();
         tc1.tccr1b().write(|w| w.wgm1().set(0).cs1().direct());

@@ -122,9 +122,8 @@ impl Pin {
         avr_device::interrupt::free(|_| {
             // SAFETY: fixed, always-mapped I/O registers of the ATmega2560;
             // byte-wide volatile access is their defined interface.
-            let (ddr, port) = unsafe {
-                (read_volatile((base + 1) as *const u8), read_volatile((base + 2) as *const u8))
-            };
+            let (ddr, port) =
+                unsafe { (read_volatile((base + 1) as *const u8), read_volatile((base + 2) as *const u8)) };
             PinMode::from_bits(ddr & self.mask() != 0, port & self.mask() != 0)
         })
     }

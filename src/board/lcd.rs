@@ -522,9 +522,12 @@ impl<B: Bus8> Canvas for Lcd<B> {
         if !whole || cell.scale == 0 {
             let (w, h) = (cell.width(), cell.height());
             let pixels = (0..h).flat_map(|py| (0..w).map(move |px| (px, py)));
-            return self.draw_iter(
-                pixels.map(|(px, py)| Pixel(area.top_left + embedded_graphics::geometry::Point::new(i32::from(px), i32::from(py)), cell.pixel(px, py))),
-            );
+            return self.draw_iter(pixels.map(|(px, py)| {
+                Pixel(
+                    area.top_left + embedded_graphics::geometry::Point::new(i32::from(px), i32::from(py)),
+                    cell.pixel(px, py),
+                )
+            }));
         }
         self.window(x0, y0, x1, y1);
         self.bus.glyph(&cell.rows, cell.scale, cell.gap, raw(cell.fg), raw(cell.bg));
@@ -573,9 +576,7 @@ impl<B: Bus8> DrawTarget for Lcd<B> {
         let whole = u32::from(x1 - x0 + 1) == area.size.width && u32::from(y1 - y0 + 1) == area.size.height;
         if !whole {
             // Partly off screen: pixel by pixel through the clipping path.
-            return self.draw_iter(
-                area.points().zip(colors).map(|(p, c)| Pixel(p, c)),
-            );
+            return self.draw_iter(area.points().zip(colors).map(|(p, c)| Pixel(p, c)));
         }
         self.window(x0, y0, x1, y1);
         // Colours beyond the area are dropped, as the trait asks. An

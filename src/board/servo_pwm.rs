@@ -38,9 +38,7 @@ impl ServoPwm {
         portl.portl().modify(|r, w| unsafe { w.bits(r.bits() & !SERVO_PINS) });
         portl.ddrl().modify(|r, w| unsafe { w.bits(r.bits() | SERVO_PINS) });
         tc5.tccr5b().write(|w| w.cs5().no_clock());
-        tc5.tccr5a().write(|w| {
-            w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected()
-        });
+        tc5.tccr5a().write(|w| w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected());
         avr_device::interrupt::free(|_| {
             tc5.icr5().write(|w| w.set(TOP));
             tc5.tcnt5().write(|w| w.set(0));
@@ -93,9 +91,7 @@ impl ServoPwm {
     /// Disconnects every output (pins low, no pulses): servos go limp rather
     /// than being driven somewhere unintended. Used on panic and fault.
     pub fn disable_all(&mut self) {
-        self.tc5.tccr5a().modify(|_, w| {
-            w.com5a().disconnected().com5b().disconnected().com5c().disconnected()
-        });
+        self.tc5.tccr5a().modify(|_, w| w.com5a().disconnected().com5b().disconnected().com5c().disconnected());
         self.enabled = [false; CHANNELS];
     }
 

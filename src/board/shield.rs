@@ -25,8 +25,19 @@ use super::gpio::{Pin, PinMode};
 /// by the display code, re-selecting the chip only after WR is back at its
 /// idle level keeps a WR edge from the panel read from becoming a write.
 const RESTORE_ORDER: [Pin; 13] = [
-    LCD_RST, LCD_RS, LCD_DATA[0], LCD_DATA[1], LCD_DATA[2], LCD_DATA[3], LCD_DATA[4], LCD_DATA[5],
-    LCD_DATA[6], LCD_DATA[7], LCD_RD, LCD_WR, LCD_CS,
+    LCD_RST,
+    LCD_RS,
+    LCD_DATA[0],
+    LCD_DATA[1],
+    LCD_DATA[2],
+    LCD_DATA[3],
+    LCD_DATA[4],
+    LCD_DATA[5],
+    LCD_DATA[6],
+    LCD_DATA[7],
+    LCD_RD,
+    LCD_WR,
+    LCD_CS,
 ];
 
 /// Pins the panel may use: only these are owned (through their ports) and
@@ -116,12 +127,7 @@ impl ShieldBus {
     /// (see `RESTORE_ORDER`), whatever `f` did. `TouchPins` cannot outlive
     /// the call, so touch mode is never visible outside it. (Panics abort the
     /// firmware, so there is no unwinding path that skips the restore.)
-    pub fn with_touch<R>(
-        &mut self,
-        adc: &mut Adc,
-        wiring: &TouchWiring,
-        f: impl FnOnce(&mut TouchPins<'_>) -> R,
-    ) -> R {
+    pub fn with_touch<R>(&mut self, adc: &mut Adc, wiring: &TouchWiring, f: impl FnOnce(&mut TouchPins<'_>) -> R) -> R {
         let saved = snapshot();
         for p in [LCD_CS, LCD_RD, LCD_WR] {
             if !wiring.uses(p) {
@@ -205,9 +211,7 @@ impl TouchWiring {
             return Err(WiringError::Duplicate);
         }
         match (xm.adc_channel(), yp.adc_channel()) {
-            (Some(xm_channel), Some(yp_channel)) => {
-                Ok(TouchWiring { xp, xm, yp, ym, xm_channel, yp_channel })
-            }
+            (Some(xm_channel), Some(yp_channel)) => Ok(TouchWiring { xp, xm, yp, ym, xm_channel, yp_channel }),
             _ => Err(WiringError::NotAnalog),
         }
     }

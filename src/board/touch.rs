@@ -20,8 +20,8 @@
 //! the wiring ([`TouchWiring`]) and the lent handle ([`TouchPins`]); this
 //! module is the measurement made with them.
 
-use crate::seam::TouchPanel;
 use crate::seam::RawSample;
+use crate::seam::TouchPanel;
 use crate::touch::filter::pressure;
 
 use super::adc::{Adc, AdcError};

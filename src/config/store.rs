@@ -250,12 +250,7 @@ fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordErr
 pub fn load<S: Storage>(storage: &mut S) -> Loaded {
     let a = read_slot(storage, SLOT_A_ADDR);
     let b = read_slot(storage, SLOT_B_ADDR);
-    let pick = |r: &Record, source| Loaded {
-        config: r.config,
-        source,
-        seq: r.seq,
-        warning: None,
-    };
+    let pick = |r: &Record, source| Loaded { config: r.config, source, seq: r.seq, warning: None };
     match (&a, &b) {
         (Ok(ra), Ok(rb)) => {
             if seq_newer(rb.seq, ra.seq) {
@@ -264,14 +259,8 @@ pub fn load<S: Storage>(storage: &mut S) -> Loaded {
                 pick(ra, Source::SlotA)
             }
         }
-        (Ok(ra), Err(_)) => Loaded {
-            warning: Some(Warning::CopyDamaged),
-            ..pick(ra, Source::SlotA)
-        },
-        (Err(_), Ok(rb)) => Loaded {
-            warning: Some(Warning::CopyDamaged),
-            ..pick(rb, Source::SlotB)
-        },
+        (Ok(ra), Err(_)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(ra, Source::SlotA) },
+        (Err(_), Ok(rb)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(rb, Source::SlotB) },
         (Err(ea), Err(eb)) => Loaded {
             config: Config::DEFAULT,
             source: Source::Defaults,

@@ -239,22 +239,13 @@ fn elbow<R: Real>(links: &Links<R>, x: R, y: R) -> Result<Elbow<R>, IkError<R>> 
 /// Planar FK: `x = l2·cos q2 + l3·cos(q2 + q3)`, `y = l2·sin q2 + l3·sin(q2 + q3)`.
 pub fn fk2<R: Real>(links: &Links<R>, q2: R, q3: R) -> (R, R) {
     let q23 = q2 + q3;
-    (
-        links.l2 * q2.cos() + links.l3 * q23.cos(),
-        links.l2 * q2.sin() + links.l3 * q23.sin(),
-    )
+    (links.l2 * q2.cos() + links.l3 * q23.cos(), links.l2 * q2.sin() + links.l3 * q23.sin())
 }
 
 /// 3-DoF IK (lab note): `θ1 = atan2(y_e, x_e)`, then the planar IK on
 /// `(√(x_e² + y_e²), z_e)` gives `θ2, θ3`. Straight above the base
 /// (x_e = y_e = 0) θ1 is free; it is then 0.
-pub fn ik3<R: Real>(
-    links: &Links<R>,
-    x_e: R,
-    y_e: R,
-    z_e: R,
-    branch: Branch,
-) -> Result<JointAngles3<R>, IkError<R>> {
+pub fn ik3<R: Real>(links: &Links<R>, x_e: R, y_e: R, z_e: R, branch: Branch) -> Result<JointAngles3<R>, IkError<R>> {
     if !(x_e.is_finite() && y_e.is_finite() && z_e.is_finite()) {
         return Err(IkError::NotFinite);
     }
@@ -266,11 +257,7 @@ pub fn ik3<R: Real>(
         return Err(IkError::Unreachable { c: rho });
     }
     let planar = ik2(links, rho, z_e, branch)?;
-    Ok(JointAngles3 {
-        th1,
-        th2: planar.q2,
-        th3: planar.q3,
-    })
+    Ok(JointAngles3 { th1, th2: planar.q2, th3: planar.q3 })
 }
 
 /// 3-DoF FK: the planar FK gives (ρ, z), the base turns ρ by θ1.

@@ -3,8 +3,8 @@
 //! the firmware's app and by `armsim plan`, so both compute the same pose.
 
 use crate::geometry::ik::{ik2_toward, Branch, IkError, Links};
-use crate::math::real::Real;
 use crate::geometry::workspace::{Condition, WorkspaceError, WorkspacePoint};
+use crate::math::real::Real;
 
 /// The arm's geometry as the mapping sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]

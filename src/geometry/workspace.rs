@@ -122,10 +122,7 @@ impl<R: Real> WorkspacePoint<R> {
             return Err(WorkspaceError::OutOfWorkspace);
         }
         let plus_zero = |v: R| if v.is_zero() { R::ZERO } else { v };
-        Ok(Self {
-            x_p: plus_zero(x_p),
-            y_p: plus_zero(y_p),
-        })
+        Ok(Self { x_p: plus_zero(x_p), y_p: plus_zero(y_p) })
     }
 
     pub fn x_p(&self) -> R {
@@ -166,12 +163,7 @@ impl<R: Real> WorkspacePoint<R> {
     /// condition.
     pub fn transform1(&self, k: R) -> Result<Transformed<R>, WorkspaceError> {
         check_scale(k)?;
-        Ok(Transformed {
-            x: k * self.x_p,
-            y: k * self.y_p,
-            alpha: self.alpha(),
-            condition: self.condition(),
-        })
+        Ok(Transformed { x: k * self.x_p, y: k * self.y_p, alpha: self.alpha(), condition: self.condition() })
     }
 
     /// Transform 2 (clockwise): `(−k·x, k·y, π − α)`, condition mirrored
@@ -194,12 +186,7 @@ impl<R: Real> WorkspacePoint<R> {
     #[inline]
     pub fn target(&self, k: R) -> Result<Target<R>, WorkspaceError> {
         check_scale(k)?;
-        Ok(Target {
-            reach: k * self.x_p.abs(),
-            height: k * self.y_p,
-            alpha: self.alpha(),
-            condition: self.condition(),
-        })
+        Ok(Target { reach: k * self.x_p.abs(), height: k * self.y_p, alpha: self.alpha(), condition: self.condition() })
     }
 }
 

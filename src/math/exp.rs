@@ -24,7 +24,7 @@
 //! the chip: ~800 cycles for `exp`, ~870–1 000 for `expm1`, ~900–1 150 for
 //! `ln` (BENCHMARKS.md).
 
-use super::fixed::{mul16, mul_full, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK, flash_u32};
+use super::fixed::{flash_u32, mul16, mul_full, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK};
 
 /// log₂e in Q1.31.
 const LOG2E_Q31: u32 = 0xB8AA_3B29;
@@ -38,7 +38,6 @@ const S3: u32 = 20_727_931;
 const S2: u32 = 119_176_803;
 const S1: u32 = 515_883_993;
 const S0: u32 = 1_488_522_215;
-
 
 /// 2^f − 1 in Q1.31 for f ∈ [0, 1) in Q0.32 (|error| < 2e-8 relative to 2^f).
 #[inline]
@@ -56,7 +55,6 @@ fn s_poly(f: u32) -> u32 {
     let s = S1 + mul_hi_approx(s, f);
     S0 + mul_hi_approx(s, f)
 }
-
 
 /// x·log₂e = k + f, f ∈ [0, 1) in Q0.32, for 2⁻²⁵ ≤ |x| < 128 (`be` the
 /// biased exponent, `m` the mantissa with hidden bit).
@@ -240,7 +238,6 @@ const T0: u32 = 2_147_483_562;
 const T1: u32 = 1_431_691_999;
 const T2: u32 = 1_074_270_779;
 const T3: u32 = 816_956_759;
-
 
 /// |S(r)| for r = ±ρ (ρ = |r| ≤ 1/16 in Q0.32), Q0.32: S's coefficients
 /// alternate in sign, so for r < 0 every term adds and for r > 0 every
@@ -444,4 +441,3 @@ fn normalize(top: u32, low: u8, be: u8) -> (u32, u8) {
         (top, be)
     }
 }
-

@@ -4,7 +4,6 @@
 
 use super::fixed::{mul_full, shl, HIDDEN, MANT_MASK};
 
-
 /// √x as (s, c): s the rounded root, c ≈ √x − s (|c| ≤ ulp(s)/2, good to
 /// about 2⁻²⁴ of itself), so s + c carries √x to twice the precision. The
 /// residual x − s² is exact in integers (|x − s²| ≤ s·ulp(s), 24 bits), so

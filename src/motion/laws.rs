@@ -6,8 +6,8 @@
 //! position at t_f returned as exactly s_f; at the trapezoid's phase boundaries
 //! the later phase applies.
 
-use crate::motion::{all_finite, Sample, TrajError};
 use crate::math::real::Real;
+use crate::motion::{all_finite, Sample, TrajError};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Law {
@@ -51,15 +51,7 @@ impl<R: Real> LawPlan<R> {
         if !(t.is_finite() && inv_t.is_finite() && delta.is_finite()) || inv_t == R::ZERO {
             return Err(TrajError::NotFinite);
         }
-        Ok(LawPlan {
-            law,
-            t0: p.t0,
-            tf: p.tf,
-            s0: p.s0,
-            sf: p.sf,
-            delta,
-            inv_t,
-        })
+        Ok(LawPlan { law, t0: p.t0, tf: p.tf, s0: p.s0, sf: p.sf, delta, inv_t })
     }
 
     #[inline]
@@ -137,21 +129,12 @@ impl<R: Real> LawPlan<R> {
         if t > self.tf {
             return Sample::at_rest(self.sf);
         }
-        let tau = if t >= self.tf {
-            R::ONE
-        } else {
-            (t - self.t0) * self.inv_t
-        };
+        let tau = if t >= self.tf { R::ONE } else { (t - self.t0) * self.inv_t };
         let f = self.unit(tau);
         let k1 = self.delta * self.inv_t;
         let k2 = k1 * self.inv_t;
         let k3 = k2 * self.inv_t;
-        Sample {
-            s: self.position(t),
-            v: k1 * f[1],
-            acc: k2 * f[2],
-            jerk: k3 * f[3],
-        }
+        Sample { s: self.position(t), v: k1 * f[1], acc: k2 * f[2], jerk: k3 * f[3] }
     }
 
     /// Velocity at t_f⁻ (Δ/T for linear, 0 for the others).

@@ -27,12 +27,7 @@ impl<R: Real> Sample<R> {
     /// A motion at rest at `s`.
     #[inline]
     pub fn at_rest(s: R) -> Self {
-        Sample {
-            s,
-            v: R::ZERO,
-            acc: R::ZERO,
-            jerk: R::ZERO,
-        }
+        Sample { s, v: R::ZERO, acc: R::ZERO, jerk: R::ZERO }
     }
 }
 
@@ -75,17 +70,11 @@ impl<R: Real> fmt::Display for TrajError<R> {
                 a.to_f64()
             ),
             TrajError::NotFinite => f.write_str("non-finite input or unrepresentable plan"),
-            TrajError::Overshoot { peak } => write!(
-                f,
-                "profile is not monotone (peak of G = {}): it would overshoot or backtrack",
-                peak.to_f64()
-            ),
+            TrajError::Overshoot { peak } => {
+                write!(f, "profile is not monotone (peak of G = {}): it would overshoot or backtrack", peak.to_f64())
+            }
             TrajError::ViaTimeOutOfRange => f.write_str("via time must lie in (0, ts)"),
-            TrajError::ViaDiverges { r } => write!(
-                f,
-                "via iteration diverges: r = G(tv) = {} is not < 1",
-                r.to_f64()
-            ),
+            TrajError::ViaDiverges { r } => write!(f, "via iteration diverges: r = G(tv) = {} is not < 1", r.to_f64()),
             TrajError::NoConvergence => f.write_str("via iteration did not converge"),
             TrajError::EmptyInterval => f.write_str("empty interval: tf must be > t0"),
         }

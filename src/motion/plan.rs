@@ -3,10 +3,10 @@
 //! arrive together and a frame costs one profile evaluation plus a
 //! multiply-add per joint.
 
-use crate::motion::laws::{Law, LawParams, LawPlan};
-use crate::motion::{all_finite, Sample, TrajError};
 use crate::math::real::Real;
+use crate::motion::laws::{Law, LawParams, LawPlan};
 use crate::motion::zat::{Shape, ShapeParams};
+use crate::motion::{all_finite, Sample, TrajError};
 
 /// Base, shoulder, elbow.
 pub const JOINTS: usize = 3;
@@ -24,13 +24,7 @@ pub enum LawKind {
 }
 
 impl LawKind {
-    pub const ALL: [LawKind; 5] = [
-        LawKind::Zat,
-        LawKind::Quintic,
-        LawKind::Cubic,
-        LawKind::Trapezoid,
-        LawKind::Linear,
-    ];
+    pub const ALL: [LawKind; 5] = [LawKind::Zat, LawKind::Quintic, LawKind::Cubic, LawKind::Trapezoid, LawKind::Linear];
 
     /// Stable id of the EEPROM record (never renumber).
     pub fn id(self) -> u8 {
@@ -86,15 +80,7 @@ impl<R: Real> JointLaw<R> {
         if !(duration > R::ZERO) {
             return Err(TrajError::NonPositiveDuration);
         }
-        Ok(JointLaw::Classic(LawPlan::new(
-            law,
-            &LawParams {
-                t0: R::ZERO,
-                tf: duration,
-                s0: R::ZERO,
-                sf: R::ONE,
-            },
-        )?))
+        Ok(JointLaw::Classic(LawPlan::new(law, &LawParams { t0: R::ZERO, tf: duration, s0: R::ZERO, sf: R::ONE })?))
     }
 
     /// Builds the law the user picked; `shape` supplies tₛ for every law and
@@ -182,20 +168,12 @@ pub struct MultiPlan<R> {
 impl<R: Real> MultiPlan<R> {
     /// A ζ-a-tₛ move. Rejects inadmissible shapes and, since this feeds the
     /// servos, shapes whose profile overshoots or backtracks (`Overshoot`).
-    pub fn new(
-        start: &[R; JOINTS],
-        target: &[R; JOINTS],
-        shape: &ShapeParams<R>,
-    ) -> Result<Self, TrajError<R>> {
+    pub fn new(start: &[R; JOINTS], target: &[R; JOINTS], shape: &ShapeParams<R>) -> Result<Self, TrajError<R>> {
         Self::with_law(start, target, &JointLaw::zat(shape)?)
     }
 
     /// A move under any profile (monotonicity is enforced here too).
-    pub fn with_law(
-        start: &[R; JOINTS],
-        target: &[R; JOINTS],
-        law: &JointLaw<R>,
-    ) -> Result<Self, TrajError<R>> {
+    pub fn with_law(start: &[R; JOINTS], target: &[R; JOINTS], law: &JointLaw<R>) -> Result<Self, TrajError<R>> {
         // Joint values as scalars, so the plan is written where the caller
         // wants it instead of being assembled and copied.
         let [s0, s1, s2] = *start;
@@ -205,12 +183,7 @@ impl<R: Real> MultiPlan<R> {
         law.check_monotone()?;
         let delta = [e0 - s0, e1 - s1, e2 - s2];
         all_finite(&delta)?;
-        Ok(MultiPlan {
-            law: *law,
-            start: [s0, s1, s2],
-            target: [e0, e1, e2],
-            delta,
-        })
+        Ok(MultiPlan { law: *law, start: [s0, s1, s2], target: [e0, e1, e2], delta })
     }
 
     #[inline]
@@ -267,16 +240,8 @@ impl<R: Real> MultiPlan<R> {
         let (g, rate) = self.law.g_rate(t);
         let end = t >= self.duration();
         let rest = t <= R::ZERO;
-        let mut out = [JointState {
-            pos: R::ZERO,
-            vel: R::ZERO,
-        }; JOINTS];
-        for (((o, s), e), d) in out
-            .iter_mut()
-            .zip(self.start.iter())
-            .zip(self.target.iter())
-            .zip(self.delta.iter())
-        {
+        let mut out = [JointState { pos: R::ZERO, vel: R::ZERO }; JOINTS];
+        for (((o, s), e), d) in out.iter_mut().zip(self.start.iter()).zip(self.target.iter()).zip(self.delta.iter()) {
             o.pos = if end {
                 *e
             } else if rest {
@@ -295,12 +260,7 @@ impl<R: Real> MultiPlan<R> {
         let g = self.law.g_derivs(t);
         let mut out = [Sample::at_rest(R::ZERO); JOINTS];
         for ((o, p), d) in out.iter_mut().zip(pos.iter()).zip(self.delta.iter()) {
-            *o = Sample {
-                s: *p,
-                v: *d * g.v,
-                acc: *d * g.acc,
-                jerk: *d * g.jerk,
-            };
+            *o = Sample { s: *p, v: *d * g.v, acc: *d * g.acc, jerk: *d * g.jerk };
         }
         out
     }

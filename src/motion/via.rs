@@ -6,9 +6,9 @@
 //! r = G(t_v), that is linear in S_v and solved in closed form; the paper's
 //! fixed-point iteration is kept for reproduction and converges only if r < 1.
 
-use crate::motion::{all_finite, Sample, TrajError};
 use crate::math::real::Real;
 use crate::motion::zat::{smooth_stop_a, Shape, ShapeParams};
+use crate::motion::{all_finite, Sample, TrajError};
 
 /// A via-point move q0 → (θ_v at t_v) → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,27 +95,13 @@ fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R
     if !p.finite() {
         return Err(TrajError::NotFinite);
     }
-    let g = Shape::from_finite(
-        &ShapeParams {
-            ts: p.ts,
-            a: p.a,
-            n: p.n,
-        },
-        None,
-    )?;
+    let g = Shape::from_finite(&ShapeParams { ts: p.ts, a: p.a, n: p.n }, None)?;
     if !(p.tv.is_positive() && p.tv.lt_num(p.ts)) {
         return Err(TrajError::ViaTimeOutOfRange);
     }
     // One logarithm when both segments share the base.
     let lv = if g.has_base(p.nv) { Some(g.ln_n()) } else { None };
-    let gv = Shape::from_finite(
-        &ShapeParams {
-            ts: p.tv,
-            a: p.av,
-            n: p.nv,
-        },
-        lv,
-    )?;
+    let gv = Shape::from_finite(&ShapeParams { ts: p.tv, a: p.av, n: p.nv }, lv)?;
     Ok((gv, g))
 }
 
@@ -147,14 +133,7 @@ impl<R: Real> ViaPlan<R> {
         if !sv.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        Ok(ViaPlan {
-            gv,
-            g,
-            q0: p.q0,
-            sv,
-            sf: p.sf,
-            r,
-        })
+        Ok(ViaPlan { gv, g, q0: p.q0, sv, sf: p.sf, r })
     }
 
     /// The trajectory for a given S_v (θ_v is ignored).
@@ -164,14 +143,7 @@ impl<R: Real> ViaPlan<R> {
             return Err(TrajError::NotFinite);
         }
         let r = g.g(p.tv);
-        Ok(ViaPlan {
-            gv,
-            g,
-            q0: p.q0,
-            sv,
-            sf: p.sf,
-            r,
-        })
+        Ok(ViaPlan { gv, g, q0: p.q0, sv, sf: p.sf, r })
     }
 
     #[inline]
@@ -244,12 +216,7 @@ impl<R: Real> ViaPlan<R> {
     pub fn jumps(&self) -> Sample<R> {
         let d = self.gv.g_derivs(self.gv.ts());
         let k = -(self.sv - self.q0);
-        Sample {
-            s: R::ZERO,
-            v: k * d.v,
-            acc: k * d.acc,
-            jerk: k * d.jerk,
-        }
+        Sample { s: R::ZERO, v: k * d.v, acc: k * d.acc, jerk: k * d.jerk }
     }
 
     #[inline]
@@ -291,11 +258,7 @@ pub struct ViaIteration<R> {
 ///
 /// `ViaDiverges { r }` up front when r = G(t_v) ≥ 1; `NoConvergence` when no
 /// iterate within `max_iter` updates meets the tolerance.
-pub fn iterate_paper<R: Real>(
-    p: &ViaParams<R>,
-    tol: R,
-    max_iter: u16,
-) -> Result<ViaIteration<R>, TrajError<R>> {
+pub fn iterate_paper<R: Real>(p: &ViaParams<R>, tol: R, max_iter: u16) -> Result<ViaIteration<R>, TrajError<R>> {
     let (gv, g) = shapes(p)?;
     all_finite(&[tol])?;
     let r = g.g(p.tv);
@@ -322,13 +285,7 @@ pub fn iterate_paper<R: Real>(
             return Err(TrajError::NotFinite);
         }
         if e.abs() < tol {
-            return Ok(ViaIteration {
-                iterations: i,
-                sv,
-                error: e,
-                zeta: zi,
-                zeta_v: zvi,
-            });
+            return Ok(ViaIteration { iterations: i, sv, error: e, zeta: zi, zeta_v: zvi });
         }
         if i >= max_iter {
             return Err(TrajError::NoConvergence);

@@ -14,8 +14,8 @@
 //! precision (δ's rounding is amplified by q in every sample), and the
 //! exponent L·(1 − tₛ/t) is formed as −L·(tₛ − t)/t, exact near the end.
 
-use crate::motion::{all_finite, Sample, TrajError};
 use crate::math::real::Real;
+use crate::motion::{all_finite, Sample, TrajError};
 
 /// Past this value of L·(tₛ/t − 1) the factor n^(1 − tₛ/t) is below 1e-34, so G
 /// is returned as 0 without touching expm1 (whose argument would be huge).
@@ -79,11 +79,7 @@ pub fn u_min<R: Real>(ts: R) -> R {
 /// precision's splitter 2^⌈p/2⌉ + 1 makes each half's products exact.
 #[inline]
 fn square_err<R: Real>(s: R) -> (R, R) {
-    let splitter = if is_f32::<R>() {
-        R::lit(4097.0)
-    } else {
-        R::lit(134_217_729.0)
-    };
+    let splitter = if is_f32::<R>() { R::lit(4097.0) } else { R::lit(134_217_729.0) };
     let c = splitter * s;
     let hi = c - (c - s);
     let lo = s - hi;
@@ -164,11 +160,7 @@ pub struct ZatParams<R> {
 impl<R: Real> ZatParams<R> {
     #[inline]
     pub fn shape(&self) -> ShapeParams<R> {
-        ShapeParams {
-            ts: self.ts,
-            a: self.a,
-            n: self.n,
-        }
+        ShapeParams { ts: self.ts, a: self.a, n: self.n }
     }
 }
 
@@ -367,11 +359,7 @@ impl<R: Real> Shape<R> {
     fn build(p: &ShapeParams<R>, l: R, mono: Mono) -> Result<Self, TrajError<R>> {
         let long = !p.ts.lt_num(R::ONE);
         let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
-        let (um, delta) = if long {
-            long_bounds(sqrt_ts, sqrt_corr, p.a)
-        } else {
-            (p.ts, p.ts - p.a)
-        };
+        let (um, delta) = if long { long_bounds(sqrt_ts, sqrt_corr, p.a) } else { (p.ts, p.ts - p.a) };
         // u_min > 0 (tₛ > 0).
         if !(p.a.lt_num(um) && delta.is_positive()) {
             return Err(TrajError::ShapeNotAdmissible { a: p.a, u_min: um });
@@ -389,28 +377,12 @@ impl<R: Real> Shape<R> {
         if on_pole || !l_delta.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        Ok(Shape {
-            ts: p.ts,
-            a: p.a,
-            n: p.n,
-            l,
-            sqrt_ts,
-            sqrt_corr,
-            l_delta,
-            long,
-            e_s,
-            inv_ps,
-            mono,
-        })
+        Ok(Shape { ts: p.ts, a: p.a, n: p.n, l, sqrt_ts, sqrt_corr, l_delta, long, e_s, inv_ps, mono })
     }
 
     #[inline]
     pub fn params(&self) -> ShapeParams<R> {
-        ShapeParams {
-            ts: self.ts,
-            a: self.a,
-            n: self.n,
-        }
+        ShapeParams { ts: self.ts, a: self.a, n: self.n }
     }
     #[inline]
     pub fn ts(&self) -> R {
@@ -554,15 +526,7 @@ impl<R: Real> Shape<R> {
     fn end(&self) -> Inner<R> {
         let q_s = self.e_s.recip();
         let inv_t = self.ts.recip();
-        Inner {
-            g: R::ONE,
-            q: q_s,
-            p: R::ONE + q_s,
-            t: self.ts,
-            d: self.d(self.ts),
-            inv_t,
-            l_it: self.l * inv_t,
-        }
+        Inner { g: R::ONE, q: q_s, p: R::ONE + q_s, t: self.ts, d: self.d(self.ts), inv_t, l_it: self.l * inv_t }
     }
 
     /// Like `inner`, but t = tₛ gives [`Shape::end`].
@@ -585,12 +549,7 @@ impl<R: Real> Shape<R> {
             return Sample::at_rest(R::ZERO);
         };
         let (g, h1, h2) = (r.g, r.h1, r.h2);
-        Sample {
-            s: g,
-            v: g * h1,
-            acc: g * (h1 * h1 + h2),
-            jerk: g * (h1 * (h1 * h1 + R::lit(3.0) * h2) + r.h3),
-        }
+        Sample { s: g, v: g * h1, acc: g * (h1 * h1 + h2), jerk: g * (h1 * (h1 * h1 + R::lit(3.0) * h2) + r.h3) }
     }
 
     /// G′(tₛ⁻) = L·[1 − (1 − 1/tₛ)(1 + Q_s)]; the end velocity is Δ times this.
@@ -758,12 +717,7 @@ impl<R: Real> ZatPlan<R> {
         if !delta.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        Ok(ZatPlan {
-            shape,
-            q0: p.q0,
-            sf: p.sf,
-            delta,
-        })
+        Ok(ZatPlan { shape, q0: p.q0, sf: p.sf, delta })
     }
 
     #[inline]
@@ -798,12 +752,7 @@ impl<R: Real> ZatPlan<R> {
     /// S, S′, S″, S‴ (Δ·G⁽ᵏ⁾), with the SPEC's conventions at 0 and tₛ.
     pub fn sample(&self, t: R) -> Sample<R> {
         let g = self.shape.g_derivs(t);
-        Sample {
-            s: self.position(t),
-            v: self.delta * g.v,
-            acc: self.delta * g.acc,
-            jerk: self.delta * g.jerk,
-        }
+        Sample { s: self.position(t), v: self.delta * g.v, acc: self.delta * g.acc, jerk: self.delta * g.jerk }
     }
 
     /// S′(tₛ⁻): nonzero unless a = a* (the motion ends with a velocity step).

@@ -29,8 +29,8 @@
 //! error is reported.
 
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
-use crate::motion::plan::LawKind;
 use crate::math::real::Real;
+use crate::motion::plan::LawKind;
 use crate::servo::map::Joint;
 
 /// Capacity of the serial line buffer (bytes of a line, terminator excluded).
@@ -44,9 +44,14 @@ pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Command {
-    Move { x: u16, y: u16 },
+    Move {
+        x: u16,
+        y: u16,
+    },
     /// Angles in hundredths of a degree, in [`Joint::index`] order.
-    Goto { centideg: [i32; 3] },
+    Goto {
+        centideg: [i32; 3],
+    },
     Stop,
     Resume,
     Status,
@@ -191,9 +196,7 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
         _ => 0,
     };
     // ×100 + f as two more digits, with the same overflow guard.
-    let v = push_digit(digits_value(int)?, f / 10)
-        .and_then(|v| push_digit(v, f % 10))
-        .ok_or(CmdError::OutOfRange)?;
+    let v = push_digit(digits_value(int)?, f / 10).and_then(|v| push_digit(v, f % 10)).ok_or(CmdError::OutOfRange)?;
     let v = if neg { -v } else { v };
     if v < min || v > max {
         return Err(CmdError::OutOfRange);
@@ -223,29 +226,19 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     let target = t.arg()?;
     if target == b"touch" {
         let name = t.arg()?;
-        let field = TouchField::ALL
-            .iter()
-            .copied()
-            .find(|f| f.name().eq_bytes(name))
-            .ok_or(CmdError::BadArgument)?;
+        let field = TouchField::ALL.iter().copied().find(|f| f.name().eq_bytes(name)).ok_or(CmdError::BadArgument)?;
         let value = parse_int(t.arg()?, 0, field.max())? as u16;
         return Ok(CalSet::Touch { field, value });
     }
     let joint = parse_joint(target).ok_or(CmdError::BadArgument)?;
     let name = t.arg()?;
-    let field = JointField::ALL
-        .iter()
-        .copied()
-        .find(|f| f.name().eq_bytes(name))
-        .ok_or(CmdError::BadArgument)?;
+    let field = JointField::ALL.iter().copied().find(|f| f.name().eq_bytes(name)).ok_or(CmdError::BadArgument)?;
     let tok = t.arg()?;
     let value = match field {
         JointField::Offset => parse_centi(tok, -2_000_000, 2_000_000)?,
         JointField::Scale => parse_centi(tok, -10_000, 10_000)?,
         JointField::MinUs | JointField::MaxUs => parse_int(tok, 500, 2500)?,
-        JointField::MinDeg | JointField::MaxDeg => {
-            parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?
-        }
+        JointField::MinDeg | JointField::MaxDeg => parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?,
         JointField::MaxSpeed => parse_centi(tok, 0, 360_000)?,
     };
     Ok(CalSet::Joint { joint, field, value })
@@ -322,12 +315,7 @@ impl<const N: usize> Default for LineBuffer<N> {
 
 impl<const N: usize> LineBuffer<N> {
     pub const fn new() -> Self {
-        LineBuffer {
-            buf: [0; N],
-            len: 0,
-            overflowed: false,
-            after_cr: false,
-        }
+        LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false }
     }
 
     /// Feeds one byte. Returns `Some` when a line is complete: `Ok(line)`

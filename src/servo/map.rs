@@ -138,11 +138,7 @@ impl JointCal {
         max_speed_rad_s: DEFAULT_MAX_SPEED,
     };
     /// Defaults in [`Joint::index`] order.
-    pub const DEFAULTS: [JointCal; 3] = [
-        JointCal::BASE_DEFAULT,
-        JointCal::SHOULDER_DEFAULT,
-        JointCal::ELBOW_DEFAULT,
-    ];
+    pub const DEFAULTS: [JointCal; 3] = [JointCal::BASE_DEFAULT, JointCal::SHOULDER_DEFAULT, JointCal::ELBOW_DEFAULT];
 
     /// Pulse (unclamped, µs) at `angle`.
     fn pulse_at(&self, angle: f32) -> f32 {
@@ -150,23 +146,14 @@ impl JointCal {
     }
 
     pub fn validate(&self) -> Result<(), JointCalError> {
-        let floats = [
-            self.offset_us,
-            self.us_per_rad,
-            self.min_rad,
-            self.max_rad,
-            self.max_speed_rad_s,
-        ];
+        let floats = [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s];
         if floats.iter().any(|v| !v.is_finite()) {
             return Err(JointCalError::NotFinite);
         }
         if self.min_us < ABS_MIN_US || self.max_us > ABS_MAX_US || self.min_us >= self.max_us {
             return Err(JointCalError::PulseLimits);
         }
-        if self.min_rad >= self.max_rad
-            || self.min_rad < -MAX_ABS_ANGLE_RAD
-            || self.max_rad > MAX_ABS_ANGLE_RAD
-        {
+        if self.min_rad >= self.max_rad || self.min_rad < -MAX_ABS_ANGLE_RAD || self.max_rad > MAX_ABS_ANGLE_RAD {
             return Err(JointCalError::AngleLimits);
         }
         let k = self.us_per_rad.abs();

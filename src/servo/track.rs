@@ -109,10 +109,7 @@ impl ServoTrack {
             if !(base.abs() <= TRACK_RANGE_US && span.abs() <= TRACK_RANGE_US) {
                 return Err(TrackError::OutOfRange);
             }
-            let (pa, pb) = (
-                c.offset_us + c.us_per_rad * c.min_rad,
-                c.offset_us + c.us_per_rad * c.max_rad,
-            );
+            let (pa, pb) = (c.offset_us + c.us_per_rad * c.min_rad, c.offset_us + c.us_per_rad * c.max_rad);
             let lo = pa.min(pb).max(c.min_us as f32);
             let hi = pa.max(pb).min(c.max_us as f32);
             // Finite angles always map: angle_to_pulse only refuses NaN/∞.

@@ -205,16 +205,7 @@ struct Run {
 }
 
 impl Run {
-    const EMPTY: Run = Run {
-        count: 0,
-        min_x: 0,
-        max_x: 0,
-        min_y: 0,
-        max_y: 0,
-        sum_x: 0,
-        sum_y: 0,
-        reported: false,
-    };
+    const EMPTY: Run = Run { count: 0, min_x: 0, max_x: 0, min_y: 0, max_y: 0, sum_x: 0, sum_y: 0, reported: false };
 
     fn start(p: TouchPoint) -> Run {
         Run {
@@ -255,10 +246,7 @@ impl Run {
         if self.count >= confirm && !self.reported {
             self.reported = true;
             let n = self.count as u32;
-            Some(TouchPoint {
-                x: ((self.sum_x + n / 2) / n) as u16,
-                y: ((self.sum_y + n / 2) / n) as u16,
-            })
+            Some(TouchPoint { x: ((self.sum_x + n / 2) / n) as u16, y: ((self.sum_y + n / 2) / n) as u16 })
         } else {
             None
         }
@@ -278,12 +266,7 @@ pub struct TouchFilter {
 impl TouchFilter {
     pub fn new(cfg: &FilterConfig) -> Result<TouchFilter, FilterConfigError> {
         cfg.validate()?;
-        Ok(TouchFilter {
-            cfg: *cfg,
-            run: Run::EMPTY,
-            held: None,
-            misses: 0,
-        })
+        Ok(TouchFilter { cfg: *cfg, run: Run::EMPTY, held: None, misses: 0 })
     }
 
     pub fn config(&self) -> &FilterConfig {
@@ -325,11 +308,7 @@ impl TouchFilter {
         let (xs, ys, zs) = (&mut xs[..n], &mut ys[..n], &mut zs[..n]);
         let z = median_u16(zs);
         if in_window == 0 {
-            return Read::NotTouched(if z < self.cfg.z_min {
-                NoTouch::PressureLow
-            } else {
-                NoTouch::PressureHigh
-            });
+            return Read::NotTouched(if z < self.cfg.z_min { NoTouch::PressureLow } else { NoTouch::PressureHigh });
         }
         if in_window < n {
             return Read::Rejected(Reject::PartialContact);
@@ -343,10 +322,7 @@ impl TouchFilter {
         if spread(ys) > self.cfg.max_spread {
             return Read::Rejected(Reject::SpreadY);
         }
-        Read::Touched {
-            point: TouchPoint { x, y },
-            z,
-        }
+        Read::Touched { point: TouchPoint { x, y }, z }
     }
 
     /// Feeds one read (exactly `FilterConfig::samples` samples).

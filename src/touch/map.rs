@@ -151,15 +151,8 @@ fn round_raw<R: Real>(v: R) -> Option<u16> {
 
 impl Calibration {
     /// SPEC §2: X 123..932, Y 128..897, no swap, no inversion.
-    pub const DEFAULT: Self = Self {
-        x_min: 123,
-        x_max: 932,
-        y_min: 128,
-        y_max: 897,
-        swap_xy: false,
-        invert_x: false,
-        invert_y: false,
-    };
+    pub const DEFAULT: Self =
+        Self { x_min: 123, x_max: 932, y_min: 128, y_max: 897, swap_xy: false, invert_x: false, invert_y: false };
 
     /// Limits within the ADC range and `min < max` on both axes.
     pub fn validate(&self) -> Result<(), CalibrationError> {
@@ -177,11 +170,7 @@ impl Calibration {
     /// exact value rounded once and the span ends land on exactly −1, 1, 0, 1.
     pub fn map<R: Real>(&self, raw_x: u16, raw_y: u16) -> Result<MappedPoint<R>, CalibrationError> {
         self.validate()?;
-        let (sx, sy) = if self.swap_xy {
-            (raw_y, raw_x)
-        } else {
-            (raw_x, raw_y)
-        };
+        let (sx, sy) = if self.swap_xy { (raw_y, raw_x) } else { (raw_x, raw_y) };
         let (cx, clamped_x) = clamp_raw(sx, self.x_min, self.x_max);
         let (cy, clamped_y) = clamp_raw(sy, self.y_min, self.y_max);
         let (x_min, x_max) = (i32::from(self.x_min), i32::from(self.x_max));
@@ -191,11 +180,7 @@ impl Calibration {
         }
         // Inverting y uses the distance from the top instead of 1 − y_p, which
         // would round twice.
-        let num_y = if self.invert_y {
-            self.y_max - cy
-        } else {
-            cy - self.y_min
-        };
+        let num_y = if self.invert_y { self.y_max - cy } else { cy - self.y_min };
         Ok(MappedPoint {
             x_p: from_i32::<R>(num_x) / R::from_u16(self.x_max - self.x_min),
             y_p: R::from_u16(num_y) / R::from_u16(self.y_max - self.y_min),
@@ -213,14 +198,10 @@ impl Calibration {
             return Err(CalibrationError::PointOutOfRange);
         }
         let x = if self.invert_x { -x_p } else { x_p };
-        let sx = (R::from_u16(self.x_min + self.x_max) + x * R::from_u16(self.x_max - self.x_min))
-            * R::HALF;
+        let sx = (R::from_u16(self.x_min + self.x_max) + x * R::from_u16(self.x_max - self.x_min)) * R::HALF;
         let span_y = R::from_u16(self.y_max - self.y_min);
-        let sy = if self.invert_y {
-            R::from_u16(self.y_max) - y_p * span_y
-        } else {
-            R::from_u16(self.y_min) + y_p * span_y
-        };
+        let sy =
+            if self.invert_y { R::from_u16(self.y_max) - y_p * span_y } else { R::from_u16(self.y_min) + y_p * span_y };
         Ok(if self.swap_xy { (sy, sx) } else { (sx, sy) })
     }
 
@@ -245,10 +226,7 @@ impl Calibration {
     /// evaluated at the axis ends (x = ±1, y = 0 and 1) and rounded; a falling
     /// line sets the inversion flag. With noisy readings more crosshairs (e.g.
     /// four corners plus the centre) average the noise out.
-    pub fn from_crosshairs<R: Real>(
-        points: &[Crosshair<R>],
-        swap: SwapMode,
-    ) -> Result<Self, CalibrationError> {
+    pub fn from_crosshairs<R: Real>(points: &[Crosshair<R>], swap: SwapMode) -> Result<Self, CalibrationError> {
         let needed = match swap {
             SwapMode::Detect => 3,
             SwapMode::Known(_) => 2,
@@ -319,11 +297,7 @@ impl Calibration {
                 }
             }
         };
-        let (s_x, m_cx, s_y, m_cy) = if swap_xy {
-            (sxb, mb, sya, ma)
-        } else {
-            (sxa, ma, syb, mb)
-        };
+        let (s_x, m_cx, s_y, m_cy) = if swap_xy { (sxb, mb, sya, ma) } else { (sxa, ma, syb, mb) };
         let slope_x = s_x / sxx;
         let slope_y = s_y / syy;
         let at_x = |x: R| m_cx + slope_x * (x - mx);
@@ -337,15 +311,7 @@ impl Calibration {
         let invert_y = slope_y < R::ZERO;
         let (x_min, x_max) = if invert_x { (right, left) } else { (left, right) };
         let (y_min, y_max) = if invert_y { (top, bottom) } else { (bottom, top) };
-        let cal = Self {
-            x_min,
-            x_max,
-            y_min,
-            y_max,
-            swap_xy,
-            invert_x,
-            invert_y,
-        };
+        let cal = Self { x_min, x_max, y_min, y_max, swap_xy, invert_x, invert_y };
         cal.validate()?;
         Ok(cal)
     }

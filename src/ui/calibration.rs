@@ -15,11 +15,11 @@ use embedded_graphics::pixelcolor::Rgb565;
 
 use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
 use super::flash::TextSource;
-use crate::text::Text;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
 use super::text_buf::Line;
 use super::theme;
 use crate::config::settings::MIN_TOUCH_SPAN;
+use crate::text::Text;
 use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 
 /// Crosshair centres in screen pixels: four corners inset by 10 % and the
@@ -213,7 +213,12 @@ fn draw_step<D: Canvas>(d: &mut D, index: u8) -> Result<(), D::Error> {
 fn draw_hint<D: Canvas>(d: &mut D, rejected: bool) -> Result<(), D::Error> {
     fill(d, HINT_AREA, BG)?;
     if rejected {
-        line_centered(d, HINT_AREA.y, &t!("Lift, then touch the NEW cross"), &TextStyle::opaque(1, theme::WARN_TEXT, BG))?;
+        line_centered(
+            d,
+            HINT_AREA.y,
+            &t!("Lift, then touch the NEW cross"),
+            &TextStyle::opaque(1, theme::WARN_TEXT, BG),
+        )?;
     }
     Ok(())
 }
@@ -276,11 +281,7 @@ fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -
 
 /// Draws the flow's screen; with `old` (what is on the glass) only the
 /// changed parts are repainted.
-pub(crate) fn draw<D: Canvas>(
-    flow: &CalibrationFlow,
-    old: Option<CalView>,
-    d: &mut D,
-) -> Result<CalView, D::Error> {
+pub(crate) fn draw<D: Canvas>(flow: &CalibrationFlow, old: Option<CalView>, d: &mut D) -> Result<CalView, D::Error> {
     match flow.phase {
         CalPhase::Review { result } => {
             if old != Some(CalView::Review(result)) {

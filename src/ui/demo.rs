@@ -7,8 +7,8 @@ use super::calibration::{cal_point, CalibrationFlow};
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::screen::UiConfig;
 use crate::config::settings::SpeedPreset;
-use crate::touch::map::Calibration;
 use crate::geometry::workspace::Condition;
+use crate::touch::map::Calibration;
 
 pub const CONFIG: UiConfig = UiConfig { reach_min: 0.3, reach_max: 0.9 };
 

@@ -6,11 +6,11 @@
 //! `i16`/`u16` so that no function takes more than 18 bytes of arguments
 //! (the ATmega2560 miscompiles stack-passed ones).
 
+use embedded_graphics::draw_target::DrawTarget;
+use embedded_graphics::geometry::Dimensions;
 use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
-use embedded_graphics::draw_target::DrawTarget;
-use embedded_graphics::geometry::Dimensions;
 use embedded_graphics::Pixel;
 
 use super::flash::TextSource;

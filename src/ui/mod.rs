@@ -26,7 +26,7 @@ pub mod text_buf;
 pub mod theme;
 pub mod ws_view;
 
-pub use draw::{Canvas, Run};
 pub use calibration::{CalFailure, CalPhase, CalibrationEvent, CalibrationFlow};
+pub use draw::{Canvas, Run};
 pub use model::{warn, Refusal, UiModel, UiState};
 pub use screen::{Hit, Redrawn, Ui, UiConfig};

@@ -11,13 +11,13 @@ use embedded_graphics::pixelcolor::Rgb565;
 use super::calibration::{self, CalView, CalibrationFlow};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
-use crate::text::Text;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::text_buf::{rad_to_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
 use crate::config::settings::SpeedPreset;
+use crate::text::Text;
 
 /// Which regions a draw call repainted (bit set).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -59,7 +59,10 @@ pub enum Hit {
     Speed(SpeedPreset),
     Calibrate,
     /// A point of the map, in workspace coordinates.
-    Map { x_p: f32, y_p: f32 },
+    Map {
+        x_p: f32,
+        y_p: f32,
+    },
 }
 
 /// The arm's reach drawn on the map, in workspace units: for links `l2, l3`
@@ -111,7 +114,10 @@ impl Headline {
 enum Detail {
     Hint(Text),
     /// Filled bar pixels and the percentage shown.
-    Progress { px: u16, percent: u8 },
+    Progress {
+        px: u16,
+        percent: u8,
+    },
 }
 
 /// The screen as drawn, in display units.
@@ -127,7 +133,6 @@ struct View {
     target: Option<Mark>,
     speed: SpeedPreset,
 }
-
 
 fn progress_of(p: f32) -> (u16, u8) {
     // NaN → 0 through the failed comparison.
@@ -226,12 +231,7 @@ const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
 /// rest of `a` in `bg`. Text longer than `a` is cut at a whole character.
-fn text_box<D: Canvas, T: TextSource + ?Sized>(
-    d: &mut D,
-    a: Area,
-    s: &T,
-    style: &TextStyle,
-) -> Result<(), D::Error> {
+fn text_box<D: Canvas, T: TextSource + ?Sized>(d: &mut D, a: Area, s: &T, style: &TextStyle) -> Result<(), D::Error> {
     let pad: u16 = 4;
     let (cw, th) = style.extent(1);
     let fit = (a.w.saturating_sub(pad) / cw.max(1)) as usize;
@@ -278,7 +278,8 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
     let (tw, th) = style.extent(label.len());
     // Centre the ink: the last glyph's trailing gap is blank.
     let ink_w = tw.saturating_sub(u16::from(style.gap));
-    let inner = Area::new(a.x + (a.w.saturating_sub(ink_w) / 2) as i16, a.y + (a.h.saturating_sub(th) / 2) as i16, tw, th);
+    let inner =
+        Area::new(a.x + (a.w.saturating_sub(ink_w) / 2) as i16, a.y + (a.h.saturating_sub(th) / 2) as i16, tw, th);
     text(d, inner.x, inner.y, &label, style)?;
     fill_around(d, a, inner, style.bg.unwrap_or(theme::BG))
 }
@@ -446,11 +447,7 @@ impl Ui {
 
     /// Draws the calibration screen for `flow`'s current step, repainting
     /// only what changed since the last calibration draw.
-    pub fn draw_calibration<D: Canvas>(
-        &mut self,
-        flow: &CalibrationFlow,
-        d: &mut D,
-    ) -> Result<Redrawn, D::Error> {
+    pub fn draw_calibration<D: Canvas>(&mut self, flow: &CalibrationFlow, d: &mut D) -> Result<Redrawn, D::Error> {
         let old = match self.shown {
             Shown::Calibration(v) => Some(v),
             _ => None,
@@ -479,7 +476,12 @@ fn draw_detail<D: Canvas>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
         Detail::Hint(s) => text_box(d, lay::DETAIL, &s, &HEAD_STYLE),
         Detail::Progress { px, percent } => {
             let left = Area::new(lay::DETAIL.x, lay::DETAIL.y, (lay::BAR_TEXT.x - lay::DETAIL.x) as u16, lay::DETAIL.h);
-            let right = Area::new(lay::BAR_TEXT.x, lay::DETAIL.y, (lay::DETAIL.right() - lay::BAR_TEXT.x) as u16, lay::DETAIL.h);
+            let right = Area::new(
+                lay::BAR_TEXT.x,
+                lay::DETAIL.y,
+                (lay::DETAIL.right() - lay::BAR_TEXT.x) as u16,
+                lay::DETAIL.h,
+            );
             fill_around(d, left, lay::BAR, theme::BG)?;
             fill_around(d, right, lay::BAR_TEXT, theme::BG)?;
             frame(d, lay::BAR, 1, theme::FRAME)?;
@@ -494,11 +496,8 @@ fn draw_detail<D: Canvas>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
 /// Repaints only the bar columns between the old and the new fill.
 fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(), D::Error> {
     let f = lay::BAR_FILL;
-    let (lo, hi, c) = if new_px >= old_px {
-        (old_px, new_px, theme::PROGRESS)
-    } else {
-        (new_px, old_px, theme::PROGRESS_BG)
-    };
+    let (lo, hi, c) =
+        if new_px >= old_px { (old_px, new_px, theme::PROGRESS) } else { (new_px, old_px, theme::PROGRESS_BG) };
     fill(d, Area::new(f.x + lo as i16, f.y, hi - lo, f.h), c)
 }
 

@@ -26,12 +26,8 @@ pub const ZONE: [Rgb565; 4] = [
 ];
 /// The same zones, out of reach: darker and greyer, still telling the zones
 /// apart.
-pub const ZONE_OUT: [Rgb565; 4] = [
-    Rgb565::new(10, 26, 16),
-    Rgb565::new(10, 32, 10),
-    Rgb565::new(16, 31, 8),
-    Rgb565::new(16, 24, 13),
-];
+pub const ZONE_OUT: [Rgb565; 4] =
+    [Rgb565::new(10, 26, 16), Rgb565::new(10, 32, 10), Rgb565::new(16, 31, 8), Rgb565::new(16, 24, 13)];
 /// The triangle edges (the diagonals and the vertical through the base).
 pub const ZONE_LINE: Rgb565 = Rgb565::new(6, 12, 6);
 pub const BASE: Rgb565 = Rgb565::new(8, 16, 8);

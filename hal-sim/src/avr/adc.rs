@@ -29,7 +29,11 @@ pub enum AdcInput {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AdcMux {
     Single(u8),
-    Differential { pos: u8, neg: u8, gain: u8 },
+    Differential {
+        pos: u8,
+        neg: u8,
+        gain: u8,
+    },
     /// Internal sources simavr handles itself (bandgap, GND, temperature...):
     /// the raw `ADC_MUX_*` kind.
     Internal(u8),
@@ -83,12 +87,7 @@ pub(crate) struct AdcState {
 
 impl AdcState {
     pub(crate) fn new() -> Self {
-        Self {
-            adc: std::ptr::null_mut(),
-            inputs: [AdcInput::Millivolts(0); 16],
-            handler: None,
-            log: Vec::new(),
-        }
+        Self { adc: std::ptr::null_mut(), inputs: [AdcInput::Millivolts(0); 16], handler: None, log: Vec::new() }
     }
 }
 
@@ -132,11 +131,7 @@ pub(crate) unsafe fn attach(avr: *mut ffi::avr_t, shared: *mut Shared) -> bool {
         return false;
     };
     (*shared).adc.adc = adc;
-    ffi::avr_irq_register_notify(
-        (*adc).io.irq.add(ffi::ADC_IRQ_OUT_TRIGGER as usize),
-        Some(on_trigger),
-        shared.cast(),
-    );
+    ffi::avr_irq_register_notify((*adc).io.irq.add(ffi::ADC_IRQ_OUT_TRIGGER as usize), Some(on_trigger), shared.cast());
     true
 }
 

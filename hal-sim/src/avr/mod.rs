@@ -107,11 +107,16 @@ pub enum Error {
     UnknownMcu(String),
     /// The core lacks this peripheral or port.
     Missing(String),
-    OutOfRange { addr: u32, len: usize },
+    OutOfRange {
+        addr: u32,
+        len: usize,
+    },
     NoSymbol(String),
     Halted(Halt),
     /// `run_until`'s condition did not become true within the budget.
-    Timeout { cycles: u64 },
+    Timeout {
+        cycles: u64,
+    },
 }
 
 impl fmt::Display for Error {
@@ -475,9 +480,7 @@ impl Avr {
         self.stop_at = Some(cycle);
         let now = self.cycles();
         if cycle > now {
-            unsafe {
-                ffi::avr_cycle_timer_register(self.avr, cycle - now, Some(stop_timer), self.shared.cast())
-            };
+            unsafe { ffi::avr_cycle_timer_register(self.avr, cycle - now, Some(stop_timer), self.shared.cast()) };
         }
     }
 
@@ -599,11 +602,7 @@ impl Avr {
     // ---- GPIO --------------------------------------------------------------
 
     fn port_index(&self, port: char) -> Result<usize, Error> {
-        self.shared()
-            .ports
-            .iter()
-            .position(|p| p.name == port)
-            .ok_or_else(|| Error::Missing(format!("port {port}")))
+        self.shared().ports.iter().position(|p| p.name == port).ok_or_else(|| Error::Missing(format!("port {port}")))
     }
 
     pub fn port_state(&self, port: char) -> Result<PortState, Error> {
@@ -795,9 +794,7 @@ impl Avr {
     /// without I/O side effects.
     pub fn read_sram(&self, addr: u16, len: usize) -> Result<&[u8], Error> {
         let start = usize::from(addr);
-        self.data()
-            .get(start..start + len)
-            .ok_or(Error::OutOfRange { addr: u32::from(addr), len })
+        self.data().get(start..start + len).ok_or(Error::OutOfRange { addr: u32::from(addr), len })
     }
 
     /// Writes data space directly (no I/O side effects).

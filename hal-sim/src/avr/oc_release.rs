@@ -45,12 +45,7 @@ pub(crate) unsafe fn install(avr: *mut ffi::avr_t) -> Vec<*mut ComHook> {
                 continue;
             };
             let slot = &mut slot.w;
-            let hook = Box::into_raw(Box::new(ComHook {
-                timer,
-                orig: slot.c,
-                orig_param: slot.param,
-                latch: [0; 3],
-            }));
+            let hook = Box::into_raw(Box::new(ComHook { timer, orig: slot.c, orig_param: slot.param, latch: [0; 3] }));
             slot.c = Some(on_com_write);
             slot.param = hook.cast();
             hooks.push(hook);

@@ -49,13 +49,7 @@ pub(crate) unsafe fn install(avr: *mut ffi::avr_t) -> Vec<*mut OcrHook> {
             let Some(orig) = slot.c else {
                 continue;
             };
-            let hook = Box::into_raw(Box::new(OcrHook {
-                timer,
-                addr,
-                orig,
-                orig_param: slot.param,
-                pending: false,
-            }));
+            let hook = Box::into_raw(Box::new(OcrHook { timer, addr, orig, orig_param: slot.param, pending: false }));
             slot.c = Some(on_ocr_write);
             slot.param = hook.cast();
             hooks.push(hook);

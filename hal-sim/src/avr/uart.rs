@@ -116,11 +116,7 @@ pub(crate) unsafe fn attach(avr: *mut ffi::avr_t, shared: *mut Shared, name: u8)
             (*shared).uart.reg_hooks.push(h);
         }
     }
-    ffi::avr_irq_register_notify(
-        irq.add(ffi::UART_IRQ_OUTPUT as usize),
-        Some(on_tx),
-        shared.cast(),
-    );
+    ffi::avr_irq_register_notify(irq.add(ffi::UART_IRQ_OUTPUT as usize), Some(on_tx), shared.cast());
     true
 }
 

@@ -17,9 +17,9 @@ use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
 use touch_arm::config::settings::Config;
+use touch_arm::geometry::ik::Links;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::servo::map::{ServoMap, ELBOW_BRANCH};
-use touch_arm::geometry::ik::Links;
 
 const USAGE: &str = "usage: touch-arm-sim [--raw X,Y | --xy X,Y] [--elf FILE] [--out DIR]
 Runs the firmware in simavr, touches the panel at the given point and writes
@@ -54,7 +54,8 @@ fn run() -> Result<(), String> {
             "--out" => out = args.next().ok_or("--out needs a directory")?.into(),
             "--raw" => {
                 let (x, y) = pair(&args.next().ok_or("--raw needs X,Y")?)?;
-                if !(0.0..=1023.0).contains(&x) || !(0.0..=1023.0).contains(&y) || x.fract() != 0.0 || y.fract() != 0.0 {
+                if !(0.0..=1023.0).contains(&x) || !(0.0..=1023.0).contains(&y) || x.fract() != 0.0 || y.fract() != 0.0
+                {
                     return Err(format!("--raw values must be integers 0..=1023, got {x},{y}"));
                 }
                 raw = (x, y);
@@ -102,8 +103,13 @@ fn run() -> Result<(), String> {
     let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?, branch: ELBOW_BRANCH };
     let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
     let q = [pose.alpha, pose.q2, pose.q3];
-    let maps: Vec<ServoMap> = Config::DEFAULT.joints.iter().map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}"))).collect::<Result<_, _>>()?;
-    let target: Vec<f64> = (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| p.us as f64).unwrap_or(f64::NAN)).collect();
+    let maps: Vec<ServoMap> = Config::DEFAULT
+        .joints
+        .iter()
+        .map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}")))
+        .collect::<Result<_, _>>()?;
+    let target: Vec<f64> =
+        (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| p.us as f64).unwrap_or(f64::NAN)).collect();
 
     let trains = s.pulses();
     let n = trains.iter().map(Vec::len).min().unwrap_or(0);
@@ -141,26 +147,46 @@ fn run() -> Result<(), String> {
 
     // Angles back from the pulses through the calibration, and their rates.
     let t: Vec<f64> = (0..n).map(|i| trains[0][i].0).collect();
-    let ang: Vec<Vec<f64>> = (0..3).map(|j| (0..n).map(|i| maps[j].pulse_to_angle::<f64>(trains[j][i].1.round() as u16).to_degrees()).collect()).collect();
+    let ang: Vec<Vec<f64>> = (0..3)
+        .map(|j| (0..n).map(|i| maps[j].pulse_to_angle::<f64>(trains[j][i].1.round() as u16).to_degrees()).collect())
+        .collect();
     let vel: Vec<Vec<f64>> = ang
         .iter()
         .map(|a| (0..n).map(|i| if i == 0 { 0.0 } else { (a[i] - a[i - 1]) / (t[i] - t[i - 1]) }).collect())
         .collect();
     let names = ["base", "shoulder", "elbow"];
     let png = out.join("angles.png");
-    plot::panels(&png, "firmware in simavr: joint angles from the measured servo pulses", &t, &[
-        Panel { ylabel: "angle [deg]", curves: curves(&names, &ang) },
-        Panel { ylabel: "velocity [deg/s]", curves: curves(&names, &vel) },
-    ])
+    plot::panels(
+        &png,
+        "firmware in simavr: joint angles from the measured servo pulses",
+        &t,
+        &[
+            Panel { ylabel: "angle [deg]", curves: curves(&names, &ang) },
+            Panel { ylabel: "velocity [deg/s]", curves: curves(&names, &vel) },
+        ],
+    )
     .map_err(|e| e.to_string())?;
 
     let screen = out.join("screen.png");
     s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
 
     println!("{}", text.lines().next().unwrap_or(""));
-    println!("touch at raw ({}, {}) -> map point x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg", raw.0, raw.1, x_p, y_p, pose.condition.number(), pose.alpha.to_degrees());
+    println!(
+        "touch at raw ({}, {}) -> map point x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg",
+        raw.0,
+        raw.1,
+        x_p,
+        y_p,
+        pose.condition.number(),
+        pose.alpha.to_degrees()
+    );
     println!("firmware: {line}");
-    println!("IK (host f64): base {:.2} deg, shoulder {:.2} deg, elbow {:.2} deg", q[0].to_degrees(), q[1].to_degrees(), q[2].to_degrees());
+    println!(
+        "IK (host f64): base {:.2} deg, shoulder {:.2} deg, elbow {:.2} deg",
+        q[0].to_degrees(),
+        q[1].to_degrees(),
+        q[2].to_degrees()
+    );
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
     println!("wrote {}, {}, {}, {}", csv_path.display(), json_path.display(), png.display(), screen.display());
     Ok(())

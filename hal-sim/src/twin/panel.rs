@@ -18,8 +18,8 @@
 //!   the contact resistance Rt falls (a firmer touch). Untouched, z1 = 0 and
 //!   z2 = 1023: pressure 0.
 
-use touch_arm::seam::TouchPanel;
 use touch_arm::seam::RawSample;
+use touch_arm::seam::TouchPanel;
 use touch_arm::touch::filter::{pressure, ADC_MAX};
 use touch_arm::touch::map::Calibration;
 
@@ -233,20 +233,14 @@ impl SimPanel {
         if !(lim.contains(&raw_x) && lim.contains(&raw_y)) {
             return Err(format!("raw point ({raw_x}, {raw_y}) is off the panel"));
         }
-        self.model.contact = Some(Contact {
-            fx: (raw_x + 0.5) / 1024.0,
-            fy: (raw_y + 0.5) / 1024.0,
-            r_touch: R_TOUCH_FIRM / force,
-        });
+        self.model.contact =
+            Some(Contact { fx: (raw_x + 0.5) / 1024.0, fy: (raw_y + 0.5) / 1024.0, r_touch: R_TOUCH_FIRM / force });
         Ok(())
     }
 
     /// Presses at a normalized workspace point (through the panel's true response).
     pub fn touch_xy(&mut self, x_p: f64, y_p: f64, force: f64) -> Result<(), String> {
-        let (rx, ry) = self
-            .cal
-            .unmap_exact::<f64>(x_p, y_p)
-            .map_err(|e| format!("point ({x_p}, {y_p}): {e:?}"))?;
+        let (rx, ry) = self.cal.unmap_exact::<f64>(x_p, y_p).map_err(|e| format!("point ({x_p}, {y_p}): {e:?}"))?;
         self.touch_raw(rx, ry, force)
     }
 

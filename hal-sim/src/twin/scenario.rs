@@ -553,7 +553,11 @@ impl Runner {
                 let mut k = 0;
                 loop {
                     if k >= *max {
-                        return Err(format!("state {:?} not reached within {max} frames (now {:?})", state, sim.app.state()));
+                        return Err(format!(
+                            "state {:?} not reached within {max} frames (now {:?})",
+                            state,
+                            sim.app.state()
+                        ));
                     }
                     sim.step();
                     k += 1;
@@ -681,7 +685,10 @@ impl Runner {
             Expect::SpeedWithin(pct, m) => {
                 let (worst, frame) = self.peak_speed_share(self.mark(m)?);
                 if worst > pct / 100.0 * (1.0 + 1e-3) {
-                    return Err(format!("a joint moved at {:.2} % of its max speed (frame {frame}) > {pct} %", worst * 100.0));
+                    return Err(format!(
+                        "a joint moved at {:.2} % of its max speed (frame {frame}) > {pct} %",
+                        worst * 100.0
+                    ));
                 }
             }
             Expect::PeakSpeedAtLeast(pct, m) => {
@@ -703,7 +710,8 @@ impl Runner {
                 for r in w {
                     let q = deg3(&r.commanded);
                     let prog: Vec<f64> = moving.iter().map(|&j| (q[j] - start[j]) / (end[j] - start[j])).collect();
-                    let spread = prog.iter().cloned().fold(f64::MIN, f64::max) - prog.iter().cloned().fold(f64::MAX, f64::min);
+                    let spread =
+                        prog.iter().cloned().fold(f64::MIN, f64::max) - prog.iter().cloned().fold(f64::MAX, f64::min);
                     if spread > *tol {
                         return Err(format!("joints out of step in frame {}: progress {prog:?}", r.frame));
                     }
@@ -788,7 +796,10 @@ mod tests {
         let t = tokenize(r#"send_raw "a\x01\"b\\\r\n" # tail"#).unwrap();
         assert_eq!(t, vec![Tok::Word("send_raw".into()), Tok::Str(b"a\x01\"b\\\r\n".to_vec())]);
         let mut a = Args { toks: tokenize("250ms 1.5s 12f 0.01s").unwrap(), pos: 0 };
-        assert_eq!([a.duration().unwrap(), a.duration().unwrap(), a.duration().unwrap(), a.duration().unwrap()], [13, 75, 12, 1]);
+        assert_eq!(
+            [a.duration().unwrap(), a.duration().unwrap(), a.duration().unwrap(), a.duration().unwrap()],
+            [13, 75, 12, 1]
+        );
         // A false expectation fails with its line.
         let e = Scenario::parse("run 2s\nexpect state moving\n").unwrap().run().err().unwrap();
         assert!(e.starts_with("line 2: state is Holding"), "{e}");

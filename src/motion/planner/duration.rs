@@ -2,9 +2,9 @@
 //! every joint within its speed (`zat_duration`; the reasoning is in
 //! [`super`]'s module doc).
 
+use super::peak_rate::{creep_bound, ln_peak_slope, peak_guess, piece_max, Piece, PEAK_GUESS, PEAK_ROUGH, PEAK_TOL};
 use super::request::{PlanError, PlanLimits};
 use super::shape_choice::{zat_shape, AKind, ZatShape};
-use super::peak_rate::{creep_bound, ln_peak_slope, peak_guess, piece_max, Piece, PEAK_GUESS, PEAK_ROUGH, PEAK_TOL};
 use crate::math::real::Real;
 
 /// The duration search's tolerance: the returned tₛ is at most this much
@@ -116,21 +116,11 @@ fn estimate<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) {
     let ts = c.ts();
     let hi = c.z.first_end();
     let behind = ts.sqrt() - s.off;
-    let guess = if c.z.t_star > R::ZERO && behind > R::ZERO && behind < hi {
-        behind
-    } else {
-        peak_guess(ts, hi, s.rho)
-    };
+    let guess =
+        if c.z.t_star > R::ZERO && behind > R::ZERO && behind < hi { behind } else { peak_guess(ts, hi, s.rho) };
     // A smooth stop ends with G′ = 0, and G′ ≈ 0 at t*: only the floor shapes
     // can peak at the end of their first piece.
-    let pc = Piece {
-        lo: R::ZERO,
-        hi,
-        guess,
-        limit: s.limit,
-        tol: R::lit(PEAK_ROUGH),
-        end: c.z.kind == AKind::Floor,
-    };
+    let pc = Piece { lo: R::ZERO, hi, guess, limit: s.limit, tol: R::lit(PEAK_ROUGH), end: c.z.kind == AKind::Floor };
     let h = piece_max(&c.z.shape, &pc);
     c.slope = (ts - R::ONE) * ln_peak_slope(&c.z.shape, &h, c.z.da);
     c.peak = h.rate;
@@ -234,13 +224,7 @@ enum Pick {
 #[inline(never)]
 pub(super) fn zat_duration<R: Real>(ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R), PlanError> {
     let l = lim.n.ln();
-    let mut s = Search {
-        ratio,
-        limit: ratio.recip(),
-        rho: R::lit(PEAK_GUESS),
-        off: R::ZERO,
-        creep: false,
-    };
+    let mut s = Search { ratio, limit: ratio.recip(), rho: R::lit(PEAK_GUESS), off: R::ZERO, creep: false };
     let tol = R::lit(TS_SEARCH_TOL);
     let z_max = ts_z(lim.ts_max);
     let mut ts = lim.zat_ts_min;

@@ -4,9 +4,9 @@
 //! plus what a duration search needs to steer with it (rough estimates,
 //! a bound for the slow creep before the end, and d ln P/dtₛ).
 
+use crate::math::real::Real;
 use crate::motion::laws::Law;
 use crate::motion::plan::JointLaw;
-use crate::math::real::Real;
 use crate::motion::zat::{t_star, Shape};
 
 /// The peak search stops once the last Newton step predicts G′ to rise by
@@ -130,16 +130,8 @@ pub(crate) struct Hump<R> {
 pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
     let (mut lo, mut hi) = (pc.lo, pc.hi);
     let mut t = pc.guess;
-    let mut best = Hump {
-        rate: R::ZERO,
-        t,
-        q: R::ZERO,
-        h1: R::ZERO,
-        next: t,
-        at_end: false,
-        over: false,
-        exact: false,
-    };
+    let mut best =
+        Hump { rate: R::ZERO, t, q: R::ZERO, h1: R::ZERO, next: t, at_end: false, over: false, exact: false };
     if pc.end {
         if let Some(r) = shape.rate_terms(hi) {
             let rate = r.g * r.h1;
@@ -279,4 +271,3 @@ pub fn peak_rate<R: Real>(law: &JointLaw<R>) -> R {
         JointLaw::Classic(p) => R::lit(classic_peak_factor(p.law())) / p.duration(),
     }
 }
-

@@ -43,11 +43,5 @@ pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<P
             return Err(PlanError::SpeedLimit);
         }
     }
-    Ok(PlannedMove {
-        end_velocity: plan.end_velocities(),
-        plan,
-        ts,
-        a,
-        peak_rate: peak,
-    })
+    Ok(PlannedMove { end_velocity: plan.end_velocities(), plan, ts, a, peak_rate: peak })
 }

@@ -8,9 +8,9 @@
 //! used (within 1e-7 of the infimum). One [`Shape`] is built per tₛ
 //! (`zat_shape`), with what the peak and duration searches reuse.
 
-use crate::motion::TrajError;
 use crate::math::real::Real;
 use crate::motion::zat::{t_star, u_min, Shape, ShapeParams};
+use crate::motion::TrajError;
 
 /// tₛ ≤ 1: a = tₛ − A_FLOOR/L, q(tₛ) = 1/expm1(16) ≈ 1e-7.
 const A_FLOOR: f64 = 16.0;
@@ -147,4 +147,3 @@ pub(super) fn zat_shape<R: Real>(ts: R, n: R, l: R) -> Result<ZatShape<R>, TrajE
     let shape = Shape::new(&ShapeParams { ts, a, n })?;
     Ok(ZatShape { shape, kind, t_star, da })
 }
-
