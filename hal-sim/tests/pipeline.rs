@@ -944,67 +944,6 @@ mod config {
         e.restore_power();
     }
 
-    #[test]
-    fn power_loss_at_every_byte_leaves_old_or_new() {
-        let old = sample_config();
-        let new = Config::DEFAULT;
-        for prior_saves in 1..=3u16 {
-            for torn in [0x00u8, 0xFF, 0xA5] {
-                for cut in 0..=2 * RECORD_LEN {
-                    let mut e = SimEeprom::new();
-                    for _ in 0..prior_saves {
-                        save(&mut e, &old).unwrap();
-                    }
-                    interrupted_save(&mut e, &new, cut, torn);
-                    let new_record = new.encode(prior_saves + 1);
-                    let complete = record(&mut e, SLOT_A_ADDR) == &new_record[..]
-                        || record(&mut e, SLOT_B_ADDR) == &new_record[..];
-                    let l = load(&mut e);
-                    assert_ne!(l.source, Source::Defaults, "cut {cut}");
-                    if cut >= RECORD_LEN {
-                        // The first copy is complete: the new config is committed.
-                        assert_eq!(l.config, new, "cut {cut}");
-                    } else if complete {
-                        // The torn byte happened to be the right one.
-                        assert_eq!(l.config, new, "cut {cut}");
-                    } else {
-                        assert_eq!(l.config, old, "cut {cut}");
-                    }
-                    // Recovery: a later save succeeds and is read back cleanly.
-                    save(&mut e, &old).unwrap();
-                    let l = load(&mut e);
-                    assert_eq!((l.config, l.warning), (old, None));
-                }
-            }
-        }
-    }
-
-    /// Copies valid but with different sequence numbers (not produced by
-    /// `save` itself, but possible after a torn write that happened to leave
-    /// the right bytes): the newest must survive a cut anywhere in the next save.
-    #[test]
-    fn power_loss_with_unequal_copies() {
-        let newest = sample_config();
-        let older = Config { law: LawKind::Linear, ..Config::DEFAULT };
-        let new = Config { speed: SpeedPreset::Slow, ..Config::DEFAULT };
-        for newest_slot in [SLOT_A_ADDR, SLOT_B_ADDR] {
-            let older_slot = SLOT_A_ADDR + SLOT_B_ADDR - newest_slot;
-            for cut in 0..=2 * RECORD_LEN {
-                let mut e = SimEeprom::new();
-                record(&mut e, newest_slot).copy_from_slice(&newest.encode(9));
-                record(&mut e, older_slot).copy_from_slice(&older.encode(8));
-                assert_eq!(load(&mut e).config, newest);
-                interrupted_save(&mut e, &new, cut, 0x5A);
-                let l = load(&mut e);
-                let want = if cut >= RECORD_LEN { new } else { newest };
-                assert_eq!(l.config, want, "newest in {newest_slot}, cut {cut}");
-                if cut == 2 * RECORD_LEN {
-                    assert_eq!(l.seq, 10);
-                }
-            }
-        }
-    }
-
     proptest! {
         #![proptest_config(cfg())]
         /// A chain of saves, each possibly cut anywhere: after each, the loaded

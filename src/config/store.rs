@@ -18,14 +18,32 @@
 //!
 //! # Two copies
 //! Copy A lives at [`SLOT_A_ADDR`], copy B at [`SLOT_B_ADDR`]. [`save`] writes the
-//! new record (sequence + 1) to both, **first to the slot that does not hold the
-//! newest valid copy, then to the other**, verifying each by reading it back.
-//! A power loss while writing the first slot leaves the other slot's old copy
-//! intact; a loss while writing the second leaves the first slot's complete new
-//! copy, which has the higher sequence number. A torn record fails the CRC
-//! (a 16-bit CRC catches every error burst of up to 16 bits, so any single
-//! garbled byte). [`load`] takes the valid copy with the newer sequence number;
-//! with no valid copy it returns the defaults and a [`Warning`].
+//! new record (sequence + 1) to both, **first to the slot [`load`] would not
+//! pick, then to the other** (one function, [`pick`], decides for both, ties
+//! included), verifying each by reading it back. A power loss while writing
+//! the first slot leaves the picked slot's copy intact; a loss while writing
+//! the second leaves the first slot's complete new copy, which has the higher
+//! sequence number.
+//!
+//! # Tear-proof by construction
+//! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
+//! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
+//! otherwise), then bytes 1..90 (body and CRC), then byte 0 := `T`. A power
+//! loss tears at most the one byte being written; whatever value that byte is
+//! left with:
+//! - during step 1 the body is untouched and byte 0 read `T` before: the slot
+//!   holds its old content unchanged, or nothing valid (were byte 0 rewritten
+//!   when it was not `T`, a tear could turn it into `T` and commit a stale body
+//!   left by an earlier interrupted save);
+//! - during step 2 byte 0 is [`UNCOMMITTED`], so the slot is invalid whatever
+//!   the body holds;
+//! - during step 3 the body and CRC are complete: the slot is the complete new
+//!   record if byte 0 came out `T`, else invalid.
+//!
+//! So a slot is never read as a mixture of two records; the CRC is left to
+//! catch what it is for (cells that decay or are overwritten), not tears.
+//! [`load`] takes the copy [`pick`] chooses; with no valid copy it returns the
+//! defaults and a [`Warning`].
 
 use super::crc::crc16;
 use super::settings::{Config, ConfigError, SpeedPreset};
@@ -44,6 +62,9 @@ pub const MAGIC: [u8; 2] = *b"TA";
 pub const VERSION: u8 = 1;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
+/// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
+pub const UNCOMMITTED: u8 = 0x00;
+const _: () = assert!(UNCOMMITTED != MAGIC[0]);
 const FLAG_SWAP: u8 = 1 << 0;
 const FLAG_INVERT_X: u8 = 1 << 1;
 const FLAG_INVERT_Y: u8 = 1 << 2;
@@ -246,27 +267,39 @@ fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordErr
     Config::decode(&buf)
 }
 
+/// Which of two read slots [`load`] uses: the valid one, or of two valid ones
+/// the newer, A on a tie. [`save`] writes the other slot first.
+pub fn pick(a: &Result<Record, RecordError>, b: &Result<Record, RecordError>) -> Option<Source> {
+    match (a, b) {
+        (Ok(ra), Ok(rb)) if seq_newer(rb.seq, ra.seq) => Some(Source::SlotB),
+        (Ok(_), _) => Some(Source::SlotA),
+        (Err(_), Ok(_)) => Some(Source::SlotB),
+        (Err(_), Err(_)) => None,
+    }
+}
+
 /// Reads both copies and picks the configuration to run with.
 pub fn load<S: Storage>(storage: &mut S) -> Loaded {
     let a = read_slot(storage, SLOT_A_ADDR);
     let b = read_slot(storage, SLOT_B_ADDR);
-    let pick = |r: &Record, source| Loaded { config: r.config, source, seq: r.seq, warning: None };
-    match (&a, &b) {
-        (Ok(ra), Ok(rb)) => {
-            if seq_newer(rb.seq, ra.seq) {
-                pick(rb, Source::SlotB)
-            } else {
-                pick(ra, Source::SlotA)
-            }
-        }
-        (Ok(ra), Err(_)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(ra, Source::SlotA) },
-        (Err(_), Ok(rb)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(rb, Source::SlotB) },
-        (Err(ea), Err(eb)) => Loaded {
+    let damaged = a.is_err() || b.is_err();
+    let loaded = |r: &Record, source| Loaded {
+        config: r.config,
+        source,
+        seq: r.seq,
+        warning: if damaged { Some(Warning::CopyDamaged) } else { None },
+    };
+    match (pick(&a, &b), &a, &b) {
+        (Some(Source::SlotA), Ok(ra), _) => loaded(ra, Source::SlotA),
+        (Some(Source::SlotB), _, Ok(rb)) => loaded(rb, Source::SlotB),
+        (_, Err(ea), Err(eb)) => Loaded {
             config: Config::DEFAULT,
             source: Source::Defaults,
             seq: 0,
             warning: Some(worse(classify(*ea), classify(*eb))),
         },
+        // `pick` names a slot only when that slot read valid.
+        _ => Loaded { config: Config::DEFAULT, source: Source::Defaults, seq: 0, warning: Some(Warning::Corrupt) },
     }
 }
 
@@ -303,29 +336,41 @@ pub enum SaveError {
     Verify,
 }
 
-/// Writes `config` to both copies (see the module doc for the order) and
-/// returns the new sequence number.
+/// Writes `config` to both copies (see the module doc for the order and the
+/// commit byte) and returns the new sequence number.
 pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveError> {
     config.validate().map_err(SaveError::Invalid)?;
-    let a = read_slot(storage, SLOT_A_ADDR).ok();
-    let b = read_slot(storage, SLOT_B_ADDR).ok();
-    // `first` must not be the slot holding the newest valid copy.
-    let (newest, first, second) = match (a, b) {
-        (Some(ra), Some(rb)) if seq_newer(ra.seq, rb.seq) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
-        (Some(_), Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
-        (Some(ra), None) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
-        (None, Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
-        (None, None) => (0, SLOT_A_ADDR, SLOT_B_ADDR),
+    let a = read_slot(storage, SLOT_A_ADDR);
+    let b = read_slot(storage, SLOT_B_ADDR);
+    let (newest, first, second) = match pick(&a, &b) {
+        Some(Source::SlotA) => (a.map_or(0, |r| r.seq), SLOT_B_ADDR, SLOT_A_ADDR),
+        Some(Source::SlotB) => (b.map_or(0, |r| r.seq), SLOT_A_ADDR, SLOT_B_ADDR),
+        _ => (0, SLOT_A_ADDR, SLOT_B_ADDR),
     };
     let seq = newest.wrapping_add(1);
     let record = config.encode(seq);
     for addr in [first, second] {
-        storage.write(addr, &record).map_err(SaveError::Storage)?;
-        let mut check = [0u8; RECORD_LEN];
-        storage.read(addr, &mut check).map_err(SaveError::Storage)?;
-        if check != record {
-            return Err(SaveError::Verify);
-        }
+        write_slot(storage, addr, &record)?;
     }
     Ok(seq)
+}
+
+/// One slot in the three steps of the module doc, then read back.
+fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN]) -> Result<(), SaveError> {
+    let (commit, body) = record.split_at(1);
+    let mut first = [0u8];
+    storage.read(addr, &mut first).map_err(SaveError::Storage)?;
+    // Only a committed slot is uncommitted first: rewriting a byte that is
+    // already uncommitted could tear it into `T` and commit a stale body.
+    if first == [MAGIC[0]] {
+        storage.write(addr, &[UNCOMMITTED]).map_err(SaveError::Storage)?;
+    }
+    storage.write(addr + 1, body).map_err(SaveError::Storage)?;
+    storage.write(addr, commit).map_err(SaveError::Storage)?;
+    let mut check = [0u8; RECORD_LEN];
+    storage.read(addr, &mut check).map_err(SaveError::Storage)?;
+    if check != *record {
+        return Err(SaveError::Verify);
+    }
+    Ok(())
 }
