@@ -35,12 +35,49 @@ pub trait Clock {
     fn now_ms(&self) -> u32;
 }
 
-/// The line-oriented serial port (USART0 on the chip).
+/// The line-oriented serial port (USART0 on the chip). Neither direction
+/// blocks: received bytes wait in a bounded buffer until read, written bytes
+/// in a bounded buffer until sent.
+///
+/// Nothing is lost silently. Receive: when the buffer is full, arriving bytes
+/// are dropped until the reader has read everything kept before them; then
+/// [`SerialPort::read_byte`] returns `None` and [`SerialPort::take_rx_loss`]
+/// says which lines the drop cost. Transmit: [`SerialPort::write`] queues
+/// only what fits in [`SerialPort::tx_room`]; callers check the room first
+/// (the port counts bytes it had to drop, a caller's bug).
+///
+/// The defaults describe an unbounded port that never loses anything.
 pub trait SerialPort {
     /// The next received byte, if any (never blocks).
     fn read_byte(&mut self) -> Option<u8>;
-    /// Queues bytes for transmission.
+    /// After `read_byte` returned `None`: the bytes dropped at this point of
+    /// the stream, if any were; reading then resumes after them.
+    fn take_rx_loss(&mut self) -> Option<RxLoss> {
+        None
+    }
+    /// Bytes [`SerialPort::write`] can queue now.
+    fn tx_room(&self) -> usize {
+        usize::MAX
+    }
+    /// Queues bytes for transmission and returns at once.
     fn write(&mut self, bytes: &[u8]);
+}
+
+/// What a full receive buffer cost, counted in lines as the serial protocol
+/// splits them (`\n`, `\r` or `\r\n` ends a line;
+/// `protocol::rx_loss::LossCounter` does the counting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RxLoss {
+    /// Lines with at least one byte that lost a byte or their terminator,
+    /// each counted once (a line the reader had started counts here; so does
+    /// the line still arriving, if it lost bytes).
+    pub lines: u16,
+    /// The line that continues after the loss lost bytes: the reader drops
+    /// the rest of it (it is counted, now or in an earlier loss).
+    pub rest_damaged: bool,
+    /// The last dropped byte was `\r` (so a `\n` right after the loss belongs
+    /// to it and ends no line).
+    pub after_cr: bool,
 }
 
 /// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).

@@ -31,6 +31,8 @@ scenarios!(
     arrive_together,
     cal_roundtrip,
     eeprom_corrupt,
+    flood,
+    home_pulse_window,
     idle_noise,
     law_switch,
     malformed,

@@ -568,7 +568,7 @@ fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
             }
             3 => m.joints[(rng.next() % 3) as usize] = rng.unit() * 3.0 - 1.0,
             4 => m.speed = SpeedPreset::ALL[(rng.next() % 3) as usize],
-            5 => m.warnings = (rng.next() & 0x1f) as u8,
+            5 => m.warnings = (rng.next() & 0x3f) as u8,
             6 => {
                 m.condition = [None, Some(Condition::C1), Some(Condition::C4)][(rng.next() % 3) as usize];
                 m.alpha = rng.unit() * 3.0;

@@ -4,15 +4,17 @@
 use super::refusal::Refusal;
 use super::text::Line;
 use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
-use crate::config::settings::{Config, SpeedPreset};
+use crate::config::settings::{Config, JointField, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::motion::plan::JOINTS;
 use crate::motion::planner::plan_move::plan_move;
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
+use crate::protocol::command::centideg_to_rad;
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
+use crate::servo::map::Joint;
 use crate::servo::track::ServoTrack;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
@@ -32,6 +34,7 @@ impl App {
             return;
         }
         let now = io.clock.now_ms();
+        self.planned = false;
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -40,6 +43,7 @@ impl App {
             self.send_telemetry(io.serial, now);
         }
         self.flush_pending(io.serial);
+        self.report_dropped(io.serial);
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
@@ -70,35 +74,59 @@ impl App {
             store::Source::Defaults => t!("defaults"),
         });
         line.word(t!("seq")).num(i32::from(loaded.seq));
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
         if let Some(w) = self.warning {
-            serial.write(line.clear().str(t!("warn ")).str(w.reason()).finish());
+            line.clear().str(t!("warn ")).str(w.reason());
+            self.emit(serial, &mut line);
         }
     }
 
-    /// `pose` with every angle pulled into its joint's limits.
+    /// `pose` with every angle pulled into its joint's output window (angle
+    /// and pulse limits), so the pose describes the pulses the servos get.
     fn clamp_to_limits(&self, pose: &[f32; JOINTS]) -> [f32; JOINTS] {
         let mut out = *pose;
         for (o, m) in out.iter_mut().zip(self.maps.iter()) {
-            let (lo, hi) = m.angle_limits::<f32>();
-            *o = o.clamp(lo, hi);
+            *o = m.clamp_angle(*o);
         }
         out
     }
 
+    /// One filtered panel read; a confirmed touch acts. At most one plan is
+    /// computed per frame (each can take most of it): a touch that would plan
+    /// in a frame that already did waits for the next one, and the panel is
+    /// not read while it waits.
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
+        if let Some(p) = self.deferred_touch {
+            if self.planned {
+                return;
+            }
+            self.deferred_touch = None;
+            self.route_touch(&p, storage, serial);
+        }
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
         let got = panel.read(samples).min(n);
         let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
-        match step.event {
+        let p = match step.event {
             // On a screen a press is a button or a map point; a drag (Moved)
             // must not turn into a second button press.
-            Some(TouchEvent::Pressed(p)) if self.params.screen => self.screen_touch(&p, storage, serial),
-            Some(TouchEvent::Moved(_)) if self.params.screen => {}
-            Some(TouchEvent::Pressed(p)) | Some(TouchEvent::Moved(p)) => self.touch_target(&p, serial),
-            Some(TouchEvent::Released) | None => {}
+            Some(TouchEvent::Pressed(p)) => p,
+            Some(TouchEvent::Moved(p)) if !self.params.screen => p,
+            _ => return,
+        };
+        if self.planned && self.touch_plans(&p) {
+            self.deferred_touch = Some(p);
+        } else {
+            self.route_touch(&p, storage, serial);
+        }
+    }
+
+    fn route_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
+        if self.params.screen {
+            self.screen_touch(p, storage, serial);
+        } else {
+            self.touch_target(p, serial);
         }
     }
 
@@ -114,7 +142,7 @@ impl App {
                 line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
             }
         }
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
     }
 
     /// Raw panel point → calibration → pose → move.
@@ -176,9 +204,21 @@ impl App {
         r
     }
 
-    /// Joint target → move (the `goto` path).
-    pub(super) fn move_to_angles(&mut self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
-        let r = self.start_move(target, None);
+    /// Joint target in hundredths of a degree → move (the `goto` path). The
+    /// angle limits are compared in that unit, as `cal show` prints them, so
+    /// a target one hundredth of a degree outside is refused.
+    pub(super) fn move_to_angles(&mut self, centideg: &[i32; JOINTS]) -> Result<(), Refusal> {
+        let mut target = [0.0f32; JOINTS];
+        let mut r = Ok(());
+        for ((t, c), j) in target.iter_mut().zip(centideg.iter()).zip(Joint::ALL.iter()) {
+            *t = centideg_to_rad(*c);
+            let inside = *c >= self.config.joint_field(*j, JointField::MinDeg)
+                && *c <= self.config.joint_field(*j, JointField::MaxDeg);
+            if !inside && r.is_ok() {
+                r = Err(Refusal::JointLimit(*j));
+            }
+        }
+        let r = r.and_then(|()| self.start_move(&target, None));
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
@@ -196,6 +236,7 @@ impl App {
             _ => return Err(Refusal::Homing),
         }
         self.check_limits(target)?;
+        self.planned = true;
         let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
         let planned = plan_move(&req, &self.plan_limits())?;
         let track = ServoTrack::new(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;

@@ -64,9 +64,10 @@ use crate::motion::planner::shape_choice::AChoice;
 use crate::protocol::command::SerialLine;
 use crate::servo::map::{ServoMap, ELBOW_BRANCH};
 use crate::servo::track::ServoTrack;
-use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter};
+use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter, TouchPoint};
 
 pub use refusal::Refusal;
+pub use telemetry::status_line;
 
 /// One frame = one servo PWM period.
 pub const FRAME_MS: u32 = 20;
@@ -205,6 +206,8 @@ pub enum State {
 }
 
 impl State {
+    pub const ALL: [State; 5] = [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped];
+
     pub fn name(self) -> crate::text::Text {
         match self {
             State::Off => t!("off"),
@@ -303,7 +306,6 @@ pub struct App {
     maps: [ServoMap; JOINTS],
     filter: TouchFilter,
     line: SerialLine,
-    line_partial: bool,
     last_rx_ms: u32,
     mode: Mode,
     stopped: bool,
@@ -319,6 +321,12 @@ pub struct App {
     warning: Option<Warning>,
     log: bool,
     pending: Option<Pending>,
+    /// Unsolicited lines the port had no room for, not yet reported.
+    tx_dropped: u16,
+    /// A plan was computed in this frame (at most one per frame).
+    planned: bool,
+    /// A touch target that waits for a frame with no plan yet.
+    deferred_touch: Option<TouchPoint>,
     screen: screen::Screen,
 }
 
@@ -346,7 +354,6 @@ impl App {
             maps,
             filter,
             line: SerialLine::new(),
-            line_partial: false,
             last_rx_ms: 0,
             mode: Mode::Boot,
             stopped: false,
@@ -361,6 +368,9 @@ impl App {
             warning: None,
             log: false,
             pending: None,
+            tx_dropped: 0,
+            planned: false,
+            deferred_touch: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
         })
     }

@@ -47,7 +47,7 @@ impl App {
                     self.screen.ui.invalidate();
                     let mut next = self.config;
                     next.touch = cal;
-                    match store::save(storage, &next) {
+                    match self.save_config(storage, &next) {
                         Ok(seq) => {
                             self.config = next;
                             line.str(t!("info cal touch saved seq")).num(i32::from(seq));
@@ -64,7 +64,7 @@ impl App {
                 }
                 None => return,
             }
-            serial.write(line.finish());
+            self.emit(serial, &mut line);
             return;
         }
         let hit = match self.raw_to_panel(p) {
@@ -111,7 +111,20 @@ impl App {
             // Guard bands and gaps between buttons: deliberately nothing.
             None => return,
         }
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
+    }
+
+    /// Whether a confirmed touch would plan a move (a map point on the main
+    /// screen, or any touch without a screen).
+    pub(super) fn touch_plans(&self, p: &TouchPoint) -> bool {
+        if !self.params.screen {
+            return true;
+        }
+        let hit = match self.raw_to_panel(p) {
+            Ok((x, y)) if self.screen.calibration.is_none() => self.screen.ui.hit_panel(x, y),
+            _ => None,
+        };
+        matches!(hit, Some(Hit::Map { .. }))
     }
 
     /// The words the screen uses for a refused map point.
@@ -159,8 +172,10 @@ impl App {
         };
         let target = st.touch_target.map(|t| (t.x_p, t.y_p));
         let mut warnings = 0;
-        if st.config_warning.is_some() {
-            warnings |= ui::warn::DEFAULT_SETTINGS;
+        match st.config_warning {
+            Some(store::Warning::CopyDamaged) => warnings |= ui::warn::COPY_DAMAGED,
+            Some(_) => warnings |= ui::warn::DEFAULT_SETTINGS,
+            None => {}
         }
         if st.pulses.is_none() {
             warnings |= ui::warn::SERVOS_OFF;

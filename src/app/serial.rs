@@ -1,49 +1,64 @@
 //! Serial command handling: bytes → lines → [`Command`] → one reply line.
 //!
-//! Every line gets exactly one reply, `ok …` or `err <reason>` (empty lines
-//! are ignored; `cal show` sends its data lines first, one per frame, and
-//! ends with `ok cal show …`). A malformed, over-long or out-of-range line is
-//! answered with `err` and changes nothing. While a multi-line reply is being
-//! sent no new line is read (the bytes wait in the port).
+//! Every non-empty line gets exactly one reply, `ok …` or `err <reason>`
+//! (a line of only spaces and tabs: `err empty line`; `cal show` sends its
+//! data lines first, one per frame, and ends with `ok cal show …`). A
+//! malformed, over-long or out-of-range line is answered with `err` and
+//! changes nothing.
+//!
+//! Flow control, so nothing is lost silently and nothing blocks the frame:
+//! - at most one line is taken per frame, and only while the port has room
+//!   for the longest reply ([`LINE_CAP`]); until then the bytes wait in the
+//!   port, and while a multi-line reply is being sent no line is taken;
+//! - lines the port's full receive buffer dropped are answered together, in
+//!   their place in the stream: `err input overflow: <n> lines lost`;
+//! - other output (touch and screen events, telemetry) goes out when it fits
+//!   and is otherwise counted, then reported as `warn output full: <n> lines
+//!   dropped` as soon as that fits.
 
 use super::refusal::Refusal;
 use super::telemetry::status_line;
-use super::text::Line;
+use super::text::{Line, LINE_CAP};
 use super::{build_maps, App, Io, Pending};
 use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError};
 use crate::config::store::{self, SaveError};
-use crate::motion::plan::JOINTS;
-use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
+use crate::protocol::command::{parse, CmdError, Command, LINE_LEN};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 
 impl App {
-    /// Reads up to the byte budget, stopping after the first complete line,
-    /// and answers it.
+    /// Reads up to the byte budget, stopping after the first complete line
+    /// (or a receive loss), and answers it.
     pub(super) fn poll_serial<P, S, C, E, U>(&mut self, io: &mut Io<'_, P, S, C, E, U>, now_ms: u32)
     where
         E: Storage,
         U: SerialPort,
     {
-        if self.pending.is_some() {
+        if self.pending.is_some() || io.serial.tx_room() < LINE_CAP {
             return;
         }
-        if self.line_partial && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
+        if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
             self.line.clear();
-            self.line_partial = false;
         }
         let mut copy = [0u8; LINE_LEN];
+        let mut reply = Line::new();
         let mut budget = self.params.serial_bytes_per_frame;
         while budget > 0 {
             budget -= 1;
-            let Some(byte) = io.serial.read_byte() else { break };
+            let Some(byte) = io.serial.read_byte() else {
+                if let Some(loss) = io.serial.take_rx_loss() {
+                    self.line.after_loss(&loss);
+                    let n = loss.lines;
+                    if n > 0 {
+                        reply.str(t!("err input overflow:")).num(i32::from(n)).str(t!(" lines lost"));
+                    }
+                }
+                break;
+            };
             self.last_rx_ms = now_ms;
             let got = match self.line.push(byte) {
-                None => {
-                    self.line_partial = !matches!(byte, b'\r' | b'\n');
-                    continue;
-                }
+                None => continue,
                 Some(Ok(l)) => {
                     let n = l.len().min(LINE_LEN);
                     if let (Some(dst), Some(src)) = (copy.get_mut(..n), l.get(..n)) {
@@ -53,18 +68,16 @@ impl App {
                 }
                 Some(Err(e)) => Err(e),
             };
-            self.line_partial = false;
-            let mut reply = Line::new();
             match got {
                 Ok(n) => self.handle_line(copy.get(..n).unwrap_or(&[]), io.storage, &mut reply),
                 Err(e) => {
                     reply.str(t!("err ")).str(e.reason());
                 }
             }
-            if !reply.as_bytes().is_empty() {
-                io.serial.write(reply.finish());
-            }
             break;
+        }
+        if !reply.as_bytes().is_empty() {
+            io.serial.write(reply.finish());
         }
     }
 
@@ -73,7 +86,7 @@ impl App {
     fn handle_line<E: Storage>(&mut self, bytes: &[u8], storage: &mut E, reply: &mut Line) {
         let cmd = match parse(bytes) {
             Ok(c) => c,
-            Err(CmdError::Empty) => return,
+            Err(CmdError::Empty) if bytes.is_empty() => return,
             Err(e) => {
                 reply.str(t!("err ")).str(e.reason());
                 return;
@@ -84,16 +97,10 @@ impl App {
                 reply.str(t!("ok move"));
                 self.describe_move(reply, true);
             }),
-            Command::Goto { centideg } => {
-                let mut target = [0.0f32; JOINTS];
-                for (t, c) in target.iter_mut().zip(centideg.iter()) {
-                    *t = centideg_to_rad(*c);
-                }
-                self.move_to_angles(&target).map(|()| {
-                    reply.str(t!("ok goto"));
-                    self.describe_move(reply, false);
-                })
-            }
+            Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| {
+                reply.str(t!("ok goto"));
+                self.describe_move(reply, false);
+            }),
             Command::Stop => {
                 self.stop();
                 reply.str(t!("ok stop"));
@@ -179,10 +186,9 @@ impl App {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
-        match store::save(storage, &self.config) {
+        let config = self.config;
+        match self.save_config(storage, &config) {
             Ok(seq) => {
-                // Both copies now hold this configuration.
-                self.warning = None;
                 reply.str(t!("ok cal save seq")).num(i32::from(seq));
             }
             Err(SaveError::Invalid(e)) => {
@@ -197,6 +203,44 @@ impl App {
             }
         }
         Ok(())
+    }
+}
+
+impl App {
+    /// Sends a line nobody asked for (touch and screen events, telemetry)
+    /// if it fits in the port; otherwise counts it for
+    /// [`App::report_dropped`].
+    pub(super) fn emit<U: SerialPort>(&mut self, serial: &mut U, line: &mut Line) {
+        let bytes = line.finish();
+        if serial.tx_room() >= bytes.len() {
+            serial.write(bytes);
+        } else {
+            self.tx_dropped = self.tx_dropped.saturating_add(1);
+        }
+    }
+
+    /// `warn output full: <n> lines dropped`, once it fits, for the lines
+    /// [`App::emit`] could not send.
+    pub(super) fn report_dropped<U: SerialPort>(&mut self, serial: &mut U) {
+        if self.tx_dropped == 0 {
+            return;
+        }
+        let mut line = Line::new();
+        line.str(t!("warn output full:")).num(i32::from(self.tx_dropped)).str(t!(" lines dropped"));
+        let bytes = line.finish();
+        if serial.tx_room() >= bytes.len() {
+            serial.write(bytes);
+            self.tx_dropped = 0;
+        }
+    }
+
+    /// Writes `config` to both EEPROM copies. Both now hold it, so a warning
+    /// about the stored copies no longer holds (every save goes through here:
+    /// `cal save` and the screen's calibration Save).
+    pub(super) fn save_config<E: Storage>(&mut self, storage: &mut E, config: &Config) -> Result<u16, SaveError> {
+        let seq = store::save(storage, config)?;
+        self.warning = None;
+        Ok(seq)
     }
 }
 

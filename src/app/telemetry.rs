@@ -37,7 +37,7 @@ impl App {
 
     /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
     /// commanded angles in centidegrees and the pulses written this frame.
-    pub(super) fn send_telemetry<U: SerialPort>(&self, serial: &mut U, now_ms: u32) {
+    pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
         line.str(t!("t ")).u32(now_ms);
@@ -47,7 +47,7 @@ impl App {
         for us in pulses.iter() {
             line.num(i32::from(*us));
         }
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
     }
 
     /// Sends the next line of a multi-line reply, if one is pending.
@@ -55,7 +55,12 @@ impl App {
         let Some(Pending::CalShow(i)) = self.pending else { return };
         let mut line = Line::new();
         self.cal_show_line(i, &mut line);
-        serial.write(line.finish());
+        // Part of a reply: it waits for room rather than being dropped.
+        let bytes = line.finish();
+        if serial.tx_room() < bytes.len() {
+            return;
+        }
+        serial.write(bytes);
         self.pending = if i < CAL_SHOW_LINES { Some(Pending::CalShow(i + 1)) } else { None };
     }
 
@@ -105,7 +110,7 @@ impl App {
 /// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
 /// <3 us | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
 /// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
-pub(super) fn status_line(s: &Status, line: &mut Line) {
+pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
     line.word(t!("q"));

@@ -4,18 +4,22 @@
 use crate::config::settings::round_i32;
 use crate::text::Text;
 
-/// Longest line the app writes, terminator included.
-pub const LINE_CAP: usize = 192;
+/// Longest line the app writes, terminator included: the longest `status`
+/// (every optional field, the widest values and the longest words; tested).
+pub const LINE_CAP: usize = 240;
+const _: () = assert!(LINE_CAP <= crate::protocol::rx_loss::TX_BUFFER);
 
 /// Radians to hundredths of a degree.
 const CENTIDEG_PER_RAD: f32 = 18_000.0 / core::f32::consts::PI;
 
 /// One output line. Text past the capacity is dropped (the line still ends
-/// with its terminator), never written out of bounds.
+/// with its terminator, and [`Line::truncated`] says so), never written out
+/// of bounds.
 #[derive(Clone)]
 pub struct Line {
     buf: [u8; LINE_CAP],
     len: usize,
+    truncated: bool,
 }
 
 impl Default for Line {
@@ -26,18 +30,25 @@ impl Default for Line {
 
 impl Line {
     pub const fn new() -> Self {
-        Line { buf: [0; LINE_CAP], len: 0 }
+        Line { buf: [0; LINE_CAP], len: 0, truncated: false }
     }
 
     pub fn clear(&mut self) -> &mut Self {
         self.len = 0;
+        self.truncated = false;
         self
+    }
+
+    /// Text was dropped for want of room.
+    pub fn truncated(&self) -> bool {
+        self.truncated
     }
 
     /// Appends bytes, keeping two bytes for the terminator.
     pub fn bytes(&mut self, b: &[u8]) -> &mut Self {
         for &c in b {
             if self.len + 2 >= LINE_CAP {
+                self.truncated = true;
                 break;
             }
             if let Some(slot) = self.buf.get_mut(self.len) {

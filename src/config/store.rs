@@ -236,6 +236,8 @@ pub enum Warning {
 }
 
 impl Warning {
+    pub const ALL: [Warning; 4] = [Warning::Missing, Warning::Corrupt, Warning::VersionMismatch, Warning::CopyDamaged];
+
     pub fn reason(self) -> crate::text::Text {
         match self {
             Warning::Missing => t!("no stored config, defaults"),

@@ -31,6 +31,7 @@
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
 use crate::math::real::Real;
 use crate::motion::plan::LawKind;
+use crate::seam::RxLoss;
 use crate::servo::map::Joint;
 
 /// Capacity of the serial line buffer (bytes of a line, terminator excluded).
@@ -298,13 +299,17 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
 /// make a second, empty line). Backspace (0x08) and DEL (0x7F) remove the last
 /// byte, for typing in a terminal. A line longer than `N` bytes is discarded
 /// up to its terminator and reported once as [`CmdError::TooLong`]; the next
-/// line is received normally.
+/// line is received normally. After bytes were lost in the port
+/// ([`LineBuffer::after_loss`]) a damaged line is discarded without a report:
+/// the loss is reported instead.
 #[derive(Debug, Clone)]
 pub struct LineBuffer<const N: usize> {
     buf: [u8; N],
     len: usize,
     overflowed: bool,
     after_cr: bool,
+    /// Drop everything up to the next terminator, silently.
+    skip: bool,
 }
 
 impl<const N: usize> Default for LineBuffer<N> {
@@ -315,7 +320,7 @@ impl<const N: usize> Default for LineBuffer<N> {
 
 impl<const N: usize> LineBuffer<N> {
     pub const fn new() -> Self {
-        LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false }
+        LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false, skip: false }
     }
 
     /// Feeds one byte. Returns `Some` when a line is complete: `Ok(line)`
@@ -326,12 +331,16 @@ impl<const N: usize> LineBuffer<N> {
             b'\n' if after_cr => None,
             b'\r' | b'\n' => {
                 let len = core::mem::replace(&mut self.len, 0);
-                if core::mem::replace(&mut self.overflowed, false) {
+                if core::mem::replace(&mut self.skip, false) {
+                    self.overflowed = false;
+                    None
+                } else if core::mem::replace(&mut self.overflowed, false) {
                     Some(Err(CmdError::TooLong))
                 } else {
                     Some(Ok(self.buf.get(..len).unwrap_or(&[])))
                 }
             }
+            _ if self.skip => None,
             0x08 | 0x7F => {
                 if !self.overflowed {
                     self.len = self.len.saturating_sub(1);
@@ -359,5 +368,23 @@ impl<const N: usize> LineBuffer<N> {
         self.len = 0;
         self.overflowed = false;
         self.after_cr = false;
+        self.skip = false;
+    }
+
+    /// Bytes were lost right after the ones pushed so far (see
+    /// [`crate::seam::SerialPort`]): the partial line belongs to a lost line
+    /// and is dropped, and so is the rest of a line the loss cut into.
+    pub fn after_loss(&mut self, loss: &RxLoss) {
+        if loss.lines > 0 {
+            self.len = 0;
+            self.overflowed = false;
+        }
+        self.skip = loss.rest_damaged;
+        self.after_cr = loss.after_cr;
+    }
+
+    /// A partial line is waiting for its terminator.
+    pub fn is_partial(&self) -> bool {
+        self.len > 0 || self.overflowed || self.skip
     }
 }

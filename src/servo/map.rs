@@ -316,6 +316,31 @@ impl ServoMap {
         (R::from_u16(us) - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
     }
 
+    /// The angles whose pulse no limit changes: the angle limits intersected
+    /// with the pulse limits seen as angles (non-empty: `validate` refuses a
+    /// calibration whose angle range misses its pulse range).
+    pub fn output_window(&self) -> (f32, f32) {
+        let c = &self.cal;
+        let a = (self.min_us - c.offset_us) * self.rad_per_us;
+        let b = (self.max_us - c.offset_us) * self.rad_per_us;
+        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+        let lo = lo.max(c.min_rad);
+        (lo, hi.min(c.max_rad).max(lo))
+    }
+
+    /// `angle` pulled into [`ServoMap::output_window`]: the angle the pulse
+    /// [`ServoMap::angle_to_pulse`] gives for `angle` stands for, so a pose
+    /// held at it describes what the servo really gets.
+    pub fn clamp_angle(&self, angle: f32) -> f32 {
+        let (lo, hi) = self.output_window();
+        // NaN maps to `lo` (a comparison with NaN is false).
+        if angle > lo {
+            angle.min(hi)
+        } else {
+            lo
+        }
+    }
+
     /// Angle limits (rad).
     pub fn angle_limits<R: Real>(&self) -> (R, R) {
         (R::from_f32(self.cal.min_rad), R::from_f32(self.cal.max_rad))

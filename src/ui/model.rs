@@ -38,17 +38,20 @@ pub enum UiState {
 /// Problems worth a line on the screen; a bit set (highest bit wins when
 /// several are set, so put the most important highest).
 pub mod warn {
+    /// One stored copy of the settings is damaged; the other is in use (the
+    /// next save repairs it).
+    pub const COPY_DAMAGED: u8 = 1 << 0;
     /// The last touch lay outside the calibrated span and was pulled onto
     /// its edge (`touch::map::MappedPoint::clamped`).
-    pub const TOUCH_CLAMPED: u8 = 1 << 0;
-    /// EEPROM settings were invalid; defaults are in use.
-    pub const DEFAULT_SETTINGS: u8 = 1 << 1;
+    pub const TOUCH_CLAMPED: u8 = 1 << 1;
+    /// No stored settings could be used; defaults are in use.
+    pub const DEFAULT_SETTINGS: u8 = 1 << 2;
     /// A plan exceeded its speed budget and was slowed down.
-    pub const SLOWED: u8 = 1 << 2;
+    pub const SLOWED: u8 = 1 << 3;
     /// Touch panel readings are unstable (noise, spread rejects).
-    pub const TOUCH_NOISY: u8 = 1 << 3;
+    pub const TOUCH_NOISY: u8 = 1 << 4;
     /// Servo outputs are off (limp arm).
-    pub const SERVOS_OFF: u8 = 1 << 4;
+    pub const SERVOS_OFF: u8 = 1 << 5;
 }
 
 /// Everything the main screen shows. Angles are radians (as the pose and

@@ -153,6 +153,7 @@ fn top_warning(bits: u8) -> u8 {
 
 fn warning_text(bit: u8) -> Text {
     match bit {
+        warn::COPY_DAMAGED => t!("! a settings copy damaged"),
         warn::TOUCH_CLAMPED => t!("! touch at panel edge"),
         warn::DEFAULT_SETTINGS => t!("! default settings in use"),
         warn::SLOWED => t!("! move slowed for safety"),

@@ -86,6 +86,7 @@ impl Sim {
 
     /// One PWM period: the app's frame, then 20 ms of servo motion.
     pub fn step(&mut self) {
+        self.serial.advance_frame();
         let mut io = Io {
             panel: &mut self.panel,
             servos: &mut self.servos,
@@ -131,7 +132,7 @@ impl Sim {
         self.app = App::new(&self.setup.params).map_err(|e| format!("app parameters: {e:?}"))?;
         self.eeprom.restore_power();
         self.servos.power_cycle();
-        self.serial.input.clear();
+        self.serial.reset();
         self.clock.ms = 0;
         self.boot_frames = 0;
         Ok(())

@@ -1,0 +1,144 @@
+//! Regression tests of issue #11 ("Reliability under fire") that are Rust
+//! rather than scenario files: the longest `status` reply, the screen's
+//! settings warnings, and calibration changes while holding. (Torn saves:
+//! `store_tearing.rs`; the serial flood and the home pose: scenarios
+//! `flood.scn`, `home_pulse_window.scn`.)
+
+use touch_arm::app::text::{Line, LINE_CAP};
+use touch_arm::app::{status_line, Refusal, State, Status, TouchTarget};
+use touch_arm::config::settings::SpeedPreset;
+use touch_arm::config::store::{Source, Warning};
+use touch_arm::geometry::workspace::Condition;
+use touch_arm::motion::plan::LawKind;
+use touch_arm::motion::planner::shape_choice::{AChoice, AKind};
+
+/// `status` with every optional field and the widest numbers a valid
+/// configuration allows (angle limits ±360°, so commanded and target angles
+/// within ±36000 cdeg; pulses ≤ 2500 µs; tₛ ≤ ts_max = 30 s; α ≤ 180°),
+/// for every state, law, preset, warning and refusal: never cut, and the
+/// longest fills the line buffer to within a few bytes.
+#[test]
+fn the_longest_status_fits_its_line() {
+    let widest = -2.0 * std::f32::consts::PI;
+    let mut longest = (0, String::new());
+    for state in State::ALL {
+        for law in LawKind::ALL {
+            for speed in SpeedPreset::ALL {
+                for warning in Warning::ALL {
+                    for refusal in Refusal::ALL {
+                        let s = Status {
+                            state,
+                            law,
+                            speed,
+                            commanded: [widest; 3],
+                            target: [widest; 3],
+                            pulses: Some([2500; 3]),
+                            progress: 100,
+                            ts: 30.0,
+                            a: Some(AChoice { a: 29.0, kind: AKind::MonotoneLimit }),
+                            end_velocity: [-50.0; 3],
+                            touch_target: Some(TouchTarget {
+                                raw_x: 1023,
+                                raw_y: 1023,
+                                x_p: -1.0,
+                                y_p: 0.0,
+                                condition: Condition::C4,
+                                alpha: std::f32::consts::PI,
+                            }),
+                            touch_held: true,
+                            last_refusal: Some(refusal),
+                            config_source: Source::SlotB,
+                            config_warning: Some(warning),
+                            first_move_pending: true,
+                            log: true,
+                        };
+                        let mut line = Line::new();
+                        status_line(&s, &mut line);
+                        assert!(!line.truncated(), "cut: {:?}", String::from_utf8_lossy(line.as_bytes()));
+                        let text = String::from_utf8(line.finish().to_vec()).unwrap();
+                        let tail = format!(" refused {}\r\n", refusal.reason().as_str());
+                        assert!(text.ends_with(&tail), "{text:?}");
+                        assert!(text.contains(" q -36000 -36000 -36000 target -36000 -36000 -36000 "), "{text:?}");
+                        if text.len() > longest.0 {
+                            longest = (text.len(), text);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("longest status: {} bytes of {LINE_CAP}: {:?}", longest.0, longest.1);
+    assert!(longest.0 <= LINE_CAP && longest.0 + 8 >= LINE_CAP, "{} bytes, LINE_CAP {LINE_CAP}", longest.0);
+}
+
+/// A bounded receive buffer with the chip's drop rule, read at random rates:
+/// every non-empty line of the stream is either read intact, in order, or
+/// counted in exactly one loss report (`RxLoss::lines`), never both,
+/// never neither.
+#[test]
+fn every_line_is_read_intact_or_counted_lost() {
+    use std::collections::VecDeque;
+    use touch_arm::protocol::command::LineBuffer;
+    use touch_arm::protocol::rx_loss::LossCounter;
+    let mut rng = hal_sim::twin::rng::Rng::new(7);
+    let (mut intact_total, mut lost_total) = (0u64, 0u64);
+    for round in 0..3000 {
+        // The stream: lines of 0..20 bytes (spaces included), each ended by
+        // \n, \r or \r\n; the reference lines are its non-empty ones.
+        let mut stream = Vec::new();
+        let mut lines: Vec<(Vec<u8>, std::ops::Range<usize>)> = Vec::new();
+        for _ in 0..rng.below(60) {
+            let start = stream.len();
+            let text: Vec<u8> = (0..rng.below(21)).map(|_| b" abcxyz"[rng.below(7) as usize]).collect();
+            stream.extend_from_slice(&text);
+            let term: &[u8] = [&b"\n"[..], b"\r", b"\r\n"][rng.below(3) as usize];
+            let end = stream.len() + 1;
+            stream.extend_from_slice(term);
+            if !text.is_empty() {
+                lines.push((text, start..end));
+            }
+        }
+        let capacity = 1 + rng.below(40) as usize;
+        let (mut ring, mut counter, mut lb) = (VecDeque::new(), LossCounter::new(), LineBuffer::<64>::new());
+        let mut kept = vec![false; stream.len()];
+        let (mut got, mut lost) = (Vec::new(), 0u64);
+        let mut pos = 0;
+        while pos < stream.len() || !ring.is_empty() || counter.is_open() {
+            for _ in 0..rng.below(12) {
+                let Some(&b) = stream.get(pos) else { break };
+                let keep = !counter.is_open() && ring.len() < capacity;
+                if keep {
+                    ring.push_back(b);
+                }
+                kept[pos] = keep;
+                counter.byte(b, keep);
+                pos += 1;
+            }
+            for _ in 0..rng.below(12) {
+                match ring.pop_front() {
+                    Some(b) => {
+                        if let Some(Ok(l)) = lb.push(b) {
+                            if !l.is_empty() {
+                                got.push(l.to_vec());
+                            }
+                        }
+                    }
+                    None => {
+                        if let Some(loss) = counter.take() {
+                            lb.after_loss(&loss);
+                            lost += u64::from(loss.lines);
+                        }
+                        break;
+                    }
+                }
+            }
+        }
+        let intact: Vec<Vec<u8>> =
+            lines.iter().filter(|(_, r)| r.clone().all(|i| kept[i])).map(|(t, _)| t.clone()).collect();
+        assert_eq!(got, intact, "round {round}: the lines read are the intact ones, in order");
+        assert_eq!(got.len() as u64 + lost, lines.len() as u64, "round {round}: read + lost = sent");
+        intact_total += got.len() as u64;
+        lost_total += lost;
+    }
+    assert!(intact_total > 1000 && lost_total > 1000, "{intact_total} intact, {lost_total} lost");
+}
