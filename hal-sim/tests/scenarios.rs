@@ -30,6 +30,7 @@ macro_rules! scenarios {
 scenarios!(
     arrive_together,
     cal_roundtrip,
+    cal_slew,
     eeprom_corrupt,
     flood,
     home_pulse_window,

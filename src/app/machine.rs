@@ -10,11 +10,11 @@ use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::motion::plan::JOINTS;
 use crate::motion::planner::plan_move::plan_move;
-use crate::motion::planner::request::{MoveRequest, PlanLimits};
+use crate::motion::planner::request::{MoveRequest, PlanLimits, PlannedMove};
 use crate::protocol::command::centideg_to_rad;
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
-use crate::servo::map::Joint;
+use crate::servo::map::{Joint, ServoMap};
 use crate::servo::track::ServoTrack;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
@@ -236,11 +236,14 @@ impl App {
             _ => return Err(Refusal::Homing),
         }
         self.check_limits(target)?;
-        self.planned = true;
-        let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
-        let planned = plan_move(&req, &self.plan_limits())?;
-        let track = ServoTrack::new(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;
-        self.motion = Some(Motion { track, frame: 0 });
+        let mut pct = self.config.speed.percent();
+        if self.first_move {
+            pct = pct.min(SpeedPreset::Slow.percent());
+        }
+        let start = self.commanded;
+        let maps = self.maps;
+        let (motion, planned) = self.plan_motion(&start, target, &maps, pct)?;
+        self.motion = Some(motion);
         self.last_move = MoveInfo {
             target: *target,
             ts: planned.ts,
@@ -249,6 +252,30 @@ impl App {
             touch: touch.copied(),
         };
         Ok(())
+    }
+
+    /// Plans a synchronized move from `start` to `target` under `maps` at
+    /// `pct` % of every joint's max speed, less the safety margin (one plan
+    /// per frame: see `poll_touch`).
+    pub(super) fn plan_motion(
+        &mut self,
+        start: &[f32; JOINTS],
+        target: &[f32; JOINTS],
+        maps: &[ServoMap; JOINTS],
+        pct: u8,
+    ) -> Result<(Motion, PlannedMove<f32>), Refusal> {
+        self.planned = true;
+        let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
+        let mut speed = [0.0f32; JOINTS];
+        for (s, m) in speed.iter_mut().zip(maps.iter()) {
+            *s = m.max_speed::<f32>() * share;
+        }
+        let p = &self.params;
+        let lim = PlanLimits { speed, ts_min: p.ts_min, zat_ts_min: p.zat_ts_min, ts_max: p.ts_max, n: p.n };
+        let req = MoveRequest { start: *start, target: *target, law: self.config.law };
+        let planned = plan_move(&req, &lim)?;
+        let track = ServoTrack::new(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
+        Ok((Motion { track, frame: 0 }, planned))
     }
 
     /// A target angle the servo layer would have to clamp (angle or pulse
@@ -262,28 +289,6 @@ impl App {
             }
         }
         Ok(())
-    }
-
-    /// Speeds for the next move: the preset's share of every joint's max
-    /// speed (the slow preset at most before the first move has completed),
-    /// less the safety margin.
-    fn plan_limits(&self) -> PlanLimits<f32> {
-        let mut pct = self.config.speed.percent();
-        if self.first_move {
-            pct = pct.min(SpeedPreset::Slow.percent());
-        }
-        let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
-        let mut speed = [0.0f32; JOINTS];
-        for (s, m) in speed.iter_mut().zip(self.maps.iter()) {
-            *s = m.max_speed::<f32>() * share;
-        }
-        PlanLimits {
-            speed,
-            ts_min: self.params.ts_min,
-            zat_ts_min: self.params.zat_ts_min,
-            ts_max: self.params.ts_max,
-            n: self.params.n,
-        }
     }
 
     fn step_motion(&mut self) {

@@ -48,6 +48,7 @@
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod machine;
+mod recalibrate;
 pub mod refusal;
 mod screen;
 mod serial;

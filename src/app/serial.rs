@@ -19,7 +19,7 @@
 use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
-use super::{build_maps, App, Io, Pending};
+use super::{App, Io, Pending};
 use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError};
 use crate::config::store::{self, SaveError};
@@ -136,8 +136,9 @@ impl App {
                 Ok(())
             }
             Command::CalSet(set) => self.cal_set(&set, reply),
-            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(|()| {
+            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(|slew| {
                 reply.str(t!("ok cal reset"));
+                slew_suffix(slew, reply);
             }),
             Command::CalSave => self.cal_save(storage, reply),
         };
@@ -156,29 +157,9 @@ impl App {
             config_error(&e, reply);
             return Ok(());
         }
-        self.replace_config(&next, matches!(set, CalSet::Touch { .. }))?;
+        let slew = self.replace_config(&next, matches!(set, CalSet::Touch { .. }))?;
         reply.str(t!("ok cal set"));
-        Ok(())
-    }
-
-    /// Installs a valid configuration, unless a move runs or the held pose
-    /// would fall outside the new limits (the servo would jump to a limit).
-    fn replace_config(&mut self, next: &Config, touch_changed: bool) -> Result<(), Refusal> {
-        if self.is_moving() {
-            return Err(Refusal::Busy);
-        }
-        let maps = build_maps(next).ok_or(Refusal::Fault)?;
-        for (m, q) in maps.iter().zip(self.commanded.iter()) {
-            match m.angle_to_pulse(*q) {
-                Ok(p) if p.clamped.is_none() => {}
-                _ => return Err(Refusal::HeldPoseOutside),
-            }
-        }
-        if touch_changed || next.touch != self.config.touch {
-            self.filter.reset();
-        }
-        self.config = *next;
-        self.maps = maps;
+        slew_suffix(slew, reply);
         Ok(())
     }
 
@@ -241,6 +222,13 @@ impl App {
         let seq = store::save(storage, config)?;
         self.warning = None;
         Ok(seq)
+    }
+}
+
+/// ` slew ts_ms <ms>` when a calibration change moves the held pulses.
+fn slew_suffix(slew: Option<f32>, reply: &mut Line) {
+    if let Some(ts) = slew {
+        reply.word(t!("slew ts_ms")).num(super::text::milli(ts));
     }
 }
 
