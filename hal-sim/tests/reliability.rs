@@ -142,3 +142,46 @@ fn every_line_is_read_intact_or_counted_lost() {
     }
     assert!(intact_total > 1000 && lost_total > 1000, "{intact_total} intact, {lost_total} lost");
 }
+
+/// Presses the twin's panel at a screen pixel's centre, as read through `cal`,
+/// long enough to be confirmed, then lets go.
+fn tap_pixel(sim: &mut hal_sim::twin::Sim, cal: &touch_arm::touch::map::Calibration, x: i16, y: i16) {
+    let (px, py) = touch_arm::ui::layout::pixel_center_to_panel(x, y);
+    let (rx, ry) = cal.unmap_exact::<f64>(f64::from(px), f64::from(py)).unwrap();
+    sim.panel.touch_raw(rx.round(), ry.round(), 1.0).unwrap();
+    sim.run_ms(300);
+    sim.panel.release();
+    sim.run_ms(400);
+}
+
+/// Issue #11, defect 3: the screen's calibration Save writes both copies like
+/// `cal save`, so the stored-settings warning goes (in `status` and on the
+/// screen) as it does after `cal save`.
+#[test]
+fn the_screens_calibration_save_clears_the_stored_settings_warning() {
+    use touch_arm::touch::map::Calibration;
+    use touch_arm::ui::calibration::{CAL_PIXELS, SAVE_AREA};
+    use touch_arm::ui::layout::CALIBRATE;
+    let mut setup = hal_sim::twin::SimSetup::default();
+    setup.params.screen = true;
+    let mut sim = hal_sim::twin::Sim::new(&setup).unwrap();
+    sim.run_ms(1500);
+    let warning = |sim: &hal_sim::twin::Sim| touch_arm::ui::warning_line(sim.app.ui_model().warnings).as_str();
+    assert_eq!(warning(&sim), "! default settings in use");
+    assert_eq!(sim.app.status().config_warning, Some(Warning::Missing));
+    let cal = Calibration::DEFAULT;
+    tap_pixel(&mut sim, &cal, CALIBRATE.x + CALIBRATE.w as i16 / 2, CALIBRATE.y + CALIBRATE.h as i16 / 2);
+    for (x, y) in CAL_PIXELS {
+        tap_pixel(&mut sim, &cal, x, y);
+    }
+    tap_pixel(&mut sim, &cal, SAVE_AREA.x + SAVE_AREA.w as i16 / 2, SAVE_AREA.y + SAVE_AREA.h as i16 / 2);
+    let lines = sim.serial.lines();
+    assert!(lines.iter().any(|l| l == "info screen calibrate"), "{lines:?}");
+    assert!(lines.iter().any(|l| l == "info cal touch saved seq 1"), "{lines:?}");
+    assert_eq!(sim.app.status().config_warning, None);
+    assert_eq!(warning(&sim), "");
+    sim.send_line("status");
+    sim.run_frames(2);
+    let status = sim.serial.lines().into_iter().rev().find(|l| l.starts_with("ok status")).unwrap();
+    assert!(!status.contains(" warn "), "{status}");
+}

@@ -40,6 +40,7 @@ scenarios!(
     powerup,
     refusals,
     replan,
+    screen_warnings,
     speed_bound,
     stop_mid_move,
     telemetry,

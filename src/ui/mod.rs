@@ -29,4 +29,4 @@ pub mod ws_view;
 pub use calibration::{CalFailure, CalPhase, CalibrationEvent, CalibrationFlow};
 pub use draw::{Canvas, Run};
 pub use model::{warn, Refusal, UiModel, UiState};
-pub use screen::{Hit, Redrawn, Ui, UiConfig};
+pub use screen::{warning_line, Hit, Redrawn, Ui, UiConfig};

@@ -151,6 +151,12 @@ fn top_warning(bits: u8) -> u8 {
     }
 }
 
+/// The warning line the screen shows for [`warn`] bits (the most important
+/// set bit; empty for none).
+pub fn warning_line(bits: u8) -> Text {
+    warning_text(top_warning(bits))
+}
+
 fn warning_text(bit: u8) -> Text {
     match bit {
         warn::COPY_DAMAGED => t!("! a settings copy damaged"),

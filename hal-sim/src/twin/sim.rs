@@ -8,6 +8,7 @@ use super::arm::{effector, Effector};
 use super::devices::{SimClock, SimEeprom, SimSerial};
 use super::panel::SimPanel;
 use super::servos::{ServoModel, SimServos};
+use crate::display::Framebuffer;
 
 /// Everything a simulation starts from.
 #[derive(Debug, Clone)]
@@ -58,6 +59,9 @@ pub struct Sim {
     pub eeprom: SimEeprom,
     pub serial: SimSerial,
     pub history: Vec<FrameRecord>,
+    /// The screen, redrawn after every frame when the app runs one
+    /// (`AppParams::screen`), as the firmware does.
+    pub display: Option<Framebuffer>,
     frames: u64,
     boot_frames: u64,
 }
@@ -74,6 +78,7 @@ impl Sim {
             eeprom: SimEeprom::new(),
             serial: SimSerial::default(),
             history: Vec::new(),
+            display: setup.params.screen.then(Framebuffer::landscape),
             frames: 0,
             boot_frames: 0,
         })
@@ -95,6 +100,9 @@ impl Sim {
             serial: &mut self.serial,
         };
         self.app.frame(&mut io);
+        if let Some(fb) = &mut self.display {
+            let _ = self.app.draw_screen(fb);
+        }
         self.servos.advance(FRAME_MS as f64 * 1e-3);
         let st = self.app.status();
         self.history.push(FrameRecord {
