@@ -8,5 +8,6 @@ pub mod firmware;
 pub mod lcd_bus;
 pub mod panel;
 pub mod plot;
+pub mod random_input;
 pub mod report;
 pub mod twin;
