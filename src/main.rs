@@ -3,7 +3,8 @@
 //! Wires the board layer to the pure app (`touch_arm::app`): every 20 ms servo
 //! PWM period (Timer5 overflow) the app runs one frame (serial commands, one
 //! filtered touch read, the motion setpoint, the servo pulses), then redraws
-//! what changed on the ILI9341 screen. The watchdog
+//! what changed on the ILI9341 screen, as much as fits in the period
+//! (`board::frame`). The watchdog
 //! is fed once per frame, so a hang resets the chip into its power-up state
 //! (no pulses until the configuration is loaded and the home pose commanded).
 #![no_std]
@@ -16,6 +17,7 @@ use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
+use touch_arm::board::frame::{self, FrameBudget};
 use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
@@ -107,9 +109,12 @@ fn frame(app: &mut App, b: &mut Board) {
         storage: &mut b.eeprom,
         serial: &mut b.serial,
     });
+    let app_ticks = b.pwm.ticks();
     // After the touch read, never during it: drawing holds the shared pins.
-    // Only what changed is redrawn; the PWM keeps its pulses meanwhile.
-    let _ = app.draw_screen(&mut Lcd::new(&mut b.bus));
+    // Only what changed is redrawn, and only as much as the period leaves;
+    // the rest in the next frames.
+    let _ = app.draw_screen_sliced(&mut Lcd::new(&mut b.bus), &mut FrameBudget::new(&b.pwm));
+    frame::record(&b.pwm, app_ticks);
 }
 
 /// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the

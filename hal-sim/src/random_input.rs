@@ -142,11 +142,11 @@ impl Inputs {
 }
 
 /// How many lines an output line answers: 1 for a reply (`ok …`, `err …`),
-/// n for `err input overflow: <n> lines lost`, 0 for everything the app sends
+/// n for `err input lost: <n> lines`, 0 for everything the app sends
 /// unasked (`info …`, `warn …`, telemetry, `cal …` data lines, and the
 /// touch and screen errors `err touch …`, `err screen …`, `err cal touch …`).
 pub fn replies_in(line: &str) -> u64 {
-    if let Some(rest) = line.strip_prefix("err input overflow: ") {
+    if let Some(rest) = line.strip_prefix("err input lost: ") {
         return rest.split_whitespace().next().and_then(|n| n.parse().ok()).unwrap_or(0);
     }
     let unsolicited = ["err touch ", "err screen ", "err cal touch "];
@@ -165,7 +165,7 @@ mod tests {
     fn replies_are_counted_by_the_readme_rule() {
         assert_eq!(replies_in("ok status holding law zat"), 1);
         assert_eq!(replies_in("err bad number"), 1);
-        assert_eq!(replies_in("err input overflow: 12 lines lost"), 12);
+        assert_eq!(replies_in("err input lost: 12 lines"), 12);
         assert_eq!(replies_in("err touch 10 20 unreachable"), 0);
         assert_eq!(replies_in("info touch 10 20 cond 1"), 0);
         assert_eq!(replies_in("cal base offset 600.00"), 0);

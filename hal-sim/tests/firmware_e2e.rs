@@ -291,7 +291,8 @@ fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
 fn stack_stays_within_budget_in_the_busiest_session() {
     let mut s = start();
     // Everything at once: telemetry every frame, touches that plan moves,
-    // re-plans mid-move, calibration output and an EEPROM save.
+    // re-plans mid-move, calibration output, an EEPROM save and a
+    // calibration slew.
     assert_eq!(s.command("log on").unwrap(), "ok log on");
     let (a, _) = map_touch(0.7, 0.3);
     touch(&mut s, a.0, a.1);
@@ -306,6 +307,10 @@ fn stack_stays_within_budget_in_the_busiest_session() {
     assert_eq!(s.command("stop").unwrap(), "ok stop");
     assert!(s.command("cal save").unwrap().starts_with("ok cal save"));
     assert!(s.command("status").unwrap().starts_with("ok status"));
+    // A calibration change that slews the held pose plans a move from
+    // inside the command handler.
+    assert_eq!(s.command("resume").unwrap(), "ok resume");
+    assert!(s.command("cal set base offset 650").unwrap().starts_with("ok cal set slew ts_ms"));
     let used = s.stack_high_water().expect("stack painted at load");
     let budget = firmware::budget("stack").unwrap() as usize;
     eprintln!("firmware stack high-water: {used} B of {budget} B");

@@ -92,7 +92,7 @@ impl Run {
                 let l = l.trim_end_matches('\r');
                 let n = replies_in(l);
                 self.answered += n;
-                if l.starts_with("err input overflow") {
+                if l.starts_with("err input lost") {
                     self.t.lost_lines += n;
                 }
                 if l.starts_with("ok move") || l.starts_with("ok goto") || l.starts_with("info touch") {

@@ -185,3 +185,63 @@ fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     let status = sim.serial.lines().into_iter().rev().find(|l| l.starts_with("ok status")).unwrap();
     assert!(!status.contains(" warn "), "{status}");
 }
+
+/// The screen drawn in slices (`ui::slice`): whatever the budget per call,
+/// and with the model changing between calls, the glass ends up exactly as
+/// an unsliced draw of the last model leaves it; no call draws more than its
+/// budget; and the STOP button answers STOP while a redraw towards it is
+/// under way.
+#[test]
+fn sliced_drawing_converges_on_the_unsliced_picture() {
+    use hal_sim::display::Framebuffer;
+    use touch_arm::ui::demo::{screen, Screen, CONFIG, STEPS};
+    use touch_arm::ui::{Hit, PixelBudget, Ui, UiModel, UiState};
+    let mut rng = hal_sim::twin::rng::Rng::new(5);
+    for budget in [1100u32, 3000, 20_000] {
+        let (mut whole, mut sliced) = (Ui::new(&CONFIG), Ui::new(&CONFIG));
+        let (mut fa, mut fb) = (Framebuffer::landscape(), Framebuffer::landscape());
+        let mut calls = 0u32;
+        for k in 0..STEPS {
+            let s = screen(k);
+            match &s {
+                Screen::Main(m) => whole.draw(m, &mut fa).unwrap(),
+                Screen::Calibration(f) => whole.draw_calibration(f, &mut fa).unwrap(),
+            };
+            // The sliced UI sees the model of this step with a progress that
+            // keeps changing while it draws, then the final one until done.
+            loop {
+                calls += 1;
+                let mut b = PixelBudget { pixels: budget };
+                let done = match &s {
+                    Screen::Main(m) => {
+                        let mut jittered: UiModel = *m;
+                        if let UiState::Moving { .. } = m.state {
+                            jittered.state = UiState::Moving { progress: rng.uniform() as f32 };
+                        }
+                        sliced.draw_sliced(&jittered, &mut fb, &mut b).unwrap();
+                        let mut b = PixelBudget { pixels: budget };
+                        sliced.draw_sliced(m, &mut fb, &mut b).unwrap().finished
+                    }
+                    Screen::Calibration(f) => sliced.draw_calibration_sliced(f, &mut fb, &mut b).unwrap().finished,
+                };
+                assert!(calls < 100_000, "no progress");
+                if done {
+                    break;
+                }
+            }
+            assert!(fa == fb, "budget {budget}, step {k}: the sliced picture differs");
+        }
+        eprintln!("budget {budget} px: {calls} calls for {STEPS} screens");
+    }
+    // STOP while the button is being redrawn from RESUME to STOP.
+    let mut ui = Ui::new(&CONFIG);
+    let mut fb = Framebuffer::landscape();
+    let Screen::Main(mut m) = screen(11) else { panic!("step 11 is the stopped main screen") };
+    ui.draw(&m, &mut fb).unwrap();
+    let (x, y) = (touch_arm::ui::layout::STOP.x + 10, touch_arm::ui::layout::STOP.y + 10);
+    assert_eq!(ui.hit(x, y), Some(Hit::Resume));
+    m.state = UiState::Holding;
+    let d = ui.draw_sliced(&m, &mut fb, &mut PixelBudget { pixels: 1000 }).unwrap();
+    assert!(!d.finished);
+    assert_eq!(ui.hit(x, y), Some(Hit::Stop), "half-drawn STOP counts as STOP");
+}

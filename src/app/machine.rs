@@ -4,13 +4,13 @@
 use super::refusal::Refusal;
 use super::text::Line;
 use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
-use crate::config::settings::{Config, JointField, SpeedPreset};
+use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::motion::plan::JOINTS;
 use crate::motion::planner::plan_move::plan_move;
-use crate::motion::planner::request::{MoveRequest, PlanLimits, PlannedMove};
+use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::protocol::command::centideg_to_rad;
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
@@ -47,6 +47,7 @@ impl App {
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
+    #[inline(never)]
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
         self.source = loaded.source;
@@ -132,14 +133,22 @@ impl App {
 
     /// A confirmed touch: move there, or say why not.
     fn touch_target<U: SerialPort>(&mut self, p: &TouchPoint, serial: &mut U) {
+        let r = self.move_to_raw(p);
+        self.report_touch(serial, p, r);
+    }
+
+    /// `info touch <x> <y> …` or `err touch <x> <y> <reason>` (its buffer is
+    /// not on the stack while the touch is planned).
+    #[inline(never)]
+    pub(super) fn report_touch<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, r: Result<(), Refusal>) {
         let mut line = Line::new();
-        match self.move_to_raw(p) {
+        match r {
             Ok(()) => {
                 line.str(t!("info touch")).num(i32::from(p.x)).num(i32::from(p.y));
                 self.describe_move(&mut line, true);
             }
-            Err(r) => {
-                line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
+            Err(e) => {
+                line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(e.reason());
             }
         }
         self.emit(serial, &mut line);
@@ -204,17 +213,19 @@ impl App {
         r
     }
 
-    /// Joint target in hundredths of a degree → move (the `goto` path). The
-    /// angle limits are compared in that unit, as `cal show` prints them, so
-    /// a target one hundredth of a degree outside is refused.
+    /// Joint target in hundredths of a degree → move (the `goto` path). A
+    /// target outside a joint's angle limits by a hundredth of a degree (the
+    /// unit `cal show` prints them in) is refused: the limits get half a
+    /// hundredth of slack for the float conversions, not the servo layer's
+    /// 0.5 µs rounding allowance.
     pub(super) fn move_to_angles(&mut self, centideg: &[i32; JOINTS]) -> Result<(), Refusal> {
+        const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
         let mut target = [0.0f32; JOINTS];
         let mut r = Ok(());
-        for ((t, c), j) in target.iter_mut().zip(centideg.iter()).zip(Joint::ALL.iter()) {
+        for ((t, c), (m, j)) in target.iter_mut().zip(centideg.iter()).zip(self.maps.iter().zip(Joint::ALL.iter())) {
             *t = centideg_to_rad(*c);
-            let inside = *c >= self.config.joint_field(*j, JointField::MinDeg)
-                && *c <= self.config.joint_field(*j, JointField::MaxDeg);
-            if !inside && r.is_ok() {
+            let (lo, hi) = m.angle_limits::<f32>();
+            if (*t < lo - HALF_CENTIDEG || *t > hi + HALF_CENTIDEG) && r.is_ok() {
                 r = Err(Refusal::JointLimit(*j));
             }
         }
@@ -241,30 +252,24 @@ impl App {
             pct = pct.min(SpeedPreset::Slow.percent());
         }
         let start = self.commanded;
-        let maps = self.maps;
-        let (motion, planned) = self.plan_motion(&start, target, &maps, pct)?;
-        self.motion = Some(motion);
-        self.last_move = MoveInfo {
-            target: *target,
-            ts: planned.ts,
-            a: planned.a,
-            end_velocity: planned.end_velocity,
-            touch: touch.copied(),
-        };
+        let info = self.plan_motion(&start, target, None, pct)?;
+        self.last_move = MoveInfo { touch: touch.copied(), ..info };
         Ok(())
     }
 
-    /// Plans a synchronized move from `start` to `target` under `maps` at
-    /// `pct` % of every joint's max speed, less the safety margin (one plan
-    /// per frame: see `poll_touch`).
+    /// Plans a synchronized move from `start` to `target` under `new_maps`
+    /// (the running calibration's if `None`) at `pct` % of every joint's max
+    /// speed, less the safety margin, and starts it (one plan per frame: see
+    /// `poll_touch`). Returns what to report.
     pub(super) fn plan_motion(
         &mut self,
         start: &[f32; JOINTS],
         target: &[f32; JOINTS],
-        maps: &[ServoMap; JOINTS],
+        new_maps: Option<&[ServoMap; JOINTS]>,
         pct: u8,
-    ) -> Result<(Motion, PlannedMove<f32>), Refusal> {
+    ) -> Result<MoveInfo, Refusal> {
         self.planned = true;
+        let maps = new_maps.unwrap_or(&self.maps);
         let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
         let mut speed = [0.0f32; JOINTS];
         for (s, m) in speed.iter_mut().zip(maps.iter()) {
@@ -275,7 +280,8 @@ impl App {
         let req = MoveRequest { start: *start, target: *target, law: self.config.law };
         let planned = plan_move(&req, &lim)?;
         let track = ServoTrack::new(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
-        Ok((Motion { track, frame: 0 }, planned))
+        self.motion = Some(Motion { track, frame: 0 });
+        Ok(MoveInfo { target: *target, ts: planned.ts, a: planned.a, end_velocity: planned.end_velocity, touch: None })
     }
 
     /// A target angle the servo layer would have to clamp (angle or pulse

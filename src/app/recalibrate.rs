@@ -28,11 +28,13 @@ impl App {
             return Err(Refusal::Homing);
         }
         let maps = build_maps(next).ok_or(Refusal::Fault)?;
+        // `plan_motion` starts the slew; the configuration it was planned
+        // under is installed right after, in the same frame.
         let slew = match self.slew_start(&maps)? {
             Some(_) if self.stopped => return Err(Refusal::Stopped),
             Some(start) => {
                 let held = self.commanded;
-                Some(self.plan_motion(&start, &held, &maps, SpeedPreset::Slow.percent())?)
+                Some(self.plan_motion(&start, &held, Some(&maps), SpeedPreset::Slow.percent())?.ts)
             }
             None => None,
         };
@@ -41,10 +43,7 @@ impl App {
         }
         self.config = *next;
         self.maps = maps;
-        Ok(slew.map(|(motion, planned)| {
-            self.motion = Some(motion);
-            planned.ts
-        }))
+        Ok(slew)
     }
 
     /// Where a slew to the held pose under `maps` starts (each servo's present

@@ -10,8 +10,9 @@
 //! - at most one line is taken per frame, and only while the port has room
 //!   for the longest reply ([`LINE_CAP`]); until then the bytes wait in the
 //!   port, and while a multi-line reply is being sent no line is taken;
-//! - lines the port's full receive buffer dropped are answered together, in
-//!   their place in the stream: `err input overflow: <n> lines lost`;
+//! - lines the port lost (its receive buffer was full, or a byte arrived
+//!   garbled) are answered together, in their place in the stream:
+//!   `err input lost: <n> lines`;
 //! - other output (touch and screen events, telemetry) goes out when it fits
 //!   and is otherwise counted, then reported as `warn output full: <n> lines
 //!   dropped` as soon as that fits.
@@ -21,11 +22,37 @@ use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
 use super::{App, Io, Pending};
 use crate::config::settings::CalSet;
-use crate::config::settings::{Config, ConfigError};
+use crate::config::settings::{Config, ConfigError, SpeedPreset};
 use crate::config::store::{self, SaveError};
-use crate::protocol::command::{parse, CmdError, Command, LINE_LEN};
+use crate::motion::plan::LawKind;
+use crate::protocol::command::{parse, CmdError, Command};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
+
+/// What a line did, for its reply. The reply is formatted after the work, in
+/// [`App::send_reply`], so its buffer is not on the stack while a move is
+/// planned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Done {
+    /// No reply: an empty line, or `cal show` (its lines follow).
+    Nothing,
+    Bad(CmdError),
+    Refused(Refusal),
+    Moved,
+    Went,
+    Stopped,
+    Resumed,
+    Status,
+    Law(LawKind),
+    Speed(SpeedPreset),
+    Log(bool),
+    CalSet(Option<f32>),
+    CalReset(Option<f32>),
+    CalInvalid(ConfigError),
+    CalSaved(Result<u16, SaveError>),
+    /// Lines the port lost.
+    Lost(u16),
+}
 
 impl App {
     /// Reads up to the byte budget, stopping after the first complete line
@@ -41,149 +68,158 @@ impl App {
         if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
             self.line.clear();
         }
-        let mut copy = [0u8; LINE_LEN];
-        let mut reply = Line::new();
+        let mut done = Done::Nothing;
         let mut budget = self.params.serial_bytes_per_frame;
         while budget > 0 {
             budget -= 1;
             let Some(byte) = io.serial.read_byte() else {
                 if let Some(loss) = io.serial.take_rx_loss() {
                     self.line.after_loss(&loss);
-                    let n = loss.lines;
-                    if n > 0 {
-                        reply.str(t!("err input overflow:")).num(i32::from(n)).str(t!(" lines lost"));
+                    if loss.lines > 0 {
+                        done = Done::Lost(loss.lines);
                     }
                 }
                 break;
             };
             self.last_rx_ms = now_ms;
-            let got = match self.line.push(byte) {
+            let parsed = match self.line.push(byte) {
                 None => continue,
-                Some(Ok(l)) => {
-                    let n = l.len().min(LINE_LEN);
-                    if let (Some(dst), Some(src)) = (copy.get_mut(..n), l.get(..n)) {
-                        dst.copy_from_slice(src);
-                    }
-                    Ok(n)
-                }
-                Some(Err(e)) => Err(e),
+                Some(Ok(l)) if l.is_empty() => None,
+                Some(Ok(l)) => Some(parse(l)),
+                Some(Err(e)) => Some(Err(e)),
             };
-            match got {
-                Ok(n) => self.handle_line(copy.get(..n).unwrap_or(&[]), io.storage, &mut reply),
-                Err(e) => {
-                    reply.str(t!("err ")).str(e.reason());
-                }
-            }
+            done = match parsed {
+                None => Done::Nothing,
+                Some(Ok(cmd)) => self.execute(cmd, io.storage),
+                Some(Err(e)) => Done::Bad(e),
+            };
             break;
         }
-        if !reply.as_bytes().is_empty() {
-            io.serial.write(reply.finish());
+        if done != Done::Nothing {
+            self.send_reply(io.serial, &done);
         }
     }
 
-    /// Parses and executes one line; the reply goes into `reply` (left
-    /// empty for an empty line).
-    fn handle_line<E: Storage>(&mut self, bytes: &[u8], storage: &mut E, reply: &mut Line) {
-        let cmd = match parse(bytes) {
-            Ok(c) => c,
-            Err(CmdError::Empty) if bytes.is_empty() => return,
-            Err(e) => {
-                reply.str(t!("err ")).str(e.reason());
-                return;
-            }
-        };
+    /// Carries out one command.
+    fn execute<E: Storage>(&mut self, cmd: Command, storage: &mut E) -> Done {
         let result = match cmd {
-            Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| {
-                reply.str(t!("ok move"));
-                self.describe_move(reply, true);
-            }),
-            Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| {
-                reply.str(t!("ok goto"));
-                self.describe_move(reply, false);
-            }),
+            Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| Done::Moved),
+            Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| Done::Went),
             Command::Stop => {
                 self.stop();
-                reply.str(t!("ok stop"));
-                Ok(())
+                Ok(Done::Stopped)
             }
             Command::Resume => {
                 self.resume();
-                reply.str(t!("ok resume"));
-                Ok(())
+                Ok(Done::Resumed)
             }
-            Command::Status => {
-                status_line(&self.status(), reply);
-                Ok(())
-            }
+            Command::Status => Ok(Done::Status),
             Command::Law(l) => {
                 self.config.law = l;
-                reply.str(t!("ok law ")).str(l.name());
-                Ok(())
+                Ok(Done::Law(l))
             }
             Command::Speed(s) => {
                 self.config.speed = s;
-                reply.str(t!("ok speed ")).str(s.name());
-                Ok(())
+                Ok(Done::Speed(s))
             }
             Command::Log(on) => {
                 self.log = on;
-                reply.str(if on { t!("ok log on") } else { t!("ok log off") });
-                Ok(())
+                Ok(Done::Log(on))
             }
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
                 self.pending = Some(Pending::CalShow(0));
-                Ok(())
+                Ok(Done::Nothing)
             }
-            Command::CalSet(set) => self.cal_set(&set, reply),
-            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(|slew| {
-                reply.str(t!("ok cal reset"));
-                slew_suffix(slew, reply);
-            }),
-            Command::CalSave => self.cal_save(storage, reply),
+            Command::CalSet(set) => self.cal_set(&set),
+            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(Done::CalReset),
+            Command::CalSave => self.cal_save(storage),
         };
-        if let Err(r) = result {
-            reply.clear().str(t!("err ")).str(r.reason());
-        }
+        result.unwrap_or_else(Done::Refused)
     }
 
-    fn cal_set(&mut self, set: &CalSet, reply: &mut Line) -> Result<(), Refusal> {
+    fn cal_set(&mut self, set: &CalSet) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
         let mut next = self.config;
         if let Err(e) = next.apply(set) {
-            reply.str(t!("err "));
-            config_error(&e, reply);
-            return Ok(());
+            return Ok(Done::CalInvalid(e));
         }
-        let slew = self.replace_config(&next, matches!(set, CalSet::Touch { .. }))?;
-        reply.str(t!("ok cal set"));
-        slew_suffix(slew, reply);
-        Ok(())
+        self.replace_config(&next, matches!(set, CalSet::Touch { .. })).map(Done::CalSet)
     }
 
-    fn cal_save<E: Storage>(&mut self, storage: &mut E, reply: &mut Line) -> Result<(), Refusal> {
+    fn cal_save<E: Storage>(&mut self, storage: &mut E) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
         let config = self.config;
-        match self.save_config(storage, &config) {
-            Ok(seq) => {
-                reply.str(t!("ok cal save seq")).num(i32::from(seq));
+        Ok(Done::CalSaved(self.save_config(storage, &config)))
+    }
+
+    /// The one reply line of a command (see [`Done`]).
+    #[inline(never)]
+    fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
+        let mut reply = Line::new();
+        let r = &mut reply;
+        match *done {
+            Done::Nothing => return,
+            Done::Bad(e) => {
+                r.str(t!("err ")).str(e.reason());
             }
-            Err(SaveError::Invalid(e)) => {
-                reply.str(t!("err "));
-                config_error(&e, reply);
+            Done::Refused(e) => {
+                r.str(t!("err ")).str(e.reason());
             }
-            Err(SaveError::Storage(_)) => {
-                reply.str(t!("err save failed: storage"));
+            Done::Moved => {
+                r.str(t!("ok move"));
+                self.describe_move(r, true);
             }
-            Err(SaveError::Verify) => {
-                reply.str(t!("err save failed: verify"));
+            Done::Went => {
+                r.str(t!("ok goto"));
+                self.describe_move(r, false);
+            }
+            Done::Stopped => {
+                r.str(t!("ok stop"));
+            }
+            Done::Resumed => {
+                r.str(t!("ok resume"));
+            }
+            Done::Status => status_line(&self.status(), r),
+            Done::Law(l) => {
+                r.str(t!("ok law ")).str(l.name());
+            }
+            Done::Speed(s) => {
+                r.str(t!("ok speed ")).str(s.name());
+            }
+            Done::Log(on) => {
+                r.str(if on { t!("ok log on") } else { t!("ok log off") });
+            }
+            Done::CalSet(slew) => {
+                r.str(t!("ok cal set"));
+                slew_suffix(slew, r);
+            }
+            Done::CalReset(slew) => {
+                r.str(t!("ok cal reset"));
+                slew_suffix(slew, r);
+            }
+            Done::CalInvalid(e) | Done::CalSaved(Err(SaveError::Invalid(e))) => {
+                r.str(t!("err "));
+                config_error(&e, r);
+            }
+            Done::CalSaved(Ok(seq)) => {
+                r.str(t!("ok cal save seq")).num(i32::from(seq));
+            }
+            Done::CalSaved(Err(SaveError::Storage(_))) => {
+                r.str(t!("err save failed: storage"));
+            }
+            Done::CalSaved(Err(SaveError::Verify)) => {
+                r.str(t!("err save failed: verify"));
+            }
+            Done::Lost(n) => {
+                r.str(t!("err input lost:")).num(i32::from(n)).str(t!(" lines"));
             }
         }
-        Ok(())
+        serial.write(reply.finish());
     }
 }
 
@@ -202,6 +238,7 @@ impl App {
 
     /// `warn output full: <n> lines dropped`, once it fits, for the lines
     /// [`App::emit`] could not send.
+    #[inline(never)]
     pub(super) fn report_dropped<U: SerialPort>(&mut self, serial: &mut U) {
         if self.tx_dropped == 0 {
             return;

@@ -37,6 +37,7 @@ impl App {
 
     /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
     /// commanded angles in centidegrees and the pulses written this frame.
+    #[inline(never)]
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
@@ -51,6 +52,7 @@ impl App {
     }
 
     /// Sends the next line of a multi-line reply, if one is pending.
+    #[inline(never)]
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(Pending::CalShow(i)) = self.pending else { return };
         let mut line = Line::new();

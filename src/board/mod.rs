@@ -10,6 +10,7 @@ pub mod adc;
 pub mod cycles;
 pub mod eeprom;
 pub mod fault;
+pub mod frame;
 pub mod gpio;
 pub mod lcd;
 pub mod servo_pwm;

@@ -95,6 +95,18 @@ impl ServoPwm {
         self.enabled = [false; CHANNELS];
     }
 
+    /// Timer ticks (0.5 µs, 8 CPU cycles) since the current period started.
+    pub fn ticks(&self) -> u16 {
+        // 16-bit read through the shared TEMP byte: keep interrupts out.
+        avr_device::interrupt::free(|_| self.tc5.tcnt5().read().bits())
+    }
+
+    /// A new period has started since the flag was last cleared (a frame
+    /// that sees this at its end overran).
+    pub fn period_pending(&self) -> bool {
+        self.tc5.tifr5().read().tov5().bit_is_set()
+    }
+
     /// True once per 20 ms period (at BOTTOM), clearing the flag.
     pub fn period_started(&mut self) -> bool {
         if self.tc5.tifr5().read().tov5().bit_is_set() {

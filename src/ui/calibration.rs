@@ -279,21 +279,28 @@ fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -
     text_centered(d, CANCEL_AREA, &t!("Cancel"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))
 }
 
-/// Draws the flow's screen; with `old` (what is on the glass) only the
-/// changed parts are repainted.
-pub(crate) fn draw<D: Canvas>(flow: &CalibrationFlow, old: Option<CalView>, d: &mut D) -> Result<CalView, D::Error> {
+/// What the calibration screen shows for `flow`.
+pub(crate) fn view(flow: &CalibrationFlow) -> CalView {
     match flow.phase {
-        CalPhase::Review { result } => {
-            if old != Some(CalView::Review(result)) {
+        CalPhase::Review { result } => CalView::Review(result),
+        CalPhase::Touch { index } => CalView::Touch { index, rejected: flow.rejected },
+    }
+}
+
+/// Draws `new`; with `old` (what is on the glass) only the changed parts are
+/// repainted. Deterministic in (`new`, `old`), so a sliced redraw can replay it.
+#[inline(never)]
+pub(crate) fn draw<D: Canvas>(new: &CalView, old: Option<&CalView>, d: &mut D) -> Result<(), D::Error> {
+    match *new {
+        CalView::Review(result) => {
+            if old != Some(new) {
                 draw_review(d, &result)?;
             }
-            Ok(CalView::Review(result))
         }
-        CalPhase::Touch { index } => {
+        CalView::Touch { index, rejected } => {
             let (x, y) = CAL_PIXELS.get(usize::from(index)).copied().unwrap_or((160, 120));
-            let rejected = flow.rejected;
             match old {
-                Some(CalView::Touch { index: i0, rejected: r0 }) => {
+                Some(&CalView::Touch { index: i0, rejected: r0 }) => {
                     if i0 != index {
                         if let Some(&(ox, oy)) = CAL_PIXELS.get(usize::from(i0)) {
                             fill(d, cross_area(ox, oy), BG)?;
@@ -314,7 +321,7 @@ pub(crate) fn draw<D: Canvas>(flow: &CalibrationFlow, old: Option<CalView>, d: &
                     draw_hint(d, rejected)?;
                 }
             }
-            Ok(CalView::Touch { index, rejected })
         }
     }
+    Ok(())
 }

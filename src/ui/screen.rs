@@ -13,6 +13,7 @@ use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
+use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::text_buf::{rad_to_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
@@ -227,11 +228,53 @@ enum Shown {
     Calibration(CalView),
 }
 
-/// The renderer. Holds only what it last drew (a few dozen bytes).
+/// A redraw under way: the picture it draws and how far it got (the step,
+/// and the drawing operations of that step already done; see `slice`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Pass {
+    target: Shown,
+    step: u8,
+    op: u32,
+}
+
+/// The renderer. Holds only what it last drew and the redraw under way (a few
+/// dozen bytes).
 pub struct Ui {
     reach: Reach,
+    /// What the glass showed when the redraw under way started (all of it
+    /// when none is).
     shown: Shown,
+    pass: Option<Pass>,
 }
+
+/// What a sliced draw did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Drawn {
+    /// Regions whose repaint completed in this call.
+    pub redrawn: Redrawn,
+    /// The glass shows the requested picture (false: the budget ran out;
+    /// call again in the next frame).
+    pub finished: bool,
+}
+
+/// Map rows per redraw step (the map's background is computed row by row,
+/// so a step resumed in the middle recomputes at most this many rows).
+const BAND_ROWS: u16 = 8;
+const BANDS: u8 = (lay::WS.h / BAND_ROWS) as u8;
+const _: () = assert!(lay::WS.h % BAND_ROWS == 0);
+const S_OVERLAYS: u8 = BANDS;
+const S_GAPS: u8 = BANDS + 1;
+const S_STOP: u8 = BANDS + 2;
+const S_HEADLINE: u8 = BANDS + 3;
+const S_DETAIL: u8 = BANDS + 4;
+const S_INFO: u8 = BANDS + 5;
+const S_WARN: u8 = BANDS + 6;
+const S_JOINTS: u8 = BANDS + 7;
+const S_SPEED: u8 = BANDS + 8;
+const S_CALIBRATE: u8 = BANDS + 9;
+/// Up to four marker boxes (old and new touch and target).
+const S_MARKERS: u8 = BANDS + 10;
+const S_END: u8 = S_MARKERS + 4;
 
 const HEAD_STYLE: TextStyle = TextStyle::opaque(2, theme::TEXT, theme::BG);
 const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
@@ -293,14 +336,14 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
 
 impl Ui {
     pub fn new(config: &UiConfig) -> Self {
-        Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing }
+        Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing, pass: None }
     }
 
     /// Changes the reach shading; the next [`Ui::draw`] repaints the map.
     pub fn set_reach(&mut self, config: &UiConfig) {
         self.reach = Reach::new(config.reach_min, config.reach_max);
         if let Shown::Main(_) = self.shown {
-            self.shown = Shown::Nothing;
+            self.invalidate();
         }
     }
 
@@ -308,111 +351,194 @@ impl Ui {
     /// full.
     pub fn invalidate(&mut self) {
         self.shown = Shown::Nothing;
+        self.pass = None;
     }
 
     /// Draws the main screen, repainting only what differs from the last
     /// draw (everything after a calibration screen, a reach change or an
     /// error).
     pub fn draw<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        let v = View::of(model);
-        let old = match self.shown {
-            Shown::Main(old) => old,
-            _ => return self.draw_view_full(&v, d),
-        };
-        // Until this draw completes, the glass is unknown.
-        self.shown = Shown::Nothing;
-        let r = self.draw_changes(&old, &v, d)?;
-        self.shown = Shown::Main(v);
-        Ok(r)
+        self.draw_sliced(model, d, &mut Unlimited).map(|r| r.redrawn)
+    }
+
+    /// [`Ui::draw`] within `budget`: what does not fit is drawn by the next
+    /// calls (a redraw under way is finished before a newer picture starts,
+    /// so the glass always converges on the latest model).
+    pub fn draw_sliced<D: Canvas, B: DrawBudget>(
+        &mut self,
+        model: &UiModel,
+        d: &mut D,
+        budget: &mut B,
+    ) -> Result<Drawn, D::Error> {
+        self.run(Shown::Main(View::of(model)), d, budget)
     }
 
     /// Draws the whole main screen.
     pub fn draw_full<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        self.draw_view_full(&View::of(model), d)
+        self.invalidate();
+        self.draw(model, d)
     }
 
-    fn draw_view_full<D: Canvas>(&mut self, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
-        self.shown = Shown::Nothing;
-        let (marks, n) = v.marks();
-        ws_view::draw_map(d, &self.reach, marks.get(..n).unwrap_or(&[]))?;
-        for g in lay::GAPS {
-            fill(d, g, theme::BG)?;
-        }
-        draw_stop(d, v.stop_shown)?;
-        draw_headline(d, v.headline)?;
-        draw_detail(d, &v.detail)?;
-        draw_info(d, v.zone)?;
-        draw_warning(d, v.warning)?;
-        draw_joints(d, &v.joints)?;
-        draw_speed(d, v.speed)?;
-        button(d, lay::CALIBRATE, t!("Calib"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
-        self.shown = Shown::Main(*v);
-        Ok(Redrawn(Redrawn::ALL_MAIN))
-    }
-
-    fn draw_changes<D: Canvas>(&self, old: &View, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
-        let mut r = 0u16;
-        if old.stop_shown != v.stop_shown {
-            draw_stop(d, v.stop_shown)?;
-            r |= Redrawn::STOP;
-        }
-        if old.headline != v.headline {
-            draw_headline(d, v.headline)?;
-            r |= Redrawn::HEADLINE;
-        }
-        if old.detail != v.detail {
-            match (old.detail, v.detail) {
-                (Detail::Progress { px: a, percent: pa }, Detail::Progress { px: b, percent: pb }) => {
-                    update_progress(d, a, b)?;
-                    if pa != pb {
-                        draw_percent(d, pb)?;
+    /// Redraws towards `target` until it is on the glass or the budget ends.
+    fn run<D: Canvas, B: DrawBudget>(&mut self, target: Shown, d: &mut D, budget: &mut B) -> Result<Drawn, D::Error> {
+        let mut redrawn = 0u16;
+        loop {
+            let mut pass = match self.pass {
+                Some(p) => p,
+                None if self.shown == target => return Ok(Drawn { redrawn: Redrawn(redrawn), finished: true }),
+                None => Pass { target, step: 0, op: 0 },
+            };
+            while pass.step < S_END {
+                let mut s = Slicer::new(d, budget, pass.op);
+                let r = self.step(&pass.target, pass.step, &mut s);
+                let (ops, paused) = (s.ops, s.paused);
+                match r {
+                    Ok(_) if paused => {
+                        pass.op = ops;
+                        self.pass = Some(pass);
+                        return Ok(Drawn { redrawn: Redrawn(redrawn), finished: false });
+                    }
+                    Ok(bits) => {
+                        redrawn |= bits;
+                        pass.step += 1;
+                        pass.op = 0;
+                    }
+                    Err(e) => {
+                        self.invalidate();
+                        return Err(e);
                     }
                 }
-                _ => draw_detail(d, &v.detail)?,
             }
-            r |= Redrawn::DETAIL;
+            self.shown = pass.target;
+            self.pass = None;
         }
-        if old.zone != v.zone {
-            draw_info(d, v.zone)?;
-            r |= Redrawn::INFO;
+    }
+
+    /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
+    /// step does not apply); the [`Redrawn`] bits it painted.
+    #[inline(never)]
+    fn step<D: Canvas>(&self, target: &Shown, k: u8, d: &mut D) -> Result<u16, D::Error> {
+        match *target {
+            Shown::Main(v) => {
+                let old = match self.shown {
+                    Shown::Main(o) => Some(o),
+                    _ => None,
+                };
+                self.main_step(old.as_ref(), &v, k, d)
+            }
+            Shown::Calibration(v) if k == 0 => {
+                let old = match self.shown {
+                    Shown::Calibration(o) => Some(o),
+                    _ => None,
+                };
+                calibration::draw(&v, old.as_ref(), d)?;
+                Ok(Redrawn::CALIBRATION)
+            }
+            _ => Ok(0),
         }
-        if old.warning != v.warning {
-            draw_warning(d, v.warning)?;
-            r |= Redrawn::WARN;
-        }
-        if old.joints != v.joints {
-            draw_joints(d, &v.joints)?;
-            r |= Redrawn::JOINTS;
-        }
-        if old.speed != v.speed {
-            draw_speed(d, v.speed)?;
-            r |= Redrawn::SPEED;
-        }
-        if old.touch != v.touch || old.target != v.target {
-            let mut dirty = [Area::new(0, 0, 0, 0); 4];
-            let mut n = 0;
-            for (a, b) in [(old.touch, v.touch), (old.target, v.target)] {
-                if a != b {
-                    for m in [a, b].into_iter().flatten() {
-                        if let Some(slot) = dirty.get_mut(n) {
-                            *slot = m.area();
-                            n += 1;
+    }
+
+    /// The main screen's steps: in a full redraw (`old` = `None`) the map in
+    /// bands, its overlays, the gaps and every region; otherwise the regions
+    /// whose visible content changed and the boxes around markers that moved.
+    #[inline(never)]
+    fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
+        match k {
+            _ if k < BANDS => {
+                if old.is_none() {
+                    let band =
+                        Area::new(lay::WS.x, lay::WS.y + (u16::from(k) * BAND_ROWS) as i16, lay::WS.w, BAND_ROWS);
+                    ws_view::draw_background(d, &self.reach, band)?;
+                    return Ok(Redrawn::MAP);
+                }
+            }
+            S_OVERLAYS if old.is_none() => {
+                let (marks, n) = v.marks();
+                ws_view::draw_overlays(d, lay::WS, marks.get(..n).unwrap_or(&[]))?;
+                return Ok(Redrawn::MAP);
+            }
+            S_GAPS if old.is_none() => {
+                for g in lay::GAPS {
+                    fill(d, g, theme::BG)?;
+                }
+                return Ok(Redrawn::GAPS);
+            }
+            S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown) => {
+                draw_stop(d, v.stop_shown)?;
+                return Ok(Redrawn::STOP);
+            }
+            S_HEADLINE if old.is_none_or(|o| o.headline != v.headline) => {
+                draw_headline(d, v.headline)?;
+                return Ok(Redrawn::HEADLINE);
+            }
+            S_DETAIL if old.is_none_or(|o| o.detail != v.detail) => {
+                match (old.map(|o| o.detail), v.detail) {
+                    (Some(Detail::Progress { px: a, percent: pa }), Detail::Progress { px: b, percent: pb }) => {
+                        update_progress(d, a, b)?;
+                        if pa != pb {
+                            draw_percent(d, pb)?;
                         }
                     }
+                    _ => draw_detail(d, &v.detail)?,
+                }
+                return Ok(Redrawn::DETAIL);
+            }
+            S_INFO if old.is_none_or(|o| o.zone != v.zone) => {
+                draw_info(d, v.zone)?;
+                return Ok(Redrawn::INFO);
+            }
+            S_WARN if old.is_none_or(|o| o.warning != v.warning) => {
+                draw_warning(d, v.warning)?;
+                return Ok(Redrawn::WARN);
+            }
+            S_JOINTS if old.is_none_or(|o| o.joints != v.joints) => {
+                draw_joints(d, &v.joints)?;
+                return Ok(Redrawn::JOINTS);
+            }
+            S_SPEED if old.is_none_or(|o| o.speed != v.speed) => {
+                draw_speed(d, v.speed)?;
+                return Ok(Redrawn::SPEED);
+            }
+            S_CALIBRATE if old.is_none() => {
+                button(d, lay::CALIBRATE, t!("Calib"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
+                return Ok(Redrawn::CALIBRATE);
+            }
+            _ if k >= S_MARKERS => {
+                if let Some(o) = old {
+                    return self.marker_step(o, v, usize::from(k - S_MARKERS), d);
                 }
             }
-            let (marks, k) = v.marks();
-            let marks = marks.get(..k).unwrap_or(&[]);
-            for (i, box_) in dirty.iter().enumerate().take(n) {
-                // A box already repainted (same place) needs no second pass.
-                if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
-                    continue;
-                }
-                ws_view::repaint(d, &self.reach, *box_, marks)?;
-            }
-            r |= Redrawn::MARKERS;
+            _ => {}
         }
-        Ok(Redrawn(r))
+        Ok(0)
+    }
+
+    /// Repaints box `i` of the markers that changed (old and new places of
+    /// the touch and the target), unless an earlier box covers it.
+    #[inline(never)]
+    fn marker_step<D: Canvas>(&self, old: &View, v: &View, i: usize, d: &mut D) -> Result<u16, D::Error> {
+        let mut dirty = [Area::new(0, 0, 0, 0); 4];
+        let mut n = 0;
+        for (a, b) in [(old.touch, v.touch), (old.target, v.target)] {
+            if a != b {
+                for m in [a, b].into_iter().flatten() {
+                    if let Some(slot) = dirty.get_mut(n) {
+                        *slot = m.area();
+                        n += 1;
+                    }
+                }
+            }
+        }
+        let Some(box_) = dirty.get(..n).and_then(|b| b.get(i)) else {
+            return Ok(0);
+        };
+        // A box already repainted (same place) needs no second pass.
+        if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
+            return Ok(0);
+        }
+        let (marks, k) = v.marks();
+        ws_view::repaint(d, &self.reach, *box_, marks.get(..k).unwrap_or(&[]))?;
+        Ok(Redrawn::MARKERS)
     }
 
     /// What a touch at screen pixel `(x, y)` means on the main screen as last
@@ -424,7 +550,10 @@ impl Ui {
             Shown::Calibration(_) => return None,
             Shown::Nothing => None,
         };
-        let resume_shown = view.is_some_and(|v| !v.stop_shown);
+        // While a redraw is under way the button may be half STOP, half
+        // RESUME: it is STOP unless both pictures say RESUME.
+        let stop_coming = matches!(self.pass, Some(Pass { target: Shown::Main(t), .. }) if t.stop_shown);
+        let resume_shown = view.is_some_and(|v| !v.stop_shown) && !stop_coming;
         if resume_shown {
             if lay::STOP.contains(x, y) {
                 return Some(Hit::Resume);
@@ -455,14 +584,17 @@ impl Ui {
     /// Draws the calibration screen for `flow`'s current step, repainting
     /// only what changed since the last calibration draw.
     pub fn draw_calibration<D: Canvas>(&mut self, flow: &CalibrationFlow, d: &mut D) -> Result<Redrawn, D::Error> {
-        let old = match self.shown {
-            Shown::Calibration(v) => Some(v),
-            _ => None,
-        };
-        self.shown = Shown::Nothing;
-        let v = calibration::draw(flow, old, d)?;
-        self.shown = Shown::Calibration(v);
-        Ok(Redrawn(Redrawn::CALIBRATION))
+        self.draw_calibration_sliced(flow, d, &mut Unlimited).map(|r| r.redrawn)
+    }
+
+    /// [`Ui::draw_calibration`] within `budget` (see [`Ui::draw_sliced`]).
+    pub fn draw_calibration_sliced<D: Canvas, B: DrawBudget>(
+        &mut self,
+        flow: &CalibrationFlow,
+        d: &mut D,
+        budget: &mut B,
+    ) -> Result<Drawn, D::Error> {
+        self.run(Shown::Calibration(calibration::view(flow)), d, budget)
     }
 }
 
