@@ -76,6 +76,9 @@ fn main() -> ! {
         halt()
     };
     board.dog.enable(WATCHDOG);
+    // The overflow flag has been set since Timer5 started: drop it, so the
+    // first frame starts at a period start like every other.
+    let _ = board.pwm.period_started();
     loop {
         while !board.pwm.period_started() {}
         board.dog.feed();

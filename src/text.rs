@@ -156,6 +156,71 @@ pub const fn to_array<const N: usize>(b: &[u8]) -> [u8; N] {
 }
 
 /// `t!("literal")`: a [`Text`] kept in flash on the chip.
+/// The decimal digits of `v` into `out`, most significant first, without
+/// leading zeros (`0` is one digit); returns how many. By subtracting powers
+/// of ten (16-bit ones for the usual small values): on the ATmega2560 a
+/// 32-bit `/ 10` and `% 10` are library calls of several hundred cycles per
+/// digit, this is a few dozen.
+pub fn decimal(v: u32, out: &mut [u8; 10]) -> usize {
+    let mut d = Digits { out, n: 0 };
+    let mut small = match u16::try_from(v) {
+        Ok(mut s) => {
+            d.put16(&mut s, 10_000);
+            s
+        }
+        Err(_) => {
+            let mut rest = v;
+            for p in [1_000_000_000, 100_000_000, 10_000_000, 1_000_000, 100_000, 10_000] {
+                d.put32(&mut rest, p);
+            }
+            rest as u16
+        }
+    };
+    for p in [1000, 100, 10] {
+        d.put16(&mut small, p);
+    }
+    d.push(b'0' + small as u8);
+    d.n
+}
+
+/// Digits written so far.
+struct Digits<'a> {
+    out: &'a mut [u8; 10],
+    n: usize,
+}
+
+impl Digits<'_> {
+    fn push(&mut self, d: u8) {
+        if let Some(slot) = self.out.get_mut(self.n) {
+            *slot = d;
+        }
+        self.n += 1;
+    }
+
+    /// The digit of `p` in `rest`, unless it is a leading zero.
+    fn put32(&mut self, rest: &mut u32, p: u32) {
+        let mut d = b'0';
+        while *rest >= p {
+            *rest -= p;
+            d += 1;
+        }
+        if d != b'0' || self.n > 0 {
+            self.push(d);
+        }
+    }
+
+    fn put16(&mut self, rest: &mut u16, p: u16) {
+        let mut d = b'0';
+        while *rest >= p {
+            *rest -= p;
+            d += 1;
+        }
+        if d != b'0' || self.n > 0 {
+            self.push(d);
+        }
+    }
+}
+
 #[macro_export]
 macro_rules! t {
     ($s:literal) => {{

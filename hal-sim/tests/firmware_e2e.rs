@@ -150,8 +150,12 @@ fn all_joints_arrive_together_at_ts() {
     }
     let spread = arrivals.iter().cloned().fold(f64::MIN, f64::max) - arrivals.iter().cloned().fold(f64::MAX, f64::min);
     assert!(spread <= FRAME_S + 1e-6, "arrivals {arrivals:?}");
+    // The line is read in the next frame (< 1 frame), planned after that
+    // frame's pulses so the move's t = 0 is the frame after (1), each pulse
+    // is latched at the following period start (1), and tₛ ends inside a
+    // frame (< 1).
     assert!(
-        (arrivals[0] - (t_cmd + ts)).abs() <= 3.0 * FRAME_S,
+        (arrivals[0] - (t_cmd + ts)).abs() <= 4.0 * FRAME_S,
         "arrival {} vs command at {t_cmd} + tₛ {ts}",
         arrivals[0]
     );

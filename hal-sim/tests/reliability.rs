@@ -245,3 +245,22 @@ fn sliced_drawing_converges_on_the_unsliced_picture() {
     assert!(!d.finished);
     assert_eq!(ui.hit(x, y), Some(Hit::Stop), "half-drawn STOP counts as STOP");
 }
+
+/// `text::decimal`, the integer formatting of every reply and telemetry
+/// line (powers of ten subtracted, 16-bit where the value allows), against
+/// Rust's own formatting.
+#[test]
+fn decimal_digits_match_rust_formatting() {
+    let mut probe = vec![0u32, 1, 9, 10, 99, 100, 999, 1000, 9999, 10_000, 10_001, 65_535, 65_536, 99_999, 100_000];
+    probe.extend([123_456, 1_000_000, 4_294_967_295, 4_000_000_000, 1_000_000_000, 999_999_999]);
+    let mut rng = hal_sim::twin::rng::Rng::new(9);
+    for _ in 0..20_000 {
+        let x = rng.next_u64() as u32;
+        probe.push(x >> rng.below(32));
+    }
+    for v in probe {
+        let mut out = [0u8; 10];
+        let n = touch_arm::text::decimal(v, &mut out);
+        assert_eq!(std::str::from_utf8(&out[..n]).unwrap(), v.to_string(), "{v}");
+    }
+}

@@ -2,8 +2,9 @@
 //! module doc of `app`).
 
 use super::refusal::Refusal;
+use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
+use super::{build_maps, Answer, App, Io, Mode, Motion, MoveInfo, PlanDue, TouchTarget, FRAME_S};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
@@ -34,11 +35,14 @@ impl App {
             return;
         }
         let now = io.clock.now_ms();
-        self.planned = false;
+        self.busy = false;
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
+        // After the pulses: a plan may take most of the frame, and the next
+        // period's pulses are already set if it takes a little longer.
+        self.finish_plan(io.serial);
         if self.log {
             self.send_telemetry(io.serial, now);
         }
@@ -92,17 +96,22 @@ impl App {
         out
     }
 
-    /// One filtered panel read; a confirmed touch acts. At most one plan is
-    /// computed per frame (each can take most of it): a touch that would plan
-    /// in a frame that already did waits for the next one, and the panel is
-    /// not read while it waits.
+    /// One filtered panel read; a confirmed touch acts. A frame does one
+    /// heavy thing (a plan can take most of it; a reply is formatted in it):
+    /// after a serial line or a plan the panel is not read, a touch that would
+    /// plan waits for the next frame, and that frame takes no serial line.
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
-            if self.planned {
+            if self.busy {
                 return;
             }
             self.deferred_touch = None;
             self.route_touch(&p, storage, serial);
+        }
+        // A busy frame has no time for a read (the filter takes the next
+        // one; a touch would have to wait anyway).
+        if self.busy {
+            return;
         }
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
@@ -116,7 +125,7 @@ impl App {
             Some(TouchEvent::Moved(p)) if !self.params.screen => p,
             _ => return,
         };
-        if self.planned && self.touch_plans(&p) {
+        if self.busy && self.touch_plans(&p) {
             self.deferred_touch = Some(p);
         } else {
             self.route_touch(&p, storage, serial);
@@ -133,8 +142,18 @@ impl App {
 
     /// A confirmed touch: move there, or say why not.
     fn touch_target<U: SerialPort>(&mut self, p: &TouchPoint, serial: &mut U) {
-        let r = self.move_to_raw(p);
-        self.report_touch(serial, p, r);
+        match self.move_to_raw(p) {
+            // Answered once planned (`finish_plan`).
+            Ok(()) => self.answer_due(Answer::Touch(*p)),
+            Err(e) => self.report_touch(serial, p, Err(e)),
+        }
+    }
+
+    /// Who hears how this frame's due plan goes.
+    pub(super) fn answer_due(&mut self, answer: Answer) {
+        if let Some(due) = self.plan_due.as_mut() {
+            due.answer = answer;
+        }
     }
 
     /// `info touch <x> <y> …` or `err touch <x> <y> <reason>` (its buffer is
@@ -236,8 +255,8 @@ impl App {
         r
     }
 
-    /// Checks state and limits, plans from the pose commanded last frame and
-    /// starts the move.
+    /// Checks state and limits and accepts the target: it is planned after
+    /// this frame's pulses (`finish_plan`).
     fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         if self.stopped {
             return Err(Refusal::Stopped);
@@ -247,14 +266,35 @@ impl App {
             _ => return Err(Refusal::Homing),
         }
         self.check_limits(target)?;
+        self.busy = true;
+        self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody });
+        Ok(())
+    }
+
+    /// Plans this frame's accepted target from the pose just commanded (the
+    /// move starts in the next frame) and answers whoever asked.
+    fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
+        let Some(due) = self.plan_due.take() else { return };
         let mut pct = self.config.speed.percent();
         if self.first_move {
             pct = pct.min(SpeedPreset::Slow.percent());
         }
         let start = self.commanded;
-        let info = self.plan_motion(&start, target, None, pct)?;
-        self.last_move = MoveInfo { touch: touch.copied(), ..info };
-        Ok(())
+        let r = self.plan_motion(&start, &due.target, None, pct).map(|info| {
+            self.last_move = MoveInfo { touch: due.touch, ..info };
+        });
+        if let Err(e) = r {
+            self.last_refusal = Some(e);
+        }
+        match due.answer {
+            Answer::Nobody => {}
+            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done)),
+            Answer::Touch(p) => self.report_touch(serial, &p, r),
+            Answer::Screen(p, x_p, y_p) => {
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
+                self.report_touch(serial, &p, r);
+            }
+        }
     }
 
     /// Plans a synchronized move from `start` to `target` under `new_maps`
@@ -268,7 +308,7 @@ impl App {
         new_maps: Option<&[ServoMap; JOINTS]>,
         pct: u8,
     ) -> Result<MoveInfo, Refusal> {
-        self.planned = true;
+        self.busy = true;
         let maps = new_maps.unwrap_or(&self.maps);
         let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
         let mut speed = [0.0f32; JOINTS];

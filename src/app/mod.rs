@@ -16,18 +16,25 @@
 //!
 //! # One frame, in order
 //! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
-//!    line, answered with one `ok …`/`err …` line (see `serial.rs`). A partial
-//!    line idle for `line_timeout_ms` is dropped.
+//!    line, only while the port has room for the longest reply; one `ok …`/
+//!    `err …` line (see `serial.rs`). A partial line idle for
+//!    `line_timeout_ms` is dropped.
 //! 2. Touch: one filtered read; a confirmed press or a drag to a new resting
-//!    point becomes a target (`info touch …` or `err touch …` line).
+//!    point becomes a target. A frame does one heavy thing: after a serial
+//!    line the panel is not read and a touch that would plan waits a frame.
 //! 3. Motion: the setpoint of every joint at t = frames since the plan × 20 ms
 //!    (exact, no clock drift); the move ends exactly on its target at tₛ.
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
 //!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
 //!    the previous pulse and latches STOP (`Refusal::Fault`).
-//! 5. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
+//! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
+//!    commanded, and answered (`ok move`, `info touch …`); the move starts in
+//!    the next frame. A plan can take most of a frame; coming after the
+//!    pulses, it cannot delay them.
+//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
 //!    angles in centidegrees.
-//! 6. One line of a multi-line reply (`cal show`), if pending.
+//! 7. One line of a multi-line reply (`cal show`), if pending and the frame
+//!    is not busy.
 //!
 //! # States
 //! - **off**: before the first frame; that frame loads the configuration
@@ -292,6 +299,28 @@ struct MoveInfo {
     touch: Option<TouchTarget>,
 }
 
+/// A target accepted in this frame's serial or touch step: it is planned
+/// after the frame's pulses are out, and then answered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PlanDue {
+    target: [f32; JOINTS],
+    touch: Option<TouchTarget>,
+    answer: Answer,
+}
+
+/// Who hears how a due plan went.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Answer {
+    /// Not attached yet (the caller attaches right after `start_move`).
+    Nobody,
+    /// A serial line: its reply if the plan succeeds.
+    Serial(serial::Done),
+    /// A touch without a screen: `info touch …` / `err touch …`.
+    Touch(TouchPoint),
+    /// A touch on the screen's map (workspace point for the refusal words).
+    Screen(TouchPoint, f32, f32),
+}
+
 /// Lines still to send of a multi-line reply.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Pending {
@@ -324,10 +353,13 @@ pub struct App {
     pending: Option<Pending>,
     /// Unsolicited lines the port had no room for, not yet reported.
     tx_dropped: u16,
-    /// A plan was computed in this frame (at most one per frame).
-    planned: bool,
+    /// This frame has done its one heavy thing: answered a serial line or
+    /// planned a move (see `poll_touch`).
+    busy: bool,
     /// A touch target that waits for a frame with no plan yet.
     deferred_touch: Option<TouchPoint>,
+    /// The target of this frame, planned after the pulses.
+    plan_due: Option<PlanDue>,
     screen: screen::Screen,
 }
 
@@ -370,8 +402,9 @@ impl App {
             log: false,
             pending: None,
             tx_dropped: 0,
-            planned: false,
+            busy: false,
             deferred_touch: None,
+            plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
         })
     }

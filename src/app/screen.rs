@@ -16,7 +16,7 @@ use crate::ui::{
 
 use super::refusal::Refusal;
 use super::text::Line;
-use super::{App, State};
+use super::{Answer, App, State};
 
 /// What the screen shows and how far the calibration flow has got.
 pub(super) struct Screen {
@@ -94,6 +94,11 @@ impl App {
                 self.screen.touched = Some((x_p, y_p));
                 let r = self.move_to_point(p, x_p, y_p);
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
+                if r.is_ok() {
+                    // Answered once planned (`finish_plan`).
+                    self.answer_due(Answer::Screen(*p, x_p, y_p));
+                    return ScreenEvent::Nothing;
+                }
                 ScreenEvent::Map(r)
             }
             Some(Hit::Stop) => {
@@ -172,7 +177,7 @@ impl App {
     }
 
     /// The words the screen uses for a refused map point.
-    fn ui_refusal(&self, r: Refusal, x_p: f32, y_p: f32) -> ui::Refusal {
+    pub(super) fn ui_refusal(&self, r: Refusal, x_p: f32, y_p: f32) -> ui::Refusal {
         match r {
             Refusal::Unreachable | Refusal::Singular => {
                 let k = self.params.k;
@@ -204,6 +209,10 @@ impl App {
         d: &mut D,
         budget: &mut B,
     ) -> Result<Drawn, D::Error> {
+        // Not even the model is worked out when the frame has no room left.
+        if !budget.may_start() {
+            return Ok(Drawn { redrawn: Redrawn(0), finished: false });
+        }
         if let Some(flow) = &self.screen.calibration {
             return self.screen.ui.draw_calibration_sliced(flow, d, budget);
         }

@@ -9,7 +9,8 @@
 //! Flow control, so nothing is lost silently and nothing blocks the frame:
 //! - at most one line is taken per frame, and only while the port has room
 //!   for the longest reply ([`LINE_CAP`]); until then the bytes wait in the
-//!   port, and while a multi-line reply is being sent no line is taken;
+//!   port; no line is taken while a multi-line reply is being sent or a touch
+//!   waits for a frame to plan in;
 //! - lines the port lost (its receive buffer was full, or a byte arrived
 //!   garbled) are answered together, in their place in the stream:
 //!   `err input lost: <n> lines`;
@@ -20,7 +21,7 @@
 use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
-use super::{App, Io, Pending};
+use super::{Answer, App, Io, Pending};
 use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError, SpeedPreset};
 use crate::config::store::{self, SaveError};
@@ -33,7 +34,7 @@ use crate::touch::filter::TouchPoint;
 /// [`App::send_reply`], so its buffer is not on the stack while a move is
 /// planned.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Done {
+pub(super) enum Done {
     /// No reply: an empty line, or `cal show` (its lines follow).
     Nothing,
     Bad(CmdError),
@@ -62,7 +63,8 @@ impl App {
         E: Storage,
         U: SerialPort,
     {
-        if self.pending.is_some() || io.serial.tx_room() < LINE_CAP {
+        // A touch waiting to plan has this frame (see `poll_touch`).
+        if self.pending.is_some() || self.deferred_touch.is_some() || io.serial.tx_room() < LINE_CAP {
             return;
         }
         if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
@@ -95,9 +97,16 @@ impl App {
             };
             break;
         }
-        if done != Done::Nothing {
-            self.send_reply(io.serial, &done);
+        if done == Done::Nothing {
+            return;
         }
+        self.busy = true;
+        // A move is answered once it is planned (`finish_plan`).
+        if let Some(due) = self.plan_due.as_mut().filter(|d| d.answer == Answer::Nobody) {
+            due.answer = Answer::Serial(done);
+            return;
+        }
+        self.send_reply(io.serial, &done);
     }
 
     /// Carries out one command.
@@ -159,7 +168,7 @@ impl App {
 
     /// The one reply line of a command (see [`Done`]).
     #[inline(never)]
-    fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
+    pub(super) fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
         let mut reply = Line::new();
         let r = &mut reply;
         match *done {

@@ -55,6 +55,10 @@ impl App {
     #[inline(never)]
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(Pending::CalShow(i)) = self.pending else { return };
+        // Not in a busy frame: the line waits for the next.
+        if self.busy {
+            return;
+        }
         let mut line = Line::new();
         self.cal_show_line(i, &mut line);
         // Part of a reply: it waits for room rather than being dropped.

@@ -44,26 +44,32 @@ impl Line {
         self.truncated
     }
 
+    /// Room left for text, keeping two bytes for the terminator.
+    fn room(&self) -> usize {
+        (LINE_CAP - 2).saturating_sub(self.len)
+    }
+
     /// Appends bytes, keeping two bytes for the terminator.
     pub fn bytes(&mut self, b: &[u8]) -> &mut Self {
-        for &c in b {
-            if self.len + 2 >= LINE_CAP {
-                self.truncated = true;
-                break;
-            }
-            if let Some(slot) = self.buf.get_mut(self.len) {
-                *slot = c;
-                self.len += 1;
-            }
+        let n = b.len().min(self.room());
+        if let (Some(dst), Some(src)) = (self.buf.get_mut(self.len..self.len + n), b.get(..n)) {
+            dst.copy_from_slice(src);
+            self.len += n;
         }
+        self.truncated |= n < b.len();
         self
     }
 
     /// Appends constant text (read from flash on the chip).
     pub fn str(&mut self, s: Text) -> &mut Self {
-        for b in s.bytes() {
-            self.bytes(&[b]);
+        let n = s.len().min(self.room());
+        if let Some(dst) = self.buf.get_mut(self.len..self.len + n) {
+            for (i, slot) in dst.iter_mut().enumerate() {
+                *slot = s.byte(i);
+            }
+            self.len += n;
         }
+        self.truncated |= n < s.len();
         self
     }
 
@@ -72,25 +78,10 @@ impl Line {
         self.bytes(b" ").str(s)
     }
 
-    pub fn u32(&mut self, mut v: u32) -> &mut Self {
+    pub fn u32(&mut self, v: u32) -> &mut Self {
         let mut digits = [0u8; 10];
-        let mut n = 0;
-        loop {
-            if let Some(d) = digits.get_mut(n) {
-                *d = b'0' + (v % 10) as u8;
-            }
-            n += 1;
-            v /= 10;
-            if v == 0 || n >= digits.len() {
-                break;
-            }
-        }
-        while n > 0 {
-            n -= 1;
-            let d = digits.get(n).copied().unwrap_or(b'0');
-            self.bytes(&[d]);
-        }
-        self
+        let n = crate::text::decimal(v, &mut digits);
+        self.bytes(digits.get(..n).unwrap_or(&[]))
     }
 
     pub fn i32(&mut self, v: i32) -> &mut Self {

@@ -27,6 +27,10 @@ pub struct ServoPwm {
     tc5: TC5,
     limits: [TickLimits; CHANNELS],
     enabled: [bool; CHANNELS],
+    /// When the last `set_pulses` came: ticks into the period, and whether
+    /// the next period had already started (its pulses then went out with
+    /// the previous widths: a missed period).
+    pub last_write: (u16, bool),
 }
 
 impl ServoPwm {
@@ -44,7 +48,7 @@ impl ServoPwm {
             tc5.tcnt5().write(|w| w.set(0));
         });
         tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
-        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS] };
+        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS], last_write: (0, false) };
         for ch in 0..CHANNELS {
             pwm.limits[ch] = sanitize(limits[ch]);
         }
@@ -132,6 +136,7 @@ impl crate::seam::ServoOutputs for ServoPwm {
         for (ch, &us) in pulses_us.iter().enumerate() {
             self.set(ch, us.saturating_mul(2));
         }
+        self.last_write = (self.ticks(), self.period_pending());
     }
 
     fn disable(&mut self) {

@@ -182,6 +182,19 @@ pub trait Canvas: DrawTarget<Color = Rgb565> {
         let area = Area::new(x, y, cell.width(), cell.height());
         self.fill_contiguous(&area.to_rect(), CellPixels { cell, x: 0, y: 0 })
     }
+
+    /// Drawing stopped for this call (a sliced redraw ran out of budget,
+    /// `ui::slice`): loops that compute before they draw return early.
+    fn paused(&self) -> bool {
+        false
+    }
+
+    /// The next drawing operation was done by an earlier call of a sliced
+    /// redraw: it is counted as done and the caller skips it, without
+    /// computing it (a glyph's rows, a map row's runs).
+    fn skip_op(&mut self) -> bool {
+        false
+    }
 }
 
 /// The pixels of a run list, colour by colour (for [`Canvas::fill_runs`]).
@@ -282,8 +295,13 @@ pub fn text<D: Canvas, T: TextSource + ?Sized>(
     let width = style.advance();
     let mut cx = x;
     for i in 0..text.len() {
+        if d.paused() {
+            break;
+        }
         let ch = text.at(i);
         match style.bg {
+            // One operation per opaque glyph.
+            Some(_) if d.skip_op() => {}
             Some(bg) => glyph_opaque(d, cx, y, ch, bg, style)?,
             None => glyph_ink(d, cx, y, ch, style)?,
         }
@@ -363,12 +381,24 @@ impl<D: Canvas> DrawTarget for Clip<'_, D> {
     }
 
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb565) -> Result<(), Self::Error> {
-        let r = area.intersection(&self.clip.to_rect());
-        if r.size.width == 0 || r.size.height == 0 {
-            return Ok(());
+        // In 16 bits (the UI's areas are screen-sized): embedded-graphics'
+        // i32 intersection is several times slower on the ATmega2560, and a
+        // clipped repaint runs it for every ink run of every glyph it meets.
+        let a = Area::new(
+            area.top_left.x as i16,
+            area.top_left.y as i16,
+            area.size.width.min(u32::from(u16::MAX)) as u16,
+            area.size.height.min(u32::from(u16::MAX)) as u16,
+        );
+        match a.intersect(&self.clip) {
+            Some(r) => self.inner.fill_solid(&r.to_rect(), color),
+            None => Ok(()),
         }
-        self.inner.fill_solid(&r, color)
     }
 }
 
-impl<D: Canvas> Canvas for Clip<'_, D> {}
+impl<D: Canvas> Canvas for Clip<'_, D> {
+    fn paused(&self) -> bool {
+        self.inner.paused()
+    }
+}

@@ -386,7 +386,11 @@ impl Ui {
             let mut pass = match self.pass {
                 Some(p) => p,
                 None if self.shown == target => return Ok(Drawn { redrawn: Redrawn(redrawn), finished: true }),
-                None => Pass { target, step: 0, op: 0 },
+                // A partial redraw has no map band, overlay or gap steps.
+                None => {
+                    let partial = matches!((&self.shown, &target), (Shown::Main(_), Shown::Main(_)));
+                    Pass { target, step: if partial { S_STOP } else { 0 }, op: 0 }
+                }
             };
             while pass.step < S_END {
                 let mut s = Slicer::new(d, budget, pass.op);
@@ -418,20 +422,15 @@ impl Ui {
     /// step does not apply); the [`Redrawn`] bits it painted.
     #[inline(never)]
     fn step<D: Canvas>(&self, target: &Shown, k: u8, d: &mut D) -> Result<u16, D::Error> {
-        match *target {
-            Shown::Main(v) => {
-                let old = match self.shown {
-                    Shown::Main(o) => Some(o),
-                    _ => None,
-                };
-                self.main_step(old.as_ref(), &v, k, d)
-            }
-            Shown::Calibration(v) if k == 0 => {
-                let old = match self.shown {
+        match (target, &self.shown) {
+            (Shown::Main(v), Shown::Main(o)) => self.main_step(Some(o), v, k, d),
+            (Shown::Main(v), _) => self.main_step(None, v, k, d),
+            (Shown::Calibration(v), old) if k == 0 => {
+                let old = match old {
                     Shown::Calibration(o) => Some(o),
                     _ => None,
                 };
-                calibration::draw(&v, old.as_ref(), d)?;
+                calibration::draw(v, old, d)?;
                 Ok(Redrawn::CALIBRATION)
             }
             _ => Ok(0),

@@ -23,6 +23,7 @@ use super::draw::{Canvas, GlyphCell, Run};
 /// bands of at most this many (a glyph cell is at most 18 × 24 = 432, a map
 /// row 240).
 pub const MAX_OP_PIXELS: u32 = 1024;
+const _: () = assert!(MAX_OP_PIXELS <= u16::MAX as u32);
 
 /// Pixels an operation of unknown size (a pixel iterator) is charged as.
 const ITER_PIXELS: u32 = 432;
@@ -32,6 +33,12 @@ pub trait DrawBudget {
     /// Called before every operation with its size in pixels; `false`
     /// pauses the redraw before it.
     fn allows(&mut self, pixels: u32) -> bool;
+
+    /// Called before a redraw starts working out what to draw (the model, a
+    /// resumed step's replay); `false` leaves the screen for the next frame.
+    fn may_start(&mut self) -> bool {
+        self.allows(0)
+    }
 }
 
 /// No limit: the whole redraw at once.
@@ -134,8 +141,13 @@ impl<D: Canvas, B: DrawBudget> DrawTarget for Slicer<'_, D, B> {
 
     #[inline(never)]
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb565) -> Result<(), Self::Error> {
-        let w = area.size.width.max(1);
-        let rows = (MAX_OP_PIXELS / w).max(1);
+        // Paused: the rest of the step runs only to return, so at no cost.
+        if self.paused {
+            return Ok(());
+        }
+        // 16-bit division: the UI's areas are screen-sized.
+        let w = area.size.width.clamp(1, u32::from(u16::MAX)) as u16;
+        let rows = u32::from((MAX_OP_PIXELS as u16 / w).max(1));
         let mut y = 0;
         while y < area.size.height {
             let h = rows.min(area.size.height - y);
@@ -159,6 +171,18 @@ impl<D: Canvas, B: DrawBudget> Canvas for Slicer<'_, D, B> {
             self.inner.fill_runs(area, runs)?;
         }
         Ok(())
+    }
+
+    fn paused(&self) -> bool {
+        self.paused
+    }
+
+    fn skip_op(&mut self) -> bool {
+        if self.paused || self.ops >= self.skip {
+            return false;
+        }
+        self.ops += 1;
+        true
     }
 
     #[inline(never)]

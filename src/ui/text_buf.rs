@@ -44,25 +44,9 @@ impl<const N: usize> Line<N> {
         if v < 0 {
             self.push_byte(b'-');
         }
-        let mut n = v.unsigned_abs();
         let mut digits = [0u8; 10];
-        let mut k = 0;
-        loop {
-            if let Some(d) = digits.get_mut(k) {
-                *d = b'0' + (n % 10) as u8;
-            }
-            k += 1;
-            n /= 10;
-            if n == 0 || k >= digits.len() {
-                break;
-            }
-        }
-        while k > 0 {
-            k -= 1;
-            if let Some(&d) = digits.get(k) {
-                self.push_byte(d);
-            }
-        }
+        let n = crate::text::decimal(v.unsigned_abs(), &mut digits);
+        self.push(digits.get(..n).unwrap_or(&[]));
         self
     }
 

@@ -225,6 +225,13 @@ pub fn draw_background<D: Canvas>(d: &mut D, reach: &Reach, area: Area) -> Resul
     };
     let mut breaks = [0i16; 14];
     for y in a.y..a.bottom() {
+        if d.paused() {
+            break;
+        }
+        // One operation per row.
+        if d.skip_op() {
+            continue;
+        }
         let n = row_breaks(reach, y, &mut breaks);
         let mut runs = [Run { len: 0, color: theme::ZONE_LINE }; 14];
         let mut count = 0usize;
