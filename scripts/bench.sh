@@ -26,6 +26,8 @@ trap 'rm -f "$RAW" "$UI"' EXIT
 cargo test -q -p hal-sim --test ui_firmware -- --nocapture >"$UI" 2>&1 || { echo "ui_firmware failed:"; tail -20 "$UI"; exit 1; }
 echo "== the product firmware's stack in its busiest session (painted in simavr)"
 cargo test -q -p hal-sim --test firmware_e2e stack_stays_within_budget -- --nocapture >>"$UI" 2>&1 || { echo "firmware_e2e failed:"; tail -20 "$UI"; exit 1; }
+echo "== the product firmware's frame budget in its busiest frames (simavr)"
+cargo test -q -p hal-sim --test frame_budget -- --nocapture >>"$UI" 2>&1 || { echo "frame_budget failed:"; tail -20 "$UI"; exit 1; }
 
 python3 - "$RAW" "$FW" "$BENCH" "$OUT" "$UI" <<'PY'
 import math, re, struct, subprocess, sys
@@ -211,6 +213,14 @@ for f in table:
 for l in ui_lines:
     if l.startswith("bus:") or l.startswith("stack:"):
         o.append("\n" + l.replace("bus:", "Bus:").replace("stack:", "UI stack:"))
+o.append("")
+o.append("## Frame budget on the chip\n")
+o.append("Measured by `tests/frame_budget.rs` on the product firmware in simavr (`board::frame` keeps the")
+o.append("record): a frame sets the servo pulses, then plans an accepted target, answers, sends telemetry")
+o.append("and draws the screen in slices that fit what the 20 ms period leaves (`ui::slice`). A period is")
+o.append("missed when no frame set its pulses before it started; a frame whose plan runs past the period")
+o.append("end (its pulses already out) is counted as ending late. The test fails on a missed period.\n")
+o.extend(l.split("md:", 1)[1].strip() for l in open(ui, errors="replace") if l.startswith("md:"))
 o.append("")
 o.append("## Memory\n")
 o.append("| | product firmware (`touch-arm.elf`) | bench firmware | budget (memory.x) | goal |")

@@ -12,9 +12,10 @@
 //!
 //! `cargo test -p hal-sim --test random_inputs` runs a short run (two seeds,
 //! with and without the touch screen). The long run is
-//! `cargo test --release -p hal-sim --test random_inputs -- --ignored --nocapture`
-//! (10⁶ inputs; `TOUCH_ARM_RANDOM_INPUTS=<n>` and `TOUCH_ARM_RANDOM_SEED=<s>`
-//! change it); its figures are in BENCHMARKS.md.
+//! `cargo test -p hal-sim --test random_inputs -- --ignored --nocapture`
+//! (10⁶ inputs, in the test profile so integer overflow is checked;
+//! `TOUCH_ARM_RANDOM_INPUTS=<n>` and `TOUCH_ARM_RANDOM_SEED=<s>` change it);
+//! its figures are in BENCHMARKS.md.
 
 use hal_sim::random_input::{replies_in, Inputs};
 use hal_sim::twin::{Sim, SimSetup};
@@ -243,7 +244,7 @@ fn random_inputs_short_run() {
 }
 
 #[test]
-#[ignore = "long run: cargo test --release -p hal-sim --test random_inputs -- --ignored --nocapture"]
+#[ignore = "long run: cargo test -p hal-sim --test random_inputs -- --ignored --nocapture"]
 fn random_inputs_long_run() {
     let inputs = env("TOUCH_ARM_RANDOM_INPUTS", 1_000_000);
     let seed = env("TOUCH_ARM_RANDOM_SEED", 11);

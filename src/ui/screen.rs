@@ -235,6 +235,9 @@ struct Pass {
     target: Shown,
     step: u8,
     op: u32,
+    /// Bit k: step k has something to draw (worked out once per pass, so
+    /// the others cost nothing).
+    steps: u32,
 }
 
 /// The renderer. Holds only what it last drew and the redraw under way (a few
@@ -275,6 +278,7 @@ const S_CALIBRATE: u8 = BANDS + 9;
 /// Up to four marker boxes (old and new touch and target).
 const S_MARKERS: u8 = BANDS + 10;
 const S_END: u8 = S_MARKERS + 4;
+const _: () = assert!(S_END <= 32);
 
 const HEAD_STYLE: TextStyle = TextStyle::opaque(2, theme::TEXT, theme::BG);
 const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
@@ -386,13 +390,17 @@ impl Ui {
             let mut pass = match self.pass {
                 Some(p) => p,
                 None if self.shown == target => return Ok(Drawn { redrawn: Redrawn(redrawn), finished: true }),
-                // A partial redraw has no map band, overlay or gap steps.
-                None => {
-                    let partial = matches!((&self.shown, &target), (Shown::Main(_), Shown::Main(_)));
-                    Pass { target, step: if partial { S_STOP } else { 0 }, op: 0 }
-                }
+                None => Pass { target, step: 0, op: 0, steps: self.steps_to(&target) },
             };
-            while pass.step < S_END {
+            // The steps still to do, lowest first (one shift here: a shift by
+            // a variable amount is a loop on the AVR).
+            let mut todo = pass.steps >> pass.step;
+            while todo != 0 {
+                if todo & 1 == 0 {
+                    pass.step += 1;
+                    todo >>= 1;
+                    continue;
+                }
                 let mut s = Slicer::new(d, budget, pass.op);
                 let r = self.step(&pass.target, pass.step, &mut s);
                 let (ops, paused) = (s.ops, s.paused);
@@ -406,6 +414,7 @@ impl Ui {
                         redrawn |= bits;
                         pass.step += 1;
                         pass.op = 0;
+                        todo >>= 1;
                     }
                     Err(e) => {
                         self.invalidate();
@@ -416,6 +425,24 @@ impl Ui {
             self.shown = pass.target;
             self.pass = None;
         }
+    }
+
+    /// The steps of a redraw from `self.shown` to `target` (see [`Pass`]).
+    fn steps_to(&self, target: &Shown) -> u32 {
+        let (old, v) = match (&self.shown, target) {
+            (Shown::Main(o), Shown::Main(v)) => (o, v),
+            (_, Shown::Main(_)) => return (1 << (S_CALIBRATE + 1)) - 1,
+            _ => return 1,
+        };
+        let bit = |changed: bool, k: u8| if changed { 1u32 << k } else { 0 };
+        bit(old.stop_shown != v.stop_shown, S_STOP)
+            | bit(old.headline != v.headline, S_HEADLINE)
+            | bit(old.detail != v.detail, S_DETAIL)
+            | bit(old.zone != v.zone, S_INFO)
+            | bit(old.warning != v.warning, S_WARN)
+            | bit(old.joints != v.joints, S_JOINTS)
+            | bit(old.speed != v.speed, S_SPEED)
+            | if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 }
     }
 
     /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
