@@ -86,7 +86,7 @@ impl App {
             self.last_rx_ms = now_ms;
             let parsed = match self.line.push(byte) {
                 None => continue,
-                Some(Ok(l)) if l.is_empty() => None,
+                Some(Ok([])) => None,
                 Some(Ok(l)) => Some(parse(l)),
                 Some(Err(e)) => Some(Err(e)),
             };

@@ -264,7 +264,7 @@ pub struct Drawn {
 /// so a step resumed in the middle recomputes at most this many rows).
 const BAND_ROWS: u16 = 8;
 const BANDS: u8 = (lay::WS.h / BAND_ROWS) as u8;
-const _: () = assert!(lay::WS.h % BAND_ROWS == 0);
+const _: () = assert!(lay::WS.h.is_multiple_of(BAND_ROWS));
 const S_OVERLAYS: u8 = BANDS;
 const S_GAPS: u8 = BANDS + 1;
 const S_STOP: u8 = BANDS + 2;
@@ -470,13 +470,10 @@ impl Ui {
     #[inline(never)]
     fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
         match k {
-            _ if k < BANDS => {
-                if old.is_none() {
-                    let band =
-                        Area::new(lay::WS.x, lay::WS.y + (u16::from(k) * BAND_ROWS) as i16, lay::WS.w, BAND_ROWS);
-                    ws_view::draw_background(d, &self.reach, band)?;
-                    return Ok(Redrawn::MAP);
-                }
+            _ if k < BANDS && old.is_none() => {
+                let band = Area::new(lay::WS.x, lay::WS.y + (u16::from(k) * BAND_ROWS) as i16, lay::WS.w, BAND_ROWS);
+                ws_view::draw_background(d, &self.reach, band)?;
+                return Ok(Redrawn::MAP);
             }
             S_OVERLAYS if old.is_none() => {
                 let (marks, n) = v.marks();
