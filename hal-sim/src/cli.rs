@@ -13,10 +13,12 @@ pub fn parse<P: Parser>(prog: &str) -> Result<P, ExitCode> {
     match P::try_parse() {
         Ok(p) => Ok(p),
         Err(e) if e.use_stderr() => {
-            // clap adds a usage hint below the first line; `--help` has the full text.
+            // clap's message is its first paragraph (a list of missing
+            // arguments continues on indented lines); usage and tips follow
+            // after a blank line, and `--help` has the full text.
             let text = e.render().to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("{prog}: {}", first.trim_start_matches("error: "));
+            let message: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
+            eprintln!("{prog}: {}", message.join(" ").trim_start_matches("error: "));
             Err(ExitCode::from(2))
         }
         Err(e) => {
