@@ -111,6 +111,7 @@ fn run(args: Args) -> Result<(), String> {
     let text = s.avr.uart_output_string();
     let replies = ["info touch ", "err touch ", "info screen ", "err screen "];
     let line = text.lines().find(|l| replies.iter().any(|r| l.starts_with(r))).map(str::to_string);
+    // No reply is right only off the map (a guard band or gap); on it, a fault.
     let on_map = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16).is_some();
     if let Some(what) = off_map(line.as_deref()).filter(|_| line.is_some() || !on_map) {
         // Let the screen finish redrawing before it is saved.
