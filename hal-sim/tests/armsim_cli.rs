@@ -464,29 +464,8 @@ fn via_smooth_via_shape_has_no_velocity_jump() {
 fn via_zeta_of_a_zero_term_is_infinite() {
     // θ_v = S_f: S_v* = (S_f − r·S_f)/(1 − r) = S_f, so the main term S_v → S_f
     // does not move and its ζ is infinite; ζ_v (0 → 1) is finite.
-    let v = json(&[
-        "via",
-        "--q0",
-        "0",
-        "--via",
-        "1",
-        "--sf",
-        "1",
-        "--tv",
-        "1.2",
-        "--ts",
-        "2",
-        "--a",
-        "1",
-        "--n",
-        "2",
-        "--av",
-        "0.8",
-        "--nv",
-        "2",
-        "--iterate",
-        "1e-12",
-    ]);
+    let args = "via --q0 0 --via 1 --sf 1 --tv 1.2 --ts 2 --a 1 --n 2 --av 0.8 --nv 2 --iterate 1e-12";
+    let v = json(&args.split(' ').collect::<Vec<_>>());
     assert_eq!(f(&v, "s_v"), 1.0);
     assert!(v["zeta"].is_null() && v["zeta_iter"].is_null(), "{v}");
     assert_eq!((&v["zeta_infinite"], &v["zeta_iter_infinite"]), (&Value::Bool(true), &Value::Bool(true)));

@@ -299,27 +299,8 @@ fn via_json_reads_back_exactly() {
     targets.extend(random_doubles(1000, 6));
     for theta_v in targets.into_iter().step_by(2) {
         let p = ViaParams { q0: 0.0, theta_v, sf: 1.0, tv: 1.2, ts: 2.0, a: 1.0, n: 2.0, av: 0.8, nv: 2.0 };
-        let out = try_armsim(&strs(&[
-            "via",
-            "--q0",
-            "0",
-            "--via",
-            &arg(theta_v),
-            "--sf",
-            "1",
-            "--tv",
-            "1.2",
-            "--ts",
-            "2",
-            "--a",
-            "1",
-            "--n",
-            "2",
-            "--av",
-            "0.8",
-            "--nv",
-            "2",
-        ]));
+        let args = format!("via --q0 0 --via {} --sf 1 --tv 1.2 --ts 2 --a 1 --n 2 --av 0.8 --nv 2", arg(theta_v));
+        let out = try_armsim(&strs(&args.split(' ').collect::<Vec<_>>()));
         // A θ_v so far off that S_v* overflows is refused by both.
         let (Ok(plan), Ok(out)) = (ViaPlan::new(&p), &out) else {
             assert_eq!(ViaPlan::new(&p).is_ok(), out.is_ok(), "via --via {theta_v:e}: {out:?}");
