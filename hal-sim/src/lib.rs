@@ -3,6 +3,7 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod cli;
 pub mod display;
 pub mod firmware;
 pub mod lcd_bus;

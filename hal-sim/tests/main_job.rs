@@ -1,9 +1,13 @@
 //! The README's main job (`touch-arm-sim`, run by scripts/run.sh): it writes
-//! what it promises, and the chip's final pulses are the host's targets.
+//! what it promises, and the chip's final pulses are the host's targets; a
+//! press off the map is what the screen makes of it, not a failure.
 
 use std::process::Command;
 
 use serde_json::Value;
+use touch_arm::touch::map::Calibration;
+use touch_arm::ui::draw::Area;
+use touch_arm::ui::layout;
 
 #[test]
 fn main_job_writes_pulses_summary_plots_and_screen() {
@@ -35,4 +39,37 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{png}");
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `--raw X,Y` for the centre of a screen region (default calibration).
+fn raw_at_centre(a: Area) -> String {
+    let (x, y) = layout::pixel_center_to_panel(a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16);
+    let (rx, ry) = Calibration::DEFAULT.unmap_exact::<f64>(f64::from(x), f64::from(y)).unwrap();
+    format!("{},{}", rx.round(), ry.round())
+}
+
+#[test]
+fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
+    let guard_below_map = layout::GAPS[1];
+    for (region, expect, firmware) in [
+        (layout::STOP, "STOP pressed: the arm holds", Some("firmware: info screen stop")),
+        (guard_below_map, "guard band or a gap: the screen ignores it and the arm holds", None),
+    ] {
+        let raw = raw_at_centre(region);
+        let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-{raw}", std::process::id()));
+        let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+            .args(["--raw", &raw, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("run touch-arm-sim");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "--raw {raw}: {}{stdout}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains(&format!("touch at raw ({}): ", raw.replace(',', ", "))), "{stdout}");
+        assert!(stdout.contains(expect), "--raw {raw}: {stdout}");
+        assert_eq!(firmware.is_some_and(|f| stdout.contains(f)), firmware.is_some(), "{stdout}");
+        // Nothing moved: the screen is the only output.
+        assert_eq!(&std::fs::read(dir.join("screen.png")).unwrap()[..4], b"\x89PNG");
+        assert!(!dir.join("summary.json").exists() && !dir.join("pulses.csv").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -249,8 +249,7 @@ pub fn ik3<R: Real>(links: &Links<R>, x_e: R, y_e: R, z_e: R, branch: Branch) ->
     if !(x_e.is_finite() && y_e.is_finite() && z_e.is_finite()) {
         return Err(IkError::NotFinite);
     }
-    let on_axis = x_e == R::ZERO && y_e == R::ZERO;
-    let th1 = if on_axis { R::ZERO } else { y_e.atan2(x_e) };
+    let th1 = base_angle(x_e, y_e);
     let rho = (x_e * x_e + y_e * y_e).sqrt();
     if !rho.is_finite() {
         // x_e² overflowed: far beyond any arm.
@@ -258,6 +257,17 @@ pub fn ik3<R: Real>(links: &Links<R>, x_e: R, y_e: R, z_e: R, branch: Branch) ->
     }
     let planar = ik2(links, rho, z_e, branch)?;
     Ok(JointAngles3 { th1, th2: planar.q2, th3: planar.q3 })
+}
+
+/// θ1 of [`ik3`]: `atan2(y_e, x_e)`, 0 straight above the base. Defined
+/// whether or not the planar part is reachable.
+pub fn base_angle<R: Real>(x_e: R, y_e: R) -> R {
+    let on_axis = x_e == R::ZERO && y_e == R::ZERO;
+    if on_axis {
+        R::ZERO
+    } else {
+        y_e.atan2(x_e)
+    }
 }
 
 /// 3-DoF FK: the planar FK gives (ρ, z), the base turns ρ by θ1.

@@ -8,10 +8,15 @@
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
 //! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes.
+//!
+//! A `--raw` press on a button or a guard band moves nothing: the job prints
+//! what the screen did with it and writes `screen.png` only.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::Parser;
+use hal_sim::cli::{parse_pair, parse_raw};
 use hal_sim::firmware::{self, Session};
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
@@ -21,14 +26,41 @@ use touch_arm::geometry::ik::Links;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::servo::map::{ServoMap, ELBOW_BRANCH};
 
-const USAGE: &str = "usage: touch-arm-sim [--raw X,Y | --xy X,Y] [--elf FILE] [--out DIR]
-Runs the firmware in simavr, touches the panel at the given point and writes
-DIR/pulses.csv, DIR/summary.json, DIR/angles.png and DIR/screen.png.
---xy is a workspace point on the screen's map (default 0.4,0.6); --raw a raw
-panel reading (whatever the screen shows there: map, button or nothing).";
+/// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
+/// DIR/summary.json, DIR/angles.png and DIR/screen.png. A press that lands on a
+/// button or between the screen's regions moves nothing: the job says what the
+/// screen did with it and writes DIR/screen.png only.
+#[derive(Parser, Debug)]
+#[command(name = "touch-arm-sim")]
+struct Args {
+    /// A workspace point picked on the screen's map, in [-1,1]x[0,1] [default: 0.4,0.6]
+    #[arg(long, value_name = "X,Y", value_parser = map_point, allow_hyphen_values = true)]
+    xy: Option<(f64, f64)>,
+    /// A raw panel reading (ADC counts 0..=1023), wherever it lands: map, button or nothing
+    #[arg(long, value_name = "X,Y", value_parser = parse_raw, conflicts_with = "xy")]
+    raw: Option<(u16, u16)>,
+    /// The firmware ELF [default: target/avr-none/release/touch-arm.elf, or $TOUCH_ARM_ELF]
+    #[arg(long, value_name = "FILE")]
+    elf: Option<PathBuf>,
+    /// Output directory
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+}
+
+/// `--xy`: the raw reading that presses the map pixel showing (x, y).
+fn map_point(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = parse_pair(s)?;
+    firmware::map_touch(x as f32, y as f32)
+        .map(|(raw, _)| raw)
+        .ok_or_else(|| format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
+}
 
 fn main() -> ExitCode {
-    match run() {
+    let args: Args = match hal_sim::cli::parse("touch-arm-sim") {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    match run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("touch-arm-sim: {e}");
@@ -37,42 +69,36 @@ fn main() -> ExitCode {
     }
 }
 
-fn pair(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;
-    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("not a number: {v:?}"));
-    Ok((p(a)?, p(b)?))
+/// What the screen did with a press that is no map touch, from the line the
+/// firmware printed for it (`None`: it printed none); `None` for a map touch.
+fn off_map(line: Option<&str>) -> Option<String> {
+    let Some(line) = line else {
+        return Some("the press landed on a guard band or a gap: the screen ignores it and the arm holds".into());
+    };
+    let words: Vec<&str> = line.split_whitespace().collect();
+    Some(match words[..] {
+        ["info", "screen", "stop"] => "STOP pressed: the arm holds".into(),
+        ["info", "screen", "resume"] => "RESUME pressed: the arm takes targets again".into(),
+        ["info", "screen", "speed", preset] => {
+            // The button's label: the preset's name capitalized.
+            let label: String =
+                preset.chars().take(1).flat_map(char::to_uppercase).chain(preset.chars().skip(1)).collect();
+            format!("{label} pressed: the next moves run at the {preset} speed")
+        }
+        ["info", "screen", "calibrate"] => "Calib pressed: the calibration screen opens".into(),
+        ["err", "screen", "calibrate", ..] => format!("Calib pressed: refused ({})", words[3..].join(" ")),
+        _ => return None,
+    })
 }
 
-fn run() -> Result<(), String> {
-    let mut elf = firmware::default_elf();
-    let mut out = PathBuf::from("out");
-    let mut raw = firmware::map_touch(0.4, 0.6).ok_or("default point off the map")?.0;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--elf" => elf = args.next().ok_or("--elf needs a path")?.into(),
-            "--out" => out = args.next().ok_or("--out needs a directory")?.into(),
-            "--raw" => {
-                let (x, y) = pair(&args.next().ok_or("--raw needs X,Y")?)?;
-                if !(0.0..=1023.0).contains(&x) || !(0.0..=1023.0).contains(&y) || x.fract() != 0.0 || y.fract() != 0.0
-                {
-                    return Err(format!("--raw values must be integers 0..=1023, got {x},{y}"));
-                }
-                raw = (x, y);
-            }
-            "--xy" => {
-                let (x, y) = pair(&args.next().ok_or("--xy needs X,Y")?)?;
-                raw = firmware::map_touch(x as f32, y as f32)
-                    .ok_or_else(|| format!("--xy {x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))?
-                    .0;
-            }
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return Ok(());
-            }
-            other => return Err(format!("unknown argument {other:?}\n{USAGE}")),
-        }
-    }
+fn run(args: Args) -> Result<(), String> {
+    let elf = args.elf.unwrap_or_else(firmware::default_elf);
+    let out = args.out;
+    let raw = match (args.raw, args.xy) {
+        (Some((x, y)), _) => (f64::from(x), f64::from(y)),
+        (None, Some(raw)) => raw,
+        (None, None) => firmware::map_touch(0.4, 0.6).ok_or("default point off the map")?.0,
+    };
 
     let mut s = Session::start(&elf, PanelWiring::A, 1)?;
     s.run_for(1.5)?;
@@ -83,7 +109,24 @@ fn run() -> Result<(), String> {
     // Until the reply to the touch, then through the move and a margin.
     s.run_for(0.2)?;
     let text = s.avr.uart_output_string();
-    let line = text.lines().find(|l| l.starts_with("info touch ") || l.starts_with("err touch ")).map(str::to_string);
+    let replies = ["info touch ", "err touch ", "info screen ", "err screen "];
+    let line = text.lines().find(|l| replies.iter().any(|r| l.starts_with(r))).map(str::to_string);
+    // No reply is right only off the map (a guard band or gap); on it, a fault.
+    let on_map = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16).is_some();
+    if let Some(what) = off_map(line.as_deref()).filter(|_| line.is_some() || !on_map) {
+        // Let the screen finish redrawing before it is saved.
+        s.run_for(0.2)?;
+        std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+        let screen = out.join("screen.png");
+        s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
+        println!("{}", text.lines().next().unwrap_or(""));
+        println!("touch at raw ({}, {}): {what}", raw.0, raw.1);
+        if let Some(line) = &line {
+            println!("firmware: {line}");
+        }
+        println!("no move: wrote {} only", screen.display());
+        return Ok(());
+    }
     let Some(line) = line else { return Err(format!("the firmware did not report the touch:\n{text}")) };
     if line.starts_with("err") {
         return Err(format!("the firmware refused the touch: {line}"));
