@@ -65,7 +65,7 @@ impl<'a> Image<'a> {
     /// `len` bytes at `address` (flash, or data space for initialized
     /// data), from the section that holds them.
     pub fn bytes(&self, address: u64, len: u64) -> Option<&'a [u8]> {
-        self.file.sections().find_map(|s| {
+        self.loaded_sections().find_map(|s| {
             let start = s.address();
             if address < start || address + len > start + s.size() {
                 return None;
@@ -76,10 +76,19 @@ impl<'a> Image<'a> {
         })
     }
 
+    /// The sections that occupy memory on the chip (SHF_ALLOC): the others
+    /// (symbols, relocations, comments) sit at address 0 too.
+    fn loaded_sections(&self) -> impl Iterator<Item = object::read::elf::ElfSection32<'a, '_>> {
+        self.file.sections().filter(|s| match s.flags() {
+            object::SectionFlags::Elf { sh_flags } => sh_flags & u64::from(object::elf::SHF_ALLOC) != 0,
+            _ => false,
+        })
+    }
+
     /// Where the byte at `address` sits in the ELF file (to craft a broken
     /// image from a good one in the tests).
     pub fn file_offset(&self, address: u64) -> Option<u64> {
-        self.file.sections().find_map(|s| {
+        self.loaded_sections().find_map(|s| {
             let (offset, size) = s.file_range()?;
             (address >= s.address() && address < s.address() + size).then(|| offset + address - s.address())
         })
@@ -114,8 +123,7 @@ impl<'a> Image<'a> {
 
     /// Static RAM: `.data` + `.bss` (every allocated section in data space).
     pub fn static_ram(&self) -> u64 {
-        self.file
-            .sections()
+        self.loaded_sections()
             .filter(|s| s.address() >= DATA_SPACE && s.address() < DATA_SPACE + 0x1_0000)
             .map(|s| s.size())
             .sum()
