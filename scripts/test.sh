@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-echo "== building the firmwares (cargo avr: touch-arm, bench, ui-demo)"
+echo "== building the firmwares (cargo avr: touch-arm, bench, ui-demo, far-call)"
 cargo avr
 echo "== running tests"
 cargo test "$@"

@@ -35,6 +35,22 @@ pub fn bench_elf() -> PathBuf {
     avr_elf("bench", "TOUCH_ARM_BENCH_ELF")
 }
 
+/// The on-chip UI check (`cargo avr`), or `UI_DEMO_ELF`.
+pub fn ui_demo_elf() -> PathBuf {
+    avr_elf("ui-demo", "UI_DEMO_ELF")
+}
+
+/// The code-above-128-KiB check (`cargo avr`), or `TOUCH_ARM_FAR_CALL_ELF`.
+pub fn far_call_elf() -> PathBuf {
+    avr_elf("far-call", "TOUCH_ARM_FAR_CALL_ELF")
+}
+
+/// Every firmware `cargo avr` builds, by name: what the post-link checks
+/// (`tests/firmware_elf.rs`) run over.
+pub fn all_elfs() -> [(&'static str, PathBuf); 4] {
+    [("touch-arm", default_elf()), ("bench", bench_elf()), ("ui-demo", ui_demo_elf()), ("far-call", far_call_elf())]
+}
+
 /// A budget from memory.x: `__budget_<name> = <n>K;` or `= <n>;`, in bytes.
 pub fn budget(name: &str) -> Result<u64, String> {
     let path = workspace_root().join("memory.x");

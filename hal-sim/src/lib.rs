@@ -5,6 +5,7 @@ pub mod armsim;
 pub mod avr;
 pub mod cli;
 pub mod display;
+pub mod elf;
 pub mod firmware;
 pub mod lcd_bus;
 pub mod panel;

@@ -14,9 +14,7 @@ use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
 
 fn demo_elf() -> PathBuf {
-    let elf = std::env::var_os("UI_DEMO_ELF")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/avr-none/release/ui-demo.elf"));
+    let elf = hal_sim::firmware::ui_demo_elf();
     assert!(
         elf.exists(),
         "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
