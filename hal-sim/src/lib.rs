@@ -3,6 +3,7 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod bench_report;
 pub mod display;
 pub mod firmware;
 pub mod lcd_bus;

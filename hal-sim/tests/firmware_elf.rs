@@ -28,18 +28,7 @@ fn budget(name: &str) -> u64 {
 
 /// Section sizes from `avr-size -A`.
 fn sections(elf: &Path) -> Vec<(String, u64)> {
-    let out = Command::new("avr-size").arg("-A").arg(elf).output().expect("avr-size (binutils-avr)");
-    assert!(out.status.success());
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .filter_map(|l| {
-            let mut it = l.split_whitespace();
-            let name = it.next()?;
-            let size = it.next()?.parse().ok()?;
-            name.starts_with('.').then(|| (name.to_string(), size))
-        })
-        .collect()
+    firmware::section_sizes(elf).unwrap()
 }
 
 fn size_of(s: &[(String, u64)], name: &str) -> u64 {
