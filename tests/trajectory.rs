@@ -17,16 +17,10 @@ fn g_ref(t: f64, ts: f64, a: f64, n: f64) -> f64 {
     Zat::new(ts, a, n).g(t)
 }
 
-/// The printed eq. 8/13 form with ζ, for 0 < t ≤ tₛ.
+/// The printed eq. 8/13 form with its own ζ (`reference`: the powers formed
+/// directly).
 fn printed(t: f64, q0: f64, sf: f64, ts: f64, a: f64, n: f64) -> f64 {
-    let z = zeta(&ZatParams { q0, sf, ts, a, n }).unwrap();
-    let u = t + ts / t - 1.0;
-    let m = n.powf(t - z) / (n.powf(u) - n.powf(a)).abs();
-    if sf >= q0 {
-        q0 + m
-    } else {
-        q0 - m
-    }
+    Zat::new(ts, a, n).printed(q0, sf, t)
 }
 
 fn shape64(ts: f64, a: f64, n: f64) -> Shape<f64> {

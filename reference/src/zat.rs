@@ -14,12 +14,17 @@
 //! conventions of method §7.3 at the ends: G = 0 and G′ = 0 for t ≤ 0; at
 //! t = tₛ, G = 1 and G′ is the left limit (the formula at tₛ); for t > tₛ,
 //! G = 1 and G′ = 0.
+//!
+//! [`Zat::printed`] is the papers' own form (method §7.1), with ζ from its
+//! printed definition and the powers formed directly: the check that the
+//! normalized form is the papers' trajectory, where nothing overflows.
 
 /// One ζ-a-tₛ profile: duration tₛ, shape a, base n (L = ln n kept).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Zat {
     ts: f64,
     a: f64,
+    n: f64,
     l: f64,
 }
 
@@ -28,7 +33,7 @@ impl Zat {
     /// checks: outside the admissible domain (a ≥ u_min, n ≤ 1) the values
     /// are whatever the formula gives, NaN included.
     pub fn new(ts: f64, a: f64, n: f64) -> Zat {
-        Zat { ts, a, l: n.ln() }
+        Zat { ts, a, n, l: n.ln() }
     }
 
     /// The duration tₛ.
@@ -56,6 +61,29 @@ impl Zat {
         self.rate(self.ts)
     }
 
+    /// The printed S(t) = q₀ ± n^(t − ζ)/|n^u − n^a| of a move from `q0` to
+    /// `sf` (+ rising, − falling), S_f from tₛ on and q₀ up to 0.
+    pub fn printed(&self, q0: f64, sf: f64, t: f64) -> f64 {
+        let (ts, a, n) = (self.ts, self.a, self.n);
+        if t <= 0.0 {
+            return q0;
+        }
+        if t >= ts {
+            return sf;
+        }
+        let m = n.powf(t - self.printed_zeta(q0, sf)) / (n.powf(t + ts / t - 1.0) - n.powf(a)).abs();
+        if sf >= q0 {
+            q0 + m
+        } else {
+            q0 - m
+        }
+    }
+
+    /// ζ = tₛ − log_n(|S_f − q₀|·(n^tₛ − n^a)), as printed.
+    pub fn printed_zeta(&self, q0: f64, sf: f64) -> f64 {
+        self.ts - ((sf - q0).abs() * (self.n.powf(self.ts) - self.n.powf(self.a))).ln() / self.l
+    }
+
     /// (G(t), G′(t)).
     pub fn g_rate(&self, t: f64) -> (f64, f64) {
         let (ts, a, l) = (self.ts, self.a, self.l);
@@ -77,25 +105,24 @@ impl Zat {
 mod tests {
     use super::*;
 
-    /// The printed form itself, n^(t − tₛ)·q(t)/q(tₛ) with the powers formed
-    /// directly: fine where nothing overflows.
-    fn direct(z: &Zat, t: f64) -> f64 {
-        let n = z.l.exp();
-        let u = t + z.ts / t - 1.0;
-        let q = |w: f64| 1.0 / (n.powf(w - z.a) - 1.0);
-        n.powf(t - z.ts) * q(u) / q(z.ts)
-    }
-
     #[test]
-    fn g_is_the_printed_form_normalized_at_ts() {
+    fn g_is_the_printed_form_normalized() {
         for &(ts, a, n) in &[(2.0, -1.0, 2.0), (1.5, 0.2, 3.0), (5.0, 2.0, 1.5)] {
             let z = Zat::new(ts, a, n);
-            for k in 1..100 {
-                let t = ts * k as f64 / 100.0;
-                let (g, d) = (z.g(t), direct(&z, t));
-                assert!((g - d).abs() <= 1e-13 * d.max(1e-300), "ts={ts} a={a} n={n} t={t}: {g} vs {d}");
+            for (q0, sf) in [(0.0, 1.0), (2.0, -1.5)] {
+                for k in 1..100 {
+                    let t = ts * k as f64 / 100.0;
+                    // Relative to G where q₀ = 0; up to q₀'s rounding otherwise.
+                    let (want, got) = (q0 + (sf - q0) * z.g(t), z.printed(q0, sf, t));
+                    let tol = 1e-13 * (sf - q0).abs() * z.g(t) + 2.0 * f64::EPSILON * q0.abs();
+                    assert!((got - want).abs() <= tol, "ts={ts} a={a} n={n} t={t}: {got} vs {want}");
+                }
+                assert_eq!((z.printed(q0, sf, 0.0), z.printed(q0, sf, ts)), (q0, sf));
             }
         }
+        // ζ = 3 − log₂(0.7·(2³ − 2^1.5)) for a move of 0.7.
+        let z = Zat::new(3.0, 1.5, 2.0).printed_zeta(0.2, 0.9);
+        assert!((z - (3.0 - (0.7f64 * (8.0 - 2f64.powf(1.5))).log2())).abs() < 1e-15);
     }
 
     #[test]
