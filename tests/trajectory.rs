@@ -2,6 +2,7 @@
 //! (§7) and the synchronized multi-joint plan.
 
 use proptest::prelude::*;
+use reference::zat::Zat;
 use touch_arm::motion::laws::{eval, Law, LawParams, LawPlan};
 use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
 use touch_arm::motion::via::{iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan};
@@ -10,31 +11,16 @@ use touch_arm::motion::{Sample, TrajError};
 
 // ---------------------------------------------------------------- references
 
-/// Independent f64 reference for G: the printed form's n^t·q(t) normalized by
-/// its value at tₛ, in log space (no shared code with the crate's recipe).
+/// Independent f64 reference for G (the `reference` crate: the printed form
+/// normalized at tₛ, in log space, no shared code with the crate's recipe).
 fn g_ref(t: f64, ts: f64, a: f64, n: f64) -> f64 {
-    if t <= 0.0 {
-        return 0.0;
-    }
-    if t >= ts {
-        return 1.0;
-    }
-    let l = n.ln();
-    let u = t + ts / t - 1.0;
-    let ln_q = |w: f64| -(l * w).exp_m1().ln();
-    (l * (t - ts) + ln_q(u - a) - ln_q(ts - a)).exp()
+    Zat::new(ts, a, n).g(t)
 }
 
-/// The printed eq. 8/13 form with ζ, for 0 < t ≤ tₛ.
+/// The printed eq. 8/13 form with its own ζ (`reference`: the powers formed
+/// directly).
 fn printed(t: f64, q0: f64, sf: f64, ts: f64, a: f64, n: f64) -> f64 {
-    let z = zeta(&ZatParams { q0, sf, ts, a, n }).unwrap();
-    let u = t + ts / t - 1.0;
-    let m = n.powf(t - z) / (n.powf(u) - n.powf(a)).abs();
-    if sf >= q0 {
-        q0 + m
-    } else {
-        q0 - m
-    }
+    Zat::new(ts, a, n).printed(q0, sf, t)
 }
 
 fn shape64(ts: f64, a: f64, n: f64) -> Shape<f64> {

@@ -55,15 +55,45 @@ pub fn all_elfs() -> [(&'static str, PathBuf); 4] {
 pub fn budget(name: &str) -> Result<u64, String> {
     let path = workspace_root().join("memory.x");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    budget_in(&text, name)
+}
+
+/// [`budget`] from memory.x's text.
+pub fn budget_in(memory_x: &str, name: &str) -> Result<u64, String> {
     let key = format!("__budget_{name}");
     let line =
-        text.lines().find(|l| l.trim_start().starts_with(&key)).ok_or_else(|| format!("memory.x has no {key}"))?;
+        memory_x.lines().find(|l| l.trim_start().starts_with(&key)).ok_or_else(|| format!("memory.x has no {key}"))?;
     let value = line.split('=').nth(1).and_then(|v| v.split(';').next()).map(str::trim).unwrap_or("");
     let parsed = match value.strip_suffix('K') {
         Some(k) => k.parse::<u64>().map(|k| k * 1024),
         None => value.parse::<u64>(),
     };
     parsed.map_err(|_| format!("memory.x: {key} = {value:?} is not a size"))
+}
+
+/// An ELF's section sizes as `avr-size -A` reports them.
+pub fn section_sizes(elf: &Path) -> Result<Vec<(String, u64)>, String> {
+    let out = std::process::Command::new("avr-size")
+        .arg("-A")
+        .arg(elf)
+        .output()
+        .map_err(|e| format!("avr-size (binutils-avr): {e}"))?;
+    if !out.status.success() {
+        return Err(format!("avr-size -A {}: {}", elf.display(), String::from_utf8_lossy(&out.stderr).trim()));
+    }
+    Ok(parse_section_sizes(&String::from_utf8_lossy(&out.stdout)))
+}
+
+/// The `(.section, bytes)` rows of `avr-size -A` output.
+pub fn parse_section_sizes(text: &str) -> Vec<(String, u64)> {
+    text.lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let name = it.next()?;
+            let size = it.next()?.parse().ok()?;
+            name.starts_with('.').then(|| (name.to_string(), size))
+        })
+        .collect()
 }
 
 /// Runs an ELF until it prints `done` (or halts) and returns its UART text.

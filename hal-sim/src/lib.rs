@@ -3,6 +3,7 @@
 
 pub mod armsim;
 pub mod avr;
+pub mod bench_report;
 pub mod cli;
 pub mod display;
 pub mod elf;

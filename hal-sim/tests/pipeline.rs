@@ -9,6 +9,7 @@ fn cfg() -> ProptestConfig {
 
 mod touch {
     use super::*;
+    use hal_sim::twin::rng::Rng;
     use touch_arm::seam::RawSample;
     use touch_arm::touch::filter::*;
 
@@ -31,17 +32,9 @@ mod touch {
         TouchPoint { x, y }
     }
 
-    /// Tiny deterministic generator so hand-written scenarios stay reproducible.
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> u32 {
-            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (self.0 >> 33) as u32
-        }
-        /// Uniform in -r..=r.
-        fn noise(&mut self, r: i32) -> i32 {
-            (self.next() % (2 * r as u32 + 1)) as i32 - r
-        }
+    /// Uniform in -r..=r.
+    fn noise(rng: &mut Rng, r: i32) -> i32 {
+        rng.below(2 * r as u64 + 1) as i32 - r
     }
 
     #[test]
@@ -155,17 +148,17 @@ mod touch {
 
     #[test]
     fn noisy_press_converges_to_true_point() {
-        let mut rng = Lcg(7);
+        let mut rng = Rng::new(7);
         for _trial in 0..200 {
-            let (tx, ty) = (100 + rng.next() % 800, 100 + rng.next() % 800);
+            let (tx, ty) = (100 + rng.below(800), 100 + rng.below(800));
             let mut f = filter();
             let mut pressed = None;
             for read in 0..C.press_confirm as usize {
                 let mut s = [RawSample { x: 0, y: 0, z: 0 }; 5];
                 for v in s.iter_mut() {
-                    v.x = (tx as i32 + rng.noise(3)) as u16;
-                    v.y = (ty as i32 + rng.noise(3)) as u16;
-                    v.z = (500 + rng.noise(200)) as u16;
+                    v.x = (tx as i32 + noise(&mut rng, 3)) as u16;
+                    v.y = (ty as i32 + noise(&mut rng, 3)) as u16;
+                    v.z = (500 + noise(&mut rng, 200)) as u16;
                 }
                 let step = f.update(&s);
                 assert!(matches!(step.read, Read::Touched { .. }));

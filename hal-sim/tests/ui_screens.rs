@@ -14,6 +14,7 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use hal_sim::display::{Counting, Framebuffer};
+use hal_sim::twin::rng::Rng;
 use touch_arm::config::settings::SpeedPreset;
 use touch_arm::geometry::workspace::{condition, Condition};
 use touch_arm::touch::map::{Calibration, CalibrationError};
@@ -523,58 +524,50 @@ fn partial_redraws_write_only_the_changed_regions() {
     assert_eq!(fb, full(&m));
 }
 
-/// A small deterministic generator for model sequences.
-struct Lcg(u64);
+/// Uniform in [0, 1), for model fields.
+fn unit(rng: &mut Rng) -> f32 {
+    rng.uniform() as f32
+}
 
-impl Lcg {
-    fn next(&mut self) -> u32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 33) as u32
-    }
-
-    fn unit(&mut self) -> f32 {
-        self.next() as f32 / (1u64 << 31) as f32
-    }
-
-    fn point(&mut self) -> Option<(f32, f32)> {
-        match self.next() % 4 {
-            0 => None,
-            // Edges and corners too.
-            1 => Some(([-1.0, 1.0, 0.0][self.next() as usize % 3], [0.0, 1.0][self.next() as usize % 2])),
-            _ => Some((self.unit() * 2.0 - 1.0, self.unit())),
-        }
+/// A model point: none, an edge or corner, or anywhere in the workspace.
+fn point(rng: &mut Rng) -> Option<(f32, f32)> {
+    match rng.below(4) {
+        0 => None,
+        // Edges and corners too.
+        1 => Some(([-1.0, 1.0, 0.0][rng.below(3) as usize], [0.0, 1.0][rng.below(2) as usize])),
+        _ => Some((unit(rng) * 2.0 - 1.0, unit(rng))),
     }
 }
 
 #[test]
 fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
-    let mut rng = Lcg(7);
+    let mut rng = Rng::new(7);
     let mut ui = Ui::new(&CONFIG);
     let mut fb = Framebuffer::landscape();
     let mut m = UiModel::new(SpeedPreset::Normal);
     for step in 0..300 {
-        match rng.next() % 8 {
-            0 => m.touch = rng.point(),
-            1 => m.target = rng.point(),
+        match rng.below(8) {
+            0 => m.touch = point(&mut rng),
+            1 => m.target = point(&mut rng),
             2 => {
-                m.state = match rng.next() % 7 {
+                m.state = match rng.below(7) {
                     0 => UiState::Idle,
-                    1 | 2 => UiState::Moving { progress: rng.unit() },
+                    1 | 2 => UiState::Moving { progress: unit(&mut rng) },
                     3 => UiState::Holding,
                     4 => UiState::Stopped,
                     5 => UiState::Refused(Refusal::TooClose),
                     _ => UiState::Refused(Refusal::JointLimit),
                 }
             }
-            3 => m.joints[(rng.next() % 3) as usize] = rng.unit() * 3.0 - 1.0,
-            4 => m.speed = SpeedPreset::ALL[(rng.next() % 3) as usize],
-            5 => m.warnings = (rng.next() & 0x1f) as u8,
+            3 => m.joints[rng.below(3) as usize] = unit(&mut rng) * 3.0 - 1.0,
+            4 => m.speed = SpeedPreset::ALL[rng.below(3) as usize],
+            5 => m.warnings = rng.below(32) as u8,
             6 => {
-                m.condition = [None, Some(Condition::C1), Some(Condition::C4)][(rng.next() % 3) as usize];
-                m.alpha = rng.unit() * 3.0;
+                m.condition = [None, Some(Condition::C1), Some(Condition::C4)][rng.below(3) as usize];
+                m.alpha = unit(&mut rng) * 3.0;
             }
             _ => {
-                m.touch = rng.point();
+                m.touch = point(&mut rng);
                 m.target = m.touch;
             }
         }
