@@ -6,6 +6,7 @@ use proptest::prelude::*;
 use std::collections::VecDeque;
 use std::f64::consts::PI;
 
+use embedded_storage::{ReadStorage, Storage};
 use touch_arm::app::text::{centideg, Line};
 use touch_arm::app::Refusal;
 use touch_arm::app::{App, AppParams, Io, State};
@@ -20,8 +21,8 @@ use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
 use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
 use touch_arm::motion::zat::{smooth_stop_a, Shape, ShapeParams};
 use touch_arm::seam::RawSample;
+use touch_arm::seam::StorageError;
 use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
-use touch_arm::seam::{Storage, StorageError};
 use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
 
 fn cfg() -> ProptestConfig {
@@ -566,14 +567,20 @@ impl Clock for FixedClock {
 }
 
 struct Ram(Vec<u8>);
-impl Storage for Ram {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+impl ReadStorage for Ram {
+    type Error = StorageError;
+    fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         buf.copy_from_slice(self.0.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?);
         Ok(())
     }
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+    fn capacity(&self) -> usize {
+        self.0.len()
+    }
+}
+impl Storage for Ram {
+    fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         self.0.get_mut(a..a + data.len()).ok_or(StorageError::OutOfRange)?.copy_from_slice(data);
         Ok(())
     }

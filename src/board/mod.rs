@@ -4,7 +4,8 @@
 //!
 //! The seam traits are implemented here: `TouchPanel` (touch::TouchReader),
 //! `ServoOutputs` (servo_pwm::ServoPwm), `Clock` (tick::Tick), `SerialPort`
-//! (usart::Usart0), `Storage` (eeprom::Eeprom).
+//! (usart::Usart0), `Storage` (eeprom::Eeprom, as embedded-storage's
+//! `ReadStorage` + `Storage`).
 
 pub mod adc;
 pub mod cycles;
