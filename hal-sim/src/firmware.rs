@@ -20,9 +20,14 @@ fn avr_elf(name: &str, override_var: &str) -> PathBuf {
     if let Some(p) = std::env::var_os(override_var) {
         return PathBuf::from(p);
     }
+    avr_release_dir().join(format!("{name}.elf"))
+}
+
+/// `$CARGO_TARGET_DIR` (or target/) `/avr-none/release`.
+fn avr_release_dir() -> PathBuf {
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
-    target.join("avr-none/release").join(format!("{name}.elf"))
+    target.join("avr-none/release")
 }
 
 /// The product firmware (`cargo avr`), or `TOUCH_ARM_ELF`.
@@ -33,6 +38,11 @@ pub fn default_elf() -> PathBuf {
 /// The benchmark firmware (`cargo avr-bench`), or `TOUCH_ARM_BENCH_ELF`.
 pub fn bench_elf() -> PathBuf {
     avr_elf("bench", "TOUCH_ARM_BENCH_ELF")
+}
+
+/// An example program (`examples/`, built by `cargo avr`), e.g. "panel-probe".
+pub fn example_elf(name: &str) -> PathBuf {
+    avr_release_dir().join("examples").join(format!("{name}.elf"))
 }
 
 /// A budget from memory.x: `__budget_<name> = <n>K;` or `= <n>;`, in bytes.
@@ -99,9 +109,9 @@ impl Session {
             panel: crate::twin::panel::SimPanel::new(seed),
         }));
         let model = panel.clone();
-        avr.set_adc_handler(move |req| match model.borrow_mut().read(req) {
-            Some(v) => crate::avr::AdcInput::Raw(v),
-            None => crate::avr::AdcInput::Raw(0),
+        avr.set_adc_handler(move |req| {
+            let v = model.borrow_mut().read(req).unwrap_or_else(|| crate::panel::PanelOnPins::read_off_panel(req));
+            crate::avr::AdcInput::Raw(v)
         });
         Ok(Session { avr, lcd, panel })
     }
