@@ -3,8 +3,12 @@
 //! sweep with its pulses measured on the Timer5 pins. Expected values come
 //! from the panel model's resistances and the default calibration here.
 
+use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
+use embedded_graphics::prelude::{Point, Size};
+use embedded_graphics::primitives::Rectangle;
 use hal_sim::avr::Pin;
 use hal_sim::firmware::{self, Session, CPU_HZ};
+use hal_sim::lcd_bus::{cmd, BusPins, LcdBus};
 use hal_sim::panel::PanelWiring;
 use hal_sim::twin::panel::{PanelModel, R_PULLUP};
 use touch_arm::touch::filter::FilterConfig;
@@ -129,4 +133,30 @@ fn servo_sweep_covers_the_window_and_only_the_chosen_joint() {
     assert!(held.clone().count() > 40 && held.clone().all(|w| (w - base.last().unwrap().1).abs() <= 0.25));
     assert!((shoulder[0].1 - 1520.0).abs() <= 0.25, "{:?}", shoulder[0]);
     assert!(shoulder.iter().all(|p| (599.75..=2400.25).contains(&p.1)));
+}
+
+/// The `mipidsi` feature's example: mipidsi's ILI9341 driver through the
+/// shield bus. The decoded controller must hold a blue screen with a red
+/// 100×50 rectangle at (10, 20) of the landscape view.
+#[test]
+fn mipidsi_draws_through_the_shield_bus() {
+    let elf = firmware::example_elf("mipidsi-fill");
+    assert!(elf.exists(), "{} missing: build it with `cargo avr-mipidsi` (scripts/test.sh does)", elf.display());
+    let mut avr = firmware::load(&elf).unwrap();
+    let bus = LcdBus::attach(&mut avr, BusPins::MEGA_SHIELD).unwrap();
+    avr.run_until_output(b"done\n", u64::from(CPU_HZ)).unwrap();
+    let lcd = bus.lcd();
+    assert!(!lcd.sleeping && lcd.display_on);
+    // The firmware's own landscape and 16-bit pixels; SWRESET first (no RST pin).
+    assert_eq!((lcd.madctl, lcd.colmod), (0x28, 0x55));
+    assert_eq!(lcd.command_log.first(), Some(&cmd::SWRESET));
+    let st = lcd.stats;
+    assert_eq!((st.stray_data, st.wrong_format, st.pixels_clipped, st.undriven_writes), (0, 0, 0, 0));
+    assert_eq!(st.pixels, 320 * 240 + 100 * 50);
+    drop(lcd);
+    let fb = bus.landscape();
+    let whole = Rectangle::new(Point::zero(), Size::new(320, 240));
+    let rect = Rectangle::new(Point::new(10, 20), Size::new(100, 50));
+    assert_eq!(fb.count_in(&rect, Rgb565::RED), 100 * 50);
+    assert_eq!(fb.count_in(&whole, Rgb565::BLUE), 320 * 240 - 100 * 50);
 }

@@ -20,6 +20,8 @@ pub mod eeprom;
 pub mod fault;
 pub mod gpio;
 pub mod lcd;
+#[cfg(feature = "mipidsi")]
+pub mod mipidsi;
 pub mod servo_pwm;
 pub mod shield;
 pub mod stack;
