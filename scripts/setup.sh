@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Idempotent set-up for a fresh Debian machine: the AVR cross toolchain, simavr's
-# build needs, and the pinned Rust nightly with rust-src. Fast when all is present.
+# build needs, the pinned Rust nightly with rust-src, and ravedude (the flash
+# runner: scripts/flash.sh, `cargo avr-run`). Fast when all is present.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude fonts-dejavu-core)
+# libudev-dev: ravedude's serial-port discovery links libudev.
+APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core)
+RAVEDUDE_VERSION=0.2.2
 TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
 
 missing=()
@@ -35,4 +38,11 @@ if ! rustup toolchain list | grep -q "^$TOOLCHAIN"; then
     rustup toolchain install "$TOOLCHAIN" --profile minimal --component rust-src
 elif ! rustup component list --toolchain "$TOOLCHAIN" --installed 2>/dev/null | grep -q '^rust-src'; then
     rustup component add rust-src --toolchain "$TOOLCHAIN"
+fi
+
+# ravedude from the Rust package registry, with its own lock file (about a
+# minute to build on two cores, once per machine).
+if ! command -v ravedude >/dev/null 2>&1 || ! ravedude --version 2>/dev/null | grep -qw "v$RAVEDUDE_VERSION"; then
+    echo "setup: installing ravedude $RAVEDUDE_VERSION (cargo install)"
+    cargo install ravedude --version "$RAVEDUDE_VERSION" --locked --quiet
 fi

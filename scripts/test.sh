@@ -4,7 +4,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-echo "== building the firmwares (cargo avr: touch-arm, bench, ui-demo, far-call)"
+echo "== building the firmwares and examples (cargo avr: touch-arm, bench, ui-demo, far-call, examples/)"
 cargo avr
+echo "== building the mipidsi feature's example (cargo avr-mipidsi)"
+cargo avr-mipidsi
 echo "== running tests"
 cargo test "$@"

@@ -112,10 +112,9 @@ fn frame(app: &mut App, b: &mut Board) {
     let _ = app.draw_screen(&mut Lcd::new(&mut b.bus));
 }
 
-/// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the
-/// hardware layer's own clamp, under the app's.
+/// The configured pulse limits per joint, in Timer5 ticks (0.5 µs).
 fn tick_limits(cfg: &Config) -> [TickLimits; CHANNELS] {
-    cfg.joints.map(|j| TickLimits { min: j.min_us.saturating_mul(2), max: j.max_us.saturating_mul(2) })
+    cfg.joints.map(|j| TickLimits::of_joint(&j))
 }
 
 fn reset_name(c: ResetCause) -> touch_arm::text::Text {

@@ -43,11 +43,15 @@ pub trait SerialPort {
     fn write(&mut self, bytes: &[u8]);
 }
 
-/// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).
-pub trait Storage {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError>;
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError>;
-}
+/// Byte-addressed non-volatile memory (the AVR EEPROM, the twin's, a test
+/// double): embedded-storage's [`ReadStorage`](embedded_storage::ReadStorage) and [`Storage`](embedded_storage::Storage)
+/// (reads and writes of any length at a byte offset; `write` erases as
+/// needed) whose error is [`StorageError`]. Implement those two traits; this
+/// one then holds by itself, so any embedded-storage driver with this error
+/// plugs into the configuration store and the app.
+pub trait Storage: embedded_storage::Storage<Error = StorageError> {}
+
+impl<T: embedded_storage::Storage<Error = StorageError> + ?Sized> Storage for T {}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StorageError {

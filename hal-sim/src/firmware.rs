@@ -20,9 +20,14 @@ fn avr_elf(name: &str, override_var: &str) -> PathBuf {
     if let Some(p) = std::env::var_os(override_var) {
         return PathBuf::from(p);
     }
+    avr_release_dir().join(format!("{name}.elf"))
+}
+
+/// `$CARGO_TARGET_DIR` (or target/) `/avr-none/release`.
+fn avr_release_dir() -> PathBuf {
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
-    target.join("avr-none/release").join(format!("{name}.elf"))
+    target.join("avr-none/release")
 }
 
 /// The product firmware (`cargo avr`), or `TOUCH_ARM_ELF`.
@@ -45,10 +50,26 @@ pub fn far_call_elf() -> PathBuf {
     avr_elf("far-call", "TOUCH_ARM_FAR_CALL_ELF")
 }
 
-/// Every firmware `cargo avr` builds, by name: what the post-link checks
-/// (`tests/firmware_elf.rs`) run over.
-pub fn all_elfs() -> [(&'static str, PathBuf); 4] {
-    [("touch-arm", default_elf()), ("bench", bench_elf()), ("ui-demo", ui_demo_elf()), ("far-call", far_call_elf())]
+/// The example programs the test command builds (`cargo avr`, and `cargo
+/// avr-mipidsi` for the last).
+pub const EXAMPLES: [&str; 3] = ["panel-probe", "servo-sweep", "mipidsi-fill"];
+
+/// Every firmware and example the test command builds, by name: what the
+/// post-link checks (`tests/firmware_elf.rs`) run over.
+pub fn all_elfs() -> Vec<(&'static str, PathBuf)> {
+    let mut elfs = vec![
+        ("touch-arm", default_elf()),
+        ("bench", bench_elf()),
+        ("ui-demo", ui_demo_elf()),
+        ("far-call", far_call_elf()),
+    ];
+    elfs.extend(EXAMPLES.iter().map(|name| (*name, example_elf(name))));
+    elfs
+}
+
+/// An example program (`examples/`, built by `cargo avr`), e.g. "panel-probe".
+pub fn example_elf(name: &str) -> PathBuf {
+    avr_release_dir().join("examples").join(format!("{name}.elf"))
 }
 
 /// A budget from memory.x: `__budget_<name> = <n>K;` or `= <n>;`, in bytes.
@@ -145,9 +166,9 @@ impl Session {
             panel: crate::twin::panel::SimPanel::new(seed),
         }));
         let model = panel.clone();
-        avr.set_adc_handler(move |req| match model.borrow_mut().read(req) {
-            Some(v) => crate::avr::AdcInput::Raw(v),
-            None => crate::avr::AdcInput::Raw(0),
+        avr.set_adc_handler(move |req| {
+            let v = model.borrow_mut().read(req).unwrap_or_else(|| crate::panel::PanelOnPins::read_off_panel(req));
+            crate::avr::AdcInput::Raw(v)
         });
         Ok(Session { avr, lcd, panel })
     }

@@ -6,6 +6,7 @@
 
 use crate::avr::{AdcRequest, Pin, PortsSnapshot};
 use crate::twin::panel::{Drive, PanelPins, Pin as Terminal, SimPanel};
+use touch_arm::touch::filter::ADC_MAX;
 
 /// Which MCU pins carry the panel's terminals, and the ADC channel of each
 /// terminal that sits on an analog pin.
@@ -40,19 +41,16 @@ impl PanelWiring {
         ym: (Pin::new('H', 3), None),
     };
 
-    /// How the firmware drives each terminal, from the port registers. An
-    /// input with its pull-up on counts as floating: ~35 kΩ against plates
-    /// of a few hundred ohms.
+    /// How the firmware drives each terminal, from the port registers.
     pub fn drives(&self, ports: &PortsSnapshot) -> PanelPins {
         let drive = |pin: Pin| match ports.get(pin.port) {
-            Some(p) if p.is_output(pin.bit) => {
-                if p.port >> pin.bit & 1 == 1 {
-                    Drive::High
-                } else {
-                    Drive::Low
-                }
-            }
-            _ => Drive::Float,
+            Some(p) => match p.driven(pin.bit) {
+                Some(true) => Drive::High,
+                Some(false) => Drive::Low,
+                None if p.pull_up(pin.bit) => Drive::PullUp,
+                None => Drive::Float,
+            },
+            None => Drive::Float,
         };
         PanelPins { xp: drive(self.xp.0), xm: drive(self.xm.0), yp: drive(self.yp.0), ym: drive(self.ym.0) }
     }
@@ -79,5 +77,16 @@ impl PanelOnPins {
         let t = self.wiring.terminal_on_channel(req.channel)?;
         let pins = self.wiring.drives(req.ports);
         Some(self.panel.adc(&pins, t))
+    }
+
+    /// What an analog pin off the panel reads: its own level when the
+    /// firmware drives it or pulls it up, 0 when it floats (nothing else is
+    /// wired to it in the model).
+    pub fn read_off_panel(req: &AdcRequest<'_>) -> u16 {
+        let pin = if req.channel < 8 { Pin::new('F', req.channel) } else { Pin::new('K', req.channel - 8) };
+        match req.ports.get(pin.port) {
+            Some(p) if p.driven(pin.bit) == Some(true) || p.pull_up(pin.bit) => ADC_MAX,
+            _ => 0,
+        }
     }
 }

@@ -600,13 +600,14 @@ mod servo {
 
 mod config {
     use super::*;
+    use embedded_storage::{ReadStorage, Storage};
     use hal_sim::twin::devices::SimEeprom;
     use touch_arm::config::crc::*;
     use touch_arm::config::settings::*;
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
     use touch_arm::config::store::*;
     use touch_arm::motion::plan::LawKind;
-    use touch_arm::seam::{Storage, StorageError};
+    use touch_arm::seam::StorageError;
     use touch_arm::servo::map::{Joint, JointCal, JointCalError};
     use touch_arm::touch::map::Calibration;
 
@@ -868,11 +869,17 @@ mod config {
         assert_eq!(load(&mut e).warning, Some(Warning::VersionMismatch));
         // A storage that cannot be read reports corruption, not a panic.
         struct Dead;
-        impl Storage for Dead {
-            fn read(&mut self, _: u16, _: &mut [u8]) -> Result<(), StorageError> {
+        impl ReadStorage for Dead {
+            type Error = StorageError;
+            fn read(&mut self, _: u32, _: &mut [u8]) -> Result<(), StorageError> {
                 Err(StorageError::Device)
             }
-            fn write(&mut self, _: u16, _: &[u8]) -> Result<(), StorageError> {
+            fn capacity(&self) -> usize {
+                4096
+            }
+        }
+        impl Storage for Dead {
+            fn write(&mut self, _: u32, _: &[u8]) -> Result<(), StorageError> {
                 Err(StorageError::Device)
             }
         }
@@ -913,14 +920,22 @@ mod config {
     fn failed_verify_stops_before_second_copy() {
         /// Accepts writes but stores an inverted byte: verify must catch it.
         struct Flaky(Vec<u8>);
-        impl Storage for Flaky {
-            fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-                buf.copy_from_slice(&self.0[addr as usize..addr as usize + buf.len()]);
+        impl ReadStorage for Flaky {
+            type Error = StorageError;
+            fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError> {
+                let addr = offset as usize;
+                buf.copy_from_slice(&self.0[addr..addr + buf.len()]);
                 Ok(())
             }
-            fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-                self.0[addr as usize..addr as usize + data.len()].copy_from_slice(data);
-                self.0[addr as usize + 10] ^= 0xFF;
+            fn capacity(&self) -> usize {
+                self.0.len()
+            }
+        }
+        impl Storage for Flaky {
+            fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError> {
+                let addr = offset as usize;
+                self.0[addr..addr + data.len()].copy_from_slice(data);
+                self.0[addr + 10] ^= 0xFF;
                 Ok(())
             }
         }

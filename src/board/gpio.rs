@@ -1,5 +1,6 @@
-//! GPIO pins of the ATmega2560 addressed by (port, bit), and the Arduino Mega
-//! names of the shield signals (SPEC §8).
+//! GPIO pins of the ATmega2560 addressed by (port, bit), the pins of the ports
+//! no driver owns as embedded-hal pins ([`split`]), and the Arduino Mega names
+//! of the shield signals (SPEC §8).
 //!
 //! A [`Pin`] is only a descriptor (two bytes, `Copy`). Its register accessors
 //! are crate-private: the right to change a pin comes from owning the PAC port
@@ -157,6 +158,13 @@ impl Pin {
         });
     }
 
+    /// The level on the pin (its PINx bit), whatever drives it.
+    #[inline]
+    pub(crate) fn is_high(self) -> bool {
+        // SAFETY: see `mode`; reading PINx has no side effect.
+        unsafe { read_volatile(self.port.pin_reg() as *const u8) & self.mask() != 0 }
+    }
+
     /// Sets the PORT bit (drives the level if the pin is an output).
     #[inline]
     pub(crate) fn write(self, high: bool) {
@@ -169,6 +177,110 @@ impl Pin {
                 write_volatile(port_reg, if high { v | m } else { v & !m });
             }
         });
+    }
+}
+
+/// A port that no driver of this board owns: A, B, C, D, J and K. Ports E,
+/// F, G and H carry the shield's LCD/touch pins and belong to
+/// [`ShieldBus`](super::shield::ShieldBus); port L carries the servo signals
+/// (PL3..PL5) of [`ServoPwm`](super::servo_pwm::ServoPwm).
+pub trait FreePort: sealed::Sealed {
+    const PORT: Port;
+}
+
+mod sealed {
+    pub trait Sealed {}
+}
+
+macro_rules! free_ports {
+    ($($pac:ident => $port:ident),*) => {$(
+        impl sealed::Sealed for avr_device::atmega2560::$pac {}
+        impl FreePort for avr_device::atmega2560::$pac {
+            const PORT: Port = Port::$port;
+        }
+    )*};
+}
+
+free_ports!(PORTA => A, PORTB => B, PORTC => C, PORTD => D, PORTJ => J, PORTK => K);
+
+/// The eight pins of a free port, bit 0 first. Takes the PAC port: owning
+/// it is the right to change its pins (`Peripherals::take` hands it out
+/// once), and each returned pin is the right to one bit.
+pub fn split<P: FreePort>(_port: P) -> [FreePin; 8] {
+    core::array::from_fn(|bit| FreePin { pin: Pin::new(P::PORT, bit as u8) })
+}
+
+/// One pin of a free port, not yet configured (as the chip left it).
+pub struct FreePin {
+    pin: Pin,
+}
+
+impl FreePin {
+    pub fn pin(&self) -> Pin {
+        self.pin
+    }
+
+    /// An output starting at `high`.
+    pub fn into_output(self, high: bool) -> Output {
+        self.pin.set_mode(if high { PinMode::OutputHigh } else { PinMode::OutputLow });
+        Output { pin: self.pin }
+    }
+
+    /// An input, with the internal pull-up (20–50 kΩ) if `pull_up`.
+    pub fn into_input(self, pull_up: bool) -> Input {
+        self.pin.set_mode(if pull_up { PinMode::PullUp } else { PinMode::Floating });
+        Input { pin: self.pin }
+    }
+}
+
+/// A free pin driven as an output: embedded-hal's `OutputPin` and
+/// `StatefulOutputPin`.
+pub struct Output {
+    pin: Pin,
+}
+
+/// A free pin as an input: embedded-hal's `InputPin`.
+pub struct Input {
+    pin: Pin,
+}
+
+impl embedded_hal::digital::ErrorType for Output {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal::digital::ErrorType for Input {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal::digital::OutputPin for Output {
+    fn set_low(&mut self) -> Result<(), Self::Error> {
+        self.pin.write(false);
+        Ok(())
+    }
+
+    fn set_high(&mut self) -> Result<(), Self::Error> {
+        self.pin.write(true);
+        Ok(())
+    }
+}
+
+impl embedded_hal::digital::StatefulOutputPin for Output {
+    fn is_set_high(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.mode() == PinMode::OutputHigh)
+    }
+
+    fn is_set_low(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.mode() == PinMode::OutputLow)
+    }
+}
+
+impl embedded_hal::digital::InputPin for Input {
+    fn is_high(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.is_high())
+    }
+
+    fn is_low(&mut self) -> Result<bool, Self::Error> {
+        Ok(!self.pin.is_high())
     }
 }
 

@@ -9,6 +9,9 @@
 //! period, which is what the app's 50 Hz frame aligns with.
 
 use avr_device::atmega2560::{PORTL, TC5};
+use embedded_hal::pwm::SetDutyCycle;
+
+use crate::servo::map::JointCal;
 
 pub const CHANNELS: usize = 3;
 /// PL3, PL4, PL5.
@@ -21,6 +24,14 @@ pub const TOP: u16 = 39_999;
 pub struct TickLimits {
     pub min: u16,
     pub max: u16,
+}
+
+impl TickLimits {
+    /// A joint calibration's pulse limits (µs) in ticks: the hardware
+    /// layer's own clamp, under the app's.
+    pub fn of_joint(cal: &JointCal) -> TickLimits {
+        TickLimits { min: cal.min_us.saturating_mul(2), max: cal.max_us.saturating_mul(2) }
+    }
 }
 
 pub struct ServoPwm {
@@ -103,6 +114,48 @@ impl ServoPwm {
         } else {
             false
         }
+    }
+}
+
+/// One servo output as embedded-hal's [`SetDutyCycle`]: the duty cycle is
+/// the pulse width in Timer5 ticks out of the period ([`PERIOD_TICKS`], so a
+/// duty of 3000 is a 1.5 ms pulse). Every value goes through
+/// [`ServoPwm::set`]'s clamp, so no duty cycle, not even 0 ("fully off") or
+/// the maximum, drives the servo outside its channel's window: use
+/// [`ServoPwm::disable_all`] to stop the pulses.
+pub struct ServoChannel<'a> {
+    pwm: &'a mut ServoPwm,
+    ch: usize,
+}
+
+/// Timer5 ticks per PWM period (20 ms): the duty cycle's full scale.
+pub const PERIOD_TICKS: u16 = TOP + 1;
+
+impl ServoPwm {
+    /// Channel `ch` (0 base, 1 shoulder, 2 elbow) as a [`SetDutyCycle`], or
+    /// `None` past the last channel.
+    pub fn channel(&mut self, ch: usize) -> Option<ServoChannel<'_>> {
+        (ch < CHANNELS).then_some(ServoChannel { pwm: self, ch })
+    }
+
+    /// Channel `ch`'s window in ticks.
+    pub fn limits(&self, ch: usize) -> Option<TickLimits> {
+        self.limits.get(ch).copied()
+    }
+}
+
+impl embedded_hal::pwm::ErrorType for ServoChannel<'_> {
+    type Error = core::convert::Infallible;
+}
+
+impl SetDutyCycle for ServoChannel<'_> {
+    fn max_duty_cycle(&self) -> u16 {
+        PERIOD_TICKS
+    }
+
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+        self.pwm.set(self.ch, duty);
+        Ok(())
     }
 }
 

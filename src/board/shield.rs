@@ -16,7 +16,8 @@
 
 use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
-use super::adc::Adc;
+use super::adc::{Adc, AdcError};
+use super::delay_us;
 use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9, LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
 
@@ -140,6 +141,60 @@ impl ShieldBus {
     }
 }
 
+/// Wait before sampling a link: the 20–50 kΩ pull-up charges the sense line
+/// (the ADC's sample-and-hold, the LCD input, any filter capacitor a shield
+/// puts there: up to ~10 nF, τ ≤ 0.5 ms) through no plate when the pair is
+/// open.
+const LINK_SETTLE_US: u32 = 2_000;
+
+/// Why [`ShieldBus::plate_link`] measured nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinkError {
+    /// A pin is not one of the 13 shield LCD pins.
+    NotShieldPin,
+    /// `sense` has no ADC channel.
+    NotAnalog,
+    /// `drive` and `sense` are the same pin.
+    Same,
+    Adc(AdcError),
+}
+
+impl ShieldBus {
+    /// How `drive` and `sense` are connected through the panel: the ADC count
+    /// on `sense`, pulled up by its 20–50 kΩ, while `drive` is low. The two
+    /// ends of one plate (a few hundred ohms) read under 20 counts; an open
+    /// pair reads 1023. Nobody may touch the panel meanwhile (the plates would
+    /// meet).
+    ///
+    /// Every other shield pin but RST is a pulled-up input meanwhile, so no
+    /// pin is driven against `drive` through a plate, CS, RD and WR stay at
+    /// their inactive high level unless a plate pulls one of them low (and a
+    /// plate has two ends, so never two of them), and no LCD line can fake a
+    /// link by driving the far end of `sense`'s plate. RST stays high. All 13
+    /// pins are restored as [`ShieldBus::with_touch`] restores them.
+    pub fn plate_link(&mut self, adc: &mut Adc, drive: Pin, sense: Pin) -> Result<u16, LinkError> {
+        if !(is_shield_pin(drive) && is_shield_pin(sense)) {
+            return Err(LinkError::NotShieldPin);
+        }
+        if drive == sense {
+            return Err(LinkError::Same);
+        }
+        let channel = sense.adc_channel().ok_or(LinkError::NotAnalog)?;
+        let saved = snapshot();
+        // CS first: the controller is deselected before anything else moves.
+        for p in RESTORE_ORDER.iter().rev() {
+            if *p != LCD_RST && *p != drive {
+                p.set_mode(PinMode::PullUp);
+            }
+        }
+        drive.set_mode(PinMode::OutputLow);
+        delay_us(LINK_SETTLE_US);
+        let count = adc.read(channel);
+        restore(&saved);
+        count.map_err(LinkError::Adc)
+    }
+}
+
 fn snapshot() -> [PinMode; 13] {
     RESTORE_ORDER.map(|p| p.mode())
 }
@@ -201,6 +256,8 @@ impl TouchWiring {
     pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
     /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
     pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+    /// The known wirings with their names, for tools that try each.
+    pub const PRESETS: [(char, TouchWiring); 3] = [('a', Self::A), ('b', Self::B), ('c', Self::C)];
 
     /// Checks that all four are distinct shield pins and X−, Y+ are analog.
     pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {

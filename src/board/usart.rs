@@ -174,6 +174,53 @@ impl SerialPort for Usart0 {
     }
 }
 
+impl embedded_io::ErrorType for Usart0 {
+    type Error = core::convert::Infallible;
+}
+
+/// Blocks until the first byte arrives (interrupts must be enabled: the
+/// receive interrupt fills the ring), then takes what else the ring holds.
+impl embedded_io::Read for Usart0 {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            *slot = match Usart0::read_byte(self) {
+                Some(b) => b,
+                None if n == 0 => loop {
+                    if let Some(b) = Usart0::read_byte(self) {
+                        break b;
+                    }
+                },
+                None => break,
+            };
+            n += 1;
+        }
+        Ok(n)
+    }
+}
+
+impl embedded_io::ReadReady for Usart0 {
+    fn read_ready(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.rx_len() > 0)
+    }
+}
+
+/// Blocking, like [`Usart0::write_byte`]; `flush` waits until the last byte
+/// has left the line.
+impl embedded_io::Write for Usart0 {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        for &b in buf {
+            self.write_byte(b);
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        Usart0::flush(self);
+        Ok(())
+    }
+}
+
 fn receive(cs: CriticalSection<'_>) {
     // SAFETY: the ISR only reads UCSR0A and UDR0; `Usart0` never reads UDR0
     // and only reads/clears flags in UCSR0A that the ISR ignores. The status

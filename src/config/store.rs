@@ -242,7 +242,7 @@ pub fn seq_newer(a: u16, b: u16) -> bool {
 
 fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordError> {
     let mut buf = [0u8; RECORD_LEN];
-    storage.read(addr, &mut buf).map_err(RecordError::Storage)?;
+    storage.read(u32::from(addr), &mut buf).map_err(RecordError::Storage)?;
     Config::decode(&buf)
 }
 
@@ -320,9 +320,9 @@ pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveErr
     let seq = newest.wrapping_add(1);
     let record = config.encode(seq);
     for addr in [first, second] {
-        storage.write(addr, &record).map_err(SaveError::Storage)?;
+        storage.write(u32::from(addr), &record).map_err(SaveError::Storage)?;
         let mut check = [0u8; RECORD_LEN];
-        storage.read(addr, &mut check).map_err(SaveError::Storage)?;
+        storage.read(u32::from(addr), &mut check).map_err(SaveError::Storage)?;
         if check != record {
             return Err(SaveError::Verify);
         }

@@ -145,6 +145,25 @@ impl<R: Real> Links<R> {
 /// on the rounding error of c, i.e. a radial distance of a few ε·r — and is
 /// then taken as exactly ±1. Anything further out is `Unreachable`, never
 /// clamped.
+///
+/// ```
+/// use touch_arm::geometry::ik::{fk2, ik2, Branch, IkError, Links};
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// // Unit links, target (1, 1): r² = 2, so c = (2 − 1 − 1)/2 = 0, a square
+/// // elbow; on the Plus branch q3 = +π/2 and q2 = π/4 − atan2(1, 1) = 0.
+/// let links = Links::new(1.0_f64, 1.0).unwrap();
+/// let q = ik2(&links, 1.0, 1.0, Branch::Plus).unwrap();
+/// assert!((q.q3 - FRAC_PI_2).abs() < 1e-15 && q.q2.abs() < 1e-15);
+/// // The other elbow: q3 = −π/2, q2 = π/2.
+/// let m = ik2(&links, 1.0, 1.0, Branch::Minus).unwrap();
+/// assert!((m.q3 + FRAC_PI_2).abs() < 1e-15 && (m.q2 - FRAC_PI_2).abs() < 1e-15);
+/// // Forward kinematics lands on the target again.
+/// let (x, y) = fk2(&links, m.q2, m.q3);
+/// assert!((x - 1.0).abs() < 1e-15 && (y - 1.0).abs() < 1e-15);
+/// // Past the outer rim r = 2: c = (9 − 2)/2 = 3.5, refused rather than clamped.
+/// assert_eq!(ik2(&links, 3.0, 0.0, Branch::Plus), Err(IkError::Unreachable { c: 3.5 }));
+/// ```
 pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<JointAngles2<R>, IkError<R>> {
     if !(x.is_finite() && y.is_finite()) {
         return Err(IkError::NotFinite);

@@ -168,6 +168,18 @@ impl<R: Real> ZatParams<R> {
 /// −(ln|Δ| + ln(1 − n^(a − tₛ)))/ln n so that n^tₛ never overflows.
 /// `None` when S_f = q0 (ζ = ∞) or the value is undefined (n ≤ 1, a ≥ tₛ,
 /// non-finite inputs).
+///
+/// ```
+/// use touch_arm::motion::zat::{zeta, ZatParams};
+///
+/// // tₛ = 4, a = 0, n = 2 and a move of 1/15: |Δ|·(n^tₛ − n^a) = 15/15 = 1, ζ = tₛ.
+/// let p = ZatParams { q0: 0.0_f64, sf: 1.0 / 15.0, ts: 4.0, a: 0.0, n: 2.0 };
+/// assert!((zeta(&p).unwrap() - 4.0).abs() < 1e-14);
+/// // A move of 1: ζ = 4 − log₂ 15.
+/// assert!((zeta(&ZatParams { sf: 1.0, ..p }).unwrap() - (4.0 - 15f64.log2())).abs() < 1e-14);
+/// // No move, ζ = ∞.
+/// assert_eq!(zeta(&ZatParams { sf: 0.0, ..p }), None);
+/// ```
 pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
     if all_finite(&[p.q0, p.sf, p.ts, p.a, p.n]).is_err() || p.n <= R::ONE || p.a >= p.ts {
         return None;
@@ -480,6 +492,17 @@ impl<R: Real> Shape<R> {
     }
 
     /// G(t): 0 for t ≤ 0, 1 (exactly) for t ≥ tₛ. The cheap per-frame path.
+    ///
+    /// ```
+    /// use touch_arm::motion::zat::{Shape, ShapeParams};
+    ///
+    /// // tₛ = 4, a = 0, n = 2 at t = 2: u = t + tₛ/t − 1 = 3 and
+    /// // G = n^(1 − tₛ/t) · n^(u−a)/(n^(u−a) − 1) · (n^(tₛ−a) − 1)/n^(tₛ−a)
+    /// //   = 2⁻¹ · 8/7 · 15/16 = 15/28.
+    /// let shape = Shape::new(&ShapeParams { ts: 4.0_f64, a: 0.0, n: 2.0 }).unwrap();
+    /// assert!((shape.g(2.0) - 15.0 / 28.0).abs() < 1e-15);
+    /// assert_eq!((shape.g(0.0), shape.g(4.0)), (0.0, 1.0));
+    /// ```
     #[inline]
     pub fn g(&self, t: R) -> R {
         self.g_inline(t)

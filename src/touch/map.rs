@@ -168,6 +168,21 @@ impl Calibration {
     /// `(raw − mid)/half`, and `y_p = (raw − min)/(max − min)`: numerators and
     /// denominators are small integers (exact in f32), so each coordinate is the
     /// exact value rounded once and the span ends land on exactly −1, 1, 0, 1.
+    ///
+    /// ```
+    /// use touch_arm::touch::map::Calibration;
+    ///
+    /// // The default span is X 123..932, Y 128..897.
+    /// let cal = Calibration::DEFAULT;
+    /// let corner = cal.map::<f64>(123, 897).unwrap();
+    /// assert_eq!((corner.x_p, corner.y_p, corner.clamped), (-1.0, 1.0, false));
+    /// // (549, 745): x_p = (2·549 − 123 − 932)/809 = 43/809, y_p = (745 − 128)/769.
+    /// let p = cal.map::<f64>(549, 745).unwrap();
+    /// assert_eq!((p.x_p, p.y_p), (43.0 / 809.0, 617.0 / 769.0));
+    /// // Outside the span: clamped onto its edge, and said so.
+    /// let out = cal.map::<f64>(1000, 100).unwrap();
+    /// assert_eq!((out.x_p, out.y_p, out.clamped), (1.0, 0.0, true));
+    /// ```
     pub fn map<R: Real>(&self, raw_x: u16, raw_y: u16) -> Result<MappedPoint<R>, CalibrationError> {
         self.validate()?;
         let (sx, sy) = if self.swap_xy { (raw_y, raw_x) } else { (raw_x, raw_y) };
