@@ -20,7 +20,7 @@ use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
 use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
 use touch_arm::motion::zat::{smooth_stop_a, Shape, ShapeParams};
 use touch_arm::seam::RawSample;
-use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
+use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchError, TouchPanel};
 use touch_arm::seam::{Storage, StorageError};
 use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
 
@@ -536,11 +536,11 @@ fn elbow_branch_keeps_the_whole_workspace_inside_the_default_limits() {
 
 struct NoTouch;
 impl TouchPanel for NoTouch {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         for s in out.iter_mut() {
             *s = RawSample { x: 512, y: 512, z: 0 };
         }
-        out.len()
+        Ok(())
     }
 }
 

@@ -19,7 +19,7 @@
 //!   z2 = 1023: pressure 0.
 
 use touch_arm::seam::RawSample;
-use touch_arm::seam::TouchPanel;
+use touch_arm::seam::{TouchError, TouchPanel};
 use touch_arm::touch::filter::{pressure, ADC_MAX};
 use touch_arm::touch::map::Calibration;
 
@@ -276,11 +276,11 @@ impl SimPanel {
 }
 
 impl TouchPanel for SimPanel {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         for s in out.iter_mut() {
             *s = self.sample();
         }
-        out.len()
+        Ok(())
     }
 }
 
