@@ -1087,6 +1087,7 @@ mod command {
     use super::*;
     use touch_arm::config::settings::SpeedPreset;
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
+    use touch_arm::math::units::centideg_to_rad;
     use touch_arm::motion::plan::LawKind as Law;
     use touch_arm::protocol::command::*;
     use touch_arm::servo::map::Joint;

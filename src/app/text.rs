@@ -1,14 +1,11 @@
 //! Output lines built in a fixed buffer from integers, so the chip links no
 //! `core::fmt` float code. Fixed-point values print as `-12.05`.
 
-use crate::config::settings::round_i32;
+use crate::math::units::round_i32;
 use crate::text::Text;
 
 /// Longest line the app writes, terminator included.
 pub const LINE_CAP: usize = 192;
-
-/// Radians to hundredths of a degree.
-const CENTIDEG_PER_RAD: f32 = 18_000.0 / core::f32::consts::PI;
 
 /// One output line. Text past the capacity is dropped (the line still ends
 /// with its terminator), never written out of bounds.
@@ -119,11 +116,6 @@ impl Line {
         }
         self.as_bytes()
     }
-}
-
-/// Radians to the nearest hundredth of a degree (saturating).
-pub fn centideg(rad: f32) -> i32 {
-    round_i32(rad * CENTIDEG_PER_RAD)
 }
 
 /// A value in thousandths (e.g. mrad/s from rad/s), rounded, saturating.

@@ -3,6 +3,7 @@
 //! vocabulary of their fields that the serial protocol parses into and `cal
 //! show` prints ([`JointField`], [`TouchField`], [`CalSet`]).
 
+use crate::math::units::{centideg_to_rad, deg_per_rad, rad_to_centideg, round_i32};
 use crate::motion::plan::LawKind;
 use crate::servo::map::{Joint, JointCal, JointCalError};
 use crate::touch::map::{Calibration, CalibrationError};
@@ -113,18 +114,6 @@ impl ConfigError {
     }
 }
 
-const DEG_PER_RAD: f32 = 180.0 / core::f32::consts::PI;
-const RAD_PER_CENTIDEG: f32 = core::f32::consts::PI / 18_000.0;
-
-/// Rounds half away from zero; saturates (core has no `f32::round`).
-pub(crate) fn round_i32(v: f32) -> i32 {
-    if v >= 0.0 {
-        (v + 0.5) as i32
-    } else {
-        (v - 0.5) as i32
-    }
-}
-
 impl Config {
     /// ζ-a-tₛ is the default law (the product's method; the app picks the
     /// smooth-stop shape when it is admissible and monotone).
@@ -170,12 +159,12 @@ impl Config {
                 let v = value as f32;
                 match field {
                     JointField::Offset => cal.offset_us = v / 100.0,
-                    JointField::Scale => cal.us_per_rad = v / 100.0 * DEG_PER_RAD,
+                    JointField::Scale => cal.us_per_rad = v / 100.0 * deg_per_rad::<f32>(),
                     JointField::MinUs => cal.min_us = value.clamp(0, u16::MAX as i32) as u16,
                     JointField::MaxUs => cal.max_us = value.clamp(0, u16::MAX as i32) as u16,
-                    JointField::MinDeg => cal.min_rad = v * RAD_PER_CENTIDEG,
-                    JointField::MaxDeg => cal.max_rad = v * RAD_PER_CENTIDEG,
-                    JointField::MaxSpeed => cal.max_speed_rad_s = v * RAD_PER_CENTIDEG,
+                    JointField::MinDeg => cal.min_rad = centideg_to_rad(value),
+                    JointField::MaxDeg => cal.max_rad = centideg_to_rad(value),
+                    JointField::MaxSpeed => cal.max_speed_rad_s = centideg_to_rad(value),
                 }
             }
             CalSet::Touch { field, value } => {
@@ -201,12 +190,12 @@ impl Config {
         let c = self.joint(joint);
         match field {
             JointField::Offset => round_i32(c.offset_us * 100.0),
-            JointField::Scale => round_i32(c.us_per_rad * 100.0 / DEG_PER_RAD),
+            JointField::Scale => round_i32(c.us_per_rad * 100.0 / deg_per_rad::<f32>()),
             JointField::MinUs => c.min_us as i32,
             JointField::MaxUs => c.max_us as i32,
-            JointField::MinDeg => round_i32(c.min_rad / RAD_PER_CENTIDEG),
-            JointField::MaxDeg => round_i32(c.max_rad / RAD_PER_CENTIDEG),
-            JointField::MaxSpeed => round_i32(c.max_speed_rad_s / RAD_PER_CENTIDEG),
+            JointField::MinDeg => rad_to_centideg(c.min_rad),
+            JointField::MaxDeg => rad_to_centideg(c.max_rad),
+            JointField::MaxSpeed => rad_to_centideg(c.max_speed_rad_s),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! All angles are radians unless a name ends in `_deg`.
 
 use crate::math::real::Real;
+use crate::math::units::rad_to_deg;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WorkspaceError {
@@ -96,12 +97,8 @@ pub struct Target<R> {
 
 impl<R: Real> Target<R> {
     pub fn alpha_deg(&self) -> R {
-        to_deg(self.alpha)
+        rad_to_deg(self.alpha)
     }
-}
-
-fn to_deg<R: Real>(rad: R) -> R {
-    rad * R::lit(180.0 / core::f64::consts::PI)
 }
 
 fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
@@ -151,7 +148,7 @@ impl<R: Real> WorkspacePoint<R> {
 
     /// α in degrees, [0, 180].
     pub fn alpha_deg(&self) -> R {
-        to_deg(self.alpha())
+        rad_to_deg(self.alpha())
     }
 
     #[inline]

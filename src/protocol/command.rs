@@ -29,7 +29,6 @@
 //! error is reported.
 
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
-use crate::math::real::Real;
 use crate::motion::plan::LawKind;
 use crate::servo::map::Joint;
 
@@ -202,20 +201,6 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
         return Err(CmdError::OutOfRange);
     }
     Ok(v)
-}
-
-/// Hundredths of a degree to radians (any `i32`, without an integer-to-float
-/// conversion wider than `u16`, which `Real` does not offer).
-pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
-    let mag = centideg.unsigned_abs();
-    let hi = R::from_u16((mag >> 16) as u16);
-    let lo = R::from_u16((mag & 0xFFFF) as u16);
-    let rad = (hi * R::lit(65_536.0) + lo) * (R::PI / R::lit(18_000.0));
-    if centideg < 0 {
-        -rad
-    } else {
-        rad
-    }
 }
 
 fn parse_joint(tok: &[u8]) -> Option<Joint> {

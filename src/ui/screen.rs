@@ -13,7 +13,7 @@ use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
-use super::text_buf::{rad_to_deg, Line};
+use super::text_buf::{whole_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
 use crate::config::settings::SpeedPreset;
@@ -190,9 +190,9 @@ impl View {
             stop_shown: m.state != UiState::Stopped,
             headline,
             detail,
-            zone: m.condition.map(|c| (c.number(), rad_to_deg(m.alpha))),
+            zone: m.condition.map(|c| (c.number(), whole_deg(m.alpha))),
             warning: top_warning(m.warnings),
-            joints: [rad_to_deg(m.joints[0]), rad_to_deg(m.joints[1]), rad_to_deg(m.joints[2])],
+            joints: [whole_deg(m.joints[0]), whole_deg(m.joints[1]), whole_deg(m.joints[2])],
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
             speed: m.speed,

@@ -2,6 +2,7 @@
 
 use super::flash::TextSource;
 use super::font::DEGREE;
+use crate::math::units::{rad_to_deg, round_i32};
 
 /// Up to `N` bytes; pushes beyond that are dropped (a screen line is short).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,12 +78,9 @@ impl<const N: usize> Line<N> {
 
 /// Radians to whole degrees, rounded half away from zero; `None` when not
 /// finite. Clamped to ±9999 so the text stays short.
-pub fn rad_to_deg(rad: f32) -> Option<i16> {
+pub fn whole_deg(rad: f32) -> Option<i16> {
     if !rad.is_finite() {
         return None;
     }
-    let deg = rad * (180.0 / core::f32::consts::PI);
-    let deg = deg.clamp(-9999.0, 9999.0);
-    let rounded = if deg >= 0.0 { deg + 0.5 } else { deg - 0.5 };
-    Some(rounded as i16)
+    Some(round_i32(rad_to_deg(rad).clamp(-9999.0, 9999.0)) as i16)
 }
