@@ -24,6 +24,7 @@ use touch_arm::board::tick::Tick;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config::settings::Config;
+use touch_arm::servo::map::us_to_ticks;
 use ufmt::uwriteln;
 
 /// How the resistive panel is wired on this shield (SPEC §8 variants a/b/c;
@@ -115,7 +116,7 @@ fn frame(app: &mut App, b: &mut Board) {
 /// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the
 /// hardware layer's own clamp, under the app's.
 fn tick_limits(cfg: &Config) -> [TickLimits; CHANNELS] {
-    cfg.joints.map(|j| TickLimits { min: j.min_us.saturating_mul(2), max: j.max_us.saturating_mul(2) })
+    cfg.joints.map(|j| TickLimits { min: us_to_ticks(j.min_us), max: us_to_ticks(j.max_us) })
 }
 
 fn reset_name(c: ResetCause) -> touch_arm::text::Text {

@@ -10,11 +10,11 @@
 
 use avr_device::atmega2560::{PORTL, TC5};
 
+use crate::servo::map::{us_to_ticks, TIMER5_TOP};
+
 pub const CHANNELS: usize = 3;
 /// PL3, PL4, PL5.
 const SERVO_PINS: u8 = 0b0011_1000;
-/// ICR5: 40000 ticks of 0.5 µs per period.
-pub const TOP: u16 = 39_999;
 
 /// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]
@@ -40,7 +40,7 @@ impl ServoPwm {
         tc5.tccr5b().write(|w| w.cs5().no_clock());
         tc5.tccr5a().write(|w| w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected());
         avr_device::interrupt::free(|_| {
-            tc5.icr5().write(|w| w.set(TOP));
+            tc5.icr5().write(|w| w.set(TIMER5_TOP));
             tc5.tcnt5().write(|w| w.set(0));
         });
         tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
@@ -109,16 +109,17 @@ impl ServoPwm {
 /// A limit window must lie inside one period and be ordered; anything else is
 /// collapsed to an empty-but-safe window at the lower bound.
 fn sanitize(l: TickLimits) -> TickLimits {
-    let min = l.min.min(TOP);
-    let max = l.max.min(TOP).max(min);
+    let min = l.min.min(TIMER5_TOP);
+    let max = l.max.min(TIMER5_TOP).max(min);
     TickLimits { min, max }
 }
 
 impl crate::seam::ServoOutputs for ServoPwm {
-    /// µs to 0.5 µs ticks (saturating), then `set`'s per-channel clamp.
+    /// µs to 0.5 µs ticks inside the absolute servo window, then `set`'s
+    /// per-channel clamp.
     fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
         for (ch, &us) in pulses_us.iter().enumerate() {
-            self.set(ch, us.saturating_mul(2));
+            self.set(ch, us_to_ticks(us));
         }
     }
 

@@ -328,7 +328,8 @@ impl ServoMap {
 
 /// Timer5 compare value (OCR5x) for a pulse of `us` µs: `2·us`, with `us`
 /// first clamped to the absolute 500..=2500 µs, so the result is always a
-/// servo pulse (never 0 = off or ≥ TOP = always high).
+/// servo pulse (never 0 = off or ≥ TOP = always high). The board converts
+/// every pulse and every pulse limit with this.
 pub fn us_to_ticks(us: u16) -> u16 {
     us.clamp(ABS_MIN_US, ABS_MAX_US) * TICKS_PER_US
 }
