@@ -27,6 +27,8 @@
 //! must either wait for room or report it through its return value: nothing
 //! is dropped silently.
 
+pub mod pins;
+
 /// One sample of the panel: X and Y positions and the pressure measure
 /// (see [`crate::touch::filter::pressure`]), all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -10,11 +10,16 @@
 
 use avr_device::atmega2560::{PORTL, TC5};
 
+use crate::seam::pins::mega::SERVOS;
+use crate::seam::pins::Port;
 use crate::servo::map::{us_to_ticks, TIMER5_TOP};
 
 pub const CHANNELS: usize = 3;
-/// PL3, PL4, PL5.
-const SERVO_PINS: u8 = 0b0011_1000;
+/// PL3, PL4, PL5 (the pin map's servo pins, all on port L).
+const SERVO_PINS: u8 = (1 << SERVOS[0].bit()) | (1 << SERVOS[1].bit()) | (1 << SERVOS[2].bit());
+const _: () = assert!(
+    matches!(SERVOS[0].port(), Port::L) && matches!(SERVOS[1].port(), Port::L) && matches!(SERVOS[2].port(), Port::L)
+);
 
 /// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]

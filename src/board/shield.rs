@@ -17,8 +17,9 @@
 use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
 use super::adc::Adc;
-use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9, LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
+use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
+use crate::seam::pins::PanelPinout;
 
 /// Every LCD pin, in the order they are restored after a touch read: data and
 /// RS first, then the RD/WR strobes, chip select last. Had CS been left active
@@ -196,11 +197,16 @@ const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
 
 impl TouchWiring {
     /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
-    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
+    pub const A: TouchWiring = checked(TouchWiring::of(&PanelPinout::A));
     /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
-    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
+    pub const B: TouchWiring = checked(TouchWiring::of(&PanelPinout::B));
     /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
-    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+    pub const C: TouchWiring = checked(TouchWiring::of(&PanelPinout::C));
+
+    /// [`TouchWiring::new`] for a pinout of the pin map.
+    pub const fn of(p: &PanelPinout) -> Result<TouchWiring, WiringError> {
+        TouchWiring::new(p.xp, p.xm, p.yp, p.ym)
+    }
 
     /// Checks that all four are distinct shield pins and X−, Y+ are analog.
     pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {
