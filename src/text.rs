@@ -7,6 +7,8 @@
 //! one byte at a time. On the host the same handle wraps a plain `&'static str`,
 //! so host tests see exactly the bytes the chip sends.
 
+pub mod line;
+
 /// A handle to constant text (flash on AVR, a plain static elsewhere). Copy,
 /// 4 bytes on the chip.
 #[derive(Clone, Copy)]

@@ -16,9 +16,9 @@ use embedded_graphics::pixelcolor::Rgb565;
 use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
-use super::text_buf::Line;
 use super::theme;
 use crate::config::settings::MIN_TOUCH_SPAN;
+use crate::text::line::Line;
 use crate::text::Text;
 use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 
@@ -205,7 +205,7 @@ fn line_centered<D: Canvas, T: TextSource + ?Sized>(
 
 fn draw_step<D: Canvas>(d: &mut D, index: u8) -> Result<(), D::Error> {
     let mut line: Line<16> = Line::new();
-    line.push(&t!("Point ")).push_int(i32::from(index) + 1).push(&t!(" of ")).push_int(CAL_COUNT as i32);
+    line.str(t!("Point ")).i32(i32::from(index) + 1).str(t!(" of ")).i32(CAL_COUNT as i32);
     fill(d, STEP_AREA, BG)?;
     line_centered(d, STEP_AREA.y, line.as_bytes(), &STYLE)
 }
@@ -252,16 +252,16 @@ fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -
         Ok(c) => {
             line_centered(d, 16, &t!("Calibration result"), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("X ")).push_int(i32::from(c.x_min)).push(&t!(" - ")).push_int(i32::from(c.x_max));
+            l.str(t!("X ")).i32(i32::from(c.x_min)).str(t!(" - ")).i32(i32::from(c.x_max));
             line_centered(d, 48, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("Y ")).push_int(i32::from(c.y_min)).push(&t!(" - ")).push_int(i32::from(c.y_max));
+            l.str(t!("Y ")).i32(i32::from(c.y_min)).str(t!(" - ")).i32(i32::from(c.y_max));
             line_centered(d, 72, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("Swap X/Y: ")).push(&yes_no(c.swap_xy));
+            l.str(t!("Swap X/Y: ")).str(yes_no(c.swap_xy));
             line_centered(d, 96, l.as_bytes(), &STYLE)?;
             let mut l: Line<26> = Line::new();
-            l.push(&t!("Flip X: ")).push(&yes_no(c.invert_x)).push(&t!("  Flip Y: ")).push(&yes_no(c.invert_y));
+            l.str(t!("Flip X: ")).str(yes_no(c.invert_x)).str(t!("  Flip Y: ")).str(yes_no(c.invert_y));
             line_centered(d, 120, l.as_bytes(), &STYLE)?;
             line_centered(d, 148, &t!("Save to keep it"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
             fill(d, SAVE_AREA, theme::RESUME_GREEN)?;

@@ -9,14 +9,15 @@
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::calibration::{self, CalView, CalibrationFlow};
+use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
-use super::text_buf::{whole_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
 use crate::config::settings::SpeedPreset;
+use crate::text::line::Line;
 use crate::text::Text;
 
 /// Which regions a draw call repainted (bit set).
@@ -503,20 +504,20 @@ fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(),
 
 fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
-    line.push_int(i32::from(percent)).push_byte(b'%');
+    line.i32(i32::from(percent)).bytes(b"%");
     // Right-aligned in a 4-character field so the digits do not jump.
     let mut padded: Line<5> = Line::new();
     for _ in line.as_bytes().len()..4 {
-        padded.push_byte(b' ');
+        padded.bytes(b" ");
     }
-    padded.push(line.as_bytes());
+    padded.bytes(line.as_bytes());
     text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
 }
 
 fn draw_info<D: Canvas>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
-        line.push(&t!("Zone ")).push_int(i32::from(z)).push(&t!("  Direction ")).push_deg(alpha);
+        line.str(t!("Zone ")).i32(i32::from(z)).str(t!("  Direction ")).deg(alpha);
     }
     text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
 }
@@ -527,9 +528,9 @@ fn draw_warning<D: Canvas>(d: &mut D, bit: u8) -> Result<(), D::Error> {
 
 fn draw_joints<D: Canvas>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
-    line.push(&t!("Base ")).push_deg(joints[0]);
-    line.push(&t!("   Shoulder ")).push_deg(joints[1]);
-    line.push(&t!("   Elbow ")).push_deg(joints[2]);
+    line.str(t!("Base ")).deg(joints[0]);
+    line.str(t!("   Shoulder ")).deg(joints[1]);
+    line.str(t!("   Elbow ")).deg(joints[2]);
     text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
 }
 
