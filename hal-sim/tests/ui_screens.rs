@@ -344,7 +344,7 @@ fn status_lines_say_what_happens_in_words() {
     assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
     // Unknown angles show dashes; the top warning is shown in words.
     let mut m = UiModel::new(SpeedPreset::Fast);
-    m.warnings = warn::TOUCH_CLAMPED | warn::SERVOS_OFF;
+    m.warnings = warn::DEFAULT_SETTINGS | warn::SERVOS_OFF;
     let fb = full(&m);
     snapshot(&fb, "powerup_warning");
     assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 185, &small);

@@ -35,20 +35,13 @@ pub enum UiState {
     Refused(Refusal),
 }
 
-/// Problems worth a line on the screen; a bit set (highest bit wins when
-/// several are set, so put the most important highest).
+/// Problems worth a line on the screen, each a bit the app sets; the highest
+/// set bit is shown, so the most important is highest.
 pub mod warn {
-    /// The last touch lay outside the calibrated span and was pulled onto
-    /// its edge (`touch::map::MappedPoint::clamped`).
-    pub const TOUCH_CLAMPED: u8 = 1 << 0;
     /// EEPROM settings were invalid; defaults are in use.
-    pub const DEFAULT_SETTINGS: u8 = 1 << 1;
-    /// A plan exceeded its speed budget and was slowed down.
-    pub const SLOWED: u8 = 1 << 2;
-    /// Touch panel readings are unstable (noise, spread rejects).
-    pub const TOUCH_NOISY: u8 = 1 << 3;
+    pub const DEFAULT_SETTINGS: u8 = 1 << 0;
     /// Servo outputs are off (limp arm).
-    pub const SERVOS_OFF: u8 = 1 << 4;
+    pub const SERVOS_OFF: u8 = 1 << 1;
 }
 
 /// Everything the main screen shows. Angles are radians (as the pose and

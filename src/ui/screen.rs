@@ -154,10 +154,7 @@ fn top_warning(bits: u8) -> u8 {
 
 fn warning_text(bit: u8) -> Text {
     match bit {
-        warn::TOUCH_CLAMPED => t!("! touch at panel edge"),
         warn::DEFAULT_SETTINGS => t!("! default settings in use"),
-        warn::SLOWED => t!("! move slowed for safety"),
-        warn::TOUCH_NOISY => t!("! touch readings unsteady"),
         warn::SERVOS_OFF => t!("! servos are off"),
         0 => t!(""),
         _ => t!("! check the serial log"),
