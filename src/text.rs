@@ -59,7 +59,9 @@ impl Text {
             return 0;
         }
         #[cfg(target_arch = "avr")]
-        return flash_byte(self.ptr.wrapping_add(i));
+        // SAFETY: `i < len`, and `ptr..ptr + len` is the `.progmem.data`
+        // static `t!` made.
+        return unsafe { flash_byte(self.ptr.wrapping_add(i)) };
         #[cfg(not(target_arch = "avr"))]
         return self.s.as_bytes()[i];
     }
@@ -126,9 +128,14 @@ impl ufmt::uDisplay for Text {
 /// One byte of program memory, by its flash address. Only `.progmem.data`
 /// statics are read this way; avr-gcc's linker script puts `.progmem*` in the
 /// low 64 KiB, so the 16-bit Z pointer and `lpm` reach them.
+///
+/// # Safety
+/// `p` must point into a live `'static` array placed in `.progmem.data` (on
+/// the host, into any live `'static` array): the host version reads it as
+/// data.
 #[cfg(target_arch = "avr")]
 #[inline]
-pub fn flash_byte(p: *const u8) -> u8 {
+pub unsafe fn flash_byte(p: *const u8) -> u8 {
     let byte: u8;
     // SAFETY: `lpm` only reads program memory.
     unsafe {
@@ -138,10 +145,13 @@ pub fn flash_byte(p: *const u8) -> u8 {
 }
 
 /// One byte of a constant (host: a plain read).
+///
+/// # Safety
+/// As on the chip: `p` must point into a live `'static` array.
 #[cfg(not(target_arch = "avr"))]
 #[inline]
-pub fn flash_byte(p: *const u8) -> u8 {
-    // SAFETY: callers pass pointers into live `'static` arrays.
+pub unsafe fn flash_byte(p: *const u8) -> u8 {
+    // SAFETY: the caller's promise.
     unsafe { p.read() }
 }
 

@@ -261,7 +261,7 @@ proptest! {
             let p32 = zat_peak_rate(&s32) as f64;
             let want32 = ref_peak(ts32 as f64, a32 as f64, n32 as f64);
             let rel = p32 / want32 - 1.0;
-            prop_assert!(rel >= -2e-5 && rel <= 1.2e-4, "ts={ts} n={n}: f32 {p32} vs {want32}");
+            prop_assert!((-2e-5..=1.2e-4).contains(&rel), "ts={ts} n={n}: f32 {p32} vs {want32}");
         }
     }
 }

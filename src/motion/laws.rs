@@ -42,7 +42,7 @@ pub struct LawPlan<R> {
 impl<R: Real> LawPlan<R> {
     pub fn new(law: Law, p: &LawParams<R>) -> Result<Self, TrajError<R>> {
         all_finite(&[p.t0, p.tf, p.s0, p.sf])?;
-        if !(p.tf > p.t0) {
+        if p.tf <= p.t0 {
             return Err(TrajError::EmptyInterval);
         }
         let t = p.tf - p.t0;

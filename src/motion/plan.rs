@@ -77,7 +77,7 @@ impl<R: Real> JointLaw<R> {
         if !duration.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        if !(duration > R::ZERO) {
+        if duration <= R::ZERO {
             return Err(TrajError::NonPositiveDuration);
         }
         Ok(JointLaw::Classic(LawPlan::new(law, &LawParams { t0: R::ZERO, tf: duration, s0: R::ZERO, sf: R::ONE })?))

@@ -130,7 +130,7 @@ pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
 /// `None` when it is not admissible (tₛ ≤ 1, or ln n ≥ ln tₛ/(√tₛ − 1)²).
 pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
-    if !(ts.is_finite() && n.is_finite()) || !R::ONE.lt_num(ts) || !R::ONE.lt_num(n) {
+    if !(ts.is_finite() && n.is_finite() && R::ONE.lt_num(ts) && R::ONE.lt_num(n)) {
         return None;
     }
     let a = ts - ts.ln() / ln_base(n);
@@ -631,11 +631,11 @@ impl<R: Real> Shape<R> {
             let it = t.recip();
             let f = self.phi_it(t, it, ln_ts);
             let df = l * (R::ONE - self.ts * it * it) - R::TWO * it;
-            if !(f > R::ZERO) || !(df < R::ZERO) {
+            if !f.is_positive() || !df.is_negative() {
                 break;
             }
             let next = t - f / df;
-            if !(next > t) || !next.is_finite() {
+            if next <= t || !next.is_finite() {
                 break;
             }
             t = next.min(self.ts);
@@ -657,7 +657,7 @@ impl<R: Real> Shape<R> {
     /// so G″ = G·(h1² + h1′): [`Shape::g_derivs`] and searches over G′ use
     /// them. `None` for t ≤ 0, t > tₛ and where G is below 1e-34.
     pub fn rate_terms(&self, t: R) -> Option<RateTerms<R>> {
-        if !(t > R::ZERO) || t > self.ts {
+        if !t.is_positive() || t > self.ts {
             return None;
         }
         let i = self.at(t)?;

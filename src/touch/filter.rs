@@ -117,7 +117,7 @@ impl FilterConfig {
     };
 
     pub fn validate(&self) -> Result<(), FilterConfigError> {
-        if self.samples == 0 || self.samples as usize > MAX_SAMPLES || self.samples % 2 == 0 {
+        if self.samples == 0 || self.samples as usize > MAX_SAMPLES || self.samples.is_multiple_of(2) {
             return Err(FilterConfigError::SampleCount);
         }
         if self.z_min == 0 || self.z_min > self.z_max {

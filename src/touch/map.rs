@@ -276,7 +276,7 @@ impl Calibration {
             SwapMode::Detect => {
                 let det = sxx * syy - sxy * sxy;
                 // 1 − (correlation of the positions)² > 1 %: not (nearly) one line.
-                if !(det > R::lit(0.01) * sxx * syy) {
+                if !det.gt(&(R::lit(0.01) * sxx * syy)) {
                     return Err(CalibrationError::DegeneratePositions);
                 }
                 // Coefficients of the 2-D fits times det (> 0), which cancels in

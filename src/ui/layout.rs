@@ -89,7 +89,7 @@ pub const GAPS: [Area; 6] = [
 /// not finite. `x = ⌊(x_p + 1)·160⌋`, `y = ⌊(1 − y_p)·240⌋`, the far edges
 /// folded onto the last pixel.
 pub fn panel_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
+    let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
     if !inside {
         return None;
     }
@@ -126,7 +126,7 @@ pub const fn ws_half_units(x: i16, y: i16) -> (i16, i16) {
 /// The map pixel a workspace point falls on, `None` outside `[−1,1]×[0,1]`
 /// or not finite; the top and right edges fold onto the last pixel.
 pub fn ws_point_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
+    let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
     if !inside {
         return None;
     }

@@ -183,11 +183,12 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
             return None;
         }
         a.swap(col, piv);
-        for row in 0..m {
+        let pivot = a[col].clone();
+        for (row, r) in a.iter_mut().enumerate() {
             if row != col {
-                let f = a[row][col] / a[col][col];
-                for k in col..=m {
-                    a[row][k] -= f * a[col][k];
+                let f = r[col] / pivot[col];
+                for (x, p) in r[col..=m].iter_mut().zip(&pivot[col..=m]) {
+                    *x -= f * p;
                 }
             }
         }

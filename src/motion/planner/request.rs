@@ -68,7 +68,7 @@ pub fn time_ratio<R: Real>(req: &MoveRequest<R>, speed: &[R; JOINTS]) -> Result<
         if !(d.is_finite() && w.is_finite()) {
             return Err(PlanError::NotFinite);
         }
-        if !(*w > R::ZERO) {
+        if *w <= R::ZERO {
             return Err(PlanError::SpeedLimit);
         }
         r = r.max(d / *w);
