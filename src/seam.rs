@@ -33,8 +33,11 @@ pub mod pins;
 /// (see [`crate::touch::filter::pressure`]), all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawSample {
+    /// Voltage on the Y plate with the X plate driven, ADC counts 0..=1023.
     pub x: u16,
+    /// Voltage on the X plate with the Y plate driven, ADC counts 0..=1023.
     pub y: u16,
+    /// Pressure measure, 0..=2046, ≈ 0 untouched.
     pub z: u16,
 }
 
@@ -67,6 +70,8 @@ pub trait ServoOutputs {
 
 /// A monotonic millisecond clock.
 pub trait Clock {
+    /// Milliseconds since start; wraps after 49.7 days, so compare with
+    /// `wrapping_sub`.
     fn now_ms(&self) -> u32;
 }
 
@@ -84,10 +89,15 @@ pub trait SerialPort {
 
 /// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).
 pub trait Storage {
+    /// Fills `buf` from `addr` on; fails without reading if the range runs past
+    /// the end.
     fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError>;
+    /// Stores `data` from `addr` on; fails without writing if the range runs
+    /// past the end. A device failure midway leaves the earlier bytes written.
     fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError>;
 }
 
+/// Why a storage access failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StorageError {
     /// The access would run past the end of the memory.

@@ -39,6 +39,7 @@ impl Text {
         Text { s }
     }
 
+    /// Bytes of text.
     #[inline]
     pub fn len(&self) -> usize {
         #[cfg(target_arch = "avr")]
@@ -47,6 +48,7 @@ impl Text {
         return self.s.len();
     }
 
+    /// No bytes.
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.len() == 0

@@ -14,6 +14,7 @@ use crate::seam::pins::mega::SERVOS;
 use crate::seam::pins::Port;
 use crate::servo::map::{us_to_ticks, TIMER5_TOP};
 
+/// Timer5 compare channels in use: OC5A, OC5B, OC5C (base, shoulder, elbow).
 pub const CHANNELS: usize = 3;
 /// PL3, PL4, PL5 (the pin map's servo pins, all on port L).
 const SERVO_PINS: u8 = (1 << SERVOS[0].bit()) | (1 << SERVOS[1].bit()) | (1 << SERVOS[2].bit());
@@ -24,10 +25,14 @@ const _: () = assert!(
 /// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]
 pub struct TickLimits {
+    /// Shortest pulse, ticks of 0.5 µs.
     pub min: u16,
+    /// Longest pulse, ticks of 0.5 µs.
     pub max: u16,
 }
 
+/// Timer5 and its three compare outputs, owned, with a tick window per
+/// channel.
 pub struct ServoPwm {
     tc5: TC5,
     limits: [TickLimits; CHANNELS],

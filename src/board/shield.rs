@@ -48,10 +48,15 @@ const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
 /// A control line of the LCD.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LcdLine {
+    /// LCD_RD (A0), read strobe, active low.
     Rd,
+    /// LCD_WR (A1), write strobe, active low.
     Wr,
+    /// LCD_RS (A2): low = command, high = data.
     Rs,
+    /// LCD_CS (A3), chip select, active low.
     Cs,
+    /// LCD_RST (A4), reset, active low.
     Rst,
 }
 
@@ -162,6 +167,7 @@ pub struct TouchWiring {
     pub(super) yp_channel: u8,
 }
 
+/// Why [`TouchWiring::new`] refused a wiring.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WiringError {
     /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
@@ -222,15 +228,19 @@ impl TouchWiring {
         }
     }
 
+    /// The X+ electrode's pin.
     pub const fn xp(&self) -> Pin {
         self.xp
     }
+    /// The X− electrode's pin (analog).
     pub const fn xm(&self) -> Pin {
         self.xm
     }
+    /// The Y+ electrode's pin (analog).
     pub const fn yp(&self) -> Pin {
         self.yp
     }
+    /// The Y− electrode's pin.
     pub const fn ym(&self) -> Pin {
         self.ym
     }

@@ -115,6 +115,7 @@ pub struct TouchReader<'a> {
 }
 
 impl<'a> TouchReader<'a> {
+    /// A reader for the panel wired as `wiring`.
     pub fn new(bus: &'a mut ShieldBus, adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
         Self { bus, adc, wiring }
     }

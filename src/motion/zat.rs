@@ -150,14 +150,20 @@ pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
 /// Parameters of one ζ-a-tₛ move q0 → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ZatParams<R> {
+    /// Start value.
     pub q0: R,
+    /// End value S_f.
     pub sf: R,
+    /// Duration tₛ > 0, s.
     pub ts: R,
+    /// Shape parameter, a < u_min(tₛ).
     pub a: R,
+    /// Base n > 1.
     pub n: R,
 }
 
 impl<R: Real> ZatParams<R> {
+    /// The (tₛ, a, n) part, shared by all joints of a move.
     #[inline]
     pub fn shape(&self) -> ShapeParams<R> {
         ShapeParams { ts: self.ts, a: self.a, n: self.n }
@@ -380,18 +386,22 @@ impl<R: Real> Shape<R> {
         Ok(Shape { ts: p.ts, a: p.a, n: p.n, l, sqrt_ts, sqrt_corr, l_delta, long, e_s, inv_ps, mono })
     }
 
+    /// The parameters it was built from.
     #[inline]
     pub fn params(&self) -> ShapeParams<R> {
         ShapeParams { ts: self.ts, a: self.a, n: self.n }
     }
+    /// Duration tₛ, s.
     #[inline]
     pub fn ts(&self) -> R {
         self.ts
     }
+    /// Shape parameter a.
     #[inline]
     pub fn a(&self) -> R {
         self.a
     }
+    /// Base n.
     #[inline]
     pub fn n(&self) -> R {
         self.n
@@ -688,7 +698,9 @@ impl<R: Real> Shape<R> {
 /// See [`Shape::rate_terms`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RateTerms<R> {
+    /// G(t), 0..=1.
     pub g: R,
+    /// q(t) = 1/expm1(L·(u(t) − a)) with u(t) = t + tₛ/t − 1.
     pub q: R,
     /// G′/G.
     pub h1: R,
@@ -720,14 +732,17 @@ impl<R: Real> ZatPlan<R> {
         Ok(ZatPlan { shape, q0: p.q0, sf: p.sf, delta })
     }
 
+    /// The normalized profile G.
     #[inline]
     pub fn shape(&self) -> &Shape<R> {
         &self.shape
     }
+    /// Start value.
     #[inline]
     pub fn q0(&self) -> R {
         self.q0
     }
+    /// End value S_f.
     #[inline]
     pub fn sf(&self) -> R {
         self.sf

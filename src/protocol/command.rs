@@ -41,38 +41,61 @@ pub type SerialLine = LineBuffer<LINE_LEN>;
 /// `goto` accepts ±360.00° (joint limits are the servo layer's business).
 pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
 
+/// One parsed command line (see the module doc's grammar).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Command {
+    /// `move <raw_x> <raw_y>`: go where this raw panel reading maps.
     Move {
+        /// Raw X, ADC counts 0..=1023.
         x: u16,
+        /// Raw Y, ADC counts 0..=1023.
         y: u16,
     },
     /// Angles in hundredths of a degree, in [`Joint::index`] order.
     Goto {
+        /// Base, shoulder, elbow, each within ±[`GOTO_MAX_CENTIDEG`].
         centideg: [i32; 3],
     },
+    /// `stop`: halt where the arm is.
     Stop,
+    /// `resume`: accept moves again after a stop.
     Resume,
+    /// `status`: report state, pose, move and warnings.
     Status,
+    /// `law <name>`: the law of new moves.
     Law(LawKind),
+    /// `speed <name>`: the preset of new moves.
     Speed(SpeedPreset),
+    /// `cal show`: print every calibration field.
     CalShow,
+    /// `cal set ...`: change one calibration field (in RAM).
     CalSet(CalSet),
+    /// `cal save`: store the running configuration in the EEPROM.
     CalSave,
+    /// `cal reset`: back to the built-in defaults (in RAM).
     CalReset,
+    /// `log on|off`: per-frame telemetry.
     Log(bool),
 }
 
+/// Why a line was not a command; each has the reason the `err` reply gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CmdError {
+    /// Nothing but whitespace.
     Empty,
+    /// The first word is no command.
     UnknownCommand,
     /// An unknown keyword argument (law, speed, joint, field, on/off, cal verb).
     BadArgument,
+    /// Fewer arguments than the command takes.
     MissingArgument,
+    /// More arguments than the command takes.
     ExtraArgument,
+    /// A number that does not follow the grammar (module doc, Numbers).
     BadNumber,
+    /// A well-formed number outside its field's range.
     OutOfRange,
+    /// The line exceeded [`LINE_LEN`] bytes.
     TooLong,
     /// A byte that is not printable ASCII, space or tab.
     BadCharacter,
@@ -299,6 +322,7 @@ impl<const N: usize> Default for LineBuffer<N> {
 }
 
 impl<const N: usize> LineBuffer<N> {
+    /// An empty buffer.
     pub const fn new() -> Self {
         LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false }
     }

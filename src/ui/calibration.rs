@@ -25,6 +25,7 @@ use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 /// Crosshair centres in screen pixels: four corners inset by 10 % and the
 /// centre (five points average touch noise and detect swap and inversion).
 pub const CAL_PIXELS: [(i16, i16); 5] = [(32, 24), (288, 24), (288, 216), (32, 216), (160, 120)];
+/// Crosshairs per calibration.
 pub const CAL_COUNT: usize = CAL_PIXELS.len();
 
 /// A reading within this many counts of the previous crosshair's on both
@@ -42,20 +43,29 @@ pub fn cal_point(i: usize) -> Option<(f32, f32)> {
 /// Why a fit was not offered for saving.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalFailure {
+    /// The readings do not determine a calibration.
     Fit(CalibrationError),
     /// The fit spans fewer than `MIN_TOUCH_SPAN` counts on an axis (the
     /// settings store would refuse it).
     SpanTooSmall,
 }
 
+/// Where the flow is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalPhase {
-    /// Waiting for a touch on crosshair `index`.
-    Touch { index: u8 },
+    /// Waiting for a touch on a crosshair.
+    Touch {
+        /// Which crosshair, 0..[`CAL_COUNT`].
+        index: u8,
+    },
     /// The fit is shown with Save / Cancel (or Retry / Cancel on failure).
-    Review { result: Result<Calibration, CalFailure> },
+    Review {
+        /// The fitted calibration, or why there is none.
+        result: Result<Calibration, CalFailure>,
+    },
 }
 
+/// What a touch on the calibration screen decided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalibrationEvent {
     /// Save pressed: store and use this calibration.
@@ -75,14 +85,17 @@ pub struct CalibrationFlow {
 
 /// Buttons of the result screen.
 pub const CANCEL_AREA: Area = Area::new(16, 168, 136, 56);
+/// The Save button (Retry after a failed fit).
 pub const SAVE_AREA: Area = Area::new(168, 168, 136, 56);
 
 impl CalibrationFlow {
+    /// Starts at the first crosshair; `old` is kept for Cancel.
     pub fn new(old: Calibration) -> Self {
         let blank = Crosshair { x_p: 0.0, y_p: 0.0, raw_x: 0, raw_y: 0 };
         Self { old, phase: CalPhase::Touch { index: 0 }, samples: [blank; CAL_COUNT], rejected: false }
     }
 
+    /// The current phase.
     pub fn phase(&self) -> CalPhase {
         self.phase
     }

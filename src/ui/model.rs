@@ -25,8 +25,11 @@ pub enum UiState {
     PowerUp,
     /// Ready, waiting for a touch.
     Idle,
-    /// On the way; `progress` runs 0..=1 over the planned duration.
-    Moving { progress: f32 },
+    /// On the way.
+    Moving {
+        /// Share of the planned duration elapsed, 0..=1.
+        progress: f32,
+    },
     /// Arrived; the servos hold the pose.
     Holding,
     /// The user pressed STOP: motion halted where it was.
@@ -48,6 +51,7 @@ pub mod warn {
 /// plan produce them); points are workspace coordinates `(x_p, y_p)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UiModel {
+    /// What the arm is doing, as the headline says it.
     pub state: UiState,
     /// The last touched point on the map.
     pub touch: Option<(f32, f32)>,
@@ -55,9 +59,11 @@ pub struct UiModel {
     pub target: Option<(f32, f32)>,
     /// Condition (zone) and base direction α of the touched point.
     pub condition: Option<Condition>,
+    /// Base direction α of that point, radians (shown when `condition` is set).
     pub alpha: f32,
     /// Base, shoulder, elbow angles now (radians); non-finite shows `--`.
     pub joints: [f32; 3],
+    /// The preset button shown pressed.
     pub speed: SpeedPreset,
     /// [`warn`] bits.
     pub warnings: u8,

@@ -29,24 +29,35 @@ impl Redrawn {
     pub const MAP: u16 = 1 << 0;
     /// Only the boxes around markers that moved, appeared or vanished.
     pub const MARKERS: u16 = 1 << 1;
+    /// The STOP / RESUME button.
     pub const STOP: u16 = 1 << 2;
+    /// [`layout::HEADLINE`](super::layout::HEADLINE).
     pub const HEADLINE: u16 = 1 << 3;
+    /// [`layout::DETAIL`](super::layout::DETAIL) (text or progress bar).
     pub const DETAIL: u16 = 1 << 4;
+    /// [`layout::INFO`](super::layout::INFO).
     pub const INFO: u16 = 1 << 5;
+    /// [`layout::WARN`](super::layout::WARN).
     pub const WARN: u16 = 1 << 6;
+    /// [`layout::JOINTS`](super::layout::JOINTS).
     pub const JOINTS: u16 = 1 << 7;
+    /// The three speed preset buttons.
     pub const SPEED: u16 = 1 << 8;
+    /// The Calib button.
     pub const CALIBRATE: u16 = 1 << 9;
     /// Guard bands and gaps (full redraws only).
     pub const GAPS: u16 = 1 << 10;
     /// The calibration screen (all of it, or the parts that changed).
     pub const CALIBRATION: u16 = 1 << 11;
+    /// A full redraw of the main screen (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
 
+    /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
         self.0 & bits == bits
     }
 
+    /// Nothing was repainted.
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
@@ -55,13 +66,19 @@ impl Redrawn {
 /// What a touch on the main screen means.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Hit {
+    /// The STOP button (or beside it, in the guard band).
     Stop,
+    /// The RESUME button, shown after a stop.
     Resume,
+    /// A speed preset button.
     Speed(SpeedPreset),
+    /// The Calib button.
     Calibrate,
     /// A point of the map, in workspace coordinates.
     Map {
+        /// −1..=1, left → right.
         x_p: f32,
+        /// 0..=1, bottom → top.
         y_p: f32,
     },
 }
@@ -71,7 +88,9 @@ pub enum Hit {
 /// `reach_max = (l2 + l3)/k`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UiConfig {
+    /// Inner radius of the reachable ring, workspace units.
     pub reach_min: f32,
+    /// Outer radius of the reachable ring, workspace units.
     pub reach_max: f32,
 }
 
@@ -283,6 +302,7 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
 }
 
 impl Ui {
+    /// A UI with `config`'s reach; nothing is drawn until [`Ui::draw`].
     pub fn new(config: &UiConfig) -> Self {
         Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing }
     }

@@ -54,12 +54,16 @@ pub enum MarkKind {
 /// A marker at a map pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mark {
+    /// Centre column, screen pixels.
     pub x: i16,
+    /// Centre row, screen pixels.
     pub y: i16,
+    /// Which marker.
     pub kind: MarkKind,
 }
 
 impl Mark {
+    /// The box the marker paints (to repaint when it moves).
     pub fn area(&self) -> Area {
         Area::around(self.x, self.y, MARKER_R)
     }

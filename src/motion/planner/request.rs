@@ -40,14 +40,18 @@ pub struct PlanLimits<R> {
 /// One move to plan.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MoveRequest<R> {
+    /// Joint angles now, rad (base, shoulder, elbow).
     pub start: [R; JOINTS],
+    /// Joint angles to reach, rad.
     pub target: [R; JOINTS],
+    /// The law to move by.
     pub law: LawKind,
 }
 
 /// A planned move and what the app reports about it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlannedMove<R> {
+    /// The synchronized move itself.
     pub plan: MultiPlan<R>,
     /// Duration, s.
     pub ts: R,
