@@ -36,3 +36,14 @@ if ! rustup toolchain list | grep -q "^$TOOLCHAIN"; then
 elif ! rustup component list --toolchain "$TOOLCHAIN" --installed 2>/dev/null | grep -q '^rust-src'; then
     rustup component add rust-src --toolchain "$TOOLCHAIN"
 fi
+
+# The hygiene gates of scripts/test.sh run rustfmt and clippy from the stable
+# toolchain: the pinned nightly ships neither.
+if ! rustup toolchain list | grep -q "^stable"; then
+    echo "setup: installing Rust stable (+rustfmt, clippy)"
+    rustup toolchain install stable --profile minimal --component rustfmt --component clippy
+else
+    for c in rustfmt clippy; do
+        rustup component list --toolchain stable --installed 2>/dev/null | grep -q "^$c" || rustup component add "$c" --toolchain stable
+    done
+fi
