@@ -46,3 +46,14 @@ if ! command -v ravedude >/dev/null 2>&1 || ! ravedude --version 2>/dev/null | g
     echo "setup: installing ravedude $RAVEDUDE_VERSION (cargo install)"
     cargo install ravedude --version "$RAVEDUDE_VERSION" --locked --quiet
 fi
+
+# The hygiene gates of scripts/test.sh run rustfmt and clippy from the stable
+# toolchain: the pinned nightly ships neither.
+if ! rustup toolchain list | grep -q "^stable"; then
+    echo "setup: installing Rust stable (+rustfmt, clippy)"
+    rustup toolchain install stable --profile minimal --component rustfmt --component clippy
+else
+    for c in rustfmt clippy; do
+        rustup component list --toolchain stable --installed 2>/dev/null | grep -q "^$c" || rustup component add "$c" --toolchain stable
+    done
+fi

@@ -8,8 +8,9 @@ use proptest::prelude::*;
 use reference::zat::Zat;
 use std::f64::consts::PI;
 
-use touch_arm::app::text::{centideg, Line};
+use touch_arm::app::text::Line;
 use touch_arm::geometry::ik::Branch;
+use touch_arm::math::units::rad_to_centideg;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::plan::{LawKind, MultiPlan};
 use touch_arm::motion::planner::duration::TS_SEARCH_TOL;
@@ -215,7 +216,7 @@ proptest! {
             let p32 = zat_peak_rate(&s32) as f64;
             let want32 = ref_peak(ts32 as f64, a32 as f64, n32 as f64);
             let rel = p32 / want32 - 1.0;
-            prop_assert!(rel >= -2e-5 && rel <= 1.2e-4, "ts={ts} n={n}: f32 {p32} vs {want32}");
+            prop_assert!((-2e-5..=1.2e-4).contains(&rel), "ts={ts} n={n}: f32 {p32} vs {want32}");
         }
     }
 }
@@ -500,9 +501,9 @@ fn text_formatting() {
         .bytes(b" ")
         .u32(u32::MAX);
     assert_eq!(l.finish(), b"-2147483648 x 0 -7 -0.05 1234.56 4294967295\r\n");
-    assert_eq!(centideg(std::f32::consts::FRAC_PI_2), 9000);
-    assert_eq!(centideg(-2.0), -11459);
-    assert_eq!(centideg(f32::NAN), 0);
+    assert_eq!(rad_to_centideg(std::f32::consts::FRAC_PI_2), 9000);
+    assert_eq!(rad_to_centideg(-2.0), -11459);
+    assert_eq!(rad_to_centideg(f32::NAN), 0);
     // Overlong text is cut, the terminator kept.
     let mut l = Line::new();
     for _ in 0..300 {

@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use touch_arm::seam::pins::mega;
+
 use crate::avr::{Avr, Error};
 
 /// ATmega2560 on the Mega 2560 board.
@@ -137,9 +139,10 @@ pub fn load(elf: &Path) -> Result<Avr, String> {
 /// Fill pattern for stack painting (unlikely as real stack content).
 const STACK_PAINT: u8 = 0xA5;
 
-/// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5.
+/// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5
+/// (the firmware's pin map).
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
-    [crate::avr::Pin::new('L', 3), crate::avr::Pin::new('L', 4), crate::avr::Pin::new('L', 5)];
+    [crate::avr::Pin::of(mega::SERVOS[0]), crate::avr::Pin::of(mega::SERVOS[1]), crate::avr::Pin::of(mega::SERVOS[2])];
 
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.

@@ -28,6 +28,7 @@ use embedded_graphics::prelude::RawData;
 
 use crate::avr::{Avr, Error, Pin, PortLevels};
 use crate::display::Framebuffer;
+use touch_arm::seam::pins::mega;
 
 pub const GRAM_W: u16 = 240;
 pub const GRAM_H: u16 = 320;
@@ -294,22 +295,22 @@ pub struct BusPins {
 }
 
 impl BusPins {
-    /// The UNO-form shield on the Mega 2560 (SPEC §8).
+    /// The UNO-form shield on the Mega 2560: the firmware's pin map.
     pub const MEGA_SHIELD: BusPins = BusPins {
-        rd: Pin::new('F', 0),
-        wr: Pin::new('F', 1),
-        rs: Pin::new('F', 2),
-        cs: Pin::new('F', 3),
-        rst: Pin::new('F', 4),
+        rd: Pin::of(mega::LCD_RD),
+        wr: Pin::of(mega::LCD_WR),
+        rs: Pin::of(mega::LCD_RS),
+        cs: Pin::of(mega::LCD_CS),
+        rst: Pin::of(mega::LCD_RST),
         data: [
-            Pin::new('H', 5),
-            Pin::new('H', 6),
-            Pin::new('E', 4),
-            Pin::new('E', 5),
-            Pin::new('G', 5),
-            Pin::new('E', 3),
-            Pin::new('H', 3),
-            Pin::new('H', 4),
+            Pin::of(mega::LCD_DATA[0]),
+            Pin::of(mega::LCD_DATA[1]),
+            Pin::of(mega::LCD_DATA[2]),
+            Pin::of(mega::LCD_DATA[3]),
+            Pin::of(mega::LCD_DATA[4]),
+            Pin::of(mega::LCD_DATA[5]),
+            Pin::of(mega::LCD_DATA[6]),
+            Pin::of(mega::LCD_DATA[7]),
         ],
     };
 

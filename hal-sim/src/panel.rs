@@ -6,6 +6,7 @@
 
 use crate::avr::{AdcRequest, Pin, PortsSnapshot};
 use crate::twin::panel::{Drive, PanelPins, Pin as Terminal, SimPanel};
+use touch_arm::seam::pins::PanelPinout;
 use touch_arm::touch::filter::ADC_MAX;
 
 /// Which MCU pins carry the panel's terminals, and the ADC channel of each
@@ -20,26 +21,20 @@ pub struct PanelWiring {
 
 impl PanelWiring {
     /// SPEC §8 wiring (a): XP = D8 (PH5), XM = A2 (PF2), YP = A3 (PF3), YM = D9 (PH6).
-    pub const A: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 5), None),
-        xm: (Pin::new('F', 2), Some(2)),
-        yp: (Pin::new('F', 3), Some(3)),
-        ym: (Pin::new('H', 6), None),
-    };
+    pub const A: PanelWiring = PanelWiring::of(&PanelPinout::A);
     /// Wiring (b): XP = D6 (PH3), XM = A2 (PF2), YP = A1 (PF1), YM = D7 (PH4).
-    pub const B: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 3), None),
-        xm: (Pin::new('F', 2), Some(2)),
-        yp: (Pin::new('F', 1), Some(1)),
-        ym: (Pin::new('H', 4), None),
-    };
+    pub const B: PanelWiring = PanelWiring::of(&PanelPinout::B);
     /// Wiring (c): XP = D7 (PH4), XM = A1 (PF1), YP = A2 (PF2), YM = D6 (PH3).
-    pub const C: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 4), None),
-        xm: (Pin::new('F', 1), Some(1)),
-        yp: (Pin::new('F', 2), Some(2)),
-        ym: (Pin::new('H', 3), None),
-    };
+    pub const C: PanelWiring = PanelWiring::of(&PanelPinout::C);
+
+    /// A pinout of the firmware's pin map, with the ADC channel of each
+    /// terminal on an analog pin.
+    pub const fn of(p: &PanelPinout) -> PanelWiring {
+        const fn terminal(pin: touch_arm::seam::pins::Pin) -> (Pin, Option<u8>) {
+            (Pin::of(pin), pin.adc_channel())
+        }
+        PanelWiring { xp: terminal(p.xp), xm: terminal(p.xm), yp: terminal(p.yp), ym: terminal(p.ym) }
+    }
 
     /// How the firmware drives each terminal, from the port registers.
     pub fn drives(&self, ports: &PortsSnapshot) -> PanelPins {

@@ -170,6 +170,7 @@ fn chip_plans_are_the_hosts_bit_for_bit() {
     // The whole chain (touch map, pose with its arctangents, a*, the shape and
     // its checks) on the chip equals the host's: a miscompile anywhere in it
     // shows up here (one in `ln` once did).
+    #[allow(clippy::approx_constant, reason = "the bench firmware's START literal (src/bin/bench.rs), bit for bit")]
     const START: [f32; 3] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
     let geo = ArmGeometry { k: 1.0f32, links: Links::new(1.0f32, 1.0).unwrap(), branch: Branch::Minus };
     let p = fields("P");

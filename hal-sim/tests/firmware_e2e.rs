@@ -144,7 +144,7 @@ fn all_joints_arrive_together_at_ts() {
     let mut arrivals = [0.0; 3];
     for j in 0..3 {
         let p = &trains[j];
-        let last_change = p.windows(2).filter(|w| (w[1].1 - w[0].1).abs() > 0.25).map(|w| w[1].0).last().unwrap();
+        let last_change = p.windows(2).filter(|w| (w[1].1 - w[0].1).abs() > 0.25).map(|w| w[1].0).next_back().unwrap();
         arrivals[j] = last_change;
         assert!((p.last().unwrap().1 - want[j]).abs() <= 1.0, "joint {j} ends at {}", p.last().unwrap().1);
     }

@@ -510,7 +510,7 @@ mod servo {
         )
             .prop_map(|(us_per_rad, min_us, w, min_rad, span, v, s, t)| {
                 let max_us = (min_us + w).min(2500);
-                let max_rad = (min_rad + span).min(6.28);
+                let max_rad = (min_rad + span).min(MAX_ABS_ANGLE_RAD);
                 // Some angle in range hits some pulse in range.
                 let target = min_us as f32 + s * (max_us - min_us) as f32;
                 let a = min_rad + t * (max_rad - min_rad);
@@ -1095,6 +1095,7 @@ mod command {
     use super::*;
     use touch_arm::config::settings::SpeedPreset;
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
+    use touch_arm::math::units::centideg_to_rad;
     use touch_arm::motion::plan::LawKind as Law;
     use touch_arm::protocol::command::*;
     use touch_arm::servo::map::Joint;

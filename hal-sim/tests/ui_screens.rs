@@ -307,7 +307,8 @@ fn assert_text_at(fb: &Framebuffer, s: &[u8], x: i16, y: i16, style: &TextStyle)
 fn status_lines_say_what_happens_in_words() {
     let head = |c: Rgb565| TextStyle::opaque(2, c, theme::BG);
     let small = TextStyle::opaque(1, theme::TEXT, theme::BG);
-    let cases: [(UiState, &[u8], Rgb565, Option<&[u8]>); 9] = [
+    type Case<'a> = (UiState, &'a [u8], Rgb565, Option<&'a [u8]>);
+    let cases: [Case; 9] = [
         (UiState::PowerUp, b"Starting up", theme::TEXT, Some(b"Please wait")),
         (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
         (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
@@ -345,7 +346,7 @@ fn status_lines_say_what_happens_in_words() {
     assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
     // Unknown angles show dashes; the top warning is shown in words.
     let mut m = UiModel::new(SpeedPreset::Fast);
-    m.warnings = warn::TOUCH_CLAMPED | warn::SERVOS_OFF;
+    m.warnings = warn::DEFAULT_SETTINGS | warn::SERVOS_OFF;
     let fb = full(&m);
     snapshot(&fb, "powerup_warning");
     assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 185, &small);
@@ -356,7 +357,7 @@ fn status_lines_say_what_happens_in_words() {
 
 #[test]
 fn stop_is_large_red_and_becomes_a_green_resume() {
-    assert!(layout::STOP.w >= 60 && layout::STOP.h >= 60);
+    const { assert!(layout::STOP.w >= 60 && layout::STOP.h >= 60) };
     let mut ui = Ui::new(&CONFIG);
     // STOP works before anything is drawn.
     assert_eq!(ui.hit(280, 60), Some(Hit::Stop));
@@ -610,9 +611,9 @@ fn panels() -> Vec<Calibration> {
 fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
     for truth in panels() {
         let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
-        for i in 0..CAL_COUNT {
+        for (i, &pixel) in CAL_PIXELS.iter().enumerate().take(CAL_COUNT) {
             assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
-            assert_eq!(flow.crosshair_pixel(), Some(CAL_PIXELS[i]));
+            assert_eq!(flow.crosshair_pixel(), Some(pixel));
             let (x, y) = raw_at(&truth, i);
             assert_eq!(flow.feed(x, y), None);
         }
@@ -711,7 +712,8 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let style = TextStyle::opaque(2, theme::TEXT, theme::WHITE);
     let l = format!("X {} - {}", fit.x_min, fit.x_max);
     assert_text_at(&fb, l.as_bytes(), (320 - 12 * l.len() as i16 + 2) / 2, 48, &style);
-    assert_eq!(fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN) > 5000, true);
+    let green = fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN);
+    assert!(green > 5000, "{green} green pixels");
     // A failed fit shows Retry.
     let mut bad = CalibrationFlow::new(Calibration::DEFAULT);
     for (x, y) in DIAGONAL {

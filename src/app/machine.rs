@@ -90,8 +90,9 @@ impl App {
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
-        let got = panel.read(samples).min(n);
-        let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
+        // A failed read is a miss: the filter refuses an empty read.
+        let read: &[RawSample] = if panel.read(samples).is_ok() { samples } else { &[] };
+        let step = self.filter.update(read);
         match step.event {
             // On a screen a press is a button or a map point; a drag (Moved)
             // must not turn into a second button press.

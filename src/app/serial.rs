@@ -13,8 +13,9 @@ use super::{build_maps, App, Io, Pending};
 use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError};
 use crate::config::store::{self, SaveError};
+use crate::math::units::centideg_to_rad;
 use crate::motion::plan::JOINTS;
-use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
+use crate::protocol::command::{parse, CmdError, Command, LINE_LEN};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 

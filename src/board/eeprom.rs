@@ -17,17 +17,20 @@ use crate::seam::StorageError;
 use super::delay_us;
 use super::watchdog;
 
+/// Bytes of EEPROM on the ATmega2560; addresses are 0..EEPROM_SIZE.
 pub const EEPROM_SIZE: u16 = 4096;
 
 /// Polls of EEPE, ≥ 1 µs apart, before the EEPROM counts as stuck: ≥ 10 ms
 /// against 3.4 ms for a write.
 const MAX_POLLS: u16 = 10_000;
 
+/// The EEPROM controller, owned.
 pub struct Eeprom {
     regs: EEPROM,
 }
 
 impl Eeprom {
+    /// Takes the controller; no access happens until the first read or write.
     pub fn new(regs: EEPROM) -> Self {
         Self { regs }
     }
@@ -44,6 +47,7 @@ impl Eeprom {
         Err(StorageError::Device)
     }
 
+    /// The byte at `addr`, after any write still in progress has finished.
     pub fn read_byte(&mut self, addr: u16) -> Result<u8, StorageError> {
         if addr >= EEPROM_SIZE {
             return Err(StorageError::OutOfRange);

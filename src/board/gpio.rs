@@ -1,6 +1,7 @@
-//! GPIO pins of the ATmega2560 addressed by (port, bit), the pins of the ports
-//! no driver owns as embedded-hal pins ([`split`]), and the Arduino Mega names
-//! of the shield signals (SPEC §8).
+//! Register access for the GPIO pins of the pin map ([`crate::seam::pins`]:
+//! ports, pins and the Arduino Mega names of the shield signals, re-exported
+//! here), and the pins of the ports no driver owns as embedded-hal pins
+//! ([`split`]).
 //!
 //! A [`Pin`] is only a descriptor (two bytes, `Copy`). Its register accessors
 //! are crate-private: the right to change a pin comes from owning the PAC port
@@ -16,21 +17,7 @@
 
 use core::ptr::{read_volatile, write_volatile};
 
-/// The eleven GPIO ports of the ATmega2560 (there is no port I).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Port {
-    A,
-    B,
-    C,
-    D,
-    E,
-    F,
-    G,
-    H,
-    J,
-    K,
-    L,
-}
+pub use crate::seam::pins::{mega, Pin, Port};
 
 impl Port {
     /// Data-space address of PINx; DDRx and PORTx follow at +1 and +2.
@@ -81,45 +68,16 @@ impl PinMode {
     }
 }
 
-/// One GPIO pin: a port and a bit number 0..=7.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Pin {
-    port: Port,
-    bit: u8,
-}
-
+/// Register access of a pin (the descriptor is the pin map's, `seam::pins`).
 impl Pin {
-    /// `bit` is taken modulo 8.
-    pub const fn new(port: Port, bit: u8) -> Pin {
-        Pin { port, bit: bit & 7 }
-    }
-
-    pub const fn port(self) -> Port {
-        self.port
-    }
-
-    pub const fn bit(self) -> u8 {
-        self.bit
-    }
-
     const fn mask(self) -> u8 {
-        1 << self.bit
-    }
-
-    /// The ADC channel on this pin: PF0..PF7 are ADC0..7 (A0..A7), PK0..PK7
-    /// are ADC8..15 (A8..A15).
-    pub const fn adc_channel(self) -> Option<u8> {
-        match self.port {
-            Port::F => Some(self.bit),
-            Port::K => Some(8 + self.bit),
-            _ => None,
-        }
+        1 << self.bit()
     }
 
     /// The pin's current (DDR, PORT) state.
     #[inline]
     pub(crate) fn mode(self) -> PinMode {
-        let base = self.port.pin_reg();
+        let base = self.port().pin_reg();
         avr_device::interrupt::free(|_| {
             // SAFETY: fixed, always-mapped I/O registers of the ATmega2560;
             // byte-wide volatile access is their defined interface.
@@ -137,7 +95,7 @@ impl Pin {
     /// sees a spurious low pulse from a mode change.
     #[inline]
     pub(crate) fn set_mode(self, mode: PinMode) {
-        let base = self.port.pin_reg();
+        let base = self.port().pin_reg();
         let ddr_reg = (base + 1) as *mut u8;
         let port_reg = (base + 2) as *mut u8;
         let m = self.mask();
@@ -162,13 +120,13 @@ impl Pin {
     #[inline]
     pub(crate) fn is_high(self) -> bool {
         // SAFETY: see `mode`; reading PINx has no side effect.
-        unsafe { read_volatile(self.port.pin_reg() as *const u8) & self.mask() != 0 }
+        unsafe { read_volatile(self.port().pin_reg() as *const u8) & self.mask() != 0 }
     }
 
     /// Sets the PORT bit (drives the level if the pin is an output).
     #[inline]
     pub(crate) fn write(self, high: bool) {
-        let port_reg = (self.port.pin_reg() + 2) as *mut u8;
+        let port_reg = (self.port().pin_reg() + 2) as *mut u8;
         let m = self.mask();
         avr_device::interrupt::free(|_| {
             // SAFETY: see `mode`; only this pin's bit changes.
@@ -185,6 +143,7 @@ impl Pin {
 /// [`ShieldBus`](super::shield::ShieldBus); port L carries the servo signals
 /// (PL3..PL5) of [`ServoPwm`](super::servo_pwm::ServoPwm).
 pub trait FreePort: sealed::Sealed {
+    /// Which port the PAC peripheral is.
     const PORT: Port;
 }
 
@@ -216,6 +175,7 @@ pub struct FreePin {
 }
 
 impl FreePin {
+    /// The (port, bit) this handle stands for.
     pub fn pin(&self) -> Pin {
         self.pin
     }
@@ -282,44 +242,4 @@ impl embedded_hal::digital::InputPin for Input {
     fn is_low(&mut self) -> Result<bool, Self::Error> {
         Ok(!self.pin.is_high())
     }
-}
-
-/// Arduino Mega 2560 names of the pins the UNO-form TFT shield uses.
-pub mod mega {
-    use super::{Pin, Port};
-
-    /// A0 = PF0: LCD_RD.
-    pub const A0: Pin = Pin::new(Port::F, 0);
-    /// A1 = PF1: LCD_WR.
-    pub const A1: Pin = Pin::new(Port::F, 1);
-    /// A2 = PF2: LCD_RS (command/data).
-    pub const A2: Pin = Pin::new(Port::F, 2);
-    /// A3 = PF3: LCD_CS.
-    pub const A3: Pin = Pin::new(Port::F, 3);
-    /// A4 = PF4: LCD_RST.
-    pub const A4: Pin = Pin::new(Port::F, 4);
-    /// D2 = PE4: LCD_D2.
-    pub const D2: Pin = Pin::new(Port::E, 4);
-    /// D3 = PE5: LCD_D3.
-    pub const D3: Pin = Pin::new(Port::E, 5);
-    /// D4 = PG5: LCD_D4.
-    pub const D4: Pin = Pin::new(Port::G, 5);
-    /// D5 = PE3: LCD_D5.
-    pub const D5: Pin = Pin::new(Port::E, 3);
-    /// D6 = PH3: LCD_D6.
-    pub const D6: Pin = Pin::new(Port::H, 3);
-    /// D7 = PH4: LCD_D7.
-    pub const D7: Pin = Pin::new(Port::H, 4);
-    /// D8 = PH5: LCD_D0.
-    pub const D8: Pin = Pin::new(Port::H, 5);
-    /// D9 = PH6: LCD_D1.
-    pub const D9: Pin = Pin::new(Port::H, 6);
-
-    pub const LCD_RD: Pin = A0;
-    pub const LCD_WR: Pin = A1;
-    pub const LCD_RS: Pin = A2;
-    pub const LCD_CS: Pin = A3;
-    pub const LCD_RST: Pin = A4;
-    /// LCD data bits D0..D7 in bit order.
-    pub const LCD_DATA: [Pin; 8] = [D8, D9, D2, D3, D4, D5, D6, D7];
 }

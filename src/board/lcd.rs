@@ -277,9 +277,13 @@ pub unsafe fn stream_pixels<I: Iterator<Item = u16>>(colors: I) {
 
 /// The byte-level bus the driver talks through.
 pub trait Bus8 {
+    /// Sends command byte `c` (RS low).
     fn command(&mut self, c: u8);
+    /// Sends parameter or pixel bytes (RS high).
     fn data(&mut self, bytes: &[u8]);
+    /// `n` pixels of one RGB565 colour, high byte first.
     fn repeat(&mut self, color: u16, n: u32);
+    /// One pixel per RGB565 colour of `colors`, high byte first.
     fn stream<I: Iterator<Item = u16>>(&mut self, colors: I);
     /// `n` pixels of one colour (part of a longer pixel stream).
     fn run(&mut self, color: u16, n: u16);
@@ -379,6 +383,7 @@ pub enum Rotation {
 }
 
 impl Rotation {
+    /// Width and height in pixels in this orientation.
     pub const fn size(self) -> (u16, u16) {
         match self {
             Rotation::Landscape | Rotation::LandscapeFlipped => (320, 240),
@@ -432,6 +437,8 @@ impl<B: Bus8> Lcd<B> {
         self.bus.command(cmd::DISPON);
     }
 
+    /// Sets the scan direction (MADCTL); the window cache is dropped, since
+    /// the controller's column and page ranges change meaning.
     pub fn set_rotation(&mut self, rotation: Rotation) {
         self.rotation = rotation;
         self.columns = None;
@@ -440,6 +447,7 @@ impl<B: Bus8> Lcd<B> {
         self.bus.data(&[rotation as u8]);
     }
 
+    /// The orientation last set.
     pub fn rotation(&self) -> Rotation {
         self.rotation
     }

@@ -11,18 +11,24 @@
 use avr_device::atmega2560::{PORTL, TC5};
 use embedded_hal::pwm::SetDutyCycle;
 
-use crate::servo::map::JointCal;
+use crate::seam::pins::mega::SERVOS;
+use crate::seam::pins::Port;
+use crate::servo::map::{us_to_ticks, JointCal, TIMER5_TOP};
 
+/// Timer5 compare channels in use: OC5A, OC5B, OC5C (base, shoulder, elbow).
 pub const CHANNELS: usize = 3;
-/// PL3, PL4, PL5.
-const SERVO_PINS: u8 = 0b0011_1000;
-/// ICR5: 40000 ticks of 0.5 µs per period.
-pub const TOP: u16 = 39_999;
+/// PL3, PL4, PL5 (the pin map's servo pins, all on port L).
+const SERVO_PINS: u8 = (1 << SERVOS[0].bit()) | (1 << SERVOS[1].bit()) | (1 << SERVOS[2].bit());
+const _: () = assert!(
+    matches!(SERVOS[0].port(), Port::L) && matches!(SERVOS[1].port(), Port::L) && matches!(SERVOS[2].port(), Port::L)
+);
 
 /// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]
 pub struct TickLimits {
+    /// Shortest pulse, ticks of 0.5 µs.
     pub min: u16,
+    /// Longest pulse, ticks of 0.5 µs.
     pub max: u16,
 }
 
@@ -30,10 +36,12 @@ impl TickLimits {
     /// A joint calibration's pulse limits (µs) in ticks: the hardware
     /// layer's own clamp, under the app's.
     pub fn of_joint(cal: &JointCal) -> TickLimits {
-        TickLimits { min: cal.min_us.saturating_mul(2), max: cal.max_us.saturating_mul(2) }
+        TickLimits { min: us_to_ticks(cal.min_us), max: us_to_ticks(cal.max_us) }
     }
 }
 
+/// Timer5 and its three compare outputs, owned, with a tick window per
+/// channel.
 pub struct ServoPwm {
     tc5: TC5,
     limits: [TickLimits; CHANNELS],
@@ -51,7 +59,7 @@ impl ServoPwm {
         tc5.tccr5b().write(|w| w.cs5().no_clock());
         tc5.tccr5a().write(|w| w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected());
         avr_device::interrupt::free(|_| {
-            tc5.icr5().write(|w| w.set(TOP));
+            tc5.icr5().write(|w| w.set(TIMER5_TOP));
             tc5.tcnt5().write(|w| w.set(0));
         });
         tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
@@ -129,7 +137,7 @@ pub struct ServoChannel<'a> {
 }
 
 /// Timer5 ticks per PWM period (20 ms): the duty cycle's full scale.
-pub const PERIOD_TICKS: u16 = TOP + 1;
+pub const PERIOD_TICKS: u16 = TIMER5_TOP + 1;
 
 impl ServoPwm {
     /// Channel `ch` (0 base, 1 shoulder, 2 elbow) as a [`SetDutyCycle`], or
@@ -162,16 +170,17 @@ impl SetDutyCycle for ServoChannel<'_> {
 /// A limit window must lie inside one period and be ordered; anything else is
 /// collapsed to an empty-but-safe window at the lower bound.
 fn sanitize(l: TickLimits) -> TickLimits {
-    let min = l.min.min(TOP);
-    let max = l.max.min(TOP).max(min);
+    let min = l.min.min(TIMER5_TOP);
+    let max = l.max.min(TIMER5_TOP).max(min);
     TickLimits { min, max }
 }
 
 impl crate::seam::ServoOutputs for ServoPwm {
-    /// µs to 0.5 µs ticks (saturating), then `set`'s per-channel clamp.
+    /// µs to 0.5 µs ticks inside the absolute servo window, then `set`'s
+    /// per-channel clamp.
     fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
         for (ch, &us) in pulses_us.iter().enumerate() {
-            self.set(ch, us.saturating_mul(2));
+            self.set(ch, us_to_ticks(us));
         }
     }
 

@@ -18,8 +18,9 @@ use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
 use super::adc::{Adc, AdcError};
 use super::delay_us;
-use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9, LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
+use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
+use crate::seam::pins::PanelPinout;
 
 /// Every LCD pin, in the order they are restored after a touch read: data and
 /// RS first, then the RD/WR strobes, chip select last. Had CS been left active
@@ -48,10 +49,15 @@ const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
 /// A control line of the LCD.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LcdLine {
+    /// LCD_RD (A0), read strobe, active low.
     Rd,
+    /// LCD_WR (A1), write strobe, active low.
     Wr,
+    /// LCD_RS (A2): low = command, high = data.
     Rs,
+    /// LCD_CS (A3), chip select, active low.
     Cs,
+    /// LCD_RST (A4), reset, active low.
     Rst,
 }
 
@@ -156,6 +162,7 @@ pub enum LinkError {
     NotAnalog,
     /// `drive` and `sense` are the same pin.
     Same,
+    /// The conversion failed (see [`AdcError`]).
     Adc(AdcError),
 }
 
@@ -216,6 +223,7 @@ pub struct TouchWiring {
     pub(super) yp_channel: u8,
 }
 
+/// Why [`TouchWiring::new`] refused a wiring.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WiringError {
     /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
@@ -251,11 +259,16 @@ const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
 
 impl TouchWiring {
     /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
-    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
+    pub const A: TouchWiring = checked(TouchWiring::of(&PanelPinout::A));
     /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
-    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
+    pub const B: TouchWiring = checked(TouchWiring::of(&PanelPinout::B));
     /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
-    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+    pub const C: TouchWiring = checked(TouchWiring::of(&PanelPinout::C));
+
+    /// [`TouchWiring::new`] for a pinout of the pin map.
+    pub const fn of(p: &PanelPinout) -> Result<TouchWiring, WiringError> {
+        TouchWiring::new(p.xp, p.xm, p.yp, p.ym)
+    }
     /// The known wirings with their names, for tools that try each.
     pub const PRESETS: [(char, TouchWiring); 3] = [('a', Self::A), ('b', Self::B), ('c', Self::C)];
 
@@ -273,15 +286,19 @@ impl TouchWiring {
         }
     }
 
+    /// The X+ electrode's pin.
     pub const fn xp(&self) -> Pin {
         self.xp
     }
+    /// The X− electrode's pin (analog).
     pub const fn xm(&self) -> Pin {
         self.xm
     }
+    /// The Y+ electrode's pin (analog).
     pub const fn yp(&self) -> Pin {
         self.yp
     }
+    /// The Y− electrode's pin.
     pub const fn ym(&self) -> Pin {
         self.ym
     }

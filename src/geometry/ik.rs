@@ -4,6 +4,7 @@
 
 use crate::math::real::Real;
 
+/// Why link lengths were refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinksError {
     /// A length (or its square) is NaN or infinite.
@@ -12,11 +13,14 @@ pub enum LinksError {
     NotPositive,
 }
 
+/// Why the IK has no solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum IkError<R> {
-    /// The target lies outside the annulus `|l2 − l3| ≤ r ≤ l2 + l3`; `c` is the
-    /// elbow cosine it would need (|c| > 1).
-    Unreachable { c: R },
+    /// The target lies outside the annulus `|l2 − l3| ≤ r ≤ l2 + l3`.
+    Unreachable {
+        /// The elbow cosine it would need (|c| > 1).
+        c: R,
+    },
     /// The shoulder angle is undefined: the target is the shoulder itself
     /// (possible only with `l2 = l3`).
     Singular,
@@ -29,7 +33,9 @@ pub enum IkError<R> {
 /// the elbow below the shoulder–target line ("elbow down"), `Minus` above it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Branch {
+    /// `q3 = +acos(c)`, in [0, π].
     Plus,
+    /// `q3 = −acos(c)`, in [−π, 0]: the elbow-up pose the app uses.
     Minus,
 }
 
@@ -56,16 +62,23 @@ pub struct Links<R> {
     slack_scale: R,
 }
 
+/// Planar IK solution, radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointAngles2<R> {
+    /// Shoulder angle from the horizontal, counter-clockwise positive.
     pub q2: R,
+    /// Elbow angle relative to the upper link, counter-clockwise positive.
     pub q3: R,
 }
 
+/// 3-DoF IK solution ([`ik3`]), radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointAngles3<R> {
+    /// Base rotation about the vertical axis, atan2(y_e, x_e).
     pub th1: R,
+    /// Shoulder angle in the arm's vertical plane (the planar `q2`).
     pub th2: R,
+    /// Elbow angle relative to the upper link (the planar `q3`).
     pub th3: R,
 }
 
@@ -74,6 +87,8 @@ pub struct JointAngles3<R> {
 const C_SLACK_ULPS: f64 = 8.0;
 
 impl<R: Real> Links<R> {
+    /// Checks `l2`, `l3` (finite, positive, squares finite) and precomputes
+    /// the IK's constants.
     pub fn new(l2: R, l3: R) -> Result<Self, LinksError> {
         if !(l2.is_finite() && l3.is_finite()) {
             return Err(LinksError::NotFinite);
@@ -105,10 +120,12 @@ impl<R: Real> Links<R> {
         Ok(links)
     }
 
+    /// Upper arm length.
     pub fn l2(&self) -> R {
         self.l2
     }
 
+    /// Forearm length.
     pub fn l3(&self) -> R {
         self.l3
     }

@@ -16,15 +16,16 @@ use embedded_graphics::pixelcolor::Rgb565;
 use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{panel_to_pixel, pixel_center_to_panel, SCREEN_H, SCREEN_W};
-use super::text_buf::Line;
 use super::theme;
 use crate::config::settings::MIN_TOUCH_SPAN;
+use crate::text::line::Line;
 use crate::text::Text;
 use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 
 /// Crosshair centres in screen pixels: four corners inset by 10 % and the
 /// centre (five points average touch noise and detect swap and inversion).
 pub const CAL_PIXELS: [(i16, i16); 5] = [(32, 24), (288, 24), (288, 216), (32, 216), (160, 120)];
+/// Crosshairs per calibration.
 pub const CAL_COUNT: usize = CAL_PIXELS.len();
 
 /// A reading within this many counts of the previous crosshair's on both
@@ -42,20 +43,29 @@ pub fn cal_point(i: usize) -> Option<(f32, f32)> {
 /// Why a fit was not offered for saving.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalFailure {
+    /// The readings do not determine a calibration.
     Fit(CalibrationError),
     /// The fit spans fewer than `MIN_TOUCH_SPAN` counts on an axis (the
     /// settings store would refuse it).
     SpanTooSmall,
 }
 
+/// Where the flow is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalPhase {
-    /// Waiting for a touch on crosshair `index`.
-    Touch { index: u8 },
+    /// Waiting for a touch on a crosshair.
+    Touch {
+        /// Which crosshair, 0..[`CAL_COUNT`].
+        index: u8,
+    },
     /// The fit is shown with Save / Cancel (or Retry / Cancel on failure).
-    Review { result: Result<Calibration, CalFailure> },
+    Review {
+        /// The fitted calibration, or why there is none.
+        result: Result<Calibration, CalFailure>,
+    },
 }
 
+/// What a touch on the calibration screen decided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalibrationEvent {
     /// Save pressed: store and use this calibration.
@@ -75,14 +85,17 @@ pub struct CalibrationFlow {
 
 /// Buttons of the result screen.
 pub const CANCEL_AREA: Area = Area::new(16, 168, 136, 56);
+/// The Save button (Retry after a failed fit).
 pub const SAVE_AREA: Area = Area::new(168, 168, 136, 56);
 
 impl CalibrationFlow {
+    /// Starts at the first crosshair; `old` is kept for Cancel.
     pub fn new(old: Calibration) -> Self {
         let blank = Crosshair { x_p: 0.0, y_p: 0.0, raw_x: 0, raw_y: 0 };
         Self { old, phase: CalPhase::Touch { index: 0 }, samples: [blank; CAL_COUNT], rejected: false }
     }
 
+    /// The current phase.
     pub fn phase(&self) -> CalPhase {
         self.phase
     }
@@ -205,7 +218,7 @@ fn line_centered<D: Canvas, T: TextSource + ?Sized>(
 
 fn draw_step<D: Canvas>(d: &mut D, index: u8) -> Result<(), D::Error> {
     let mut line: Line<16> = Line::new();
-    line.push(&t!("Point ")).push_int(i32::from(index) + 1).push(&t!(" of ")).push_int(CAL_COUNT as i32);
+    line.str(t!("Point ")).i32(i32::from(index) + 1).str(t!(" of ")).i32(CAL_COUNT as i32);
     fill(d, STEP_AREA, BG)?;
     line_centered(d, STEP_AREA.y, line.as_bytes(), &STYLE)
 }
@@ -252,16 +265,16 @@ fn draw_review<D: Canvas>(d: &mut D, result: &Result<Calibration, CalFailure>) -
         Ok(c) => {
             line_centered(d, 16, &t!("Calibration result"), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("X ")).push_int(i32::from(c.x_min)).push(&t!(" - ")).push_int(i32::from(c.x_max));
+            l.str(t!("X ")).i32(i32::from(c.x_min)).str(t!(" - ")).i32(i32::from(c.x_max));
             line_centered(d, 48, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("Y ")).push_int(i32::from(c.y_min)).push(&t!(" - ")).push_int(i32::from(c.y_max));
+            l.str(t!("Y ")).i32(i32::from(c.y_min)).str(t!(" - ")).i32(i32::from(c.y_max));
             line_centered(d, 72, l.as_bytes(), &STYLE)?;
             let mut l: Line<24> = Line::new();
-            l.push(&t!("Swap X/Y: ")).push(&yes_no(c.swap_xy));
+            l.str(t!("Swap X/Y: ")).str(yes_no(c.swap_xy));
             line_centered(d, 96, l.as_bytes(), &STYLE)?;
             let mut l: Line<26> = Line::new();
-            l.push(&t!("Flip X: ")).push(&yes_no(c.invert_x)).push(&t!("  Flip Y: ")).push(&yes_no(c.invert_y));
+            l.str(t!("Flip X: ")).str(yes_no(c.invert_x)).str(t!("  Flip Y: ")).str(yes_no(c.invert_y));
             line_centered(d, 120, l.as_bytes(), &STYLE)?;
             line_centered(d, 148, &t!("Save to keep it"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
             fill(d, SAVE_AREA, theme::RESUME_GREEN)?;

@@ -10,6 +10,7 @@ use crate::config::settings::SpeedPreset;
 use crate::geometry::workspace::Condition;
 use crate::touch::map::Calibration;
 
+/// The map's shading for the script: reachable between radius 0.3 and 0.9.
 pub const CONFIG: UiConfig = UiConfig { reach_min: 0.3, reach_max: 0.9 };
 
 /// Steps of the script.
@@ -17,7 +18,9 @@ pub const STEPS: u8 = 16;
 
 /// What step `k` draws.
 pub enum Screen {
+    /// The main screen showing this model.
     Main(UiModel),
+    /// The calibration screen in this state.
     Calibration(CalibrationFlow),
 }
 

@@ -43,35 +43,50 @@
 
 use super::draw::Area;
 
+/// Display width in landscape, pixels.
 pub const SCREEN_W: u16 = 320;
+/// Display height in landscape, pixels.
 pub const SCREEN_H: u16 = 240;
 
 /// The workspace map. `WS_SCALE` pixels per workspace unit; the origin (arm
 /// base) is at pixel edge (`WS_ORIGIN_X`, `WS.bottom()`).
 pub const WS: Area = Area::new(0, 0, 240, 120);
+/// Pixels per workspace unit (the map is 2 × 1 units).
 pub const WS_SCALE: u16 = 120;
+/// Column of the arm base, the workspace's x = 0.
 pub const WS_ORIGIN_X: i16 = 120;
 
+/// The STOP (or RESUME) button, right of the map.
 pub const STOP: Area = Area::new(248, 0, 72, 120);
 /// Where a touch counts as STOP while STOP is shown: its box plus the guard
 /// band beside and below it.
 pub const STOP_HIT: Area = Area::new(240, 0, 80, 128);
 
+/// What the arm is doing, in words, at double size.
 pub const HEADLINE: Area = Area::new(0, 128, 320, 20);
+/// The second line: a hint in words, or the progress bar while moving.
 pub const DETAIL: Area = Area::new(0, 148, 320, 20);
+/// Zone and direction α of the touched point.
 pub const INFO: Area = Area::new(0, 168, 160, 14);
+/// The most important warning.
 pub const WARN: Area = Area::new(160, 168, 160, 14);
+/// The three joint angles, whole degrees.
 pub const JOINTS: Area = Area::new(0, 182, 320, 14);
 
 /// Progress bar inside DETAIL: a 1-pixel frame around the fill.
 pub const BAR: Area = Area::new(4, 151, 232, 14);
+/// The bar's fill: filled from the left by the move's progress.
 pub const BAR_FILL: Area = Area::new(5, 152, 230, 12);
 /// The percentage next to the bar.
 pub const BAR_TEXT: Area = Area::new(244, 150, 72, 16);
 
+/// Speed preset button Slow.
 pub const SLOW: Area = Area::new(0, 200, 72, 40);
+/// Speed preset button Normal.
 pub const NORMAL: Area = Area::new(80, 200, 80, 40);
+/// Speed preset button Fast.
 pub const FAST: Area = Area::new(168, 200, 72, 40);
+/// Opens the touch calibration.
 pub const CALIBRATE: Area = Area::new(248, 200, 72, 40);
 
 /// Pixels no region paints: the guard bands and button gaps (a full redraw
@@ -89,7 +104,7 @@ pub const GAPS: [Area; 6] = [
 /// not finite. `x = ⌊(x_p + 1)·160⌋`, `y = ⌊(1 − y_p)·240⌋`, the far edges
 /// folded onto the last pixel.
 pub fn panel_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
+    let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
     if !inside {
         return None;
     }
@@ -126,7 +141,7 @@ pub const fn ws_half_units(x: i16, y: i16) -> (i16, i16) {
 /// The map pixel a workspace point falls on, `None` outside `[−1,1]×[0,1]`
 /// or not finite; the top and right edges fold onto the last pixel.
 pub fn ws_point_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
+    let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
     if !inside {
         return None;
     }

@@ -14,6 +14,7 @@
 //!   [`draw`]: rectangles and text on top of `fill_solid`/`fill_contiguous`.
 
 pub mod calibration;
+pub mod degrees;
 pub mod demo;
 pub mod draw;
 pub mod flash;
@@ -22,7 +23,6 @@ pub mod ili9341;
 pub mod layout;
 pub mod model;
 pub mod screen;
-pub mod text_buf;
 pub mod theme;
 pub mod ws_view;
 

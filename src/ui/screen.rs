@@ -9,14 +9,15 @@
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::calibration::{self, CalView, CalibrationFlow};
+use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
 use super::model::{warn, Refusal, UiModel, UiState};
-use super::text_buf::{rad_to_deg, Line};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
 use crate::config::settings::SpeedPreset;
+use crate::text::line::Line;
 use crate::text::Text;
 
 /// Which regions a draw call repainted (bit set).
@@ -28,24 +29,35 @@ impl Redrawn {
     pub const MAP: u16 = 1 << 0;
     /// Only the boxes around markers that moved, appeared or vanished.
     pub const MARKERS: u16 = 1 << 1;
+    /// The STOP / RESUME button.
     pub const STOP: u16 = 1 << 2;
+    /// [`layout::HEADLINE`](super::layout::HEADLINE).
     pub const HEADLINE: u16 = 1 << 3;
+    /// [`layout::DETAIL`](super::layout::DETAIL) (text or progress bar).
     pub const DETAIL: u16 = 1 << 4;
+    /// [`layout::INFO`](super::layout::INFO).
     pub const INFO: u16 = 1 << 5;
+    /// [`layout::WARN`](super::layout::WARN).
     pub const WARN: u16 = 1 << 6;
+    /// [`layout::JOINTS`](super::layout::JOINTS).
     pub const JOINTS: u16 = 1 << 7;
+    /// The three speed preset buttons.
     pub const SPEED: u16 = 1 << 8;
+    /// The Calib button.
     pub const CALIBRATE: u16 = 1 << 9;
     /// Guard bands and gaps (full redraws only).
     pub const GAPS: u16 = 1 << 10;
     /// The calibration screen (all of it, or the parts that changed).
     pub const CALIBRATION: u16 = 1 << 11;
+    /// A full redraw of the main screen (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
 
+    /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
         self.0 & bits == bits
     }
 
+    /// Nothing was repainted.
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
@@ -54,13 +66,19 @@ impl Redrawn {
 /// What a touch on the main screen means.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Hit {
+    /// The STOP button (or beside it, in the guard band).
     Stop,
+    /// The RESUME button, shown after a stop.
     Resume,
+    /// A speed preset button.
     Speed(SpeedPreset),
+    /// The Calib button.
     Calibrate,
     /// A point of the map, in workspace coordinates.
     Map {
+        /// −1..=1, left → right.
         x_p: f32,
+        /// 0..=1, bottom → top.
         y_p: f32,
     },
 }
@@ -70,7 +88,9 @@ pub enum Hit {
 /// `reach_max = (l2 + l3)/k`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UiConfig {
+    /// Inner radius of the reachable ring, workspace units.
     pub reach_min: f32,
+    /// Outer radius of the reachable ring, workspace units.
     pub reach_max: f32,
 }
 
@@ -153,10 +173,7 @@ fn top_warning(bits: u8) -> u8 {
 
 fn warning_text(bit: u8) -> Text {
     match bit {
-        warn::TOUCH_CLAMPED => t!("! touch at panel edge"),
         warn::DEFAULT_SETTINGS => t!("! default settings in use"),
-        warn::SLOWED => t!("! move slowed for safety"),
-        warn::TOUCH_NOISY => t!("! touch readings unsteady"),
         warn::SERVOS_OFF => t!("! servos are off"),
         0 => t!(""),
         _ => t!("! check the serial log"),
@@ -190,9 +207,9 @@ impl View {
             stop_shown: m.state != UiState::Stopped,
             headline,
             detail,
-            zone: m.condition.map(|c| (c.number(), rad_to_deg(m.alpha))),
+            zone: m.condition.map(|c| (c.number(), whole_deg(m.alpha))),
             warning: top_warning(m.warnings),
-            joints: [rad_to_deg(m.joints[0]), rad_to_deg(m.joints[1]), rad_to_deg(m.joints[2])],
+            joints: [whole_deg(m.joints[0]), whole_deg(m.joints[1]), whole_deg(m.joints[2])],
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
             speed: m.speed,
@@ -285,6 +302,7 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
 }
 
 impl Ui {
+    /// A UI with `config`'s reach; nothing is drawn until [`Ui::draw`].
     pub fn new(config: &UiConfig) -> Self {
         Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing }
     }
@@ -503,20 +521,20 @@ fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(),
 
 fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
-    line.push_int(i32::from(percent)).push_byte(b'%');
+    line.i32(i32::from(percent)).bytes(b"%");
     // Right-aligned in a 4-character field so the digits do not jump.
     let mut padded: Line<5> = Line::new();
     for _ in line.as_bytes().len()..4 {
-        padded.push_byte(b' ');
+        padded.bytes(b" ");
     }
-    padded.push(line.as_bytes());
+    padded.bytes(line.as_bytes());
     text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
 }
 
 fn draw_info<D: Canvas>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
-        line.push(&t!("Zone ")).push_int(i32::from(z)).push(&t!("  Direction ")).push_deg(alpha);
+        line.str(t!("Zone ")).i32(i32::from(z)).str(t!("  Direction ")).deg(alpha);
     }
     text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
 }
@@ -527,9 +545,9 @@ fn draw_warning<D: Canvas>(d: &mut D, bit: u8) -> Result<(), D::Error> {
 
 fn draw_joints<D: Canvas>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
-    line.push(&t!("Base ")).push_deg(joints[0]);
-    line.push(&t!("   Shoulder ")).push_deg(joints[1]);
-    line.push(&t!("   Elbow ")).push_deg(joints[2]);
+    line.str(t!("Base ")).deg(joints[0]);
+    line.str(t!("   Shoulder ")).deg(joints[1]);
+    line.str(t!("   Elbow ")).deg(joints[2]);
     text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
 }
 

@@ -54,12 +54,16 @@ pub enum MarkKind {
 /// A marker at a map pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mark {
+    /// Centre column, screen pixels.
     pub x: i16,
+    /// Centre row, screen pixels.
     pub y: i16,
+    /// Which marker.
     pub kind: MarkKind,
 }
 
 impl Mark {
+    /// The box the marker paints (to repaint when it moves).
     pub fn area(&self) -> Area {
         Area::around(self.x, self.y, MARKER_R)
     }
@@ -95,7 +99,7 @@ fn sq(v: i16) -> u32 {
 fn half_units_sq(r: f32) -> u32 {
     // Beyond every pixel centre of the map: (2·240)² / 2 ≥ max dx² + dy².
     let limit = 2.0 * (2 * WS_SCALE) as f32 * (2 * WS_SCALE) as f32;
-    if !(r > 0.0) {
+    if !crate::math::real::Real::is_positive(r) {
         return 0;
     }
     let v = r * (2 * WS_SCALE) as f32;
@@ -113,7 +117,7 @@ fn largest_odd_root(t: i32) -> Option<i16> {
         return None;
     }
     let mut r = isqrt(t as u32);
-    if r % 2 == 0 {
+    if r.is_multiple_of(2) {
         r -= 1;
     }
     Some(r as i16)

@@ -813,7 +813,7 @@ impl Avr {
     /// peripheral callbacks run, unlike [`Avr::write_sram`]. Lets a test
     /// disturb the hardware under the firmware (e.g. stop a timer).
     pub fn write_io(&mut self, addr: u16, value: u8) -> Result<(), Error> {
-        if addr < 0x20 || addr > 0x1FF {
+        if !(0x20..=0x1FF).contains(&addr) {
             return Err(Error::OutOfRange { addr: u32::from(addr), len: 1 });
         }
         let slot = usize::from(addr - 0x20);

@@ -167,8 +167,8 @@ fn run(args: Args) -> Result<(), String> {
 
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut csv = String::from("t_s,base_us,shoulder_us,elbow_us\n");
-    for i in 0..n {
-        csv += &format!("{:.6},{:.3},{:.3},{:.3}\n", trains[0][i].0, trains[0][i].1, trains[1][i].1, trains[2][i].1);
+    for ((b, s), e) in trains[0].iter().zip(&trains[1]).zip(&trains[2]).take(n) {
+        csv += &format!("{:.6},{:.3},{:.3},{:.3}\n", b.0, b.1, s.1, e.1);
     }
     let csv_path = out.join("pulses.csv");
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;

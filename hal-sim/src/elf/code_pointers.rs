@@ -226,7 +226,7 @@ fn resolve(image: &Image, trampolines: &[Trampoline], at: u64, kind: Kind, targe
         _ => u16::from(Insn::ldi_immediate(word).ok_or("the site is not an `ldi`")?),
     };
     let (mask, shift) = kind.part();
-    let holds = |address: u64| address % 2 == 0 && ((address / 2) >> shift) as u16 & mask == written;
+    let holds = |address: u64| address.is_multiple_of(2) && ((address / 2) >> shift) as u16 & mask == written;
     if target < POINTER_REACH && holds(target) {
         return Ok(None);
     }

@@ -19,7 +19,7 @@
 //!   z2 = 1023: pressure 0.
 
 use touch_arm::seam::RawSample;
-use touch_arm::seam::TouchPanel;
+use touch_arm::seam::{TouchError, TouchPanel};
 use touch_arm::touch::filter::{pressure, ADC_MAX};
 use touch_arm::touch::map::Calibration;
 
@@ -201,11 +201,12 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
             return None;
         }
         a.swap(col, piv);
-        for row in 0..m {
+        let pivot = a[col].clone();
+        for (row, r) in a.iter_mut().enumerate() {
             if row != col {
-                let f = a[row][col] / a[col][col];
-                for k in col..=m {
-                    a[row][k] -= f * a[col][k];
+                let f = r[col] / pivot[col];
+                for (x, p) in r[col..=m].iter_mut().zip(&pivot[col..=m]) {
+                    *x -= f * p;
                 }
             }
         }
@@ -294,11 +295,11 @@ impl SimPanel {
 }
 
 impl TouchPanel for SimPanel {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         for s in out.iter_mut() {
             *s = self.sample();
         }
-        out.len()
+        Ok(())
     }
 }
 

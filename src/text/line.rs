@@ -1,0 +1,131 @@
+//! One line of text composed in a fixed buffer from constant text and
+//! integers, so the chip links no `core::fmt` number code: the serial replies
+//! (`app`, `Line<LINE_CAP>` with its `\r\n` terminator) and the screen's text
+//! (`ui`, a few dozen bytes per line) are built with it.
+
+use super::Text;
+
+/// Up to `N` bytes of text. Text past the capacity is dropped, never written
+/// out of bounds; [`Line::finish`] still fits the terminator.
+#[derive(Clone, Debug)]
+pub struct Line<const N: usize> {
+    buf: [u8; N],
+    len: usize,
+}
+
+impl<const N: usize> Default for Line<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Line<N> {
+    /// An empty line.
+    pub const fn new() -> Self {
+        Line { buf: [0; N], len: 0 }
+    }
+
+    /// Empties the line for reuse.
+    pub fn clear(&mut self) -> &mut Self {
+        self.len = 0;
+        self
+    }
+
+    /// Appends bytes, as many as fit.
+    pub fn bytes(&mut self, b: &[u8]) -> &mut Self {
+        push_bytes(&mut self.buf, &mut self.len, b);
+        self
+    }
+
+    /// Appends constant text (read from flash on the chip).
+    pub fn str(&mut self, s: Text) -> &mut Self {
+        push_text(&mut self.buf, &mut self.len, s);
+        self
+    }
+
+    /// A space, then `s`.
+    pub fn word(&mut self, s: Text) -> &mut Self {
+        self.bytes(b" ").str(s)
+    }
+
+    /// `v` in decimal.
+    pub fn u32(&mut self, v: u32) -> &mut Self {
+        push_u32(&mut self.buf, &mut self.len, v);
+        self
+    }
+
+    /// `v` in decimal, with a `-` when negative.
+    pub fn i32(&mut self, v: i32) -> &mut Self {
+        if v < 0 {
+            self.bytes(b"-");
+        }
+        self.u32(v.unsigned_abs())
+    }
+
+    /// A space, then `v`.
+    pub fn num(&mut self, v: i32) -> &mut Self {
+        self.bytes(b" ").i32(v)
+    }
+
+    /// Hundredths as a decimal with two places: 1205 → `12.05`, −5 → `-0.05`.
+    pub fn centi(&mut self, v: i32) -> &mut Self {
+        let m = v.unsigned_abs();
+        if v < 0 {
+            self.bytes(b"-");
+        }
+        self.u32(m / 100).bytes(b".");
+        let f = (m % 100) as u8;
+        self.bytes(&[b'0' + f / 10, b'0' + f % 10])
+    }
+
+    /// The text so far.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.buf.get(..self.len).unwrap_or(&[])
+    }
+
+    /// Appends the `\r\n` terminator, cutting the text if the line is too
+    /// full for it, and returns the finished line.
+    pub fn finish(&mut self) -> &[u8] {
+        self.len = self.len.min(N.saturating_sub(2));
+        self.bytes(b"\r\n").as_bytes()
+    }
+}
+
+// The work is done on slices, once for every capacity: the lines of
+// different sizes share this code instead of each getting a copy.
+
+fn push_bytes(buf: &mut [u8], len: &mut usize, b: &[u8]) {
+    for &c in b {
+        match buf.get_mut(*len) {
+            Some(slot) => *slot = c,
+            None => break,
+        }
+        *len += 1;
+    }
+}
+
+fn push_text(buf: &mut [u8], len: &mut usize, s: Text) {
+    for b in s.bytes() {
+        push_bytes(buf, len, &[b]);
+    }
+}
+
+fn push_u32(buf: &mut [u8], len: &mut usize, mut v: u32) {
+    let mut digits = [0u8; 10];
+    let mut n = 0;
+    loop {
+        if let Some(d) = digits.get_mut(n) {
+            *d = b'0' + (v % 10) as u8;
+        }
+        n += 1;
+        v /= 10;
+        if v == 0 || n >= digits.len() {
+            break;
+        }
+    }
+    while n > 0 {
+        n -= 1;
+        let d = digits.get(n).copied().unwrap_or(b'0');
+        push_bytes(buf, len, &[d]);
+    }
+}
