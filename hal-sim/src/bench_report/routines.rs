@@ -71,7 +71,7 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ("via_paper", "via point, the paper's iteration (tol 1e-5)"),
     (
         "app_plan_move",
-        "**the app's plan per touch** (`app::policy::plan_move`: tₛ search for the speed bound, a*, checks)",
+        "**the app's plan per touch** (`motion::planner::plan_move`: tₛ search for the speed bound, a*, checks)",
     ),
     ("touch_sample", "**touch sample**: 5 × (X, Y, z1, z2) ADC reads with settle times, shared pins lent and restored"),
 ];
