@@ -6,6 +6,7 @@ pub mod avr;
 pub mod display;
 pub mod firmware;
 pub mod lcd_bus;
+pub mod live;
 pub mod panel;
 pub mod plot;
 pub mod report;
