@@ -44,13 +44,15 @@ pub fn pose_from_pulses(maps: &[ServoMap; 3], pulses_us: [f64; 3]) -> ArmPose {
 }
 
 /// A touch on the screen's map: the pixel, the workspace point the firmware
-/// takes from it (the pixel's centre), and the host's chain for that point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// takes from it (the pixel's centre), the host's chain for that point, and
+/// the firmware's reason if it refused the touch.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Target {
     pub px: (i16, i16),
     pub x_p: f64,
     pub y_p: f64,
     pub host: HostTarget,
+    pub refused: Option<String>,
 }
 
 /// The target a press at screen pixel (x, y) picks, if the pixel is on the map.
@@ -58,7 +60,37 @@ pub fn target_at_pixel(x: i16, y: i16) -> Option<Target> {
     let (x_p, y_p) = layout::ws_pixel_to_point(x, y)?;
     let (x_p, y_p) = (f64::from(x_p), f64::from(y_p));
     let host = firmware::host_target(x_p, y_p).ok()?;
-    Some(Target { px: (x, y), x_p, y_p, host })
+    Some(Target { px: (x, y), x_p, y_p, host, refused: None })
+}
+
+/// What a line from the firmware says about the arm's target.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TargetNews {
+    /// `info touch <x> <y> …` or `err touch <x> <y> <reason>`: the touch the
+    /// firmware confirmed (raw panel reading, default calibration), which
+    /// is where the finger came to rest, not where a drag began.
+    Touched(Target),
+    /// `ok goto` / `ok move`: a target set over the serial port.
+    Cleared,
+}
+
+pub fn target_news(line: &str) -> Option<TargetNews> {
+    if line.starts_with("ok goto ") || line.starts_with("ok move ") {
+        return Some(TargetNews::Cleared);
+    }
+    let (rest, refused) = match (line.strip_prefix("info touch "), line.strip_prefix("err touch ")) {
+        (Some(r), _) => (r, false),
+        (_, Some(r)) => (r, true),
+        _ => return None,
+    };
+    let mut words = rest.split_whitespace();
+    let raw_x: u16 = words.next()?.parse().ok()?;
+    let raw_y: u16 = words.next()?.parse().ok()?;
+    let (x_p, y_p) = firmware::raw_to_map_point(raw_x, raw_y)?;
+    let px = layout::ws_point_to_pixel(x_p as f32, y_p as f32)?;
+    let host = firmware::host_target(x_p, y_p).ok()?;
+    let refused = refused.then(|| words.collect::<Vec<_>>().join(" "));
+    Some(TargetNews::Touched(Target { px, x_p, y_p, host, refused }))
 }
 
 impl Target {
@@ -75,6 +107,7 @@ impl Target {
             "angles_deg": h.q.map(f64::to_degrees),
             "pulses_us": h.pulses_us,
             "within_limits": h.within_limits,
+            "refused": self.refused,
         })
     }
 }
@@ -129,6 +162,14 @@ mod tests {
         assert_eq!(t.host, h);
         assert!((t.x_p - 0.4).abs() < 0.01 && (t.y_p - 0.6).abs() < 0.01);
         assert!(target_at_pixel(300, 50).is_none(), "STOP is not on the map");
+        // The firmware's own report of the same touch names the same target.
+        let ((rx, ry), _) = firmware::map_touch(0.4, 0.6).unwrap();
+        let line = format!("info touch {rx} {ry} cond 2 ts_ms 2498");
+        assert_eq!(target_news(&line), Some(TargetNews::Touched(t.clone())));
+        let Some(TargetNews::Touched(r)) = target_news(&format!("err touch {rx} {ry} joint limit elbow")) else { panic!() };
+        assert_eq!(r.refused.as_deref(), Some("joint limit elbow"));
+        assert_eq!(target_news("ok goto ts_ms 3064"), Some(TargetNews::Cleared));
+        assert_eq!(target_news("info touch-arm 0.1.0 reset power-on"), None);
         let rows = reach_rows();
         assert_eq!((rows.len(), rows[0].len()), (120, 240));
         assert!(rows.iter().any(|r| r.contains('1')));

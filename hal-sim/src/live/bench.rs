@@ -279,6 +279,11 @@ impl Bench {
         let lines = self.session.avr.take_lines();
         self.session.avr.forget_taken_output();
         for line in lines {
+            match arm::target_news(&line) {
+                Some(arm::TargetNews::Touched(t)) => self.target = Some(t),
+                Some(arm::TargetNews::Cleared) => self.target = None,
+                None => {}
+            }
             let r = self.router.on_line(&line);
             if let Some(s) = r.state {
                 if self.stalled_at.is_none() {
@@ -298,6 +303,7 @@ impl Bench {
         self.router.reset(t);
         self.pairing.clear();
         self.stalled_at = None;
+        self.target = None;
         self.state = "booting".into();
         self.note(why.into());
     }
@@ -351,17 +357,15 @@ impl Bench {
         let hold_s = p.ms.map_or(MAX_HOLD_S, |ms| ms as f64 / 1000.0);
         let until = self.cycles() + Self::s_to_cycles(hold_s);
         self.finger = Some(Finger { px: (p.x_px, p.y_px), until });
-        // Off the map (a button, the guard band) the last target stays drawn.
+        // What this pixel would target; the drawn target changes only when
+        // the firmware reports the touch it confirmed.
         let target = arm::target_at_pixel(p.x_px, p.y_px);
-        if target.is_some() {
-            self.target = target;
-        }
         Ok(json!({
             "x_px": p.x_px,
             "y_px": p.y_px,
             "ms": p.ms,
             "t_s": self.now_s(),
-            "target": target.map(|t| t.to_json()),
+            "target": target.as_ref().map(Target::to_json),
         }))
     }
 }

@@ -96,7 +96,7 @@ async function main() {
   if (nums(d1).some((a, j) => Math.abs(a - nums(d2)[j]) > 0.03)) throw new Error(`the drawn arm moved after STOP: ${d1} -> ${d2}`);
   if (s1.pulses_us.every((p, j) => Math.abs(p - [1500, 1500, 1500][j]) < 1)) throw new Error('STOP came before the move started');
   console.log(`STOP on the screen: pulses frozen at ${s2.pulses_us.map((p) => p.toFixed(2)).join(', ')} us`);
-  await page.screenshot({ path: join(outDir, 'live-page-stopped.png') });
+  await page.screenshot({ path: join(outDir, 'live-page-stopped.png'), fullPage: true });
 
   // 3. The console: type `status`, the reply shows.
   await page.fill('#console-input', 'status');
@@ -106,7 +106,7 @@ async function main() {
   const reply = await page.evaluate(() => [...document.querySelectorAll('#console-log div')]
     .map((d) => d.textContent).filter((t) => t.startsWith('ok status')).pop());
   console.log(`console: ${reply}`);
-  await page.screenshot({ path: join(outDir, 'live-page-console.png') });
+  await page.screenshot({ path: join(outDir, 'live-page-console.png'), fullPage: true });
   if (errors.length) throw new Error(`errors on the page: ${errors.join('; ')}`);
   await cleanup();
   console.log('PASS');

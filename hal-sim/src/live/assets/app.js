@@ -197,9 +197,10 @@ function drawViews(st) {
   // The base pedestal in the side view.
   gs.fillStyle = '#c5ccd6'; gs.fillRect(s.ox - 14, s.oy, 28, 40);
   if (tgt) {
-    const p = targetOf(tgt.x_p, tgt.y_p);
-    dot(gt, t, p.top, 7, null, '#c62828');
-    dot(gs, s, p.side, 7, null, '#c62828');
+    // A refused touch is drawn grey: the arm does not go there.
+    const p = targetOf(tgt.x_p, tgt.y_p), ring = tgt.refused ? '#8b96a5' : '#c62828';
+    dot(gt, t, p.top, 7, null, ring);
+    dot(gs, s, p.side, 7, null, ring);
   }
   if (arm) {
     const a = arm.angles_deg[0] * Math.PI / 180;
@@ -261,10 +262,11 @@ function niceStep(raw) {
   return 10 * e;
 }
 
-// Joint velocities as the least-squares slope over 5 frames (0.1 s): the
-// pulses come in whole microseconds (0.1°), so a plain difference of two
-// 20 ms frames would jump in steps of 5 °/s.
-const SLOPE_HALF = 2;
+// Joint velocities as the least-squares slope over 9 frames (0.16 s): the
+// firmware sends whole microseconds (0.1°), so a plain difference of two
+// 20 ms frames jumps in steps of 5 °/s, and a shorter window still shows
+// that rounding as a ripple.
+const SLOPE_HALF = 4;
 function velocities(s) {
   const out = [];
   for (let i = SLOPE_HALF; i + SLOPE_HALF < s.length; i++) {
@@ -315,9 +317,9 @@ function showState(st) {
   }
   const t = st.target;
   $('target-info').textContent = t
-    ? `Last map touch: pixel (${t.px[0]}, ${t.px[1]}) → point (${t.x_p.toFixed(3)}, ${t.y_p.toFixed(3)}), zone ${t.condition}, α ${t.alpha_deg.toFixed(2)}°` +
-      (t.within_limits ? '' : ' — outside the joint limits: the firmware refuses it')
-    : 'Touch the map (top left of the screen) to send the arm somewhere.';
+    ? `Last touch the firmware confirmed: map pixel (${t.px[0]}, ${t.px[1]}) → point (${t.x_p.toFixed(3)}, ${t.y_p.toFixed(3)}), zone ${t.condition}, α ${t.alpha_deg.toFixed(2)}°` +
+      (t.refused ? ` — refused: ${t.refused}` : '')
+    : 'No map target (a goto or move over the serial port clears it): touch the map, top left of the screen.';
   showFinger(st.finger);
   samples.push(...st.samples);
   drawViews(st);
