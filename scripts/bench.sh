@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The benchmark command: builds the product firmware and the bench firmware,
-# runs the bench in simavr (cycle-exact) and writes BENCHMARKS.md.
+# runs the bench in simavr (cycle-exact), measures the live bench's pacing
+# (2 minutes of wall time) and writes BENCHMARKS.md.
 #   scripts/bench.sh            # writes BENCHMARKS.md at the repository root
 #   scripts/bench.sh OUT.md     # writes elsewhere
 set -euo pipefail
@@ -27,9 +28,14 @@ cargo test -q -p hal-sim --test ui_firmware -- --nocapture >"$UI" 2>&1 || { echo
 echo "== the product firmware's stack in its busiest session (painted in simavr)"
 cargo test -q -p hal-sim --test firmware_e2e stack_stays_within_budget -- --nocapture >>"$UI" 2>&1 || { echo "firmware_e2e failed:"; tail -20 "$UI"; exit 1; }
 
-python3 - "$RAW" "$FW" "$BENCH" "$OUT" "$UI" <<'PY'
+echo "== the live bench's pacing (60 s idle, 60 s moving)"
+PACING=$(mktemp)
+trap 'rm -f "$RAW" "$UI" "$PACING"' EXIT
+cargo run --release -q -p hal-sim --bin touch-arm-live -- --pacing-report 60 --out "$PACING" || { echo "pacing report failed"; exit 1; }
+
+python3 - "$RAW" "$FW" "$BENCH" "$OUT" "$UI" "$PACING" <<'PY'
 import math, re, struct, subprocess, sys
-raw, fw, bench, out, ui = sys.argv[1:]
+raw, fw, bench, out, ui, pacing = sys.argv[1:]
 lines = []
 for l in open(raw, errors="replace"):
     l = re.sub(r"\x1b\[[0-9;]*m", "", l).strip().rstrip(".").strip()
@@ -271,6 +277,8 @@ o.append("- avr-libc's `memcpy`/`memset` linked in place of compiler-builtins' g
 o.append("  ~500 cycles per struct copy).")
 o.append("- Variable shifts in the integer cores go through `f32_exp::shr`/`shl`: LLVM speculates a shift")
 o.append("  into the other arm of an `if` with a wrapped amount, and its AVR shift loop then runs 255 times.")
+o.append("")
+o.append(open(pacing).read().rstrip("\n"))
 open(out, "w").write("\n".join(o) + "\n")
 print(f"wrote {out}")
 PY
