@@ -306,7 +306,10 @@ function showState(st) {
   $('clock').textContent = `t = ${st.t_s.toFixed(2)} s`;
   const b = st.bench || {};
   if (b.halted) setPill($('pacing'), 'firmware halted: power-cycle', 'bad');
-  else if (b.behind) setPill($('pacing'), `simulator BEHIND real time: ×${(b.ratio_5s || 0).toFixed(3)}, lag ${Math.round(b.lag_ms)} ms`, 'bad');
+  else if (b.behind) {
+    setPill($('pacing'), `simulator BEHIND real time: ×${(b.ratio_5s || 0).toFixed(3)} over 5 s, lag ${Math.round(b.lag_ms)} ms` +
+      (b.slipped_s > 0 ? `, ${b.slipped_s.toFixed(2)} s dropped so far` : ''), 'bad');
+  }
   else if (b.ratio_60s != null) setPill($('pacing'), `real time ×${b.ratio_60s.toFixed(4)} over ${Math.round(b.window_60s_s)} s`, 'ok');
   $('chk-noise').checked = !!b.noise;
   for (let j = 0; j < 3; j++) {
