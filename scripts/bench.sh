@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The benchmark command: builds the product firmware and the bench firmware,
-# runs the bench in simavr (cycle-exact) and writes BENCHMARKS.md (with
-# hal-sim's `bench-report`, which holds the figures' parsing and the document).
+# runs the bench in simavr (cycle-exact), measures the live bench's pacing
+# (2 minutes of wall time) and writes BENCHMARKS.md (with hal-sim's
+# `bench-report`, which holds the figures' parsing and the document).
 #   scripts/bench.sh            # writes BENCHMARKS.md at the repository root
 #   scripts/bench.sh OUT.md     # writes elsewhere
 set -euo pipefail
@@ -27,5 +28,12 @@ cargo test -q -p hal-sim --test ui_firmware -- --nocapture >"$UI" 2>&1 || { echo
 echo "== the product firmware's stack in its busiest session (painted in simavr)"
 cargo test -q -p hal-sim --test firmware_e2e stack_stays_within_budget -- --nocapture >>"$UI" 2>&1 || { echo "firmware_e2e failed:"; tail -20 "$UI"; exit 1; }
 
+echo "== the live bench's pacing (60 s idle, 60 s moving)"
+PACING=$(mktemp)
+trap 'rm -f "$RAW" "$UI" "$PACING"' EXIT
+cargo run --release -q -p hal-sim --bin touch-arm-live -- --pacing-report 60 --out "$PACING" || { echo "pacing report failed"; exit 1; }
+
 cargo run --release -q -p hal-sim --bin bench-report -- \
     --bench-output "$RAW" --ui-output "$UI" --firmware "$FW" --bench-elf "$BENCH" --out "$OUT"
+# The pacing section follows the generated document, after one blank line.
+printf '\n%s\n' "$(cat "$PACING")" >>"$OUT"

@@ -6,7 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # libudev-dev: ravedude's serial-port discovery links libudev.
-APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core)
+# chromium: the live bench's page test (hal-sim/tests/live_page.rs).
+APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core chromium)
 RAVEDUDE_VERSION=0.2.2
 TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
 
@@ -56,4 +57,16 @@ else
     for c in rustfmt clippy; do
         rustup component list --toolchain stable --installed 2>/dev/null | grep -q "^$c" || rustup component add "$c" --toolchain stable
     done
+fi
+
+# Playwright (playwright-core, pinned in hal-sim/tests/browser/package-lock.json)
+# drives Debian's chromium in the live page test; npm installs it into that
+# folder's node_modules/. Node.js and npm come with the machine.
+BROWSER_DIR=hal-sim/tests/browser
+want=$(sed -n 's/.*"playwright-core": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/package.json")
+have=$(sed -n 's/^ *"version": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/node_modules/playwright-core/package.json" 2>/dev/null | head -1 || true)
+if [ "$want" != "$have" ]; then
+    command -v npm >/dev/null 2>&1 || { echo "setup: npm not found (Node.js 20+ with npm is needed for the page test)" >&2; exit 1; }
+    echo "setup: installing playwright-core $want (npm ci in $BROWSER_DIR)"
+    (cd "$BROWSER_DIR" && npm ci --no-audit --no-fund >/tmp/touch-arm-npm.log 2>&1) || { tail -20 /tmp/touch-arm-npm.log; exit 1; }
 fi

@@ -266,3 +266,55 @@ pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))
 }
+
+/// The servo mappings of the default calibration (`Config::DEFAULT`), in
+/// joint order base, shoulder, elbow: how the host turns measured pulses
+/// back into angles and its own angles into pulses.
+pub fn default_servo_maps() -> Result<[touch_arm::servo::map::ServoMap; 3], String> {
+    let [b, s, e] = touch_arm::config::settings::Config::DEFAULT.joints;
+    let map =
+        |j: &touch_arm::servo::map::JointCal| touch_arm::servo::map::ServoMap::new(j).map_err(|e| format!("{e:?}"));
+    Ok([map(&b)?, map(&s)?, map(&e)?])
+}
+
+/// The host's f64 reference of the chain the firmware runs for a workspace
+/// point (SPEC §2–4: condition, α, transform, IK with the paper's geometry
+/// k = l2 = l3 = 1 and the firmware's elbow branch), and the pulses the
+/// default calibration gives those angles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostTarget {
+    pub pose: touch_arm::geometry::pose::Pose<f64>,
+    /// Joint angles, rad: base α, shoulder q2, elbow q3.
+    pub q: [f64; 3],
+    /// Pulse per joint, µs (NaN where the angle is not finite).
+    pub pulses_us: [f64; 3],
+    /// Every angle lies within its joint's limits; the firmware refuses a
+    /// target otherwise ("joint limit"), it never clamps one.
+    pub within_limits: bool,
+}
+
+/// [`HostTarget`] of workspace point (x_p, y_p).
+pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
+    use touch_arm::geometry::ik::Links;
+    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+    let geo = ArmGeometry {
+        k: 1.0,
+        links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?,
+        branch: touch_arm::servo::map::ELBOW_BRANCH,
+    };
+    let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
+    let q = [pose.alpha, pose.q2, pose.q3];
+    let maps = default_servo_maps()?;
+    let mut pulses_us = [f64::NAN; 3];
+    let mut within_limits = true;
+    for j in 0..3 {
+        match maps[j].angle_to_pulse(q[j]) {
+            Ok(p) => {
+                pulses_us[j] = f64::from(p.us);
+                within_limits &= p.clamped.is_none();
+            }
+            Err(_) => within_limits = false,
+        }
+    }
+    Ok(HostTarget { pose, q, pulses_us, within_limits })
+}

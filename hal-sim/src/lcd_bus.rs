@@ -430,6 +430,11 @@ impl LcdBus {
     pub fn landscape(&self) -> Framebuffer {
         self.lcd.borrow().landscape()
     }
+
+    /// Forgets the command log (a long-running session would grow it forever).
+    pub fn forget_command_log(&self) {
+        self.lcd.borrow_mut().command_log.clear();
+    }
 }
 
 /// `Rgb565` from its 16-bit bus value.

@@ -9,6 +9,7 @@ pub mod display;
 pub mod elf;
 pub mod firmware;
 pub mod lcd_bus;
+pub mod live;
 pub mod panel;
 pub mod plot;
 pub mod report;

@@ -34,6 +34,8 @@
 //!   and re-arms its own timers (see [`Avr::resets`]).
 
 mod adc;
+mod eeprom;
+mod history;
 mod oc_release;
 mod ocr_buffer;
 mod pins;

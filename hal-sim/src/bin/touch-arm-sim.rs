@@ -21,10 +21,6 @@ use hal_sim::firmware::{self, Session};
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
-use touch_arm::config::settings::Config;
-use touch_arm::geometry::ik::Links;
-use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
-use touch_arm::servo::map::{ServoMap, ELBOW_BRANCH};
 
 /// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
 /// DIR/summary.json, DIR/angles.png and DIR/screen.png. A press that lands on a
@@ -143,16 +139,9 @@ fn run(args: Args) -> Result<(), String> {
     // Host f64 reference of the same chain (SPEC §2–4) for the summary.
     let (x_p, y_p) = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16)
         .ok_or_else(|| format!("raw ({}, {}) is not on the screen's map", raw.0, raw.1))?;
-    let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?, branch: ELBOW_BRANCH };
-    let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
-    let q = [pose.alpha, pose.q2, pose.q3];
-    let maps: Vec<ServoMap> = Config::DEFAULT
-        .joints
-        .iter()
-        .map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}")))
-        .collect::<Result<_, _>>()?;
-    let target: Vec<f64> =
-        (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| p.us as f64).unwrap_or(f64::NAN)).collect();
+    let host = firmware::host_target(x_p, y_p)?;
+    let (pose, q, target) = (host.pose, host.q, host.pulses_us);
+    let maps = firmware::default_servo_maps()?;
 
     let trains = s.pulses();
     let n = trains.iter().map(Vec::len).min().unwrap_or(0);
