@@ -356,3 +356,22 @@ fn on_screen_calibration_learns_the_panel_and_saves_it() {
     assert_eq!(field("invert_x"), 1, "{line}");
     assert_eq!(field("swap"), 0, "{line}");
 }
+
+#[test]
+fn cal_show_prints_the_decimals_it_was_given() {
+    // Every two-decimal field goes through the same digit code; values whose
+    // hundredths run over 0..99 in both digits, negative ones included. The
+    // host twin prints them right, so this is the chip's own arithmetic.
+    let mut s = start();
+    // Fields that leave the held pulse where it is (no calibration slew).
+    let cases = [("max_speed", "171.89"), ("max_speed", "0.05"), ("min_deg", "-0.97"), ("max_deg", "180.58")];
+    for (field, value) in cases {
+        assert_eq!(s.command(&format!("cal set base {field} {value}")).unwrap(), "ok cal set", "{field} {value}");
+        s.command("cal show").unwrap();
+        s.run_for(0.2).unwrap();
+        let out = s.avr.uart_output_string();
+        let line = out.lines().rev().find(|l| l.starts_with("cal base")).expect("cal base line");
+        let got = line.split_whitespace().skip_while(|w| *w != field).nth(1).unwrap();
+        assert_eq!(got, value, "{line}");
+    }
+}

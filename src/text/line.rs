@@ -75,7 +75,11 @@ impl<const N: usize> Line<N> {
         }
         self.u32(m / 100).bytes(b".");
         let f = (m % 100) as u8;
-        self.bytes(&[b'0' + f / 10, b'0' + f % 10])
+        // One byte at a time: as a two-byte array on the stack
+        // (`&[b'0' + f / 10, b'0' + f % 10]`) the second byte came out wrong
+        // on the chip (`600.0p`, `171.8J`); the e2e test
+        // `cal_show_prints_the_decimals_it_was_given` holds it.
+        self.bytes(&[b'0' + f / 10]).bytes(&[b'0' + f % 10])
     }
 
     /// The text so far.
