@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use touch_arm::seam::pins::mega;
+use touch_arm::ui::Layout;
 
 use crate::avr::{Avr, Error};
 
@@ -246,23 +247,43 @@ impl Session {
 /// Where to press the panel to pick workspace point (x, y) on the screen's
 /// map: the raw reading (default calibration) of the centre of the map pixel
 /// that shows the point, and that pixel's centre in workspace coordinates,
-/// which is the point the firmware sends the arm to (`ui::layout`).
+/// which is the point the firmware sends the arm to (`ui::layout`). On the
+/// 320×240 screen; [`map_touch_on`] for another layout.
 pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
-    use touch_arm::ui::layout;
-    let (px, py) = layout::ws_point_to_pixel(x, y)?;
-    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
+    map_touch_on(&Layout::QVGA, x, y)
+}
+
+/// [`map_touch`] on a screen laid out as `lay`.
+pub fn map_touch_on(lay: &Layout, x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
+    let (px, py) = lay.ws_point_to_pixel(x, y)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
+    Some((raw_at_pixel(lay, px, py)?, (f64::from(wx), f64::from(wy))))
+}
+
+/// The raw reading (default calibration) of a touch on the centre of
+/// screen pixel (x, y), rounded to counts.
+pub fn raw_at_pixel(lay: &Layout, x: i16, y: i16) -> Option<(f64, f64)> {
+    let (panel_x, panel_y) = lay.pixel_center_to_panel(x, y);
     let (raw_x, raw_y) =
         touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
-    Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
+    Some((raw_x.round(), raw_y.round()))
+}
+
+/// The raw reading of a touch on the centre of screen area `a`.
+pub fn raw_at_centre(lay: &Layout, a: touch_arm::ui::draw::Area) -> Option<(f64, f64)> {
+    raw_at_pixel(lay, a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16)
 }
 
 /// The workspace point a raw reading picks on the screen's map, if it lands
-/// on the map at all.
+/// on the map at all (320×240; [`raw_to_map_point_on`] for another layout).
 pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
-    use touch_arm::ui::layout;
+    raw_to_map_point_on(&Layout::QVGA, raw_x, raw_y)
+}
+
+/// [`raw_to_map_point`] on a screen laid out as `lay`.
+pub fn raw_to_map_point_on(lay: &Layout, raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     let m = touch_arm::touch::map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
-    let (px, py) = layout::panel_to_pixel(m.x_p, m.y_p)?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
+    let (px, py) = lay.panel_to_pixel(m.x_p, m.y_p)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))
 }

@@ -5,9 +5,8 @@
 use std::process::Command;
 
 use serde_json::Value;
-use touch_arm::touch::map::Calibration;
 use touch_arm::ui::draw::Area;
-use touch_arm::ui::layout;
+use touch_arm::ui::Layout;
 
 #[test]
 fn main_job_writes_pulses_summary_plots_and_screen() {
@@ -43,16 +42,15 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
 
 /// `--raw X,Y` for the centre of a screen region (default calibration).
 fn raw_at_centre(a: Area) -> String {
-    let (x, y) = layout::pixel_center_to_panel(a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16);
-    let (rx, ry) = Calibration::DEFAULT.unmap_exact::<f64>(f64::from(x), f64::from(y)).unwrap();
-    format!("{},{}", rx.round(), ry.round())
+    let (rx, ry) = hal_sim::firmware::raw_at_centre(&Layout::QVGA, a).unwrap();
+    format!("{rx},{ry}")
 }
 
 #[test]
 fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
-    let guard_below_map = layout::GAPS[1];
+    let guard_below_map = Layout::QVGA.gaps()[1];
     for (region, expect, firmware) in [
-        (layout::STOP, "STOP pressed: the arm holds", Some("firmware: info screen stop")),
+        (Layout::QVGA.stop(), "STOP pressed: the arm holds", Some("firmware: info screen stop")),
         (guard_below_map, "guard band or a gap: the screen ignores it and the arm holds", None),
     ] {
         let raw = raw_at_centre(region);

@@ -11,7 +11,7 @@ use hal_sim::avr::Avr;
 use hal_sim::display::Framebuffer;
 use hal_sim::lcd_bus::{cmd, BusPins, LcdBus};
 use touch_arm::ui::demo::{self, Screen};
-use touch_arm::ui::Ui;
+use touch_arm::ui::{Layout, Ui};
 
 fn demo_elf() -> PathBuf {
     let elf = hal_sim::firmware::ui_demo_elf();
@@ -63,7 +63,7 @@ fn the_chip_draws_exactly_what_the_host_renders() {
         };
         avr.run_until(line_done, 16_000_000 * 2).unwrap_or_else(|e| panic!("step {k}: {e}"));
         let cycles = step_cycles(&mut avr, k);
-        match demo::screen(k) {
+        match demo::screen(k, &Layout::QVGA) {
             Screen::Main(m) => ui.draw(&m, &mut fb).unwrap(),
             Screen::Calibration(f) => ui.draw_calibration(&f, &mut fb).unwrap(),
         };

@@ -18,11 +18,11 @@ use hal_sim::twin::rng::Rng;
 use touch_arm::config::settings::SpeedPreset;
 use touch_arm::geometry::workspace::{condition, Condition};
 use touch_arm::touch::map::{Calibration, CalibrationError};
-use touch_arm::ui::calibration::{cal_point, CAL_COUNT, CAL_PIXELS, CANCEL_AREA, CROSS_R, SAVE_AREA};
+use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
-use touch_arm::ui::layout::{self, pixel_center_to_panel, ws_pixel_to_point, ws_point_to_pixel, WS};
-use touch_arm::ui::ws_view::{BASE_AREA, MARKER_R};
+use touch_arm::ui::layout::Layout;
+use touch_arm::ui::ws_view::{base_area, marker_r};
 use touch_arm::ui::{
     theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Redrawn, Refusal, Ui, UiConfig, UiModel,
     UiState,
@@ -31,6 +31,39 @@ use touch_arm::ui::{
 fn snapshot(fb: &Framebuffer, name: &str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/ui-snapshots");
     fb.save_png(dir.join(format!("{name}.png"))).unwrap();
+}
+
+/// The 320×240 screen: the layout every test below checks pixel by pixel.
+const L: Layout = Layout::QVGA;
+const WS: Area = L.ws();
+const BASE_AREA: Area = base_area(&L);
+const MARKER_R: u16 = marker_r(&L);
+const CROSS_R: u16 = cross_r(&L);
+const SAVE_AREA: Area = save_area(&L);
+const CANCEL_AREA: Area = cancel_area(&L);
+const CAL_PIXELS: [(i16, i16); CAL_COUNT] = {
+    let mut p = [(0, 0); CAL_COUNT];
+    let mut i = 0;
+    while i < CAL_COUNT {
+        p[i] = match cal_pixel(&L, i) {
+            Some(xy) => xy,
+            None => panic!(),
+        };
+        i += 1;
+    }
+    p
+};
+
+fn pixel_center_to_panel(x: i16, y: i16) -> (f32, f32) {
+    L.pixel_center_to_panel(x, y)
+}
+
+fn ws_pixel_to_point(x: i16, y: i16) -> Option<(f32, f32)> {
+    L.ws_pixel_to_point(x, y)
+}
+
+fn ws_point_to_pixel(x: f32, y: f32) -> Option<(i16, i16)> {
+    L.ws_point_to_pixel(x, y)
 }
 
 const REACH_MIN: f32 = 0.3;
@@ -160,7 +193,7 @@ fn pixel_and_coordinate_mappings_round_trip() {
     for y in 0..240i16 {
         for x in 0..320i16 {
             let (x_p, y_p) = pixel_center_to_panel(x, y);
-            assert_eq!(layout::panel_to_pixel(x_p, y_p), Some((x, y)));
+            assert_eq!(L.panel_to_pixel(x_p, y_p), Some((x, y)));
         }
     }
     for y in WS.y..WS.bottom() {
@@ -175,15 +208,15 @@ fn pixel_and_coordinate_mappings_round_trip() {
     assert_eq!(ws_pixel_to_point(240, 10), None);
     assert_eq!(ws_pixel_to_point(10, 120), None);
     // Corners and edges of both coordinate systems.
-    assert_eq!(layout::panel_to_pixel(-1.0, 1.0), Some((0, 0)));
-    assert_eq!(layout::panel_to_pixel(1.0, 0.0), Some((319, 239)));
-    assert_eq!(layout::panel_to_pixel(0.0, 0.5), Some((160, 120)));
+    assert_eq!(L.panel_to_pixel(-1.0, 1.0), Some((0, 0)));
+    assert_eq!(L.panel_to_pixel(1.0, 0.0), Some((319, 239)));
+    assert_eq!(L.panel_to_pixel(0.0, 0.5), Some((160, 120)));
     assert_eq!(ws_point_to_pixel(-1.0, 0.0), Some((0, 119)));
     assert_eq!(ws_point_to_pixel(1.0, 1.0), Some((239, 0)));
     assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
     assert_eq!(ws_point_to_pixel(-1e-6, 0.0), Some((119, 119)));
     for bad in [f32::NAN, f32::INFINITY, 1.01, -1.01] {
-        assert_eq!(layout::panel_to_pixel(bad, 0.5), None);
+        assert_eq!(L.panel_to_pixel(bad, 0.5), None);
         assert_eq!(ws_point_to_pixel(bad, 0.5), None);
     }
     assert_eq!(ws_point_to_pixel(0.0, -0.01), None);
@@ -193,10 +226,9 @@ fn pixel_and_coordinate_mappings_round_trip() {
     // Regions tile the screen without overlapping (each pixel belongs to
     // exactly one region or gap).
     let mut owner = vec![0u8; 320 * 240];
-    let mut regions =
-        vec![WS, layout::STOP, layout::HEADLINE, layout::DETAIL, layout::INFO, layout::WARN, layout::JOINTS];
-    regions.extend([layout::SLOW, layout::NORMAL, layout::FAST, layout::CALIBRATE]);
-    regions.extend(layout::GAPS);
+    let mut regions = vec![WS, L.stop(), L.headline(), L.detail(), L.info(), L.warn(), L.joints()];
+    regions.extend([L.slow(), L.normal(), L.fast(), L.calibrate()]);
+    regions.extend(L.gaps());
     for a in regions {
         for p in rect(a).points() {
             owner[(p.y * 320 + p.x) as usize] += 1;
@@ -340,7 +372,7 @@ fn status_lines_say_what_happens_in_words() {
     let mut m = moving_model();
     m.state = UiState::Moving { progress: 0.25 };
     let fb = full(&m);
-    let fill = layout::BAR_FILL;
+    let fill = L.bar_fill();
     let filled = fb.count_in(&rect(fill), theme::PROGRESS);
     assert_eq!(filled, 58 * 12, "0.25·230 = 57.5 → 58 columns");
     assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
@@ -357,7 +389,7 @@ fn status_lines_say_what_happens_in_words() {
 
 #[test]
 fn stop_is_large_red_and_becomes_a_green_resume() {
-    const { assert!(layout::STOP.w >= 60 && layout::STOP.h >= 60) };
+    const { assert!(L.stop().w >= 60 && L.stop().h >= 60) };
     let mut ui = Ui::new(&CONFIG);
     // STOP works before anything is drawn.
     assert_eq!(ui.hit(280, 60), Some(Hit::Stop));
@@ -365,7 +397,7 @@ fn stop_is_large_red_and_becomes_a_green_resume() {
     let mut fb = Framebuffer::landscape();
     let mut m = moving_model();
     ui.draw(&m, &mut fb).unwrap();
-    let stop = rect(layout::STOP);
+    let stop = rect(L.stop());
     let red = fb.count_in(&stop, theme::STOP_RED);
     let white = fb.count_in(&stop, theme::WHITE);
     assert_eq!(red + white, 72 * 120, "STOP is red with white letters only");
@@ -496,15 +528,15 @@ fn partial_redraws_write_only_the_changed_regions() {
     m.joints[1] = 0.2;
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::JOINTS));
-    assert_only_in(&c, &[layout::JOINTS], "joints");
+    assert_only_in(&c, &[L.joints()], "joints");
     assert_eq!(c.touched(), 320 * 14);
 
     // Progress 0.30 → 0.31: the bar columns between (69 → 71) and the percent.
     m.state = UiState::Moving { progress: 0.31 };
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::DETAIL));
-    let bar_delta = Area::new(layout::BAR_FILL.x + 69, layout::BAR_FILL.y, 2, 12);
-    assert_only_in(&c, &[bar_delta, layout::BAR_TEXT], "progress");
+    let bar_delta = Area::new(L.bar_fill().x + 69, L.bar_fill().y, 2, 12);
+    assert_only_in(&c, &[bar_delta, L.bar_text()], "progress");
     assert_eq!(c.touched(), 2 * 12 + 72 * 16);
 
     // A new touch: only the boxes of the old and new plus.
@@ -521,7 +553,7 @@ fn partial_redraws_write_only_the_changed_regions() {
     m.speed = SpeedPreset::Fast;
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::SPEED));
-    assert_only_in(&c, &[layout::SLOW, layout::NORMAL, layout::FAST], "speed");
+    assert_only_in(&c, &[L.slow(), L.normal(), L.fast()], "speed");
     assert_eq!(fb, full(&m));
 }
 
@@ -581,7 +613,7 @@ fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
 
 /// What an ideal panel wired as `cal` reads at crosshair `i`.
 fn raw_at(cal: &Calibration, i: usize) -> (u16, u16) {
-    let (x_p, y_p) = cal_point(i).unwrap();
+    let (x_p, y_p) = cal_point(&L, i).unwrap();
     let raw = cal.unmap::<f64>(f64::from(x_p), f64::from(y_p)).unwrap();
     (raw.x, raw.y)
 }
@@ -610,7 +642,7 @@ fn panels() -> Vec<Calibration> {
 #[test]
 fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
     for truth in panels() {
-        let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
+        let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L);
         for (i, &pixel) in CAL_PIXELS.iter().enumerate().take(CAL_COUNT) {
             assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
             assert_eq!(flow.crosshair_pixel(), Some(pixel));
@@ -633,7 +665,7 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
         let (x, y) = raw_on(&truth, SAVE_AREA);
         assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Done(fit)));
         // Cancel keeps the old one.
-        let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
+        let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L);
         for i in 0..CAL_COUNT {
             let (x, y) = raw_at(&truth, i);
             flow.feed(x, y);
@@ -646,7 +678,7 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
 #[test]
 fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
     let truth = Calibration::DEFAULT;
-    let mut flow = CalibrationFlow::new(truth);
+    let mut flow = CalibrationFlow::new(truth, &L);
     let (x0, y0) = raw_at(&truth, 0);
     flow.feed(x0, y0);
     // The same spot again (a bounce, or the finger still on the first cross).
@@ -659,7 +691,7 @@ fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
     assert_eq!(flow.phase(), CalPhase::Touch { index: 2 });
     // Readings where both channels say the same: neither assignment of
     // channels to axes explains them.
-    let mut flow = CalibrationFlow::new(truth);
+    let mut flow = CalibrationFlow::new(truth, &L);
     for (x, y) in DIAGONAL {
         flow.feed(x, y);
     }
@@ -678,7 +710,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let mut ui = Ui::new(&CONFIG);
     let mut fb = Framebuffer::landscape();
     ui.draw(&moving_model(), &mut fb).unwrap();
-    let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
+    let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L);
     ui.draw_calibration(&flow, &mut fb).unwrap();
     assert_eq!(ui.hit(280, 60), None, "main-screen buttons are off during calibration");
     for i in 0..CAL_COUNT {
@@ -715,7 +747,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let green = fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN);
     assert!(green > 5000, "{green} green pixels");
     // A failed fit shows Retry.
-    let mut bad = CalibrationFlow::new(Calibration::DEFAULT);
+    let mut bad = CalibrationFlow::new(Calibration::DEFAULT, &L);
     for (x, y) in DIAGONAL {
         bad.feed(x, y);
     }

@@ -31,7 +31,7 @@ fn main() -> ! {
     for k in 0..demo::STEPS {
         wait_byte();
         let t0 = tc1.tcnt1().read().bits();
-        let screen = demo::screen(k);
+        let screen = demo::screen(k, &touch_arm::ui::Layout::QVGA);
         let ok = match &screen {
             Screen::Main(m) => ui.draw(m, &mut lcd).is_ok(),
             Screen::Calibration(f) => ui.draw_calibration(f, &mut lcd).is_ok(),
