@@ -149,21 +149,32 @@ pub const SERVO_PINS: [crate::avr::Pin; 3] =
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
     pub avr: Avr,
-    /// The ILI9341 as the firmware's bus writes leave it.
+    /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
 }
 
 impl Session {
-    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring).
+    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring)
+    /// and an ILI9341 on the shield.
     pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {
+        Self::start_with_lcd(elf, wiring, crate::lcd_bus::Chip::Ili9341, seed)
+    }
+
+    /// [`Session::start`] with `chip` as the shield's display controller.
+    pub fn start_with_lcd(
+        elf: &Path,
+        wiring: crate::panel::PanelWiring,
+        chip: crate::lcd_bus::Chip,
+        seed: u64,
+    ) -> Result<Session, String> {
         let mut avr = load(elf)?;
         // Before the first instruction, so the high-water mark covers the run.
         avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
-        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD)
+        let lcd = crate::lcd_bus::LcdBus::attach_chip(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD, chip)
             .map_err(|e| format!("{e:?}"))?;
         let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
             wiring,
@@ -224,6 +235,27 @@ impl Session {
             .map_err(|e| format!("no reply to {line:?}: {e:?}"))?;
         let out = String::from_utf8_lossy(&self.avr.uart_output()[before..]).to_string();
         Ok(out.lines().find(|l| l.starts_with("ok") || l.starts_with("err")).unwrap_or("").to_string())
+    }
+
+    /// Runs until the firmware has booted, homed and takes targets (`status`
+    /// says `holding`), polling every 0.1 s, for at most `max_s` seconds. The
+    /// boot time depends on the display controller (the ILI9325's power-up
+    /// sequence waits 350 ms more than the DCS controllers'), so a fixed wait
+    /// would be too short for one or needlessly long for the others. Call it
+    /// after the display's start-up (1 s in): serial bytes sent earlier would
+    /// overrun the USART while the firmware is still initialising the LCD.
+    pub fn run_until_ready(&mut self, max_s: f64) -> Result<(), String> {
+        let end = self.avr.time_s() + max_s;
+        loop {
+            let reply = self.command("status")?;
+            if reply.starts_with("ok status holding") {
+                return Ok(());
+            }
+            if self.avr.time_s() > end {
+                return Err(format!("not ready after {max_s} s: {reply}"));
+            }
+            self.run_for(0.1)?;
+        }
     }
 
     /// The deepest the stack has been since power-up, in bytes.

@@ -15,11 +15,13 @@
 //!   [`draw`]: rectangles and text on top of `fill_solid`/`fill_contiguous`.
 
 pub mod calibration;
+pub mod controller;
 pub mod degrees;
 pub mod demo;
 pub mod draw;
 pub mod flash;
 pub mod font;
+pub mod ili9325;
 pub mod ili9341;
 pub mod layout;
 pub mod model;
