@@ -1,5 +1,11 @@
-//! ILI9341 on the UNO-form shield's 8-bit parallel bus (SPEC §8), as an
-//! embedded-graphics `DrawTarget<Color = Rgb565>` and a UI [`Canvas`].
+//! The display controller on the UNO-form shield's 8-bit parallel bus
+//! (SPEC §8), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
+//! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486) and the
+//! register-indexed ILI9325, told apart at boot by their ID registers
+//! ([`Lcd::start`], `lcd/start.rs`). They differ only in their
+//! initialisation, their size and how a window is set (`lcd/indexed.rs` for
+//! the ILI9325); the pixel stream after the window is the same RGB565 byte
+//! pairs, so every fast path below serves all four.
 //!
 //! Pins: RD PF0, WR PF1, RS PF2, CS PF3, RST PF4; D0 PH5, D1 PH6, D2 PE4,
 //! D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is three port stores (the
@@ -26,7 +32,8 @@
 //! read at the start of each transfer and written back unchanged).
 //! Timing: the WR low and high phases are one cycle (62.5 ns) each and
 //! back-to-back strobes are 2 cycles apart (125 ns), within the ILI9341's
-//! 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns).
+//! and ST7789V's 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns) and the
+//! slowest of the four, the ILI9325's (≥ 100 ns, each phase ≥ 50 ns).
 
 use crate::board::shield::ShieldBus;
 use core::ptr::{read_volatile, write_volatile};
