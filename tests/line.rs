@@ -31,6 +31,16 @@ fn finish_always_fits_the_terminator() {
 }
 
 #[test]
+fn hex_shows_the_low_digits_lowercase() {
+    let mut l: Line<32> = Line::new();
+    l.hex(0x9341, 4).bytes(b" ").hex(0x0085_8552, 6).bytes(b" ").hex(0xABCD_EF01, 8).bytes(b" ").hex(0x1F, 1);
+    assert_eq!(l.as_bytes(), b"0x9341 0x858552 0xabcdef01 0xf");
+    // 1 to 8 digits, whatever is asked.
+    assert_eq!(Line::<16>::new().hex(u32::MAX, 12).as_bytes(), b"0xffffffff");
+    assert_eq!(Line::<16>::new().hex(0x9341, 0).as_bytes(), b"0x1");
+}
+
+#[test]
 fn angles_show_whole_degrees_with_the_glyph() {
     let mut l: Line<16> = Line::new();
     l.deg(Some(-45)).bytes(b" ").deg(None);

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use touch_arm::seam::pins::mega;
+use touch_arm::ui::Layout;
 
 use crate::avr::{Avr, Error};
 
@@ -148,21 +149,32 @@ pub const SERVO_PINS: [crate::avr::Pin; 3] =
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
     pub avr: Avr,
-    /// The ILI9341 as the firmware's bus writes leave it.
+    /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
 }
 
 impl Session {
-    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring).
+    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring)
+    /// and an ILI9341 on the shield.
     pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {
+        Self::start_with_lcd(elf, wiring, crate::lcd_bus::Chip::Ili9341, seed)
+    }
+
+    /// [`Session::start`] with `chip` as the shield's display controller.
+    pub fn start_with_lcd(
+        elf: &Path,
+        wiring: crate::panel::PanelWiring,
+        chip: crate::lcd_bus::Chip,
+        seed: u64,
+    ) -> Result<Session, String> {
         let mut avr = load(elf)?;
         // Before the first instruction, so the high-water mark covers the run.
         avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
-        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD)
+        let lcd = crate::lcd_bus::LcdBus::attach_chip(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD, chip)
             .map_err(|e| format!("{e:?}"))?;
         let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
             wiring,
@@ -225,6 +237,27 @@ impl Session {
         Ok(out.lines().find(|l| l.starts_with("ok") || l.starts_with("err")).unwrap_or("").to_string())
     }
 
+    /// Runs until the firmware has booted, homed and takes targets (`status`
+    /// says `holding`), polling every 0.1 s, for at most `max_s` seconds. The
+    /// boot time depends on the display controller (the ILI9325's power-up
+    /// sequence waits 350 ms more than the DCS controllers'), so a fixed wait
+    /// would be too short for one or needlessly long for the others. Call it
+    /// after the display's start-up (1 s in): serial bytes sent earlier would
+    /// overrun the USART while the firmware is still initialising the LCD.
+    pub fn run_until_ready(&mut self, max_s: f64) -> Result<(), String> {
+        let end = self.avr.time_s() + max_s;
+        loop {
+            let reply = self.command("status")?;
+            if reply.starts_with("ok status holding") {
+                return Ok(());
+            }
+            if self.avr.time_s() > end {
+                return Err(format!("not ready after {max_s} s: {reply}"));
+            }
+            self.run_for(0.1)?;
+        }
+    }
+
     /// The deepest the stack has been since power-up, in bytes.
     pub fn stack_high_water(&self) -> Option<usize> {
         self.avr.stack_high_water().map(|(used, _)| used)
@@ -246,24 +279,44 @@ impl Session {
 /// Where to press the panel to pick workspace point (x, y) on the screen's
 /// map: the raw reading (default calibration) of the centre of the map pixel
 /// that shows the point, and that pixel's centre in workspace coordinates,
-/// which is the point the firmware sends the arm to (`ui::layout`).
+/// which is the point the firmware sends the arm to (`ui::layout`). On the
+/// 320×240 screen; [`map_touch_on`] for another layout.
 pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
-    use touch_arm::ui::layout;
-    let (px, py) = layout::ws_point_to_pixel(x, y)?;
-    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
+    map_touch_on(&Layout::QVGA, x, y)
+}
+
+/// [`map_touch`] on a screen laid out as `lay`.
+pub fn map_touch_on(lay: &Layout, x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
+    let (px, py) = lay.ws_point_to_pixel(x, y)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
+    Some((raw_at_pixel(lay, px, py)?, (f64::from(wx), f64::from(wy))))
+}
+
+/// The raw reading (default calibration) of a touch on the centre of
+/// screen pixel (x, y), rounded to counts.
+pub fn raw_at_pixel(lay: &Layout, x: i16, y: i16) -> Option<(f64, f64)> {
+    let (panel_x, panel_y) = lay.pixel_center_to_panel(x, y);
     let (raw_x, raw_y) =
         touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
-    Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
+    Some((raw_x.round(), raw_y.round()))
+}
+
+/// The raw reading of a touch on the centre of screen area `a`.
+pub fn raw_at_centre(lay: &Layout, a: touch_arm::ui::draw::Area) -> Option<(f64, f64)> {
+    raw_at_pixel(lay, a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16)
 }
 
 /// The workspace point a raw reading picks on the screen's map, if it lands
-/// on the map at all.
+/// on the map at all (320×240; [`raw_to_map_point_on`] for another layout).
 pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
-    use touch_arm::ui::layout;
+    raw_to_map_point_on(&Layout::QVGA, raw_x, raw_y)
+}
+
+/// [`raw_to_map_point`] on a screen laid out as `lay`.
+pub fn raw_to_map_point_on(lay: &Layout, raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     let m = touch_arm::touch::map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
-    let (px, py) = layout::panel_to_pixel(m.x_p, m.y_p)?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
+    let (px, py) = lay.panel_to_pixel(m.x_p, m.y_p)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))
 }
 

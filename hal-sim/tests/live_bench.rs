@@ -9,9 +9,9 @@ use std::net::{SocketAddr, TcpStream};
 use std::time::{Duration, Instant};
 
 use hal_sim::firmware;
+use hal_sim::live::LAYOUT;
 use hal_sim::live::{self, LiveBench, Options};
 use serde_json::{json, Value};
-use touch_arm::ui::layout;
 
 fn start() -> LiveBench {
     live::start(&Options { port: 0, elf: firmware::default_elf(), seed: 5 })
@@ -107,8 +107,8 @@ fn a_map_press_reaches_the_host_ik_target_and_stop_freezes_the_pulses() {
 
     // Press the map where the workspace point (0.4, 0.6) is drawn; the
     // firmware targets that pixel's centre, and so does the host's chain.
-    let (px, py) = layout::ws_point_to_pixel(0.4, 0.6).unwrap();
-    let (x_p, y_p) = layout::ws_pixel_to_point(px, py).unwrap();
+    let (px, py) = LAYOUT.ws_point_to_pixel(0.4, 0.6).unwrap();
+    let (x_p, y_p) = LAYOUT.ws_pixel_to_point(px, py).unwrap();
     let host = firmware::host_target(f64::from(x_p), f64::from(y_p)).unwrap();
     assert!(host.within_limits);
     let seq0 = s0["screen_seq"].as_u64().unwrap();

@@ -11,8 +11,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use hal_sim::firmware;
+use hal_sim::live::LAYOUT;
 use hal_sim::live::{self, Options};
-use touch_arm::ui::layout;
 
 /// The script bounds itself at 90 s; this is the backstop.
 const TIMEOUT: Duration = Duration::from_secs(150);
@@ -33,11 +33,11 @@ fn the_page_moves_the_arm_stops_it_and_talks_to_the_console() {
         .expect("live bench (firmware ELF: cargo avr)");
     // A map point left of the base (condition 3), and the host's angles for
     // the pixel's centre, which is what the firmware targets.
-    let (px, py) = layout::ws_point_to_pixel(-0.3, 0.5).unwrap();
-    let (x_p, y_p) = layout::ws_pixel_to_point(px, py).unwrap();
+    let (px, py) = LAYOUT.ws_point_to_pixel(-0.3, 0.5).unwrap();
+    let (x_p, y_p) = LAYOUT.ws_pixel_to_point(px, py).unwrap();
     let host = firmware::host_target(f64::from(x_p), f64::from(y_p)).unwrap();
     let target = host.q.map(|q| format!("{:.4}", q.to_degrees())).join(",");
-    let stop = layout::STOP;
+    let stop = LAYOUT.stop();
     let (sx, sy) = (stop.x + stop.w as i16 / 2, stop.y + stop.h as i16 / 2);
     let out = root.join("out");
 

@@ -8,7 +8,9 @@ use crate::config::store;
 use crate::seam::SerialPort;
 use crate::seam::Storage;
 use crate::touch::filter::TouchPoint;
-use crate::ui::{self, CalibrationEvent, CalibrationFlow, Canvas, Hit, Redrawn, Ui, UiConfig, UiModel, UiState};
+use crate::ui::{
+    self, CalibrationEvent, CalibrationFlow, Canvas, Hit, Layout, Redrawn, Ui, UiConfig, UiModel, UiState,
+};
 
 use super::refusal::Refusal;
 use super::text::Line;
@@ -104,7 +106,7 @@ impl App {
                     self.screen.refusal = Some(ui::Refusal::Busy);
                     line.str(t!("err screen calibrate")).word(Refusal::Busy.reason());
                 } else {
-                    self.screen.calibration = Some(CalibrationFlow::new(self.config.touch));
+                    self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
                     line.str(t!("info screen calibrate"));
                 }
             }
@@ -131,6 +133,14 @@ impl App {
             Refusal::Busy | Refusal::Homing | Refusal::Stopped => ui::Refusal::Busy,
             _ => ui::Refusal::JointLimit,
         }
+    }
+
+    /// Lays the screen out for the panel found at boot (320×240 until
+    /// then); what is on the glass is forgotten, so the next draw is full.
+    pub fn set_screen_layout(&mut self, layout: Layout) {
+        let reach = reach(self.params.l2, self.params.l3, self.params.k);
+        self.screen.ui = Ui::with_layout(&reach, layout);
+        self.screen.calibration = None;
     }
 
     /// Draws what changed since the last call (everything the first time, and

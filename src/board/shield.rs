@@ -13,6 +13,11 @@
 //! inside that call, which restores all 13 pins before it returns. A caller
 //! holding the bus therefore cannot observe touch mode, and drawing (which
 //! needs `&mut ShieldBus`) cannot overlap a touch read.
+//!
+//! Reading the controller (its ID at boot) turns the eight data pins around
+//! the same way: [`ShieldBus::with_read`] makes them pulled-up inputs, lends a
+//! [`ReadPins`] that only strobes RD and samples them, and puts all 13 pins
+//! back before it returns.
 
 use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
@@ -144,6 +149,64 @@ impl ShieldBus {
         let r = f(&mut TouchPins::lend(adc, wiring));
         restore(&saved);
         r
+    }
+}
+
+/// RD low to sampling: the slowest access time of the supported
+/// controllers' 8080 read cycle is 340 ns (frame-memory reads of the
+/// ILI9341, ILI9486 and ST7789V; ID and register reads are faster).
+const RD_ACCESS_CYCLES: u32 = 8;
+/// RD high before the next strobe (the read cycles' high phase and cycle
+/// time, 90–450 ns).
+const RD_RECOVER_CYCLES: u32 = 8;
+
+impl ShieldBus {
+    /// Lends the data lines to the controller for a read and hands them back
+    /// in LCD mode.
+    ///
+    /// Before `f` runs, the (DDR, PORT) state of all 13 LCD pins is saved;
+    /// WR and RD are driven high (no write strobe can happen, the read
+    /// strobe is idle), RS high (reads return data), and D0..D7 become
+    /// inputs with their pull-ups, so a controller that does not answer reads
+    /// as all ones instead of floating. CS stays as the caller left it (it
+    /// selects the controller for the read). After `f`, every pin is put back
+    /// exactly as saved, as [`ShieldBus::with_touch`] does; the data lines
+    /// turn back into outputs only after RD is high again, so the bus is
+    /// never driven from both ends.
+    pub fn with_read<R>(&mut self, f: impl FnOnce(&mut ReadPins<'_>) -> R) -> R {
+        let saved = snapshot();
+        for p in [LCD_WR, LCD_RD, LCD_RS] {
+            p.set_mode(PinMode::OutputHigh);
+        }
+        for p in LCD_DATA {
+            p.set_mode(PinMode::PullUp);
+        }
+        let r = f(&mut ReadPins { _bus: core::marker::PhantomData });
+        restore(&saved);
+        r
+    }
+}
+
+/// The data lines while they are inputs, inside [`ShieldBus::with_read`].
+pub struct ReadPins<'a> {
+    _bus: core::marker::PhantomData<&'a mut ShieldBus>,
+}
+
+impl ReadPins<'_> {
+    /// One RD strobe: RD low, wait the access time, sample D0..D7, RD high,
+    /// wait the recovery time.
+    pub fn byte(&mut self) -> u8 {
+        LCD_RD.write(false);
+        avr_device::asm::delay_cycles(RD_ACCESS_CYCLES);
+        let mut b = 0u8;
+        for (k, p) in LCD_DATA.iter().enumerate() {
+            if p.is_high() {
+                b |= 1 << k;
+            }
+        }
+        LCD_RD.write(true);
+        avr_device::asm::delay_cycles(RD_RECOVER_CYCLES);
+        b
     }
 }
 

@@ -67,6 +67,13 @@ impl<const N: usize> Line<N> {
         self.bytes(b" ").i32(v)
     }
 
+    /// `0x` and the low `digits` (1..=8) hex digits of `v`, lowercase: an
+    /// ID read from a chip (`hex(0x9341, 4)` → `0x9341`).
+    pub fn hex(&mut self, v: u32, digits: u8) -> &mut Self {
+        push_hex(&mut self.buf, &mut self.len, v, digits);
+        self
+    }
+
     /// Hundredths as a decimal with two places: 1205 → `12.05`, −5 → `-0.05`.
     pub fn centi(&mut self, v: i32) -> &mut Self {
         let m = v.unsigned_abs();
@@ -111,6 +118,18 @@ fn push_bytes(buf: &mut [u8], len: &mut usize, b: &[u8]) {
 fn push_text(buf: &mut [u8], len: &mut usize, s: Text) {
     for b in s.bytes() {
         push_bytes(buf, len, &[b]);
+    }
+}
+
+fn push_hex(buf: &mut [u8], len: &mut usize, v: u32, digits: u8) {
+    push_bytes(buf, len, b"0x");
+    let k = digits.clamp(1, 8);
+    // The first digit wanted to the top nibble, then one nibble per step.
+    let mut v = v << (4 * (8 - k));
+    for _ in 0..k {
+        let d = (v >> 28) as u8;
+        v <<= 4;
+        push_bytes(buf, len, &[if d < 10 { b'0' + d } else { b'a' + d - 10 }]);
     }
 }
 

@@ -4,6 +4,7 @@
 //! and each draw timed in cycles.
 
 use super::calibration::{cal_point, CalibrationFlow};
+use super::layout::Layout;
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::screen::UiConfig;
 use crate::config::settings::SpeedPreset;
@@ -41,7 +42,7 @@ fn moving(progress: f32) -> UiModel {
 /// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
 /// a refused touch, STOP, a preset change with a warning, two calibration
 /// screens, and a full redraw back on the main screen.
-pub fn screen(k: u8) -> Screen {
+pub fn screen(k: u8, lay: &Layout) -> Screen {
     let mut m = moving(0.0);
     match k {
         0..=8 => m.state = UiState::Moving { progress: f32::from(k) / 8.0 },
@@ -62,9 +63,9 @@ pub fn screen(k: u8) -> Screen {
         }
         13 | 14 => {
             let cal = Calibration::DEFAULT;
-            let mut flow = CalibrationFlow::new(cal);
+            let mut flow = CalibrationFlow::new(cal, lay);
             if k == 14 {
-                if let Some(raw) = cal_point(0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
+                if let Some(raw) = cal_point(lay, 0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
                     flow.feed(raw.x, raw.y);
                 }
             }

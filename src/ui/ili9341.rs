@@ -1,10 +1,17 @@
-//! ILI9341 command codes (datasheet §8), shared by the chip's driver
-//! (`board::lcd`) and the host's bus decoder (`hal_sim::lcd_bus`).
+//! MIPI DCS command codes of the ILI9341 (ILITEK ILI9341 datasheet, chapter
+//! 8 "Command"), shared by the chip's driver (`board::lcd`) and the host's
+//! bus decoder (`hal_sim::lcd_bus`). The ST7789V (Sitronix ST7789V
+//! datasheet, "System Function Command Table 1") and the ILI9486 (ILITEK
+//! ILI9486 datasheet, "Command List") use the same codes for every command
+//! here, so one driver serves the three.
 
 /// No operation.
 pub const NOP: u8 = 0x00;
 /// Software reset; wait 5 ms before the next command.
 pub const SWRESET: u8 = 0x01;
+/// Read display identification (RDDID): a dummy byte, then ID1, ID2, ID3
+/// (the ST7789V answers 85h 85h 52h).
+pub const RDDID: u8 = 0x04;
 /// Enter sleep mode.
 pub const SLPIN: u8 = 0x10;
 /// Leave sleep mode; wait 120 ms before the next command.
@@ -25,3 +32,6 @@ pub const MADCTL: u8 = 0x36;
 pub const COLMOD: u8 = 0x3A;
 /// Memory write continue: pixels follow from where the last write stopped.
 pub const RAMWRC: u8 = 0x3C;
+/// Read ID4 (RDID4): a dummy byte, the IC version, then the model in two
+/// bytes (ILI9341: 00h 93h 41h; ILI9486: 00h 94h 86h).
+pub const RDID4: u8 = 0xD3;

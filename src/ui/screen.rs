@@ -12,7 +12,7 @@ use super::calibration::{self, CalView, CalibrationFlow};
 use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
-use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
+use super::layout::Layout;
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
@@ -31,15 +31,15 @@ impl Redrawn {
     pub const MARKERS: u16 = 1 << 1;
     /// The STOP / RESUME button.
     pub const STOP: u16 = 1 << 2;
-    /// [`layout::HEADLINE`](super::layout::HEADLINE).
+    /// [`Layout::headline`].
     pub const HEADLINE: u16 = 1 << 3;
-    /// [`layout::DETAIL`](super::layout::DETAIL) (text or progress bar).
+    /// [`Layout::detail`] (text or progress bar).
     pub const DETAIL: u16 = 1 << 4;
-    /// [`layout::INFO`](super::layout::INFO).
+    /// [`Layout::info`].
     pub const INFO: u16 = 1 << 5;
-    /// [`layout::WARN`](super::layout::WARN).
+    /// [`Layout::warn`].
     pub const WARN: u16 = 1 << 6;
-    /// [`layout::JOINTS`](super::layout::JOINTS).
+    /// [`Layout::joints`].
     pub const JOINTS: u16 = 1 << 7;
     /// The three speed preset buttons.
     pub const SPEED: u16 = 1 << 8;
@@ -154,12 +154,13 @@ struct View {
     speed: SpeedPreset,
 }
 
-fn progress_of(p: f32) -> (u16, u8) {
+/// Filled pixels of a `bar_w`-pixel bar and the percentage shown.
+fn progress_of(p: f32, bar_w: u16) -> (u16, u8) {
     // NaN → 0 through the failed comparison.
     let p = if p > 0.0 { p.min(1.0) } else { 0.0 };
-    let px = (p * lay::BAR_FILL.w as f32 + 0.5) as u16;
+    let px = (p * bar_w as f32 + 0.5) as u16;
     let percent = (p * 100.0 + 0.5) as u8;
-    (px.min(lay::BAR_FILL.w), percent.min(100))
+    (px.min(bar_w), percent.min(100))
 }
 
 /// The highest set warning bit.
@@ -181,12 +182,12 @@ fn warning_text(bit: u8) -> Text {
 }
 
 impl View {
-    fn of(m: &UiModel) -> Self {
+    fn of(m: &UiModel, lay: &Layout) -> Self {
         let (headline, detail) = match m.state {
             UiState::PowerUp => (Headline::Starting, Detail::Hint(t!("Please wait"))),
             UiState::Idle => (Headline::Ready, Detail::Hint(t!("Touch the map to move"))),
             UiState::Moving { progress } => {
-                let (px, percent) = progress_of(progress);
+                let (px, percent) = progress_of(progress, lay.bar_fill().w);
                 (Headline::Moving, Detail::Progress { px, percent })
             }
             UiState::Holding => (Headline::Holding, Detail::Hint(t!("Touch the map to move"))),
@@ -201,7 +202,7 @@ impl View {
         };
         let refused = matches!(m.state, UiState::Refused(_));
         let mark = |p: Option<(f32, f32)>, kind: MarkKind| {
-            p.and_then(|(x, y)| ws_point_to_pixel(x, y)).map(|(x, y)| Mark { x, y, kind })
+            p.and_then(|(x, y)| lay.ws_point_to_pixel(x, y)).map(|(x, y)| Mark { x, y, kind })
         };
         View {
             stop_shown: m.state != UiState::Stopped,
@@ -237,13 +238,24 @@ enum Shown {
     Calibration(CalView),
 }
 
-/// The renderer. Holds only what it last drew (a few dozen bytes).
+/// The renderer. Holds its layout and only what it last drew (a few dozen
+/// bytes).
 pub struct Ui {
+    layout: Layout,
     reach: Reach,
     shown: Shown,
 }
 
-const HEAD_STYLE: TextStyle = TextStyle::opaque(2, theme::TEXT, theme::BG);
+/// The headline, hints and percentage: the layout's text scale.
+fn head_style(lay: &Layout, fg: Rgb565) -> TextStyle {
+    TextStyle::opaque(lay.text_scale(), fg, theme::BG)
+}
+
+/// A button label in the layout's text scale.
+fn label_style(lay: &Layout, fg: Rgb565, bg: Rgb565) -> TextStyle {
+    TextStyle::opaque(lay.text_scale(), fg, bg)
+}
+
 const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
@@ -302,14 +314,26 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
 }
 
 impl Ui {
-    /// A UI with `config`'s reach; nothing is drawn until [`Ui::draw`].
+    /// A 320×240 UI ([`Layout::QVGA`]) with `config`'s reach; nothing is
+    /// drawn until [`Ui::draw`].
     pub fn new(config: &UiConfig) -> Self {
-        Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing }
+        Self::with_layout(config, Layout::QVGA)
+    }
+
+    /// A UI laid out as `layout` (the panel's size) with `config`'s reach.
+    pub fn with_layout(config: &UiConfig, layout: Layout) -> Self {
+        let reach = Reach::new(config.reach_min, config.reach_max, layout.scale());
+        Self { layout, reach, shown: Shown::Nothing }
+    }
+
+    /// Where everything sits.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
     }
 
     /// Changes the reach shading; the next [`Ui::draw`] repaints the map.
     pub fn set_reach(&mut self, config: &UiConfig) {
-        self.reach = Reach::new(config.reach_min, config.reach_max);
+        self.reach = Reach::new(config.reach_min, config.reach_max, self.layout.scale());
         if let Shown::Main(_) = self.shown {
             self.shown = Shown::Nothing;
         }
@@ -325,7 +349,7 @@ impl Ui {
     /// draw (everything after a calibration screen, a reach change or an
     /// error).
     pub fn draw<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        let v = View::of(model);
+        let v = View::of(model, &self.layout);
         let old = match self.shown {
             Shown::Main(old) => old,
             _ => return self.draw_view_full(&v, d),
@@ -339,64 +363,66 @@ impl Ui {
 
     /// Draws the whole main screen.
     pub fn draw_full<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        self.draw_view_full(&View::of(model), d)
+        self.draw_view_full(&View::of(model, &self.layout), d)
     }
 
     fn draw_view_full<D: Canvas>(&mut self, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
         self.shown = Shown::Nothing;
+        let lay = &self.layout;
         let (marks, n) = v.marks();
-        ws_view::draw_map(d, &self.reach, marks.get(..n).unwrap_or(&[]))?;
-        for g in lay::GAPS {
+        ws_view::draw_map(d, lay, &self.reach, marks.get(..n).unwrap_or(&[]))?;
+        for g in lay.gaps() {
             fill(d, g, theme::BG)?;
         }
-        draw_stop(d, v.stop_shown)?;
-        draw_headline(d, v.headline)?;
-        draw_detail(d, &v.detail)?;
-        draw_info(d, v.zone)?;
-        draw_warning(d, v.warning)?;
-        draw_joints(d, &v.joints)?;
-        draw_speed(d, v.speed)?;
-        button(d, lay::CALIBRATE, t!("Calib"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
+        draw_stop(d, lay, v.stop_shown)?;
+        draw_headline(d, lay, v.headline)?;
+        draw_detail(d, lay, &v.detail)?;
+        draw_info(d, lay, v.zone)?;
+        draw_warning(d, lay, v.warning)?;
+        draw_joints(d, lay, &v.joints)?;
+        draw_speed(d, lay, v.speed)?;
+        button(d, lay.calibrate(), t!("Calib"), &label_style(lay, theme::TEXT, theme::BUTTON))?;
         self.shown = Shown::Main(*v);
         Ok(Redrawn(Redrawn::ALL_MAIN))
     }
 
     fn draw_changes<D: Canvas>(&self, old: &View, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
+        let lay = &self.layout;
         let mut r = 0u16;
         if old.stop_shown != v.stop_shown {
-            draw_stop(d, v.stop_shown)?;
+            draw_stop(d, lay, v.stop_shown)?;
             r |= Redrawn::STOP;
         }
         if old.headline != v.headline {
-            draw_headline(d, v.headline)?;
+            draw_headline(d, lay, v.headline)?;
             r |= Redrawn::HEADLINE;
         }
         if old.detail != v.detail {
             match (old.detail, v.detail) {
                 (Detail::Progress { px: a, percent: pa }, Detail::Progress { px: b, percent: pb }) => {
-                    update_progress(d, a, b)?;
+                    update_progress(d, lay, a, b)?;
                     if pa != pb {
-                        draw_percent(d, pb)?;
+                        draw_percent(d, lay, pb)?;
                     }
                 }
-                _ => draw_detail(d, &v.detail)?,
+                _ => draw_detail(d, lay, &v.detail)?,
             }
             r |= Redrawn::DETAIL;
         }
         if old.zone != v.zone {
-            draw_info(d, v.zone)?;
+            draw_info(d, lay, v.zone)?;
             r |= Redrawn::INFO;
         }
         if old.warning != v.warning {
-            draw_warning(d, v.warning)?;
+            draw_warning(d, lay, v.warning)?;
             r |= Redrawn::WARN;
         }
         if old.joints != v.joints {
-            draw_joints(d, &v.joints)?;
+            draw_joints(d, lay, &v.joints)?;
             r |= Redrawn::JOINTS;
         }
         if old.speed != v.speed {
-            draw_speed(d, v.speed)?;
+            draw_speed(d, lay, v.speed)?;
             r |= Redrawn::SPEED;
         }
         if old.touch != v.touch || old.target != v.target {
@@ -406,7 +432,7 @@ impl Ui {
                 if a != b {
                     for m in [a, b].into_iter().flatten() {
                         if let Some(slot) = dirty.get_mut(n) {
-                            *slot = m.area();
+                            *slot = m.area(lay);
                             n += 1;
                         }
                     }
@@ -419,7 +445,7 @@ impl Ui {
                 if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
                     continue;
                 }
-                ws_view::repaint(d, &self.reach, *box_, marks)?;
+                ws_view::repaint(d, lay, &self.reach, *box_, marks)?;
             }
             r |= Redrawn::MARKERS;
         }
@@ -435,23 +461,24 @@ impl Ui {
             Shown::Calibration(_) => return None,
             Shown::Nothing => None,
         };
+        let lay = &self.layout;
         let resume_shown = view.is_some_and(|v| !v.stop_shown);
         if resume_shown {
-            if lay::STOP.contains(x, y) {
+            if lay.stop().contains(x, y) {
                 return Some(Hit::Resume);
             }
-        } else if lay::STOP_HIT.contains(x, y) {
+        } else if lay.stop_hit().contains(x, y) {
             return Some(Hit::Stop);
         }
         view?;
-        if let Some((x_p, y_p)) = ws_pixel_to_point(x, y) {
+        if let Some((x_p, y_p)) = lay.ws_pixel_to_point(x, y) {
             return Some(Hit::Map { x_p, y_p });
         }
         let buttons = [
-            (lay::SLOW, Hit::Speed(SpeedPreset::Slow)),
-            (lay::NORMAL, Hit::Speed(SpeedPreset::Normal)),
-            (lay::FAST, Hit::Speed(SpeedPreset::Fast)),
-            (lay::CALIBRATE, Hit::Calibrate),
+            (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
+            (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
+            (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
+            (lay.calibrate(), Hit::Calibrate),
         ];
         buttons.iter().find(|(a, _)| a.contains(x, y)).map(|&(_, h)| h)
     }
@@ -459,7 +486,7 @@ impl Ui {
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
     /// gives).
     pub fn hit_panel(&self, x_p: f32, y_p: f32) -> Option<Hit> {
-        let (x, y) = panel_to_pixel(x_p, y_p)?;
+        let (x, y) = self.layout.panel_to_pixel(x_p, y_p)?;
         self.hit(x, y)
     }
 
@@ -477,49 +504,47 @@ impl Ui {
     }
 }
 
-fn draw_stop<D: Canvas>(d: &mut D, stop: bool) -> Result<(), D::Error> {
+fn draw_stop<D: Canvas>(d: &mut D, lay: &Layout, stop: bool) -> Result<(), D::Error> {
+    let t = lay.text_scale();
     if stop {
-        button(d, lay::STOP, t!("STOP"), &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight())
+        button(d, lay.stop(), t!("STOP"), &TextStyle::opaque(t + 1, theme::WHITE, theme::STOP_RED).tight())
     } else {
-        button(d, lay::STOP, t!("RESUME"), &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight())
+        button(d, lay.stop(), t!("RESUME"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN).tight())
     }
 }
 
-fn draw_headline<D: Canvas>(d: &mut D, h: Headline) -> Result<(), D::Error> {
-    text_box(d, lay::HEADLINE, &h.text(), &TextStyle::opaque(2, h.color(), theme::BG))
+fn draw_headline<D: Canvas>(d: &mut D, lay: &Layout, h: Headline) -> Result<(), D::Error> {
+    text_box(d, lay.headline(), &h.text(), &head_style(lay, h.color()))
 }
 
-fn draw_detail<D: Canvas>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
+fn draw_detail<D: Canvas>(d: &mut D, lay: &Layout, detail: &Detail) -> Result<(), D::Error> {
+    let a = lay.detail();
     match *detail {
-        Detail::Hint(s) => text_box(d, lay::DETAIL, &s, &HEAD_STYLE),
+        Detail::Hint(s) => text_box(d, a, &s, &head_style(lay, theme::TEXT)),
         Detail::Progress { px, percent } => {
-            let left = Area::new(lay::DETAIL.x, lay::DETAIL.y, (lay::BAR_TEXT.x - lay::DETAIL.x) as u16, lay::DETAIL.h);
-            let right = Area::new(
-                lay::BAR_TEXT.x,
-                lay::DETAIL.y,
-                (lay::DETAIL.right() - lay::BAR_TEXT.x) as u16,
-                lay::DETAIL.h,
-            );
-            fill_around(d, left, lay::BAR, theme::BG)?;
-            fill_around(d, right, lay::BAR_TEXT, theme::BG)?;
-            frame(d, lay::BAR, 1, theme::FRAME)?;
-            let f = lay::BAR_FILL;
+            let (bar, bar_text) = (lay.bar(), lay.bar_text());
+            let left = Area::new(a.x, a.y, (bar_text.x - a.x) as u16, a.h);
+            let right = Area::new(bar_text.x, a.y, (a.right() - bar_text.x) as u16, a.h);
+            fill_around(d, left, bar, theme::BG)?;
+            fill_around(d, right, bar_text, theme::BG)?;
+            frame(d, bar, 1, theme::FRAME)?;
+            let f = lay.bar_fill();
             fill(d, Area::new(f.x, f.y, px, f.h), theme::PROGRESS)?;
             fill(d, Area::new(f.x + px as i16, f.y, f.w - px, f.h), theme::PROGRESS_BG)?;
-            draw_percent(d, percent)
+            draw_percent(d, lay, percent)
         }
     }
 }
 
 /// Repaints only the bar columns between the old and the new fill.
-fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(), D::Error> {
-    let f = lay::BAR_FILL;
+fn update_progress<D: Canvas>(d: &mut D, lay: &Layout, old_px: u16, new_px: u16) -> Result<(), D::Error> {
+    let f = lay.bar_fill();
     let (lo, hi, c) =
         if new_px >= old_px { (old_px, new_px, theme::PROGRESS) } else { (new_px, old_px, theme::PROGRESS_BG) };
     fill(d, Area::new(f.x + lo as i16, f.y, hi - lo, f.h), c)
 }
 
-fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
+fn draw_percent<D: Canvas>(d: &mut D, lay: &Layout, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
     line.i32(i32::from(percent)).bytes(b"%");
     // Right-aligned in a 4-character field so the digits do not jump.
@@ -528,40 +553,40 @@ fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
         padded.bytes(b" ");
     }
     padded.bytes(line.as_bytes());
-    text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
+    text_box(d, lay.bar_text(), padded.as_bytes(), &head_style(lay, theme::TEXT))
 }
 
-fn draw_info<D: Canvas>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
+fn draw_info<D: Canvas>(d: &mut D, lay: &Layout, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
         line.str(t!("Zone ")).i32(i32::from(z)).str(t!("  Direction ")).deg(alpha);
     }
-    text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
+    text_box(d, lay.info(), line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_warning<D: Canvas>(d: &mut D, bit: u8) -> Result<(), D::Error> {
-    text_box(d, lay::WARN, &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
+fn draw_warning<D: Canvas>(d: &mut D, lay: &Layout, bit: u8) -> Result<(), D::Error> {
+    text_box(d, lay.warn(), &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
 }
 
-fn draw_joints<D: Canvas>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
+fn draw_joints<D: Canvas>(d: &mut D, lay: &Layout, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
     line.str(t!("Base ")).deg(joints[0]);
     line.str(t!("   Shoulder ")).deg(joints[1]);
     line.str(t!("   Elbow ")).deg(joints[2]);
-    text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
+    text_box(d, lay.joints(), line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_speed<D: Canvas>(d: &mut D, speed: SpeedPreset) -> Result<(), D::Error> {
+fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {
     let items: [(Area, SpeedPreset, Text); 3] = [
-        (lay::SLOW, SpeedPreset::Slow, t!("Slow")),
-        (lay::NORMAL, SpeedPreset::Normal, t!("Normal")),
-        (lay::FAST, SpeedPreset::Fast, t!("Fast")),
+        (lay.slow(), SpeedPreset::Slow, t!("Slow")),
+        (lay.normal(), SpeedPreset::Normal, t!("Normal")),
+        (lay.fast(), SpeedPreset::Fast, t!("Fast")),
     ];
     for (a, p, label) in items {
         let style = if p == speed {
-            TextStyle::opaque(2, theme::WHITE, theme::BUTTON_ON)
+            label_style(lay, theme::WHITE, theme::BUTTON_ON)
         } else {
-            TextStyle::opaque(2, theme::TEXT, theme::BUTTON)
+            label_style(lay, theme::TEXT, theme::BUTTON)
         };
         button(d, a, label, &style)?;
     }

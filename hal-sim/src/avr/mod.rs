@@ -53,7 +53,7 @@ use simavr_ffi as ffi;
 
 pub use adc::{raw_to_millivolts, AdcConversion, AdcHandler, AdcInput, AdcMux, AdcRequest, PortsSnapshot};
 pub use pins::{Edge, Pin, PortState, Pulse};
-pub use port_hook::{PortLevels, PortListener};
+pub use port_hook::{BusDevice, PinDrive, PortLevels, PortListener};
 pub use uart::RxPacing;
 
 /// simavr's ELF loader and core constructors touch process-wide state
@@ -692,7 +692,19 @@ impl Avr {
     pub fn add_port_listener(
         &mut self,
         ports: &[char],
-        f: impl FnMut(char, u64, &PortLevels) + 'static,
+        mut f: impl FnMut(char, u64, &PortLevels) + 'static,
+    ) -> Result<(), Error> {
+        self.add_bus_device(ports, move |port, cycle, levels, _| f(port, cycle, levels))
+    }
+
+    /// [`Avr::add_port_listener`] for a device that also answers on the
+    /// wire: `f` may drive input pins through its [`PinDrive`] (a display
+    /// controller putting a byte on the data lines while RD is low); the
+    /// firmware's next instruction reads them.
+    pub fn add_bus_device(
+        &mut self,
+        ports: &[char],
+        f: impl FnMut(char, u64, &PortLevels, &mut PinDrive<'_>) + 'static,
     ) -> Result<(), Error> {
         let mut mask = 0u32;
         for &p in ports {

@@ -7,7 +7,11 @@
 //!   final_pulses_us, arrival_s}`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
-//! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes.
+//! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes,
+//!   at the panel's size.
+//!
+//! `--lcd` chooses the display controller simulated around the same ELF
+//! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot).
 //!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
@@ -18,6 +22,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use hal_sim::cli::{parse_pair, parse_raw};
 use hal_sim::firmware::{self, Session};
+use hal_sim::lcd_bus::Chip;
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
@@ -32,6 +37,9 @@ struct Args {
     /// A workspace point picked on the screen's map, in [-1,1]x[0,1] [default: 0.4,0.6]
     #[arg(long, value_name = "X,Y", value_parser = map_point, allow_hyphen_values = true)]
     xy: Option<(f64, f64)>,
+    /// The display controller on the simulated shield: ili9341, st7789, ili9486 or ili9325
+    #[arg(long, value_name = "CONTROLLER", value_parser = lcd_chip, default_value = "ili9341")]
+    lcd: Chip,
     /// A raw panel reading (ADC counts 0..=1023), wherever it lands: map, button or nothing
     #[arg(long, value_name = "X,Y", value_parser = parse_raw, conflicts_with = "xy")]
     raw: Option<(u16, u16)>,
@@ -43,12 +51,19 @@ struct Args {
     out: PathBuf,
 }
 
-/// `--xy`: the raw reading that presses the map pixel showing (x, y).
+/// `--xy`: a point of the map (the workspace [-1,1]x[0,1]).
 fn map_point(s: &str) -> Result<(f64, f64), String> {
     let (x, y) = parse_pair(s)?;
-    firmware::map_touch(x as f32, y as f32)
-        .map(|(raw, _)| raw)
-        .ok_or_else(|| format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
+    if (-1.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y) {
+        Ok((x, y))
+    } else {
+        Err(format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
+    }
+}
+
+/// `--lcd`: a supported controller by name.
+fn lcd_chip(s: &str) -> Result<Chip, String> {
+    Chip::from_name(s).ok_or_else(|| format!("unknown controller {s:?} (ili9341, st7789, ili9486 or ili9325)"))
 }
 
 fn main() -> ExitCode {
@@ -90,14 +105,19 @@ fn off_map(line: Option<&str>) -> Option<String> {
 fn run(args: Args) -> Result<(), String> {
     let elf = args.elf.unwrap_or_else(firmware::default_elf);
     let out = args.out;
+    let lay = args.lcd.layout();
+    let on_map = |(x, y): (f64, f64)| {
+        firmware::map_touch_on(&lay, x as f32, y as f32).map(|(raw, _)| raw).ok_or("point off the map")
+    };
     let raw = match (args.raw, args.xy) {
         (Some((x, y)), _) => (f64::from(x), f64::from(y)),
-        (None, Some(raw)) => raw,
-        (None, None) => firmware::map_touch(0.4, 0.6).ok_or("default point off the map")?.0,
+        (None, Some(xy)) => on_map(xy)?,
+        (None, None) => on_map((0.4, 0.6))?,
     };
 
-    let mut s = Session::start(&elf, PanelWiring::A, 1)?;
+    let mut s = Session::start_with_lcd(&elf, PanelWiring::A, args.lcd, 1)?;
     s.run_for(1.5)?;
+    s.run_until_ready(2.0)?;
     let t_touch = s.avr.time_s();
     s.press_raw(raw.0, raw.1)?;
     s.run_for(0.3)?;
@@ -108,14 +128,14 @@ fn run(args: Args) -> Result<(), String> {
     let replies = ["info touch ", "err touch ", "info screen ", "err screen "];
     let line = text.lines().find(|l| replies.iter().any(|r| l.starts_with(r))).map(str::to_string);
     // No reply is right only off the map (a guard band or gap); on it, a fault.
-    let on_map = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16).is_some();
+    let on_map = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16).is_some();
     if let Some(what) = off_map(line.as_deref()).filter(|_| line.is_some() || !on_map) {
         // Let the screen finish redrawing before it is saved.
         s.run_for(0.2)?;
         std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
         let screen = out.join("screen.png");
         s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
-        println!("{}", text.lines().next().unwrap_or(""));
+        print_boot(&text);
         println!("touch at raw ({}, {}): {what}", raw.0, raw.1);
         if let Some(line) = &line {
             println!("firmware: {line}");
@@ -137,7 +157,7 @@ fn run(args: Args) -> Result<(), String> {
     s.run_for(ts + 1.0)?;
 
     // Host f64 reference of the same chain (SPEC §2–4) for the summary.
-    let (x_p, y_p) = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16)
+    let (x_p, y_p) = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16)
         .ok_or_else(|| format!("raw ({}, {}) is not on the screen's map", raw.0, raw.1))?;
     let host = firmware::host_target(x_p, y_p)?;
     let (pose, q, target) = (host.pose, host.q, host.pulses_us);
@@ -202,7 +222,7 @@ fn run(args: Args) -> Result<(), String> {
     let screen = out.join("screen.png");
     s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
 
-    println!("{}", text.lines().next().unwrap_or(""));
+    print_boot(&text);
     println!(
         "touch at raw ({}, {}) -> map point x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg",
         raw.0,
@@ -222,6 +242,14 @@ fn run(args: Args) -> Result<(), String> {
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
     println!("wrote {}, {}, {}, {}", csv_path.display(), json_path.display(), png.display(), screen.display());
     Ok(())
+}
+
+/// The firmware's first line and what it said about the display.
+fn print_boot(text: &str) {
+    println!("{}", text.lines().next().unwrap_or(""));
+    if let Some(l) = text.lines().find(|l| l.starts_with("info lcd ") || l.starts_with("warn lcd ")) {
+        println!("{l}");
+    }
 }
 
 fn curves<'a>(names: &[&'a str; 3], data: &'a [Vec<f64>]) -> Vec<Curve<'a>> {

@@ -2,8 +2,8 @@
 //! is one line that says what is wrong, sent back with a 4xx status; nothing
 //! a client sends reaches the simulator unchecked.
 
+use super::LAYOUT;
 use serde_json::{Map, Value};
-use touch_arm::ui::layout::{SCREEN_H, SCREEN_W};
 
 /// Largest request body read, bytes.
 pub const MAX_BODY: usize = 16 * 1024;
@@ -71,8 +71,8 @@ fn required(m: &Map<String, Value>, key: &str, lo: u64, hi: u64) -> Result<u64, 
 }
 
 fn pixel(m: &Map<String, Value>) -> Result<(i16, i16), Refusal> {
-    let x = required(m, "x_px", 0, u64::from(SCREEN_W) - 1)?;
-    let y = required(m, "y_px", 0, u64::from(SCREEN_H) - 1)?;
+    let x = required(m, "x_px", 0, u64::from(LAYOUT.width()) - 1)?;
+    let y = required(m, "y_px", 0, u64::from(LAYOUT.height()) - 1)?;
     Ok((x as i16, y as i16))
 }
 

@@ -3,9 +3,9 @@
 //! the touched target by the host's f64 chain, and the region of the map
 //! the arm can reach.
 
+use super::LAYOUT;
 use touch_arm::geometry::ik::Links;
 use touch_arm::servo::map::ServoMap;
-use touch_arm::ui::layout;
 
 use crate::firmware::{self, HostTarget};
 use crate::twin::arm::effector;
@@ -57,7 +57,7 @@ pub struct Target {
 
 /// The target a press at screen pixel (x, y) picks, if the pixel is on the map.
 pub fn target_at_pixel(x: i16, y: i16) -> Option<Target> {
-    let (x_p, y_p) = layout::ws_pixel_to_point(x, y)?;
+    let (x_p, y_p) = LAYOUT.ws_pixel_to_point(x, y)?;
     let (x_p, y_p) = (f64::from(x_p), f64::from(y_p));
     let host = firmware::host_target(x_p, y_p).ok()?;
     Some(Target { px: (x, y), x_p, y_p, host, refused: None })
@@ -87,7 +87,7 @@ pub fn target_news(line: &str) -> Option<TargetNews> {
     let raw_x: u16 = words.next()?.parse().ok()?;
     let raw_y: u16 = words.next()?.parse().ok()?;
     let (x_p, y_p) = firmware::raw_to_map_point(raw_x, raw_y)?;
-    let px = layout::ws_point_to_pixel(x_p as f32, y_p as f32)?;
+    let px = LAYOUT.ws_point_to_pixel(x_p as f32, y_p as f32)?;
     let host = firmware::host_target(x_p, y_p).ok()?;
     let refused = refused.then(|| words.collect::<Vec<_>>().join(" "));
     Some(TargetNews::Touched(Target { px, x_p, y_p, host, refused }))
@@ -115,7 +115,7 @@ impl Target {
 /// Which map pixels the arm can reach: one string per map row, top row
 /// first, `1` where the host chain gives a pose within every joint's limits.
 pub fn reach_rows() -> Vec<String> {
-    let ws = layout::WS;
+    let ws = LAYOUT.ws();
     (ws.y..ws.bottom())
         .map(|y| {
             (ws.x..ws.right())
@@ -127,12 +127,12 @@ pub fn reach_rows() -> Vec<String> {
 
 /// What the page needs to draw the views, sent once.
 pub fn geometry_json() -> serde_json::Value {
-    let ws = layout::WS;
+    let ws = LAYOUT.ws();
     serde_json::json!({
         "l2": L2,
         "l3": L3,
-        "screen": [layout::SCREEN_W, layout::SCREEN_H],
-        "map": { "x": ws.x, "y": ws.y, "w": ws.w, "h": ws.h, "scale": layout::WS_SCALE, "origin_x": layout::WS_ORIGIN_X },
+        "screen": [LAYOUT.width(), LAYOUT.height()],
+        "map": { "x": ws.x, "y": ws.y, "w": ws.w, "h": ws.h, "scale": LAYOUT.scale(), "origin_x": LAYOUT.ws_origin_x() },
         "reach_rows": reach_rows(),
     })
 }
@@ -156,7 +156,7 @@ mod tests {
 
     #[test]
     fn a_map_pixel_targets_its_centre_through_the_host_chain() {
-        let (x, y) = layout::ws_point_to_pixel(0.4, 0.6).unwrap();
+        let (x, y) = LAYOUT.ws_point_to_pixel(0.4, 0.6).unwrap();
         let t = target_at_pixel(x, y).unwrap();
         let h = firmware::host_target(t.x_p, t.y_p).unwrap();
         assert_eq!(t.host, h);

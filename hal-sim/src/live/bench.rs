@@ -14,9 +14,9 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvErr
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::LAYOUT;
 use serde_json::{json, Value};
 use touch_arm::servo::map::ServoMap;
-use touch_arm::ui::layout;
 
 use super::api::{Control, Press};
 use super::arm::{self, Target};
@@ -361,7 +361,7 @@ impl Bench {
     /// true response (`SimPanel::touch_xy` on panel coordinates), so the
     /// firmware's own driver reads it through the ADC, noise included.
     fn press(&mut self, p: Press) -> Result<Value, String> {
-        let (panel_x, panel_y) = layout::pixel_center_to_panel(p.x_px, p.y_px);
+        let (panel_x, panel_y) = LAYOUT.pixel_center_to_panel(p.x_px, p.y_px);
         self.session.press_xy(f64::from(panel_x), f64::from(panel_y))?;
         let hold_s = p.ms.map_or(MAX_HOLD_S, |ms| ms as f64 / 1000.0);
         let until = self.cycles() + Self::s_to_cycles(hold_s);

@@ -38,6 +38,10 @@ use std::thread::JoinHandle;
 
 pub use report::pacing_report;
 
+/// The screen the bench simulates: the default shield's ILI9341, 320×240 in
+/// landscape, laid out as the firmware lays it out.
+pub const LAYOUT: touch_arm::ui::layout::Layout = touch_arm::ui::layout::Layout::QVGA;
+
 /// How to start a bench.
 #[derive(Debug, Clone)]
 pub struct Options {
