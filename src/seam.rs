@@ -1,13 +1,43 @@
 //! The seam between the pure app and the hardware: small traits implemented by
 //! the AVR board layer (`board`, on the chip) and by `hal-sim` (the host twin).
 //! Everything above these traits is pure and tested on the host.
+//!
+//! # Failure convention
+//!
+//! One rule for every trait here, decided by what the device can do:
+//!
+//! - **A device that can fail returns `Result<_, E>`**, and `E` says what
+//!   failed ([`TouchError`]: a conversion of the ADC never finished;
+//!   [`StorageError`]: an access past the end, or the EEPROM stuck). A failed
+//!   call hands back no partial data as if it were good; the caller decides
+//!   what the fault means (the app counts a failed panel read as a miss and
+//!   reports a save it could not write).
+//! - **A device that cannot fail returns plainly**: the Timer5 compare
+//!   registers ([`ServoOutputs`]), the millisecond counter ([`Clock`]) and the
+//!   USART transmitter ([`SerialPort::write`]) accept every call. A `Result`
+//!   that is always `Ok` would cost code on the chip and teach callers to
+//!   ignore errors.
+//! - **Nothing there yet is not a failure**: `Option` ([`SerialPort::read_byte`]
+//!   when no byte has arrived).
+//!
+//! This is the convention of the embedded-hal family (`embedded_storage` and
+//! `embedded_io` return `Result` with an error type that names the fault), so a
+//! trait here can be replaced by theirs without changing how callers handle
+//! faults. An implementation that could lose data (a full transmit buffer)
+//! must either wait for room or report it through its return value: nothing
+//! is dropped silently.
+
+pub mod pins;
 
 /// One sample of the panel: X and Y positions and the pressure measure
 /// (see [`crate::touch::filter::pressure`]), all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawSample {
+    /// Voltage on the Y plate with the X plate driven, ADC counts 0..=1023.
     pub x: u16,
+    /// Voltage on the X plate with the Y plate driven, ADC counts 0..=1023.
     pub y: u16,
+    /// Pressure measure, 0..=2046, ≈ 0 untouched.
     pub z: u16,
 }
 
@@ -15,9 +45,17 @@ pub struct RawSample {
 /// pins, lets the voltage settle, samples, and hands every pin it shares with
 /// the LCD back exactly as it found it before returning.
 pub trait TouchPanel {
-    /// Fills `out` with consecutive raw readings (x, y, pressure) and returns how
-    /// many it filled (fewer on a hardware fault).
-    fn read(&mut self, out: &mut [RawSample]) -> usize;
+    /// Fills every slot of `out` with consecutive raw readings (x, y,
+    /// pressure), or fails; after a failure the contents of `out` are
+    /// unspecified.
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError>;
+}
+
+/// Why a panel read failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TouchError {
+    /// An ADC conversion did not finish (the converter is stuck or disabled).
+    Adc,
 }
 
 /// The three servo signal outputs (base, shoulder, elbow).
@@ -32,6 +70,8 @@ pub trait ServoOutputs {
 
 /// A monotonic millisecond clock.
 pub trait Clock {
+    /// Milliseconds since start; wraps after 49.7 days, so compare with
+    /// `wrapping_sub`.
     fn now_ms(&self) -> u32;
 }
 
@@ -80,12 +120,17 @@ pub struct RxLoss {
     pub after_cr: bool,
 }
 
-/// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).
-pub trait Storage {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError>;
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError>;
-}
+/// Byte-addressed non-volatile memory (the AVR EEPROM, the twin's, a test
+/// double): embedded-storage's [`ReadStorage`](embedded_storage::ReadStorage) and [`Storage`](embedded_storage::Storage)
+/// (reads and writes of any length at a byte offset; `write` erases as
+/// needed) whose error is [`StorageError`]. Implement those two traits; this
+/// one then holds by itself, so any embedded-storage driver with this error
+/// plugs into the configuration store and the app.
+pub trait Storage: embedded_storage::Storage<Error = StorageError> {}
 
+impl<T: embedded_storage::Storage<Error = StorageError> + ?Sized> Storage for T {}
+
+/// Why a storage access failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StorageError {
     /// The access would run past the end of the memory.

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use touch_arm::geometry::ik::{fk2, ik2, ik3, Branch, IkError, Links};
+use touch_arm::geometry::ik::{base_angle, fk2, ik2, ik3, Branch, IkError, Links};
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
@@ -13,6 +13,7 @@ use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, Zat
 use touch_arm::motion::{Sample, TrajError};
 use touch_arm::touch::map::Calibration;
 
+use crate::cli::{parse_pair, parse_raw};
 use crate::plot::{self, Curve, Panel};
 use crate::report::{csv_row, Json};
 
@@ -31,13 +32,29 @@ pub struct Cli {
 pub enum Cmd {
     /// Map a touch to the normalized workspace: JSON {x_p, y_p, clamped, condition, alpha_deg}
     Map(MapArgs),
-    /// 2-link inverse kinematics (3-DoF with --z): JSON {reachable, q2, q3} or {reachable, th1, th2, th3}
+    /// 2-link inverse kinematics (3-DoF with --z): JSON {reachable, singular, q2, q3} or {reachable, singular, th1, th2, th3}
+    ///
+    /// Edge conventions: at the shoulder itself with l2 = l3 the arm is reachable but folded
+    /// (q3 = π, −π on the minus branch) and q2 is undefined: `reachable: true, singular: true,
+    /// q2: null`. A point out of reach has `reachable: false` and null joint angles, except θ1
+    /// of the 3-DoF form, which is defined anyway (0 straight above the base).
     Ik(IkArgs),
-    /// Touch → condition, α, transform, IK: JSON {x_p, y_p, condition, alpha_deg, reach, height, reachable, q2, q3, s2, s3, sa}
+    /// Touch → condition, α, transform, IK: JSON {x_p, y_p, condition, alpha_deg, reach, height, reachable, singular, q2, q3, s2, s3, sa}
+    ///
+    /// Out of reach: `reachable: false`, null q and s. At the shoulder with l2 = l3 (the bottom
+    /// centre): `reachable: true, singular: true`, q3 = ±π, q2 and s2 null.
     Plan(PlanArgs),
-    /// ζ-a-tₛ trajectory: CSV t,s,v,acc,jerk; --info: JSON {zeta, u_min, admissible, a_smooth_stop, end_velocity, monotone}
+    /// ζ-a-tₛ trajectory: CSV t,s,v,acc,jerk; --info: JSON {zeta, zeta_infinite, u_min, admissible, a_smooth_stop, end_velocity, monotone}
+    ///
+    /// ζ = tₛ − log_n(|S_f − q0|·(n^tₛ − n^a)) is infinite for S_f = q0 (no motion): then
+    /// `"zeta": null, "zeta_infinite": true`. A null ζ with `zeta_infinite: false` means ζ is
+    /// undefined (a ≥ tₛ). CSV cells of non-finite values are empty.
     Traj(TrajArgs),
-    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_v, condition, converges, velocity_jump, acceleration_jump}; --t/--samples: CSV t,s,v,acc,jerk
+    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_infinite, zeta_v, zeta_v_infinite, condition, converges, velocity_jump, acceleration_jump}; --t/--samples: CSV t,s,v,acc,jerk
+    ///
+    /// ζ (S_v → S_f) is infinite when S_v = S_f, ζ_v (q0 → S_v) when S_v = q0: the value is then
+    /// null and its `_infinite` flag true (likewise `zeta_iter`/`zeta_v_iter` with --iterate).
+    /// CSV cells of non-finite values are empty.
     Via(ViaArgs),
     /// Classic motion law: CSV t,s,v,acc
     Law(LawArgs),
@@ -45,9 +62,13 @@ pub enum Cmd {
     Plot(PlotArgs),
 }
 
+// Every argument struct allows values with a leading hyphen: clap's
+// `allow_negative_numbers` misses a negative exponent (`-5e-8` would be an
+// unknown flag), and every number armsim prints must be valid input.
+
 /// Where to evaluate: explicit times or K evenly spaced samples over the motion.
 #[derive(Args, Debug, Clone)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct Times {
     /// Comma-separated times "t1,t2,..." [s]
     #[arg(long, value_name = "T1,T2,...", value_parser = parse_times, allow_hyphen_values = true)]
@@ -58,7 +79,7 @@ pub struct Times {
 }
 
 #[derive(Args, Debug, Clone)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct ZatArgs {
     /// Start value q0
     #[arg(long)]
@@ -78,7 +99,7 @@ pub struct ZatArgs {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct TrajArgs {
     #[command(flatten)]
     pub p: ZatArgs,
@@ -90,7 +111,7 @@ pub struct TrajArgs {
 }
 
 #[derive(Args, Debug, Clone)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct ViaCore {
     /// The main segment q0 → S_f over tₛ (its shape a and base n).
     #[command(flatten)]
@@ -110,13 +131,13 @@ pub struct ViaCore {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct ViaArgs {
     #[command(flatten)]
     pub p: ViaCore,
     #[command(flatten)]
     pub times: Times,
-    /// Also run the paper's feedback iteration to this tolerance
+    /// Also run the paper's feedback iteration to this tolerance: adds {iterations, s_v_iter, zeta_iter, zeta_iter_infinite, zeta_v_iter, zeta_v_iter_infinite} (null when it diverges, r ≥ 1)
     #[arg(long, value_name = "TOL", conflicts_with_all = ["t", "samples"])]
     pub iterate: Option<f64>,
 }
@@ -141,7 +162,7 @@ impl From<LawKindArg> for Law {
 }
 
 #[derive(Args, Debug, Clone)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct LawCore {
     /// The motion law
     #[arg(long, value_enum)]
@@ -161,7 +182,7 @@ pub struct LawCore {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct LawArgs {
     #[command(flatten)]
     pub p: LawCore,
@@ -186,7 +207,7 @@ pub enum PlotWhat {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct PlotOut {
     /// Output file, .png or .svg
     #[arg(long, value_name = "FILE")]
@@ -197,7 +218,7 @@ pub struct PlotOut {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct PlotTraj {
     #[command(flatten)]
     pub p: ZatArgs,
@@ -206,7 +227,7 @@ pub struct PlotTraj {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct PlotVia {
     #[command(flatten)]
     pub p: ViaCore,
@@ -215,7 +236,7 @@ pub struct PlotVia {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct PlotLaw {
     #[command(flatten)]
     pub p: LawCore,
@@ -273,7 +294,7 @@ pub struct LinkArgs {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct IkArgs {
     /// Target x (planar reach, or x_e with --z)
     #[arg(long)]
@@ -289,7 +310,7 @@ pub struct IkArgs {
 }
 
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
+#[command(allow_hyphen_values = true)]
 pub struct PlanArgs {
     #[command(flatten)]
     pub touch: TouchArg,
@@ -298,25 +319,6 @@ pub struct PlanArgs {
     pub k: f64,
     #[command(flatten)]
     pub links: LinkArgs,
-}
-
-fn parse_pair(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;
-    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("not a number: {v:?}"));
-    let (a, b) = (p(a)?, p(b)?);
-    if !(a.is_finite() && b.is_finite()) {
-        return Err("coordinates must be finite".into());
-    }
-    Ok((a, b))
-}
-
-fn parse_raw(s: &str) -> Result<(u16, u16), String> {
-    let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;
-    let p = |v: &str| match v.trim().parse::<u16>() {
-        Ok(n) if n <= 1023 => Ok(n),
-        _ => Err(format!("raw ADC value must be an integer 0..=1023, got {v:?}")),
-    };
-    Ok((p(a)?, p(b)?))
 }
 
 /// An explicit list of evaluation times (one clap value, not many).
@@ -355,11 +357,31 @@ fn links(a: &LinkArgs) -> Result<Links<f64>, String> {
         .map_err(|e| format!("link lengths l2={}, l3={}: {e:?} (must be positive and finite)", a.l2, a.l3))
 }
 
-fn ik_error(e: &IkError<f64>) -> Option<String> {
-    match e {
-        IkError::Unreachable { .. } | IkError::Singular => None,
-        IkError::NotFinite => Some("target coordinates must be finite".into()),
-    }
+/// An IK outcome as the reports give it.
+struct IkReport {
+    reachable: bool,
+    /// The target is the shoulder with l2 = l3: the elbow folds (c = −1, so
+    /// q3 = ±acos c = ±π by the branch) and every shoulder angle is a
+    /// solution, so there is none to report.
+    singular: bool,
+    shoulder: Option<f64>,
+    elbow: Option<f64>,
+}
+
+/// The report of an IK outcome, or the message for input that is no target.
+fn ik_report(r: Result<(f64, f64), IkError<f64>>, branch: Branch) -> Result<IkReport, String> {
+    Ok(match r {
+        Ok((q2, q3)) => IkReport { reachable: true, singular: false, shoulder: Some(q2), elbow: Some(q3) },
+        Err(IkError::Singular) => {
+            let folded = match branch {
+                Branch::Plus => std::f64::consts::PI,
+                Branch::Minus => -std::f64::consts::PI,
+            };
+            IkReport { reachable: true, singular: true, shoulder: None, elbow: Some(folded) }
+        }
+        Err(IkError::Unreachable { .. }) => IkReport { reachable: false, singular: false, shoulder: None, elbow: None },
+        Err(IkError::NotFinite) => return Err("target coordinates must be finite".into()),
+    })
 }
 
 /// Runs one command and returns what it prints.
@@ -393,37 +415,32 @@ fn cmd_ik(a: &IkArgs) -> Result<String, String> {
     let l = links(&a.links)?;
     let branch = a.links.branch.into();
     if let Some(z) = a.z {
-        let j = match ik3(&l, a.x, a.y, z, branch) {
-            Ok(q) => Json::new().set("reachable", true).set("th1", q.th1).set("th2", q.th2).set("th3", q.th3),
-            Err(e) => {
-                if let Some(msg) = ik_error(&e) {
-                    return Err(msg);
-                }
-                Json::new()
-                    .set("reachable", false)
-                    .set("th1", None::<f64>)
-                    .set("th2", None::<f64>)
-                    .set("th3", None::<f64>)
-            }
-        };
-        return Ok(j.render() + "\n");
+        let r = ik_report(ik3(&l, a.x, a.y, z, branch).map(|q| (q.th2, q.th3)), branch)?;
+        return Ok(Json::new()
+            .set("reachable", r.reachable)
+            .set("singular", r.singular)
+            // The direction of (x_e, y_e), reachable or not.
+            .set("th1", base_angle(a.x, a.y))
+            .set("th2", r.shoulder)
+            .set("th3", r.elbow)
+            .render()
+            + "\n");
     }
-    let j = match ik2(&l, a.x, a.y, branch) {
-        Ok(q) => {
-            debug_assert!({
-                let (x, y) = fk2(&l, q.q2, q.q3);
-                (x - a.x).abs() + (y - a.y).abs() < 1e-9 * (a.links.l2 + a.links.l3)
-            });
-            Json::new().set("reachable", true).set("q2", q.q2).set("q3", q.q3)
-        }
-        Err(e) => {
-            if let Some(msg) = ik_error(&e) {
-                return Err(msg);
-            }
-            Json::new().set("reachable", false).set("q2", None::<f64>).set("q3", None::<f64>)
-        }
-    };
-    Ok(j.render() + "\n")
+    let q = ik2(&l, a.x, a.y, branch).map(|q| {
+        debug_assert!({
+            let (x, y) = fk2(&l, q.q2, q.q3);
+            (x - a.x).abs() + (y - a.y).abs() < 1e-9 * (a.links.l2 + a.links.l3)
+        });
+        (q.q2, q.q3)
+    });
+    let r = ik_report(q, branch)?;
+    Ok(Json::new()
+        .set("reachable", r.reachable)
+        .set("singular", r.singular)
+        .set("q2", r.shoulder)
+        .set("q3", r.elbow)
+        .render()
+        + "\n")
 }
 
 fn cmd_plan(a: &PlanArgs) -> Result<String, String> {
@@ -431,39 +448,34 @@ fn cmd_plan(a: &PlanArgs) -> Result<String, String> {
     if !(a.k.is_finite() && a.k > 0.0) {
         return Err(format!("--k must be positive and finite, got {}", a.k));
     }
-    let geo = ArmGeometry { k: a.k, links: links(&a.links)?, branch: a.links.branch.into() };
+    let branch = a.links.branch.into();
+    let geo = ArmGeometry { k: a.k, links: links(&a.links)?, branch };
     let p = WorkspacePoint::new(t.x_p, t.y_p)
         .map_err(|e| format!("point ({}, {}) is outside the workspace [-1,1]x[0,1]: {e:?}", t.x_p, t.y_p))?;
     let target = p.target(a.k).map_err(|e| format!("{e:?}"))?;
-    let j = Json::new()
+    let (q, alpha_deg) = match pose_for_point(&geo, t.x_p, t.y_p) {
+        Ok(pose) => (Ok((pose.q2, pose.q3)), pose.alpha.to_degrees()),
+        Err(PoseError::Ik(e)) => (Err(e), target.alpha_deg()),
+        Err(PoseError::Workspace(e)) => return Err(format!("{e:?}")),
+    };
+    let r = ik_report(q, branch)?;
+    let pi = std::f64::consts::PI;
+    Ok(Json::new()
         .set("x_p", t.x_p)
         .set("y_p", t.y_p)
         .set("condition", target.condition.number())
         .set("alpha_deg", target.alpha_deg())
         .set("reach", target.reach)
-        .set("height", target.height);
-    let j = match pose_for_point(&geo, t.x_p, t.y_p) {
-        Ok(pose) => j
-            .set("reachable", true)
-            .set("q2", pose.q2)
-            .set("q3", pose.q3)
-            .set("s2", pose.q2 / std::f64::consts::PI)
-            .set("s3", pose.q3 / std::f64::consts::PI)
-            .set("sa", pose.alpha.to_degrees() / 180.0),
-        Err(PoseError::Ik(e)) => {
-            if let Some(msg) = ik_error(&e) {
-                return Err(msg);
-            }
-            j.set("reachable", false)
-                .set("q2", None::<f64>)
-                .set("q3", None::<f64>)
-                .set("s2", None::<f64>)
-                .set("s3", None::<f64>)
-                .set("sa", target.alpha_deg() / 180.0)
-        }
-        Err(PoseError::Workspace(e)) => return Err(format!("{e:?}")),
-    };
-    Ok(j.render() + "\n")
+        .set("height", target.height)
+        .set("reachable", r.reachable)
+        .set("singular", r.singular)
+        .set("q2", r.shoulder)
+        .set("q3", r.elbow)
+        .set("s2", r.shoulder.map(|q| q / pi))
+        .set("s3", r.elbow.map(|q| q / pi))
+        .set("sa", alpha_deg / 180.0)
+        .render()
+        + "\n")
 }
 
 /// The one-line reason for a rejected trajectory.
@@ -531,16 +543,18 @@ fn cmd_traj(a: &TrajArgs) -> Result<String, String> {
                 return Err(format!("{name} must be finite"));
             }
         }
-        if !(p.ts > 0.0) {
+        if p.ts <= 0.0 {
             return Err(format!("--ts must be > 0, got {}", p.ts));
         }
-        if !(p.n > 1.0) {
+        if p.n <= 1.0 {
             return Err(format!("--n must be > 1, got {}", p.n));
         }
         let shape = Shape::new(&p.shape());
         let plan = ZatPlan::new(&p).ok();
         return Ok(Json::new()
             .set("zeta", zeta(&p))
+            // ζ → ∞ as |Δ| → 0 (ln of a vanishing product); for a ≥ tₛ it is undefined.
+            .set("zeta_infinite", p.sf == p.q0 && p.a < p.ts)
             .set("u_min", u_min(p.ts))
             .set("admissible", shape.is_ok())
             .set("a_smooth_stop", smooth_stop_a(p.ts, p.n))
@@ -564,8 +578,11 @@ fn cmd_via(a: &ViaArgs) -> Result<String, String> {
     let mut j = Json::new()
         .set("r", r)
         .set("s_v", plan.sv())
+        // Each ζ is infinite for its term's zero displacement (see `armsim via --help`).
         .set("zeta", plan.zeta())
+        .set("zeta_infinite", plan.sv() == a.p.main.sf)
         .set("zeta_v", plan.zeta_v())
+        .set("zeta_v_infinite", plan.sv() == a.p.main.q0)
         .set("condition", plan.condition().number())
         .set("converges", r < 1.0)
         .set("velocity_jump", plan.velocity_jump())
@@ -580,7 +597,9 @@ fn cmd_via(a: &ViaArgs) -> Result<String, String> {
                     .set("iterations", it.iterations)
                     .set("s_v_iter", it.sv)
                     .set("zeta_iter", it.zeta)
-                    .set("zeta_v_iter", it.zeta_v);
+                    .set("zeta_iter_infinite", it.sv == a.p.main.sf)
+                    .set("zeta_v_iter", it.zeta_v)
+                    .set("zeta_v_iter_infinite", it.sv == a.p.main.q0);
             }
             // The JSON already says `converges: false`; the closed form above
             // is still the answer.
@@ -589,7 +608,9 @@ fn cmd_via(a: &ViaArgs) -> Result<String, String> {
                     .set("iterations", None::<f64>)
                     .set("s_v_iter", None::<f64>)
                     .set("zeta_iter", None::<f64>)
-                    .set("zeta_v_iter", None::<f64>);
+                    .set("zeta_iter_infinite", None::<bool>)
+                    .set("zeta_v_iter", None::<f64>)
+                    .set("zeta_v_iter_infinite", None::<bool>);
             }
             Err(e) => return Err(format!("paper iteration: {}", traj_err(&e))),
         }

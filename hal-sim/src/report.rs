@@ -1,34 +1,51 @@
-//! Machine-readable output for `armsim`: flat JSON objects and CSV rows, every
-//! number with 17 significant digits (lossless for f64), non-finite as `null`.
+//! Machine-readable output for `armsim` (and the main job's summary): flat JSON
+//! objects and CSV rows. Every number is printed losslessly (it reads back as
+//! the same f64) with at least 15 significant digits; a non-finite value is
+//! `null` in JSON and an empty cell in CSV.
 
 use std::fmt::Write;
 
-/// `v` with at least 15 significant digits and exactly enough to round-trip:
-/// the shortest representation that reads back as the same f64 (16 or 17
-/// digits where needed), padded to 15. Fixed notation for ordinary
-/// magnitudes, scientific outside [1e-4, 1e15).
-pub fn num(v: f64) -> String {
-    if !v.is_finite() {
-        return "null".into();
-    }
+/// Fewest significant digits printed (DBL_DIG: any 15-digit decimal survives
+/// a round trip through f64, so the padding never changes the value).
+const MIN_DIGITS: usize = 15;
+
+/// A finite `v` as a JSON/CSV number: the shortest decimal that reads back as
+/// the same f64 (Rust's `{:e}` Display), padded with zeros to 15 significant
+/// digits. The digits are never rounded again: re-rounding the exact binary
+/// value to the shortest form's length can land on the other neighbour near
+/// a power of two (2⁻²⁴ would print as 5.960464477539062e-8, another double).
+/// Fixed notation for magnitudes in [1e-4, 1e15), scientific outside.
+fn finite_num(v: f64) -> String {
+    debug_assert!(v.is_finite());
     if v == 0.0 {
         return if v.is_sign_negative() { "-0.0".into() } else { "0.0".into() };
     }
-    // Digits of the shortest round-trip form ("1.2345e-7" → 5).
+    // "-5.960464477539063e-8": sign, one digit, the rest, decimal exponent.
     let shortest = format!("{v:e}");
-    let mantissa = shortest.trim_start_matches('-').split('e').next().unwrap_or("");
-    let digits = mantissa.chars().filter(char::is_ascii_digit).count();
-    // ≤ 15 digits always round-trip (DBL_DIG), so rounding to 15 pads with zeros.
-    let sig = digits.max(15);
-    let p = sig - 1;
-    let sci = format!("{v:.p$e}");
-    // The exponent after rounding to `sig` digits (9.99…e-1 may become 1e0).
-    let exp: i32 = sci.rsplit('e').next().and_then(|e| e.parse().ok()).unwrap_or(0);
-    if (-4..15).contains(&exp) {
-        let decimals = (sig as i32 - 1 - exp).max(1) as usize;
-        format!("{v:.decimals$}")
+    let (mantissa, exp) = shortest.split_once('e').unwrap_or((&shortest, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let sign = if v < 0.0 { "-" } else { "" };
+    let mut digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    while digits.len() < MIN_DIGITS {
+        digits.push('0');
+    }
+    if !(-4..15).contains(&exp) {
+        return format!("{sign}{}.{}e{exp}", &digits[..1], &digits[1..]);
+    }
+    if exp < 0 {
+        let zeros = "0".repeat((-exp - 1) as usize);
+        return format!("{sign}0.{zeros}{digits}");
+    }
+    let (int, frac) = digits.split_at(exp as usize + 1);
+    format!("{sign}{int}.{}", if frac.is_empty() { "0" } else { frac })
+}
+
+/// `v` as a JSON number ([`finite_num`]), `null` when not finite.
+pub fn num(v: f64) -> String {
+    if v.is_finite() {
+        finite_num(v)
     } else {
-        sci
+        "null".into()
     }
 }
 
@@ -126,7 +143,8 @@ impl Json {
     }
 }
 
-/// A CSV row of numbers.
+/// A CSV row of numbers; a non-finite value is an empty cell (what
+/// spreadsheets, pandas and R read as missing).
 pub fn csv_row(values: &[f64]) -> String {
-    values.iter().map(|v| num(*v)).collect::<Vec<_>>().join(",")
+    values.iter().map(|&v| if v.is_finite() { finite_num(v) } else { String::new() }).collect::<Vec<_>>().join(",")
 }

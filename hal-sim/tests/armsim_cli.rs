@@ -4,6 +4,7 @@
 use std::f64::consts::PI;
 use std::process::Command;
 
+use reference::zat::Zat;
 use serde_json::Value;
 
 fn armsim(args: &[&str]) -> (i32, String, String) {
@@ -102,9 +103,31 @@ fn ik_matches_forward_kinematics_for_both_branches() {
 fn ik_known_values_and_unreachable() {
     let v = json(&["ik", "--x", "1", "--y", "1"]);
     assert!(f(&v, "q2").abs() < 1e-15 && (f(&v, "q3") - PI / 2.0).abs() < 1e-15);
+    assert_eq!(v["singular"], false);
     let v = json(&["ik", "--x", "2.5", "--y", "0"]);
-    assert_eq!(v["reachable"], false);
-    assert!(v["q2"].is_null());
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
+    assert!(v["q2"].is_null() && v["q3"].is_null());
+}
+
+#[test]
+fn ik_at_the_shoulder_is_folded_with_no_shoulder_angle() {
+    // l2 = l3: the hand reaches the shoulder with the elbow folded (c = −1),
+    // and every q2 puts it there.
+    for (branch, q3) in [("plus", PI), ("minus", -PI)] {
+        let v = json(&["ik", "--x", "0", "--y", "0", "--l2", "0.7", "--l3", "0.7", "--branch", branch]);
+        assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(true)), "{v}");
+        assert!(v["q2"].is_null(), "{v}");
+        assert_eq!(f(&v, "q3"), q3);
+    }
+    // l2 ≠ l3: the shoulder lies in the annulus's hole.
+    let v = json(&["ik", "--x", "0", "--y", "0", "--l2", "1", "--l3", "0.5"]);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
+    assert!(v["q3"].is_null());
+    // 3-DoF: straight above the base θ1 is free (0 by convention).
+    let v = json(&["ik", "--x", "0", "--y", "0", "--z", "0"]);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(true)));
+    assert_eq!((f(&v, "th1"), f(&v, "th3")), (0.0, PI));
+    assert!(v["th2"].is_null());
 }
 
 #[test]
@@ -117,6 +140,13 @@ fn ik_three_dof_form() {
     let r = th2.cos() + (th2 + th3).cos();
     let z = th2.sin() + (th2 + th3).sin();
     assert!((r - (xe * xe + ye * ye).sqrt()).abs() < 1e-12 && (z - ze).abs() < 1e-12);
+
+    // Out of reach, θ1 is still the direction of (x_e, y_e).
+    let v = json(&["ik", "--x", "-3", "--y", "4", "--z", "0.5"]);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
+    assert_eq!(f(&v, "th1"), 4f64.atan2(-3.0));
+    assert!((f(&v, "th1") - (PI - (4.0f64 / 3.0).atan())).abs() < 1e-15);
+    assert!(v["th2"].is_null() && v["th3"].is_null());
 }
 
 #[test]
@@ -137,12 +167,56 @@ fn plan_normalized_joint_values() {
 }
 
 #[test]
-fn plan_unreachable_and_singular_points_report_not_reachable() {
+fn plan_unreachable_and_singular_points() {
+    // The bottom centre with l2 = l3 is the shoulder: folded, no q2.
     let v = json(&["plan", "--xy", "0,0"]);
-    assert_eq!(v["reachable"], false);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(true)), "{v}");
+    assert!(v["q2"].is_null() && v["s2"].is_null(), "{v}");
+    assert_eq!((f(&v, "q3"), f(&v, "s3")), (PI, 1.0));
     let v = json(&["plan", "--xy", "1,1", "--k", "2"]);
-    assert_eq!(v["reachable"], false);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
     assert!(v["q2"].is_null() && v["s3"].is_null());
+    // With the default scale every other workspace point is reachable.
+    let v = json(&["plan", "--xy", "0.001,0"]);
+    assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(false)));
+}
+
+#[test]
+fn printed_numbers_read_back_exactly_and_are_valid_input() {
+    // 2⁻²⁴ is a tie for 16 digits: re-rounding printed 5.960464477539062e-8,
+    // another double. Negative exponents with a minus sign are valid input.
+    let p = 2f64.powi(-24);
+    let (code, out, err) = armsim(&[
+        "law",
+        "--kind",
+        "linear",
+        "--t0",
+        "-1",
+        "--tf",
+        "0",
+        "--s0",
+        "-1",
+        "--sf",
+        "0",
+        "--t",
+        &format!("{}", -p),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let cells: Vec<&str> = out.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(cells[..2], ["-5.960464477539063e-8", "-5.960464477539063e-8"], "{out}");
+    assert_eq!(cells[0].parse::<f64>().unwrap(), -p);
+    let v = json(&["map", "--xy", &format!("{:e},{p:e}", -p)]);
+    assert_eq!((f(&v, "x_p"), f(&v, "y_p")), (-p, p));
+}
+
+#[test]
+fn csv_cells_of_non_finite_values_are_empty() {
+    // A quintic over 1e-200 s moving 1e200: v and acc overflow.
+    let (code, out, err) = armsim(&[
+        "law", "--kind", "quintic", "--t0", "0", "--tf", "1e-200", "--s0", "0", "--sf", "1e200", "--t", "5e-201",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out, "t,s,v,acc\n5.00000000000000e-201,5.00000000000000e199,,\n");
 }
 
 #[test]
@@ -164,6 +238,18 @@ fn every_subcommand_has_help() {
         assert_eq!(code, 0);
         assert!(out.contains("Usage: armsim"), "{cmd}: {out}");
     }
+    // The edge conventions are stated where the fields are.
+    for (cmd, words) in [
+        ("traj", &["zeta_infinite", "S_f = q0"][..]),
+        ("via", &["zeta_infinite", "zeta_v_infinite"]),
+        ("ik", &["singular", "folded", "θ1"]),
+        ("plan", &["singular"]),
+    ] {
+        let (_, out, _) = armsim(&[cmd, "--help"]);
+        for w in words {
+            assert!(out.contains(w), "armsim {cmd} --help should mention {w}: {out}");
+        }
+    }
 }
 
 #[test]
@@ -183,21 +269,10 @@ fn csv(args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
-/// The papers' printed form (SPEC §5), evaluated independently in f64.
+/// The papers' printed form (SPEC §5), evaluated independently in f64
+/// (`reference`).
 fn printed_zat(q0: f64, sf: f64, ts: f64, a: f64, n: f64, t: f64) -> f64 {
-    if t <= 0.0 {
-        return q0;
-    }
-    if t >= ts {
-        return sf;
-    }
-    let zeta = ts - ((sf - q0).abs() * (n.powf(ts) - n.powf(a))).ln() / n.ln();
-    let m = n.powf(t - zeta) / (n.powf(t + ts / t - 1.0) - n.powf(a)).abs();
-    if sf >= q0 {
-        q0 + m
-    } else {
-        q0 - m
-    }
+    Zat::new(ts, a, n).printed(q0, sf, t)
 }
 
 #[test]
@@ -258,6 +333,7 @@ fn traj_info_domain_smooth_stop_and_overshoot() {
     assert!((f(&v, "a_smooth_stop") - (4.0 - 2.0)).abs() < 1e-15, "a* = tₛ − log₂ tₛ");
     let zeta = 4.0 - (16f64 - 2.0).log2();
     assert!((f(&v, "zeta") - zeta).abs() < 1e-12);
+    assert_eq!(v["zeta_infinite"], false);
     // SPEC §5: S'(tₛ⁻) = Δ·L·[1 − (1 − 1/tₛ)(1 + q(tₛ))], q = 1/(n^(tₛ−a) − 1).
     let q = 1.0 / (2f64.powf(3.0) - 1.0);
     let ev = 2f64.ln() * (1.0 - (1.0 - 0.25) * (1.0 + q));
@@ -268,6 +344,16 @@ fn traj_info_domain_smooth_stop_and_overshoot() {
     let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "0.5", "--a", "0.2", "--n", "2", "--info"]);
     assert_eq!(f(&v, "u_min"), 0.5);
     assert!(v["a_smooth_stop"].is_null());
+
+    // No motion (S_f = q0): ζ = tₛ − log_n(0) is infinite.
+    let v = json(&["traj", "--q0", "0.5", "--sf", "0.5", "--ts", "4", "--a", "1", "--n", "2", "--info"]);
+    assert!(v["zeta"].is_null());
+    assert_eq!(v["zeta_infinite"], true);
+    assert_eq!(f(&v, "end_velocity"), 0.0);
+    // a ≥ tₛ: ζ is undefined, not infinite.
+    let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "3.5", "--n", "2", "--info"]);
+    assert!(v["zeta"].is_null());
+    assert_eq!(v["zeta_infinite"], false);
 
     // SPEC's example of a pole-near shape that overshoots.
     let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.45", "--n", "2", "--info"]);
@@ -311,6 +397,9 @@ fn via_closed_form_passes_through_the_via_point() {
     assert_eq!(v["converges"], true);
     assert!(v["iterations"].as_u64().unwrap() > 0);
     assert!((f(&v, "s_v_iter") - sv).abs() < 1e-9);
+    for key in ["zeta_infinite", "zeta_v_infinite", "zeta_iter_infinite", "zeta_v_iter_infinite"] {
+        assert_eq!(v[key], false, "{key}");
+    }
     assert_eq!(v["condition"], if sv < 0.0 { 3 } else { 1 });
     // The trajectory hits θ_v at t_v and ends at S_f.
     let (_, rows) = csv(&[&args[..], &["--t", "1.2,2"]].concat());
@@ -359,6 +448,21 @@ fn via_smooth_via_shape_has_no_velocity_jump() {
         &av, "--nv", "2",
     ]);
     assert!(f(&v, "velocity_jump").abs() < 1e-9, "{}", v["velocity_jump"]);
+}
+
+#[test]
+fn via_zeta_of_a_zero_term_is_infinite() {
+    // θ_v = S_f: S_v* = (S_f − r·S_f)/(1 − r) = S_f, so the main term S_v → S_f
+    // does not move and its ζ is infinite; ζ_v (0 → 1) is finite.
+    let args = "via --q0 0 --via 1 --sf 1 --tv 1.2 --ts 2 --a 1 --n 2 --av 0.8 --nv 2 --iterate 1e-12";
+    let v = json(&args.split(' ').collect::<Vec<_>>());
+    assert_eq!(f(&v, "s_v"), 1.0);
+    assert!(v["zeta"].is_null() && v["zeta_iter"].is_null(), "{v}");
+    assert_eq!((&v["zeta_infinite"], &v["zeta_iter_infinite"]), (&Value::Bool(true), &Value::Bool(true)));
+    // ζ_v = −ln(|Δ|·(1 − n_v^(a_v − t_v)))/ln n_v with Δ = 1.
+    let zeta_v = -(1.0 - 2f64.powf(0.8 - 1.2)).ln() / 2f64.ln();
+    assert!((f(&v, "zeta_v") - zeta_v).abs() < 1e-15, "{v}");
+    assert_eq!(v["zeta_v_infinite"], false);
 }
 
 #[test]

@@ -59,7 +59,7 @@ fn reset_stats(s: &mut Session) {
 
 /// Raw reading of a screen pixel's centre (default calibration).
 fn pixel_raw(x: i16, y: i16) -> (f64, f64) {
-    let (px, py) = touch_arm::ui::layout::pixel_center_to_panel(x, y);
+    let (px, py) = touch_arm::ui::Layout::QVGA.pixel_center_to_panel(x, y);
     let (rx, ry) = touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(px as f64, py as f64).unwrap();
     (rx.round(), ry.round())
 }
@@ -125,9 +125,9 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         .iter()
         .map(|&(x, y)| firmware::map_touch(x, y).unwrap().0)
         .collect();
-    let lay = touch_arm::ui::layout::SLOW;
+    let lay = touch_arm::ui::Layout::QVGA.slow();
     let (slow, normal) = (pixel_raw(lay.x + 30, lay.y + 20), {
-        let n = touch_arm::ui::layout::NORMAL;
+        let n = touch_arm::ui::Layout::QVGA.normal();
         pixel_raw(n.x + 30, n.y + 20)
     });
     let mut rng = Rng::new(3);

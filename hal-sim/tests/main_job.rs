@@ -1,9 +1,12 @@
 //! The README's main job (`touch-arm-sim`, run by scripts/run.sh): it writes
-//! what it promises, and the chip's final pulses are the host's targets.
+//! what it promises, and the chip's final pulses are the host's targets; a
+//! press off the map is what the screen makes of it, not a failure.
 
 use std::process::Command;
 
 use serde_json::Value;
+use touch_arm::ui::draw::Area;
+use touch_arm::ui::Layout;
 
 #[test]
 fn main_job_writes_pulses_summary_plots_and_screen() {
@@ -35,4 +38,64 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{png}");
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Width and height from a PNG's header (IHDR).
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+#[test]
+fn lcd_chooses_the_simulated_controller_around_the_same_elf() {
+    for (lcd, size, id) in [("ili9486", (480, 320), "0x9486"), ("ili9325", (320, 240), "0x9325")] {
+        let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-{lcd}", std::process::id()));
+        let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+            .args(["--xy", "0.4,0.6", "--lcd", lcd, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("run touch-arm-sim");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "--lcd {lcd}: {}{stdout}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains(&format!("info lcd {lcd} id {id} {}x{}", size.0, size.1)), "{stdout}");
+        // The arm went to the point picked on this screen's map.
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
+        assert!((x - 0.4).abs() < 0.01 && (y - 0.6).abs() < 0.01, "--lcd {lcd}: ({x}, {y})");
+        assert_eq!(png_size(&std::fs::read(dir.join("screen.png")).unwrap()), size, "--lcd {lcd}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+/// `--raw X,Y` for the centre of a screen region (default calibration).
+fn raw_at_centre(a: Area) -> String {
+    let (rx, ry) = hal_sim::firmware::raw_at_centre(&Layout::QVGA, a).unwrap();
+    format!("{rx},{ry}")
+}
+
+#[test]
+fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
+    let guard_below_map = Layout::QVGA.gaps()[1];
+    for (region, expect, firmware) in [
+        (Layout::QVGA.stop(), "STOP pressed: the arm holds", Some("firmware: info screen stop")),
+        (guard_below_map, "guard band or a gap: the screen ignores it and the arm holds", None),
+    ] {
+        let raw = raw_at_centre(region);
+        let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-{raw}", std::process::id()));
+        let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+            .args(["--raw", &raw, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("run touch-arm-sim");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "--raw {raw}: {}{stdout}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains(&format!("touch at raw ({}): ", raw.replace(',', ", "))), "{stdout}");
+        assert!(stdout.contains(expect), "--raw {raw}: {stdout}");
+        assert_eq!(firmware.is_some_and(|f| stdout.contains(f)), firmware.is_some(), "{stdout}");
+        // Nothing moved: the screen is the only output.
+        assert_eq!(&std::fs::read(dir.join("screen.png")).unwrap()[..4], b"\x89PNG");
+        assert!(!dir.join("summary.json").exists() && !dir.join("pulses.csv").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

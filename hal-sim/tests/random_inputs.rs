@@ -108,9 +108,9 @@ impl Run {
         let cfg = *self.sim.app.config();
         let pulses = self.sim.servos.pulses();
         if let Some(p) = pulses {
-            for j in 0..3 {
+            for (j, &pulse) in p.iter().enumerate() {
                 let (lo, hi) = window(&cfg, j);
-                let us = f64::from(p[j]);
+                let us = f64::from(pulse);
                 assert!(us >= lo && us <= hi, "{}: joint {j} pulse {us} outside [{lo}, {hi}] ({cfg:?})", ctx());
             }
             if let Some(q) = self.prev_pulses {

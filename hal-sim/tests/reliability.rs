@@ -12,6 +12,9 @@ use touch_arm::geometry::workspace::Condition;
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::planner::shape_choice::{AChoice, AKind};
 
+/// The twin's screen: the default 320×240 layout.
+const LAY: touch_arm::ui::Layout = touch_arm::ui::Layout::QVGA;
+
 /// `status` with every optional field and the widest numbers a valid
 /// configuration allows (angle limits ±360°, so commanded and target angles
 /// within ±36000 cdeg; pulses ≤ 2500 µs; tₛ ≤ ts_max = 30 s; α ≤ 180°),
@@ -146,7 +149,7 @@ fn every_line_is_read_intact_or_counted_lost() {
 /// Presses the twin's panel at a screen pixel's centre, as read through `cal`,
 /// long enough to be confirmed, then lets go.
 fn tap_pixel(sim: &mut hal_sim::twin::Sim, cal: &touch_arm::touch::map::Calibration, x: i16, y: i16) {
-    let (px, py) = touch_arm::ui::layout::pixel_center_to_panel(x, y);
+    let (px, py) = LAY.pixel_center_to_panel(x, y);
     let (rx, ry) = cal.unmap_exact::<f64>(f64::from(px), f64::from(py)).unwrap();
     sim.panel.touch_raw(rx.round(), ry.round(), 1.0).unwrap();
     sim.run_ms(300);
@@ -160,8 +163,8 @@ fn tap_pixel(sim: &mut hal_sim::twin::Sim, cal: &touch_arm::touch::map::Calibrat
 #[test]
 fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     use touch_arm::touch::map::Calibration;
-    use touch_arm::ui::calibration::{CAL_PIXELS, SAVE_AREA};
-    use touch_arm::ui::layout::CALIBRATE;
+    use touch_arm::ui::calibration::{cal_pixel, save_area};
+    let (calibrate, save) = (LAY.calibrate(), save_area(&LAY));
     let mut setup = hal_sim::twin::SimSetup::default();
     setup.params.screen = true;
     let mut sim = hal_sim::twin::Sim::new(&setup).unwrap();
@@ -170,11 +173,11 @@ fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     assert_eq!(warning(&sim), "! default settings in use");
     assert_eq!(sim.app.status().config_warning, Some(Warning::Missing));
     let cal = Calibration::DEFAULT;
-    tap_pixel(&mut sim, &cal, CALIBRATE.x + CALIBRATE.w as i16 / 2, CALIBRATE.y + CALIBRATE.h as i16 / 2);
-    for (x, y) in CAL_PIXELS {
+    tap_pixel(&mut sim, &cal, calibrate.x + calibrate.w as i16 / 2, calibrate.y + calibrate.h as i16 / 2);
+    for (x, y) in (0..5).map(|i| cal_pixel(&LAY, i).unwrap()) {
         tap_pixel(&mut sim, &cal, x, y);
     }
-    tap_pixel(&mut sim, &cal, SAVE_AREA.x + SAVE_AREA.w as i16 / 2, SAVE_AREA.y + SAVE_AREA.h as i16 / 2);
+    tap_pixel(&mut sim, &cal, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
     let lines = sim.serial.lines();
     assert!(lines.iter().any(|l| l == "info screen calibrate"), "{lines:?}");
     assert!(lines.iter().any(|l| l == "info cal touch saved seq 1"), "{lines:?}");
@@ -202,7 +205,7 @@ fn sliced_drawing_converges_on_the_unsliced_picture() {
         let (mut fa, mut fb) = (Framebuffer::landscape(), Framebuffer::landscape());
         let mut calls = 0u32;
         for k in 0..STEPS {
-            let s = screen(k);
+            let s = screen(k, &LAY);
             match &s {
                 Screen::Main(m) => whole.draw(m, &mut fa).unwrap(),
                 Screen::Calibration(f) => whole.draw_calibration(f, &mut fa).unwrap(),
@@ -236,9 +239,9 @@ fn sliced_drawing_converges_on_the_unsliced_picture() {
     // STOP while the button is being redrawn from RESUME to STOP.
     let mut ui = Ui::new(&CONFIG);
     let mut fb = Framebuffer::landscape();
-    let Screen::Main(mut m) = screen(11) else { panic!("step 11 is the stopped main screen") };
+    let Screen::Main(mut m) = screen(11, &LAY) else { panic!("step 11 is the stopped main screen") };
     ui.draw(&m, &mut fb).unwrap();
-    let (x, y) = (touch_arm::ui::layout::STOP.x + 10, touch_arm::ui::layout::STOP.y + 10);
+    let (x, y) = (LAY.stop().x + 10, LAY.stop().y + 10);
     assert_eq!(ui.hit(x, y), Some(Hit::Resume));
     m.state = UiState::Holding;
     let d = ui.draw_sliced(&m, &mut fb, &mut PixelBudget { pixels: 1000 }).unwrap();

@@ -6,12 +6,13 @@
 //! loaded before the save or the one being saved, never a mixture, and once
 //! the first copy is complete it is the new one.
 
+use embedded_storage::{ReadStorage, Storage};
 use hal_sim::twin::devices::SimEeprom;
 use hal_sim::twin::rng::Rng;
 use touch_arm::config::settings::{Config, SpeedPreset};
 use touch_arm::config::store::*;
 use touch_arm::motion::plan::LawKind;
-use touch_arm::seam::{Storage, StorageError};
+use touch_arm::seam::StorageError;
 use touch_arm::touch::map::Calibration;
 
 /// Records every byte written through it (address, value), in order.
@@ -20,16 +21,24 @@ struct Recorder<'a> {
     writes: Vec<(u16, u8)>,
 }
 
-impl Storage for Recorder<'_> {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-        self.inner.read(addr, buf)
+impl ReadStorage for Recorder<'_> {
+    type Error = StorageError;
+
+    fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError> {
+        self.inner.read(offset, buf)
     }
 
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
+    fn capacity(&self) -> usize {
+        self.inner.capacity()
+    }
+}
+
+impl Storage for Recorder<'_> {
+    fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError> {
         for (i, &b) in data.iter().enumerate() {
-            self.writes.push((addr + i as u16, b));
+            self.writes.push(((offset as usize + i) as u16, b));
         }
-        self.inner.write(addr, data)
+        self.inner.write(offset, data)
     }
 }
 

@@ -9,10 +9,10 @@ use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
+use crate::math::units::centideg_to_rad;
 use crate::motion::plan::JOINTS;
 use crate::motion::planner::plan_move::plan_move;
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
-use crate::protocol::command::centideg_to_rad;
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
 use crate::servo::map::{Joint, ServoMap};
@@ -116,8 +116,9 @@ impl App {
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
-        let got = panel.read(samples).min(n);
-        let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
+        // A failed read is a miss: the filter refuses an empty read.
+        let read: &[RawSample] = if panel.read(samples).is_ok() { samples } else { &[] };
+        let step = self.filter.update(read);
         let p = match step.event {
             // On a screen a press is a button or a map point; a drag (Moved)
             // must not turn into a second button press.

@@ -91,6 +91,7 @@ pub struct AppParams {
     pub k: f32,
     /// Upper arm and forearm lengths (arm units; k = l2 = l3 = 1 is the paper's).
     pub l2: f32,
+    /// Forearm length (arm units).
     pub l3: f32,
     /// IK elbow branch; the servo defaults assume [`ELBOW_BRANCH`].
     pub branch: Branch,
@@ -112,6 +113,8 @@ pub struct AppParams {
     pub speed_margin: f32,
     /// Frames of holding the home pose before targets are accepted.
     pub home_settle_frames: u16,
+    /// Touch filter: samples per read, pressure window, spread and the press
+    /// and release confirmations.
     pub filter: FilterConfig,
     /// Serial bytes read per frame at most (115200 baud brings ≤ 230).
     pub serial_bytes_per_frame: u8,
@@ -124,6 +127,9 @@ pub struct AppParams {
 }
 
 impl AppParams {
+    /// The paper's arm (k = l2 = l3 = 1), home at (90°, 90°, −90°), n = 2, moves
+    /// of 0.5 s (classic) or 1.2 s (ζ-a-tₛ) up to 30 s, 2 % speed reserve, 1 s
+    /// of settling at home, no screen.
     pub const DEFAULT: AppParams = AppParams {
         k: 1.0,
         l2: 1.0,
@@ -176,8 +182,10 @@ impl Default for AppParams {
     }
 }
 
+/// Why [`AppParams::geometry`] refused the parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ParamsError {
+    /// A link length is not positive and finite.
     Links(LinksError),
     /// k not positive and finite.
     Scale,
@@ -189,6 +197,7 @@ pub enum ParamsError {
     Margin,
     /// A home angle not finite.
     Home,
+    /// The touch filter configuration is inconsistent.
     Filter(FilterConfigError),
     /// The built-in default calibration does not validate (a build error).
     Defaults,
@@ -196,26 +205,38 @@ pub enum ParamsError {
 
 /// The seam handed to [`App::frame`]: one borrow of each hardware part.
 pub struct Io<'a, P, S, C, E, U> {
+    /// The touch panel, read once per frame.
     pub panel: &'a mut P,
+    /// The three servo outputs, written once per frame.
     pub servos: &'a mut S,
+    /// Milliseconds, for the serial line timeout and telemetry stamps.
     pub clock: &'a C,
+    /// The EEPROM holding the configuration record.
     pub storage: &'a mut E,
+    /// The command and reply line.
     pub serial: &'a mut U,
 }
 
 /// What the arm is doing, for `status` and the display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum State {
+    /// Before the configuration is loaded: no pulses.
     Off,
+    /// Going to and settling at the home pose; targets are refused.
     Homing,
+    /// At rest, holding the last pose; a target starts a move.
     Holding,
+    /// Following a planned move.
     Moving,
+    /// Halted by STOP where it was; only RESUME (or `resume`) moves again.
     Stopped,
 }
 
 impl State {
+    /// Every state, for tests that go through them all.
     pub const ALL: [State; 5] = [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped];
 
+    /// The word `status` prints for the state.
     pub fn name(self) -> crate::text::Text {
         match self {
             State::Off => t!("off"),
@@ -232,10 +253,13 @@ impl State {
 pub struct TouchTarget {
     /// Raw panel reading it came from.
     pub raw_x: u16,
+    /// Raw panel reading, Y (ADC counts).
     pub raw_y: u16,
     /// Normalized workspace point.
     pub x_p: f32,
+    /// Normalized workspace height, 0..=1 (`x_p` is −1..=1).
     pub y_p: f32,
+    /// The point's triangle condition (zone 1–4).
     pub condition: Condition,
     /// Base direction α, rad.
     pub alpha: f32,
@@ -244,8 +268,11 @@ pub struct TouchTarget {
 /// Read-only snapshot for a display (and for `status`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Status {
+    /// What the arm is doing.
     pub state: State,
+    /// The trajectory law new moves use.
     pub law: LawKind,
+    /// The speed preset new moves use.
     pub speed: SpeedPreset,
     /// Pose commanded in the last frame, rad (base, shoulder, elbow).
     pub commanded: [f32; JOINTS],
@@ -265,11 +292,15 @@ pub struct Status {
     pub touch_target: Option<TouchTarget>,
     /// A press is being held on the panel.
     pub touch_held: bool,
+    /// Why the last target was refused, until the next accepted one.
     pub last_refusal: Option<Refusal>,
+    /// Where the running configuration came from (EEPROM slot or defaults).
     pub config_source: Source,
+    /// What went wrong loading the configuration, if anything.
     pub config_warning: Option<Warning>,
     /// The first move after power-up is limited to the slow preset.
     pub first_move_pending: bool,
+    /// Per-frame telemetry is on (`log on`).
     pub log: bool,
 }
 
@@ -409,6 +440,7 @@ impl App {
         })
     }
 
+    /// The build-time parameters the app was made with.
     pub fn params(&self) -> &AppParams {
         &self.params
     }
@@ -418,6 +450,7 @@ impl App {
         &self.config
     }
 
+    /// What the arm is doing now.
     pub fn state(&self) -> State {
         match self.mode {
             Mode::Boot => State::Off,

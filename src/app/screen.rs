@@ -10,8 +10,8 @@ use crate::seam::SerialPort;
 use crate::seam::Storage;
 use crate::touch::filter::TouchPoint;
 use crate::ui::{
-    self, CalibrationEvent, CalibrationFlow, Canvas, DrawBudget, Drawn, Hit, Redrawn, Ui, UiConfig, UiModel, UiState,
-    Unlimited,
+    self, CalibrationEvent, CalibrationFlow, Canvas, DrawBudget, Drawn, Hit, Layout, Redrawn, Ui, UiConfig, UiModel,
+    UiState, Unlimited,
 };
 
 use super::refusal::Refusal;
@@ -119,7 +119,7 @@ impl App {
                 ScreenEvent::Calibrate(Err(Refusal::Busy))
             }
             Some(Hit::Calibrate) => {
-                self.screen.calibration = Some(CalibrationFlow::new(self.config.touch));
+                self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
                 ScreenEvent::Calibrate(Ok(()))
             }
             // Guard bands and gaps between buttons: deliberately nothing.
@@ -193,6 +193,14 @@ impl App {
             Refusal::Busy | Refusal::Homing | Refusal::Stopped => ui::Refusal::Busy,
             _ => ui::Refusal::JointLimit,
         }
+    }
+
+    /// Lays the screen out for the panel found at boot (320×240 until
+    /// then); what is on the glass is forgotten, so the next draw is full.
+    pub fn set_screen_layout(&mut self, layout: Layout) {
+        let reach = reach(self.params.l2, self.params.l3, self.params.k);
+        self.screen.ui = Ui::with_layout(&reach, layout);
+        self.screen.calibration = None;
     }
 
     /// Draws what changed since the last call (everything the first time, and

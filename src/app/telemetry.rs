@@ -1,9 +1,10 @@
 //! The app's output lines (integers only): move summaries, `status`,
 //! `cal show` and the per-frame telemetry of `log on`.
 
-use super::text::{centideg, milli, Line};
+use super::text::{milli, Line};
 use super::{App, Pending, Status};
 use crate::config::settings::{JointField, TouchField};
+use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
 use crate::seam::SerialPort;
 use crate::servo::map::Joint;
@@ -43,7 +44,7 @@ impl App {
         let mut line = Line::new();
         line.str(t!("t ")).u32(now_ms);
         for q in self.commanded.iter() {
-            line.num(centideg(*q));
+            line.num(rad_to_centideg(*q));
         }
         for us in pulses.iter() {
             line.num(i32::from(*us));
@@ -121,11 +122,11 @@ pub fn status_line(s: &Status, line: &mut Line) {
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
     line.word(t!("q"));
     for q in s.commanded.iter() {
-        line.num(centideg(*q));
+        line.num(rad_to_centideg(*q));
     }
     line.word(t!("target"));
     for q in s.target.iter() {
-        line.num(centideg(*q));
+        line.num(rad_to_centideg(*q));
     }
     line.word(t!("pulses"));
     match &s.pulses {
@@ -142,7 +143,7 @@ pub fn status_line(s: &Status, line: &mut Line) {
     line.word(t!("ts_ms")).num(milli(s.ts));
     if let Some(t) = &s.touch_target {
         line.word(t!("cond")).num(i32::from(t.condition.number()));
-        line.word(t!("alpha")).num(centideg(t.alpha));
+        line.word(t!("alpha")).num(rad_to_centideg(t.alpha));
     }
     if s.first_move_pending {
         line.word(t!("first_move_slow"));

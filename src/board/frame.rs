@@ -3,7 +3,8 @@
 //! record of every frame's length that the simulator tests and BENCHMARKS.md
 //! read ([`FRAME_STATS`]).
 
-use super::servo_pwm::{ServoPwm, TOP};
+use super::servo_pwm::ServoPwm;
+use crate::servo::map::TIMER5_TOP as TOP;
 use crate::ui::DrawBudget;
 
 /// Timer ticks (0.5 µs = 8 cycles) a drawing operation may take per pixel,
@@ -26,6 +27,7 @@ pub struct FrameBudget<'a> {
 }
 
 impl<'a> FrameBudget<'a> {
+    /// The budget of the period `pwm` is in.
     pub fn new(pwm: &'a ServoPwm) -> Self {
         FrameBudget { pwm }
     }
@@ -60,11 +62,17 @@ impl DrawBudget for FrameBudget<'_> {
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct FrameStats {
+    /// Frames since power-up.
     pub frames: u32,
+    /// Frames that set their pulses after the next period had started.
     pub late_pulses: u32,
+    /// Frames that ended after the next period had started.
     pub overruns: u32,
+    /// Latest in-time pulse write, ticks after the period start.
     pub worst_pulse_ticks: u16,
+    /// Latest end of the app's work, ticks after the period start.
     pub worst_app_ticks: u16,
+    /// Latest frame end (of the frames that did not overrun), ticks.
     pub worst_ticks: u16,
 }
 

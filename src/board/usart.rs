@@ -109,6 +109,7 @@ struct Tx {
 static RX: Mutex<Rx> = Mutex::new(Rx { ring: Ring::new(), loss: Cell::new(LossCounter::new()) });
 static TX: Mutex<Tx> = Mutex::new(Tx { ring: Ring::new(), dropped: Cell::new(0) });
 
+/// USART0, owned; the receive ring is shared with its interrupt.
 pub struct Usart0 {
     regs: USART0,
 }
@@ -252,6 +253,53 @@ impl SerialPort for Usart0 {
     }
 }
 
+impl embedded_io::ErrorType for Usart0 {
+    type Error = core::convert::Infallible;
+}
+
+/// Blocks until the first byte arrives (interrupts must be enabled: the
+/// receive interrupt fills the ring), then takes what else the ring holds.
+impl embedded_io::Read for Usart0 {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
+        let mut n = 0;
+        for slot in buf.iter_mut() {
+            *slot = match Usart0::read_byte(self) {
+                Some(b) => b,
+                None if n == 0 => loop {
+                    if let Some(b) = Usart0::read_byte(self) {
+                        break b;
+                    }
+                },
+                None => break,
+            };
+            n += 1;
+        }
+        Ok(n)
+    }
+}
+
+impl embedded_io::ReadReady for Usart0 {
+    fn read_ready(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.rx_len() > 0)
+    }
+}
+
+/// Blocking, like [`Usart0::write_byte`]; `flush` waits until the last byte
+/// has left the line.
+impl embedded_io::Write for Usart0 {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+        for &b in buf {
+            self.write_byte(b);
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        Usart0::flush(self);
+        Ok(())
+    }
+}
+
 fn receive(cs: CriticalSection<'_>) {
     // SAFETY: the ISR only reads UCSR0A and UDR0; `Usart0` never reads UDR0
     // and only reads flags in UCSR0A. The status must be read before the data
@@ -290,15 +338,23 @@ fn send(cs: CriticalSection<'_>) {
     }
 }
 
-#[avr_device::interrupt(atmega2560)]
-fn USART0_RX() {
-    // SAFETY: an interrupt handler runs with interrupts disabled (no nesting
-    // here), which is what a critical section guarantees.
-    receive(unsafe { CriticalSection::new() });
-}
+// Private: avr-device exports each handler by its vector name and wraps it
+// in a public function that no doc comment reaches; they are no API.
+mod vector {
+    use avr_device::interrupt::CriticalSection;
 
-#[avr_device::interrupt(atmega2560)]
-fn USART0_UDRE() {
-    // SAFETY: as in USART0_RX.
-    send(unsafe { CriticalSection::new() });
+    // A byte arrived: into the ring, or a loss counted.
+    #[avr_device::interrupt(atmega2560)]
+    fn USART0_RX() {
+        // SAFETY: an interrupt handler runs with interrupts disabled (no
+        // nesting here), which is what a critical section guarantees.
+        super::receive(unsafe { CriticalSection::new() });
+    }
+
+    // The data register is free: the next queued byte, if any.
+    #[avr_device::interrupt(atmega2560)]
+    fn USART0_UDRE() {
+        // SAFETY: as in USART0_RX.
+        super::send(unsafe { CriticalSection::new() });
+    }
 }

@@ -54,11 +54,16 @@ use crate::touch::map::Calibration;
 
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
+/// Bytes of one record, CRC included.
 pub const RECORD_LEN: usize = 90;
+/// EEPROM address of the first copy.
 pub const SLOT_A_ADDR: u16 = 0;
 /// Leaves room for the record to grow to 128 bytes.
 pub const SLOT_B_ADDR: u16 = 128;
+/// The record's first bytes: tells a written slot from erased or foreign
+/// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
+/// Layout version of the record; a record of another version is not read.
 pub const VERSION: u8 = 1;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
@@ -198,16 +203,20 @@ impl Reader<'_> {
 /// A decoded, valid record.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Record {
+    /// Save counter (wraps; compared with [`seq_newer`]).
     pub seq: u16,
+    /// The configuration it holds, validated.
     pub config: Config,
 }
 
+/// Why a slot holds no usable record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RecordError {
     /// No magic: never written (erased EEPROM reads 0xFF) or overwritten.
     NoMagic,
     /// Written by another layout version.
     Version(u8),
+    /// The CRC does not match: a torn or damaged write.
     Crc,
     /// CRC correct but a value is out of range (written by a buggy build).
     Invalid,
@@ -218,11 +227,15 @@ pub enum RecordError {
 /// Which copy a loaded configuration came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
+    /// The copy at [`SLOT_A_ADDR`].
     SlotA,
+    /// The copy at [`SLOT_B_ADDR`].
     SlotB,
+    /// No usable copy: the built-in defaults.
     Defaults,
 }
 
+/// What was wrong with the stored configuration at load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Warning {
     /// Neither copy was ever written: defaults in use.
@@ -236,8 +249,10 @@ pub enum Warning {
 }
 
 impl Warning {
+    /// Every warning, for tests that go through them all.
     pub const ALL: [Warning; 4] = [Warning::Missing, Warning::Corrupt, Warning::VersionMismatch, Warning::CopyDamaged];
 
+    /// The warning as the boot log and `status` state it.
     pub fn reason(self) -> crate::text::Text {
         match self {
             Warning::Missing => t!("no stored config, defaults"),
@@ -248,12 +263,16 @@ impl Warning {
     }
 }
 
+/// What [`load`] found: the configuration to run with and where it came from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Loaded {
+    /// The configuration to run with (always valid).
     pub config: Config,
+    /// Which copy it is.
     pub source: Source,
     /// Sequence number of the copy used (0 for defaults).
     pub seq: u16,
+    /// Set when a copy was missing or bad.
     pub warning: Option<Warning>,
 }
 
@@ -265,7 +284,7 @@ pub fn seq_newer(a: u16, b: u16) -> bool {
 
 fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordError> {
     let mut buf = [0u8; RECORD_LEN];
-    storage.read(addr, &mut buf).map_err(RecordError::Storage)?;
+    storage.read(u32::from(addr), &mut buf).map_err(RecordError::Storage)?;
     Config::decode(&buf)
 }
 
@@ -329,10 +348,12 @@ fn worse(a: Warning, b: Warning) -> Warning {
     }
 }
 
+/// Why [`save`] did not complete.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SaveError {
     /// The configuration is invalid and was not written.
     Invalid(ConfigError),
+    /// The storage failed a read or write.
     Storage(StorageError),
     /// A slot read back differently from what was written.
     Verify,
@@ -359,6 +380,7 @@ pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveErr
 
 /// One slot in the three steps of the module doc, then read back.
 fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN]) -> Result<(), SaveError> {
+    let addr = u32::from(addr);
     let (commit, body) = record.split_at(1);
     let mut first = [0u8];
     storage.read(addr, &mut first).map_err(SaveError::Storage)?;

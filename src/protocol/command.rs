@@ -29,7 +29,6 @@
 //! error is reported.
 
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
-use crate::math::real::Real;
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
 use crate::servo::map::Joint;
@@ -43,38 +42,61 @@ pub type SerialLine = LineBuffer<LINE_LEN>;
 /// `goto` accepts ±360.00° (joint limits are the servo layer's business).
 pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
 
+/// One parsed command line (see the module doc's grammar).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Command {
+    /// `move <raw_x> <raw_y>`: go where this raw panel reading maps.
     Move {
+        /// Raw X, ADC counts 0..=1023.
         x: u16,
+        /// Raw Y, ADC counts 0..=1023.
         y: u16,
     },
     /// Angles in hundredths of a degree, in [`Joint::index`] order.
     Goto {
+        /// Base, shoulder, elbow, each within ±[`GOTO_MAX_CENTIDEG`].
         centideg: [i32; 3],
     },
+    /// `stop`: halt where the arm is.
     Stop,
+    /// `resume`: accept moves again after a stop.
     Resume,
+    /// `status`: report state, pose, move and warnings.
     Status,
+    /// `law <name>`: the law of new moves.
     Law(LawKind),
+    /// `speed <name>`: the preset of new moves.
     Speed(SpeedPreset),
+    /// `cal show`: print every calibration field.
     CalShow,
+    /// `cal set ...`: change one calibration field (in RAM).
     CalSet(CalSet),
+    /// `cal save`: store the running configuration in the EEPROM.
     CalSave,
+    /// `cal reset`: back to the built-in defaults (in RAM).
     CalReset,
+    /// `log on|off`: per-frame telemetry.
     Log(bool),
 }
 
+/// Why a line was not a command; each has the reason the `err` reply gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CmdError {
+    /// Nothing but whitespace.
     Empty,
+    /// The first word is no command.
     UnknownCommand,
     /// An unknown keyword argument (law, speed, joint, field, on/off, cal verb).
     BadArgument,
+    /// Fewer arguments than the command takes.
     MissingArgument,
+    /// More arguments than the command takes.
     ExtraArgument,
+    /// A number that does not follow the grammar (module doc, Numbers).
     BadNumber,
+    /// A well-formed number outside its field's range.
     OutOfRange,
+    /// The line exceeded [`LINE_LEN`] bytes.
     TooLong,
     /// A byte that is not printable ASCII, space or tab.
     BadCharacter,
@@ -205,20 +227,6 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
     Ok(v)
 }
 
-/// Hundredths of a degree to radians (any `i32`, without an integer-to-float
-/// conversion wider than `u16`, which `Real` does not offer).
-pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
-    let mag = centideg.unsigned_abs();
-    let hi = R::from_u16((mag >> 16) as u16);
-    let lo = R::from_u16((mag & 0xFFFF) as u16);
-    let rad = (hi * R::lit(65_536.0) + lo) * (R::PI / R::lit(18_000.0));
-    if centideg < 0 {
-        -rad
-    } else {
-        rad
-    }
-}
-
 fn parse_joint(tok: &[u8]) -> Option<Joint> {
     Joint::ALL.iter().copied().find(|j| j.name().eq_bytes(tok))
 }
@@ -319,6 +327,7 @@ impl<const N: usize> Default for LineBuffer<N> {
 }
 
 impl<const N: usize> LineBuffer<N> {
+    /// An empty buffer.
     pub const fn new() -> Self {
         LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false, skip: false }
     }

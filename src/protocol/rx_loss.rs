@@ -33,6 +33,7 @@ pub struct LossCounter {
 }
 
 impl LossCounter {
+    /// A counter at the start of a line, with nothing lost.
     pub const fn new() -> Self {
         LossCounter {
             line_open: false,

@@ -22,6 +22,7 @@ pub struct ServoFrame {
     /// The profile g and its rate g′ (1/s): joint j moves at Δ_j·g′
     /// ([`ServoTrack::velocities`]).
     pub g: f32,
+    /// g′, 1/s.
     pub rate: f32,
     /// Some joint would exceed its `max_speed_rad_s` (|Δ_j·g′| > limit).
     pub too_fast: bool,
@@ -87,6 +88,8 @@ pub struct ServoTrack {
 }
 
 impl ServoTrack {
+    /// Binds `plan` to the joints' mappings: the per-joint pulse lines are
+    /// formed once here, so a frame needs only integer multiply-adds.
     pub fn new(plan: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) -> Result<Self, TrackError> {
         let zero = PulseLine { base: 0, span: 0, span_neg: false, lo: 0, hi: 0 };
         let mut t = ServoTrack {
@@ -132,6 +135,7 @@ impl ServoTrack {
         Ok(t)
     }
 
+    /// The move being tracked.
     #[inline]
     pub fn plan(&self) -> &MultiPlan<f32> {
         &self.plan

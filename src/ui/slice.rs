@@ -52,6 +52,7 @@ impl DrawBudget for Unlimited {
 
 /// At most `pixels` pixels of operations (host tests of slicing).
 pub struct PixelBudget {
+    /// Pixels still allowed.
     pub pixels: u32,
 }
 
@@ -67,7 +68,9 @@ impl DrawBudget for PixelBudget {
 
 /// The counting canvas (see the module doc).
 pub struct Slicer<'a, D, B> {
+    /// The canvas that really draws.
     pub inner: &'a mut D,
+    /// What this call may still draw.
     pub budget: &'a mut B,
     /// Operations already drawn by an earlier call: skipped.
     pub skip: u32,
@@ -78,6 +81,8 @@ pub struct Slicer<'a, D, B> {
 }
 
 impl<'a, D: Canvas, B: DrawBudget> Slicer<'a, D, B> {
+    /// Draws on `inner` within `budget`, skipping the first `skip`
+    /// operations (drawn by an earlier call).
     pub fn new(inner: &'a mut D, budget: &'a mut B, skip: u32) -> Self {
         Slicer { inner, budget, skip, ops: 0, paused: false }
     }

@@ -4,24 +4,12 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
 use hal_sim::armsim::{run, Cli};
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let cli: Cli = match hal_sim::cli::parse("armsim") {
         Ok(cli) => cli,
-        Err(e) if e.use_stderr() => {
-            // One line naming the problem, as scripts expect (clap adds a usage
-            // hint below it; `--help` has the full text).
-            let text = e.render().to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("armsim: {}", first.trim_start_matches("error: "));
-            return ExitCode::from(2);
-        }
-        Err(e) => {
-            let _ = e.print();
-            return ExitCode::SUCCESS;
-        }
+        Err(code) => return code,
     };
     match run(&cli) {
         Ok(out) => {

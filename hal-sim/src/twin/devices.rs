@@ -2,9 +2,10 @@
 
 use std::collections::VecDeque;
 
+use embedded_storage::{ReadStorage, Storage};
 use touch_arm::config::store::EEPROM_SIZE;
 use touch_arm::protocol::rx_loss::{LossCounter, BYTES_PER_FRAME, RX_BUFFER, TX_BUFFER};
-use touch_arm::seam::{Clock, RxLoss, SerialPort, Storage, StorageError};
+use touch_arm::seam::{Clock, RxLoss, SerialPort, StorageError};
 
 /// Millisecond clock set by the runner.
 #[derive(Debug, Clone, Default)]
@@ -72,16 +73,24 @@ impl SimEeprom {
     }
 }
 
-impl Storage for SimEeprom {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+impl ReadStorage for SimEeprom {
+    type Error = StorageError;
+
+    fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         let src = self.mem.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?;
         buf.copy_from_slice(src);
         Ok(())
     }
 
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+    fn capacity(&self) -> usize {
+        self.mem.len()
+    }
+}
+
+impl Storage for SimEeprom {
+    fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         if a + data.len() > self.mem.len() {
             return Err(StorageError::OutOfRange);
         }
@@ -240,6 +249,8 @@ mod tests {
         assert_eq!(e.mem[0], 7);
         let mut buf = [0u8; 2];
         assert_eq!(e.read(4095, &mut buf), Err(StorageError::OutOfRange));
+        assert_eq!(e.read(4094, &mut buf), Ok(()));
+        assert_eq!(e.capacity(), 4096);
         assert!(e.corrupt(4096, 0).is_err());
     }
 }

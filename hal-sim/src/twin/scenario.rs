@@ -525,7 +525,7 @@ fn deg3(v: &[f32; 3]) -> [f64; 3] {
 }
 
 fn close3(name: &str, got: &[f64; 3], want: &[f64; 3], tol: f64) -> Result<(), String> {
-    let bad = got.iter().zip(want.iter()).any(|(g, w)| !((g - w).abs() <= tol));
+    let bad = got.iter().zip(want.iter()).any(|(g, w)| !(g - w).abs().le(&tol));
     if bad {
         Err(format!("{name}: got {got:?}, want {want:?} ± {tol}"))
     } else {
@@ -741,7 +741,7 @@ impl Runner {
                     return Err("the pose did not change after the mark".into());
                 }
                 let got = (arrive - from) as f64 * FRAME_MS as f64;
-                if !((got - ms).abs() <= *tol) {
+                if !(got - ms).abs().le(tol) {
                     return Err(format!("move took {got} ms, want {ms} ± {tol}"));
                 }
             }

@@ -1,6 +1,6 @@
 //! Move planning: how long a move takes (tₛ) and which ζ-a-tₛ shape it uses
 //! (a) under every joint's speed limit. Pure numerics: it returns its own
-//! [`PlanError`], which the app turns into a user-facing refusal.
+//! [`PlanError`](request::PlanError), which the app turns into a user-facing refusal.
 //!
 //! # Duration
 //! Every joint follows `q0 + Δ_j·g(t)` with one shared profile g, so joint j

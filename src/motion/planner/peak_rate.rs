@@ -137,7 +137,7 @@ pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
             let rate = r.g * r.h1;
             let c2 = r.h1 * r.h1 + r.h2;
             best = Hump { rate, t: hi, q: r.q, h1: r.h1, next: hi, at_end: true, over: rate > pc.limit, exact: true };
-            if !(c2 < R::ZERO) {
+            if !c2.is_negative() {
                 return best;
             }
             best.exact = false;
@@ -215,7 +215,7 @@ pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
         }
         let t_next = next.unwrap_or(R::HALF * (lo + hi));
         best.next = t_next;
-        if !(hi - lo > R::lit(8.0) * R::EPSILON * hi) {
+        if !(hi - lo).gt(&(R::lit(8.0) * R::EPSILON * hi)) {
             // Bracket collapsed onto the maximum.
             best.exact = true;
             break;

@@ -25,7 +25,7 @@ pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<P
                 _ => (Law::Linear, classic_peak_factor(Law::Linear)),
             };
             let ts = (R::lit(factor) * ratio).max(lim.ts_min);
-            if !(ts <= lim.ts_max) {
+            if !ts.le(&lim.ts_max) {
                 return Err(PlanError::SpeedLimit);
             }
             let law = JointLaw::classic(classic, ts).map_err(|_| PlanError::Trajectory)?;
