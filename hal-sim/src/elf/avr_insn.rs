@@ -53,6 +53,9 @@ pub enum Insn {
         ptr: Ptr,
         q: u8,
     },
+    /// `rjmp`, `ijmp` or `eijmp`: an unconditional jump whose target the
+    /// walk does not need.
+    JumpAway,
     /// `jmp`/`call` with its target as a byte address.
     Jmp(u32),
     Call(u32),
@@ -74,6 +77,8 @@ impl Insn {
             0x9508 => Insn::Ret,
             0x9518 => Insn::Reti,
             0x94f8 => Insn::Cli,
+            0x9409 | 0x9419 => Insn::JumpAway,
+            _ if w & 0xf000 == 0xc000 => Insn::JumpAway,
             _ if w & 0xfe0f == 0x920f => Insn::Push(d5),
             _ if w & 0xf800 == 0xb000 => Insn::In { d: d5, io: (((w >> 5) & 0x30) | (w & 0xf)) as u8 },
             _ if w & 0xf800 == 0xb800 => Insn::Out { io: (((w >> 5) & 0x30) | (w & 0xf)) as u8, r: d5 },
@@ -146,5 +151,7 @@ mod tests {
         assert_eq!(Insn::decode(&[0x940e, 0x1234]), (Insn::Call(0x2468), 2));
         assert_eq!(Insn::decode(&[0x9180, 0x0200]), (Insn::Other, 2)); // lds r24, 0x0200
         assert_eq!(Insn::decode(&[0x9508]), (Insn::Ret, 1));
+        assert_eq!(Insn::decode(&[0xc041]), (Insn::JumpAway, 1)); // rjmp .+130
+        assert_eq!(Insn::decode(&[0x9409]), (Insn::JumpAway, 1)); // ijmp
     }
 }

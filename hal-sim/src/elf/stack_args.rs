@@ -128,6 +128,15 @@ fn walk(code: &[u16]) -> Walk {
         match insn {
             // An epilogue (or the end of a path): Y is back at the frame.
             Insn::Ret | Insn::Reti | Insn::Out { io: SPL, .. } => y_moved = 0,
+            // What follows an unconditional jump is reached from elsewhere,
+            // where Y is at the frame. LLVM may end a far access's restore
+            // pair in a shared block: `subi r28` here, `rjmp`, and the
+            // `sbci r29` at the target; carrying the half-undone move on
+            // would count it twice.
+            Insn::JumpAway | Insn::Jmp(_) => {
+                y_moved = 0;
+                pending_subi = None;
+            }
             Insn::Adiw { d: 28, k } => y_moved += i32::from(k),
             Insn::Sbiw { d: 28, k } => y_moved -= i32::from(k),
             Insn::Subi { d: 28, k } => pending_subi = Some(k),
@@ -187,6 +196,13 @@ mod tests {
         assert_eq!(read_above(&with(&[0x54c0, 0x40d0, 0xad8f])), None);
         // The epilogue resets Y: ret, then a second path reads Y+6.
         assert_eq!(read_above(&with(&[0x96ec, 0x9508, 0x818e])), None);
+        // A far access whose restore ends in a shared block (seen in the
+        // product's `frame`): subi r28,0xFE; sbci r29,0xFF (Y += 2);
+        // ldd r24,Y+1; subi r28,0x02; rjmp (the `sbci r29,0` is at the
+        // target); then another path reads Y+6, inside the frame.
+        assert_eq!(read_above(&with(&[0x5fce, 0x4fdf, 0x8189, 0x50c2, 0xc041, 0x818e])), None);
+        // Without the jump the move stays: Y+6 is then 8.
+        assert_eq!(read_above(&with(&[0x5fce, 0x4fdf, 0x818e])), Some(8));
     }
 
     #[test]
