@@ -546,6 +546,7 @@ impl TouchPanel for NoTouch {
 
 #[derive(Default)]
 struct Servos {
+    /// Timer5 ticks of 0.5 µs.
     pulses: Option<[u16; 3]>,
     log: Vec<Option<[u16; 3]>>,
 }
@@ -651,7 +652,7 @@ impl Rig {
 fn refusals_keep_the_pose_and_say_why() {
     let mut r = Rig::homed(&AppParams::DEFAULT);
     let home = r.servos.pulses;
-    assert_eq!(home, Some([1500, 1500, 1500]));
+    assert_eq!(home, Some([3000, 3000, 3000]));
     let cases: &[(&str, &str)] = &[
         ("goto 200 90 -90", "err joint limit base"),
         ("goto 90 -10 -90", "err joint limit shoulder"),
@@ -678,7 +679,7 @@ fn unreachable_and_singular_points_are_refused() {
     let mut r = Rig::homed(&params);
     assert_eq!(r.ask("move 900 880"), ["err unreachable"]);
     assert_eq!(r.app.status().last_refusal, Some(Refusal::Unreachable));
-    assert_eq!(r.servos.pulses, Some([1500, 1500, 1500]));
+    assert_eq!(r.servos.pulses, Some([3000, 3000, 3000]));
     // The origin with l2 = l3: shoulder angle undefined. A span of 123..931
     // puts raw x = 527 exactly at x_p = 0.
     let mut r = Rig::homed(&AppParams::DEFAULT);
@@ -700,7 +701,7 @@ fn homing_stop_and_speed_limit_refusals() {
     // 0.5 °/s on the base: 90° would need ≫ 30 s.
     assert_eq!(r.ask("cal set base max_speed 0.5"), ["ok cal set"]);
     assert_eq!(r.ask("goto 0 90 -90"), ["err speed limit needs ts above max"]);
-    assert_eq!(r.servos.pulses, Some([1500, 1500, 1500]));
+    assert_eq!(r.servos.pulses, Some([3000, 3000, 3000]));
 }
 
 #[test]
@@ -711,7 +712,7 @@ fn first_move_is_slow_and_reports_its_plan() {
     // T = 1.875·(π/3)/0.735 = 2.6714 s.
     assert_eq!(r.ask("goto 30 90 -90"), ["ok goto ts_ms 2671 vend 0 0 0"]);
     r.frames(200);
-    assert_eq!(r.servos.pulses, Some([900, 1500, 1500]));
+    assert_eq!(r.servos.pulses, Some([1800, 3000, 3000]));
     // The second at the normal 50 %: T = 1.875·(π/3)/1.47 = 1.3357 s.
     assert_eq!(r.ask("goto 90 90 -90"), ["ok goto ts_ms 1336 vend 0 0 0"]);
     // ζ-a-tₛ reports a and the smooth stop; 60° at 50 % → tₛ ≈ 1.444 s.

@@ -404,46 +404,46 @@ mod servo {
     fn defaults_are_valid_and_hit_expected_pulses() {
         let [base, shoulder, elbow] = maps();
         let us = |m: &ServoMap, a: f64| m.angle_to_pulse(a).unwrap();
-        assert_eq!(us(&base, 0.0), Pulse { us: 600, clamped: None });
-        assert_eq!(us(&base, PI / 2.0).us, 1500);
-        assert_eq!(us(&base, PI), Pulse { us: 2400, clamped: None });
-        assert_eq!(us(&shoulder, PI / 4.0).us, 1050);
-        assert_eq!(us(&elbow, 0.0), Pulse { us: 2400, clamped: None });
-        assert_eq!(us(&elbow, -PI / 2.0).us, 1500);
-        assert_eq!(us(&elbow, -PI), Pulse { us: 600, clamped: None });
+        assert_eq!(us(&base, 0.0), Pulse { ticks: 1200, clamped: None });
+        assert_eq!(us(&base, PI / 2.0).ticks, 3000);
+        assert_eq!(us(&base, PI), Pulse { ticks: 4800, clamped: None });
+        assert_eq!(us(&shoulder, PI / 4.0).ticks, 2100);
+        assert_eq!(us(&elbow, 0.0), Pulse { ticks: 4800, clamped: None });
+        assert_eq!(us(&elbow, -PI / 2.0).ticks, 3000);
+        assert_eq!(us(&elbow, -PI), Pulse { ticks: 1200, clamped: None });
         // f32 path agrees.
-        assert_eq!(base.angle_to_pulse(core::f32::consts::FRAC_PI_2).unwrap().us, 1500);
+        assert_eq!(base.angle_to_pulse(core::f32::consts::FRAC_PI_2).unwrap().ticks, 3000);
         // Float noise just past a limit is not reported as a clamp.
-        assert_eq!(shoulder.angle_to_pulse(-1e-7f32).unwrap(), Pulse { us: 600, clamped: None });
-        assert_eq!(elbow.angle_to_pulse(1e-6f64).unwrap(), Pulse { us: 2400, clamped: None });
+        assert_eq!(shoulder.angle_to_pulse(-1e-7f32).unwrap(), Pulse { ticks: 1200, clamped: None });
+        assert_eq!(elbow.angle_to_pulse(1e-6f64).unwrap(), Pulse { ticks: 4800, clamped: None });
     }
 
     #[test]
     fn clamps_and_reports() {
         let [base, _, elbow] = maps();
-        assert_eq!(base.angle_to_pulse(-0.1f64).unwrap(), Pulse { us: 600, clamped: Some(Limit::AngleMin) });
-        assert_eq!(base.angle_to_pulse(4.0f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
-        assert_eq!(elbow.angle_to_pulse(0.5f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
+        assert_eq!(base.angle_to_pulse(-0.1f64).unwrap(), Pulse { ticks: 1200, clamped: Some(Limit::AngleMin) });
+        assert_eq!(base.angle_to_pulse(4.0f32).unwrap(), Pulse { ticks: 4800, clamped: Some(Limit::AngleMax) });
+        assert_eq!(elbow.angle_to_pulse(0.5f32).unwrap(), Pulse { ticks: 4800, clamped: Some(Limit::AngleMax) });
         // Pulse limits narrower than the angle range: the pulse limit binds.
         let cal = JointCal { min_us: 1000, max_us: 2000, ..JointCal::BASE_DEFAULT };
         let m = ServoMap::new(&cal).unwrap();
-        assert_eq!(m.angle_to_pulse(0.0f64).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
-        assert_eq!(m.angle_to_pulse(3.0f64).unwrap(), Pulse { us: 2000, clamped: Some(Limit::PulseMax) });
+        assert_eq!(m.angle_to_pulse(0.0f64).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(3.0f64).unwrap(), Pulse { ticks: 4000, clamped: Some(Limit::PulseMax) });
         // Within half a µs of a pulse limit is rounding, not a clamp.
         let k = JointCal::BASE_DEFAULT.us_per_rad as f64;
         let at = |us: f64| (us - 600.0) / k;
-        assert_eq!(m.angle_to_pulse(at(999.7)).unwrap(), Pulse { us: 1000, clamped: None });
-        assert_eq!(m.angle_to_pulse(at(999.3)).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
-        assert_eq!(m.angle_to_pulse(at(2000.4)).unwrap(), Pulse { us: 2000, clamped: None });
-        assert_eq!(m.angle_to_pulse(at(2000.6)).unwrap(), Pulse { us: 2000, clamped: Some(Limit::PulseMax) });
+        assert_eq!(m.angle_to_pulse(at(999.7)).unwrap(), Pulse { ticks: 2000, clamped: None });
+        assert_eq!(m.angle_to_pulse(at(999.3)).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(at(2000.4)).unwrap(), Pulse { ticks: 4000, clamped: None });
+        assert_eq!(m.angle_to_pulse(at(2000.6)).unwrap(), Pulse { ticks: 4000, clamped: Some(Limit::PulseMax) });
         // Both act: the pulse limit (applied last) is reported.
-        assert_eq!(m.angle_to_pulse(-5.0f64).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(-5.0f64).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
         // Reversed direction: large angles give small pulses.
         let rev = JointCal { offset_us: 2400.0, us_per_rad: -1800.0 / core::f32::consts::PI, ..JointCal::BASE_DEFAULT };
         let m = ServoMap::new(&rev).unwrap();
-        assert_eq!(m.angle_to_pulse(PI).unwrap().us, 600);
-        assert_eq!(m.angle_to_pulse(0.0f64).unwrap().us, 2400);
-        assert_eq!(m.angle_to_pulse(9.0f64).unwrap(), Pulse { us: 600, clamped: Some(Limit::AngleMax) });
+        assert_eq!(m.angle_to_pulse(PI).unwrap().ticks, 1200);
+        assert_eq!(m.angle_to_pulse(0.0f64).unwrap().ticks, 4800);
+        assert_eq!(m.angle_to_pulse(9.0f64).unwrap(), Pulse { ticks: 1200, clamped: Some(Limit::AngleMax) });
     }
 
     #[test]
@@ -458,17 +458,23 @@ mod servo {
 
     #[test]
     fn ticks() {
-        assert_eq!(us_to_ticks(1500), 3000);
-        assert_eq!(us_to_ticks(500), 1000);
-        assert_eq!(us_to_ticks(2500), 5000);
+        assert_eq!(clamp_ticks(3001), 3001);
+        assert_eq!(clamp_ticks(1000), 1000);
+        assert_eq!(clamp_ticks(5000), 5000);
         // Never 0 (no pulse) nor ≥ TOP (output stuck high).
-        assert_eq!(us_to_ticks(0), 1000);
-        assert_eq!(us_to_ticks(u16::MAX), 5000);
-        for us in 0..=u16::MAX {
-            let t = us_to_ticks(us);
-            assert!((1000..=5000).contains(&t) && t < TIMER5_TOP);
+        assert_eq!(clamp_ticks(0), 1000);
+        assert_eq!(clamp_ticks(u16::MAX), 5000);
+        for t in 0..=u16::MAX {
+            let c = clamp_ticks(t);
+            assert!((1000..=5000).contains(&c) && c < TIMER5_TOP);
         }
-        assert_eq!(Pulse { us: 1234, clamped: None }.ticks(), 2468);
+        assert_eq!(Pulse { ticks: 2469, clamped: None }.us(), 1234.5);
+        // Half a µs is resolved: 1500.5 µs on the base.
+        let base = ServoMap::new(&JointCal::BASE_DEFAULT).unwrap();
+        let k = JointCal::BASE_DEFAULT.us_per_rad as f64;
+        assert_eq!(base.angle_to_pulse((1500.5 - 600.0) / k).unwrap().ticks, 3001);
+        assert_eq!(base.angle_to_pulse((1500.3 - 600.0) / k).unwrap().ticks, 3001);
+        assert_eq!(base.angle_to_pulse((1500.2 - 600.0) / k).unwrap().ticks, 3000);
         // 40000 ticks of 0.5 µs = 20 ms = 50 Hz.
         assert_eq!((TIMER5_TOP as u32 + 1) / TICKS_PER_US as u32, 20_000);
     }
@@ -554,13 +560,13 @@ mod servo {
             match m.angle_to_pulse(a) {
                 Ok(p) => {
                     prop_assert!(a.is_finite());
-                    prop_assert!(p.us >= cal.min_us && p.us <= cal.max_us, "{p:?}");
-                    prop_assert!(p.us >= ABS_MIN_US && p.us <= ABS_MAX_US);
+                    prop_assert!(p.ticks >= 2 * cal.min_us && p.ticks <= 2 * cal.max_us, "{p:?}");
+                    prop_assert!(p.ticks >= 2 * ABS_MIN_US && p.ticks <= 2 * ABS_MAX_US);
                     // The pulse is the formula at the clamped angle, clamped, rounded.
                     let ac = (a as f64).clamp(cal.min_rad as f64, cal.max_rad as f64);
                     let raw = cal.offset_us as f64 + cal.us_per_rad as f64 * ac;
                     let want = raw.clamp(cal.min_us as f64, cal.max_us as f64);
-                    prop_assert!((p.us as f64 - want).abs() <= 0.5 + 1e-2, "{} vs {}", p.us, want);
+                    prop_assert!((f64::from(p.us()) - want).abs() <= 0.25 + 1e-2, "{} vs {}", p.us(), want);
                     // No clamp reported iff the request was met to within 0.5 µs.
                     let unclamped = cal.offset_us as f64 + cal.us_per_rad as f64 * a as f64;
                     if (unclamped - want).abs() > 0.52 {
@@ -581,7 +587,7 @@ mod servo {
         fn never_exceeds_limits_f64(cal in any_cal(), a in prop::num::f64::ANY) {
             let m = ServoMap::new(&cal).unwrap();
             match m.angle_to_pulse(a) {
-                Ok(p) => prop_assert!(p.us >= cal.min_us && p.us <= cal.max_us),
+                Ok(p) => prop_assert!(p.ticks >= 2 * cal.min_us && p.ticks <= 2 * cal.max_us),
                 Err(_) => prop_assert!(!a.is_finite()),
             }
         }
@@ -593,14 +599,14 @@ mod servo {
             let a = lo + (hi - lo) * t;
             let p = m.angle_to_pulse(a).unwrap();
             prop_assert_eq!(p.clamped, None);
-            let back: f64 = m.pulse_to_angle(p.us);
-            // Rounding to whole µs costs at most 0.5 µs of angle.
-            let tol = 0.5 / m.cal().us_per_rad.abs() as f64 + 1e-6;
-            prop_assert!((back - a).abs() <= tol, "{a} -> {} -> {back}", p.us);
+            let back: f64 = m.pulse_to_angle(p.ticks);
+            // Rounding to the 0.5 µs tick costs at most 0.25 µs of angle.
+            let tol = 0.25 / m.cal().us_per_rad.abs() as f64 + 1e-6;
+            prop_assert!((back - a).abs() <= tol, "{a} -> {} -> {back}", p.ticks);
             // And the other way: every pulse in range maps back onto itself.
-            let us = 600 + ((t * 1800.0) as u16);
-            let ang: f32 = m.pulse_to_angle(us);
-            prop_assert_eq!(m.angle_to_pulse(ang).unwrap().us, us);
+            let ticks = 1200 + ((t * 3600.0) as u16);
+            let ang: f32 = m.pulse_to_angle(ticks);
+            prop_assert_eq!(m.angle_to_pulse(ang).unwrap().ticks, ticks);
         }
     }
 }

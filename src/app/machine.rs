@@ -257,7 +257,7 @@ impl App {
             let t = f32::from(m.frame) * FRAME_S;
             let f = m.track.frame(t);
             self.commanded = m.track.plan().positions_with(t, f.g);
-            self.frame_pulses = Some(f.pulses_us);
+            self.frame_pulses = Some(f.pulses);
             if m.track.plan().is_finished(t) {
                 self.motion = None;
                 self.first_move = false;
@@ -282,7 +282,7 @@ impl App {
         let prev = self.pulses;
         for (j, ((o, m), q)) in out.iter_mut().zip(self.maps.iter()).zip(self.commanded.iter()).enumerate() {
             match m.angle_to_pulse(*q) {
-                Ok(p) => *o = p.us,
+                Ok(p) => *o = p.ticks,
                 Err(_) => {
                     fault = true;
                     match prev.as_ref().and_then(|p| p.get(j)) {

@@ -240,7 +240,8 @@ pub struct Status {
     pub commanded: [f32; JOINTS],
     /// Target of the current or last move, rad.
     pub target: [f32; JOINTS],
-    /// Pulses written in the last frame (`None` before the first).
+    /// Pulses written in the last frame, Timer5 ticks of 0.5 µs (`None`
+    /// before the first).
     pub pulses: Option<[u16; JOINTS]>,
     /// Share of the current move's tₛ elapsed, 0..=100 (100 at rest).
     pub progress: u8,

@@ -36,7 +36,8 @@ impl App {
     }
 
     /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
-    /// commanded angles in centidegrees and the pulses written this frame.
+    /// commanded angles in centidegrees and the pulses written this frame
+    /// (µs, `.5` for a half: the timer's resolution).
     pub(super) fn send_telemetry<U: SerialPort>(&self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
@@ -44,8 +45,8 @@ impl App {
         for q in self.commanded.iter() {
             line.num(centideg(*q));
         }
-        for us in pulses.iter() {
-            line.num(i32::from(*us));
+        for t in pulses.iter() {
+            line.bytes(b" ").ticks_us(*t);
         }
         serial.write(line.finish());
     }
@@ -103,7 +104,7 @@ impl App {
 }
 
 /// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
-/// <3 us | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
+/// <3 us (.5 for a half) | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
 /// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
 pub(super) fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
@@ -119,8 +120,8 @@ pub(super) fn status_line(s: &Status, line: &mut Line) {
     line.word(t!("pulses"));
     match &s.pulses {
         Some(p) => {
-            for us in p.iter() {
-                line.num(i32::from(*us));
+            for t in p.iter() {
+                line.bytes(b" ").ticks_us(*t);
             }
         }
         None => {

@@ -105,6 +105,15 @@ impl Line {
         self.bytes(&[b'0' + f / 10, b'0' + f % 10])
     }
 
+    /// A pulse in Timer5 ticks as µs: 3001 → `1500.5`, 3000 → `1500`.
+    pub fn ticks_us(&mut self, ticks: u16) -> &mut Self {
+        self.u32(u32::from(ticks / 2));
+        if ticks % 2 == 1 {
+            self.bytes(b".5");
+        }
+        self
+    }
+
     pub fn as_bytes(&self) -> &[u8] {
         self.buf.get(..self.len).unwrap_or(&[])
     }

@@ -160,7 +160,7 @@ fn frame_generic(plan: &MultiPlan<f32>, maps: &[ServoMap; JOINTS], t: f32) -> Fr
     let mut out = Frame { pulses: [0; JOINTS], too_fast: false };
     for ((p, j), m) in out.pulses.iter_mut().zip(s.iter()).zip(maps.iter()) {
         // A NaN angle would hold the previous pulse; 0 marks it here.
-        *p = m.angle_to_pulse(j.pos).map_or(0, |x| x.us);
+        *p = m.angle_to_pulse(j.pos).map_or(0, |x| x.ticks);
         out.too_fast |= j.vel.abs() > m.max_speed::<f32>();
     }
     out

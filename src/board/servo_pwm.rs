@@ -115,10 +115,10 @@ fn sanitize(l: TickLimits) -> TickLimits {
 }
 
 impl crate::seam::ServoOutputs for ServoPwm {
-    /// µs to 0.5 µs ticks (saturating), then `set`'s per-channel clamp.
-    fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
-        for (ch, &us) in pulses_us.iter().enumerate() {
-            self.set(ch, us.saturating_mul(2));
+    /// Ticks as they come, through `set`'s per-channel clamp.
+    fn set_pulses(&mut self, ticks: &[u16; 3]) {
+        for (ch, &t) in ticks.iter().enumerate() {
+            self.set(ch, t);
         }
     }
 

@@ -218,20 +218,21 @@ pub enum Limit {
     PulseMax,
 }
 
-/// A pulse width to output, and the limit that shaped it, if any. A clamp is
-/// reported only when it moves the pulse by at least 0.5 µs, so float noise
-/// at a limit (an IK returning −1e−7 for a limit of 0) is not a clamp. If both
-/// an angle and a pulse limit act, the pulse limit (applied last) is reported.
+/// A pulse width to output, in Timer5 ticks of 0.5 µs (the timer's full
+/// resolution), and the limit that shaped it, if any. A clamp is reported
+/// only when it moves the pulse by at least 0.5 µs, so float noise at a limit
+/// (an IK returning −1e−7 for a limit of 0) is not a clamp. If both an angle
+/// and a pulse limit act, the pulse limit (applied last) is reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
-    pub us: u16,
+    pub ticks: u16,
     pub clamped: Option<Limit>,
 }
 
 impl Pulse {
-    /// Timer5 compare value for this pulse.
-    pub fn ticks(self) -> u16 {
-        us_to_ticks(self.us)
+    /// The width in µs (a multiple of 0.5).
+    pub fn us(self) -> f32 {
+        f32::from(self.ticks) * 0.5
     }
 }
 
@@ -269,7 +270,7 @@ impl ServoMap {
     }
 
     /// Pulse for `angle` (rad), clamped to the angle and pulse limits and
-    /// rounded to the nearest µs.
+    /// rounded (half up) to the nearest Timer5 tick (0.5 µs).
     pub fn angle_to_pulse<R: Real>(&self, angle: R) -> Result<Pulse, ServoError> {
         if !angle.is_finite() {
             return Err(ServoError::NotFinite);
@@ -307,13 +308,14 @@ impl ServoMap {
             raw
         };
         // `us` is within 500..=2500 here; the final clamp is defence in depth.
-        let us = ((us + R::HALF).to_f32() as u16).max(c.min_us).min(c.max_us);
-        Ok(Pulse { us, clamped })
+        let ticks = ((us.twice() + R::HALF).to_f32() as u16).max(c.min_us * TICKS_PER_US).min(c.max_us * TICKS_PER_US);
+        Ok(Pulse { ticks, clamped })
     }
 
-    /// Angle (rad) that `us` stands for; not clamped (it reports, it does not command).
-    pub fn pulse_to_angle<R: Real>(&self, us: u16) -> R {
-        (R::from_u16(us) - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
+    /// Angle (rad) that a pulse of `ticks` (0.5 µs) stands for; not clamped
+    /// (it reports, it does not command).
+    pub fn pulse_to_angle<R: Real>(&self, ticks: u16) -> R {
+        (R::from_u16(ticks) * R::HALF - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
     }
 
     /// Angle limits (rad).
@@ -326,9 +328,8 @@ impl ServoMap {
     }
 }
 
-/// Timer5 compare value (OCR5x) for a pulse of `us` µs: `2·us`, with `us`
-/// first clamped to the absolute 500..=2500 µs, so the result is always a
-/// servo pulse (never 0 = off or ≥ TOP = always high).
-pub fn us_to_ticks(us: u16) -> u16 {
-    us.clamp(ABS_MIN_US, ABS_MAX_US) * TICKS_PER_US
+/// A pulse of `ticks` (0.5 µs) clamped to the absolute 500..=2500 µs, so
+/// it is always a servo pulse (never 0 = off or ≥ TOP = always high).
+pub fn clamp_ticks(ticks: u16) -> u16 {
+    ticks.clamp(ABS_MIN_US * TICKS_PER_US, ABS_MAX_US * TICKS_PER_US)
 }

@@ -17,8 +17,9 @@ pub enum TrackError {
 /// What one 50 Hz frame sends to the servos.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ServoFrame {
-    /// Pulse widths (µs), clamped to each joint's angle and pulse limits.
-    pub pulses_us: [u16; JOINTS],
+    /// Pulse widths in Timer5 ticks (0.5 µs), clamped to each joint's angle
+    /// and pulse limits.
+    pub pulses: [u16; JOINTS],
     /// The profile g and its rate g′ (1/s): joint j moves at Δ_j·g′
     /// ([`ServoTrack::velocities`]).
     pub g: f32,
@@ -47,14 +48,15 @@ struct PulseLine {
 }
 
 impl PulseLine {
-    /// The pulse (µs) at g·2³⁰ = gq.
+    /// The pulse (Timer5 ticks) at g·2³⁰ = gq.
     #[inline(always)]
     fn at(&self, gq: u32) -> u16 {
         // span·2¹⁶ · g·2³⁰ / 2³² = span·g·2¹⁴, < 2³¹ by TRACK_RANGE_US.
         let step = mul_hi(self.span, gq) as i32;
         let v = if self.span_neg { self.base - step } else { self.base + step };
         let v = v.max(self.lo).min(self.hi);
-        ((v + (1 << (PULSE_FRAC - 1))) >> PULSE_FRAC) as u16
+        // µs·2¹⁴ to ticks (µs·2), rounded half up as servo::map rounds.
+        ((v + (1 << (PULSE_FRAC - 2))) >> (PULSE_FRAC - 1)) as u16
     }
 }
 
@@ -71,15 +73,16 @@ impl PulseLine {
 /// and monotone, so clamping the angle and then the pulse is clamping the
 /// pulse to the intersection. Rounding is [`super::map`]'s (half up); the
 /// intermediate differs from its f32 value by < 1e-3 µs, so a pulse can
-/// differ by 1 µs only when the exact value lies that close to a half. At
+/// differ by one tick only when the exact value lies that close to the middle
+/// between two ticks. At
 /// t ≤ 0 and t ≥ duration the pulses are [`super::map`]'s own for the start and the
 /// target.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ServoTrack {
     plan: MultiPlan<f32>,
     lines: [PulseLine; JOINTS],
-    start_us: [u16; JOINTS],
-    end_us: [u16; JOINTS],
+    start_ticks: [u16; JOINTS],
+    end_ticks: [u16; JOINTS],
     /// |g′| above this puts some joint over its speed limit.
     rate_limit: f32,
     /// The plan's duration (> 0) as bits, for an integer time compare.
@@ -92,8 +95,8 @@ impl ServoTrack {
         let mut t = ServoTrack {
             plan: *plan,
             lines: [zero; JOINTS],
-            start_us: [0; JOINTS],
-            end_us: [0; JOINTS],
+            start_ticks: [0; JOINTS],
+            end_ticks: [0; JOINTS],
             rate_limit: f32::INFINITY,
             duration_bits: plan.duration().to_bits() as i32,
         };
@@ -101,7 +104,7 @@ impl ServoTrack {
         let joints = maps
             .iter()
             .zip(plan.start().iter().zip(plan.target().iter()).zip(plan.delta().iter()))
-            .zip(t.lines.iter_mut().zip(t.start_us.iter_mut().zip(t.end_us.iter_mut())));
+            .zip(t.lines.iter_mut().zip(t.start_ticks.iter_mut().zip(t.end_ticks.iter_mut())));
         for ((m, ((&s, &e), &d)), (line, (su, eu))) in joints {
             let c = m.cal();
             let base = c.offset_us + c.us_per_rad * s;
@@ -123,8 +126,8 @@ impl ServoTrack {
                 lo: (lo * q14) as i32,
                 hi: (hi * q14) as i32,
             };
-            *su = ps.us;
-            *eu = pe.us;
+            *su = ps.ticks;
+            *eu = pe.ticks;
             if d != 0.0 {
                 t.rate_limit = t.rate_limit.min(m.max_speed::<f32>() / d.abs());
             }
@@ -145,16 +148,16 @@ impl ServoTrack {
         // fast, a NaN time as the end.
         let too_fast = rate.abs().to_bits() > self.rate_limit.to_bits();
         let tb = t.to_bits() as i32;
-        let pulses_us = if tb >= self.duration_bits {
-            self.end_us
+        let pulses = if tb >= self.duration_bits {
+            self.end_ticks
         } else if tb <= 0 {
-            self.start_us
+            self.start_ticks
         } else {
             let gq = unit_q30(g);
             let [l0, l1, l2] = &self.lines;
             [l0.at(gq), l1.at(gq), l2.at(gq)]
         };
-        ServoFrame { pulses_us, g, rate, too_fast }
+        ServoFrame { pulses, g, rate, too_fast }
     }
 
     /// Joint velocities (rad/s) for a frame's rate g′.
