@@ -535,6 +535,7 @@ mod servo {
                     min_rad,
                     max_rad,
                     max_speed_rad_s: v,
+                    max_accel_rad_s2: 10.0 * v,
                 }
             })
             .prop_filter("valid", |c| c.validate().is_ok())
@@ -704,9 +705,51 @@ mod config {
         assert_eq!(r[85], 0b101); // swap | invert_y
         assert_eq!(r[86], SpeedPreset::Fast.id());
         assert_eq!(r[87], LawKind::Quintic.id());
-        assert_eq!(&r[88..90], &crc16(&r[..88]).to_le_bytes());
+        // Version 2 appends the acceleration limits before the CRC.
+        assert_eq!(&r[88..92], &c.joints[0].max_accel_rad_s2.to_le_bytes());
+        assert_eq!(&r[96..100], &c.joints[2].max_accel_rad_s2.to_le_bytes());
+        assert_eq!(&r[100..102], &crc16(&r[..100]).to_le_bytes());
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
+    }
+
+    /// A version-1 record (90 bytes, CRC of 0..88 at 88, written before the
+    /// acceleration limits) still loads, with the default limits; the
+    /// slot's bytes past it are whatever the EEPROM held.
+    #[test]
+    fn version_1_records_migrate_with_default_accelerations() {
+        let c = sample_config();
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            let mut r = [tail; RECORD_LEN];
+            r[..88].copy_from_slice(&c.encode(41)[..88]);
+            r[2] = 1;
+            let crc = crc16(&r[..88]);
+            r[88..90].copy_from_slice(&crc.to_le_bytes());
+            let d = Config::decode(&r).unwrap();
+            let mut want = c;
+            for (w, d) in want.joints.iter_mut().zip(JointCal::DEFAULTS.iter()) {
+                w.max_accel_rad_s2 = d.max_accel_rad_s2;
+            }
+            assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
+            // A bad version-1 CRC is a CRC error, not a migration.
+            let mut bad = r;
+            bad[40] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        // Through load: one slot of each version, the newer sequence wins.
+        let mut ee = SimEeprom::new();
+        let mut v1 = [0xFFu8; RECORD_LEN];
+        v1[..88].copy_from_slice(&c.encode(5)[..88]);
+        v1[2] = 1;
+        let crc = crc16(&v1[..88]);
+        v1[88..90].copy_from_slice(&crc.to_le_bytes());
+        ee.write(SLOT_A_ADDR, &v1[..90]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning), (Source::SlotA, 5, Some(Warning::CopyDamaged)));
+        assert_eq!(l.config.joints[1].max_accel_rad_s2, JointCal::DEFAULTS[1].max_accel_rad_s2);
+        assert_eq!(save(&mut ee, &l.config), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning), (6, None));
     }
 
     #[test]
@@ -717,8 +760,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 2;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(2)));
+        r[2] = 3;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(3)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -726,8 +769,8 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..88]);
-            r[88..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..100]);
+            r[100..].copy_from_slice(&crc.to_le_bytes());
             r
         };
         for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08)] {
@@ -737,6 +780,10 @@ mod config {
         }
         let mut r = good;
         r[9..13].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
+        // An acceleration limit that is not positive.
+        let mut r = good;
+        r[92..96].copy_from_slice(&0.0f32.to_le_bytes());
         assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
     }
 
@@ -749,8 +796,9 @@ mod config {
             -3.0f32..0.0,
             0.5f32..3.0,
             0.5f32..20.0,
+            0.5f32..1000.0,
         )
-            .prop_map(|(o, k, lo, hi, a, b, v)| JointCal {
+            .prop_map(|(o, k, lo, hi, a, b, v, acc)| JointCal {
                 offset_us: o,
                 us_per_rad: k,
                 min_us: lo,
@@ -758,6 +806,7 @@ mod config {
                 min_rad: a,
                 max_rad: b,
                 max_speed_rad_s: v,
+                max_accel_rad_s2: acc,
             });
         let touch = (0u16..400, 600u16..=1023, 0u16..400, 600u16..=1023, any::<[bool; 3]>()).prop_map(
             |(x_min, x_max, y_min, y_max, f)| Calibration {
@@ -770,7 +819,7 @@ mod config {
                 invert_y: f[2],
             },
         );
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..5)
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6)
             .prop_map(|(joints, touch, s, l)| Config {
                 joints,
                 touch,
@@ -808,7 +857,10 @@ mod config {
             assert_eq!(SpeedPreset::from_id(p.id()), Some(p));
             assert_eq!(SpeedPreset::from_name(p.name().as_str().as_bytes()), Some(p));
         }
-        assert_eq!(LawKind::from_id(5), None);
+        // Stable ids: the papers' ζ-a-tₛ came last.
+        assert_eq!(LawKind::ALL.map(|l| l.id()), [0, 5, 1, 2, 3, 4]);
+        assert_eq!(LawKind::from_id(6), None);
+        assert_eq!(LawKind::from_name(b"zat-paper"), Some(LawKind::ZatPaper));
         assert_eq!(SpeedPreset::from_id(3), None);
         assert_eq!(SpeedPreset::ALL.map(|p| p.percent()), [25, 50, 100]);
     }

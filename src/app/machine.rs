@@ -223,21 +223,25 @@ impl App {
         Ok(())
     }
 
-    /// Speeds for the next move: the preset's share of every joint's max
-    /// speed (the slow preset at most before the first move has completed),
-    /// less the safety margin.
+    /// Limits for the next move: the preset's share of every joint's max
+    /// speed (the slow preset at most before the first move has completed)
+    /// and its max acceleration, both less the safety margin.
     fn plan_limits(&self) -> PlanLimits<f32> {
         let mut pct = self.config.speed.percent();
         if self.first_move {
             pct = pct.min(SpeedPreset::Slow.percent());
         }
-        let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
+        let keep = 1.0 - self.params.speed_margin;
+        let share = f32::from(pct) * 0.01 * keep;
         let mut speed = [0.0f32; JOINTS];
-        for (s, m) in speed.iter_mut().zip(self.maps.iter()) {
+        let mut accel = [0.0f32; JOINTS];
+        for ((s, a), m) in speed.iter_mut().zip(accel.iter_mut()).zip(self.maps.iter()) {
             *s = m.max_speed::<f32>() * share;
+            *a = m.max_accel::<f32>() * keep;
         }
         PlanLimits {
             speed,
+            accel,
             ts_min: self.params.ts_min,
             zat_ts_min: self.params.zat_ts_min,
             ts_max: self.params.ts_max,

@@ -314,18 +314,27 @@ fn main() -> ! {
     b.run("plan_generic", plan_input, |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts));
 
     // What the product firmware really runs per touch: the app's policy,
-    // which also searches tₛ so no joint exceeds its speed share.
-    let limits =
-        app_policy::PlanLimits { speed: [0.5f32, 0.5, 0.5], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
-    b.run(
-        "app_plan_move",
-        |i| app_policy::MoveRequest {
+    // the shortest tₛ within every joint's speed and acceleration: closed
+    // form for the time-scaled ζ-a-tₛ, searched for the papers' form.
+    let limits = app_policy::PlanLimits {
+        speed: [0.5f32, 0.5, 0.5],
+        accel: [17.1f32; JOINTS],
+        ts_min: 0.5,
+        zat_ts_min: 1.2,
+        ts_max: 30.0,
+        n: 2.0,
+    };
+    let request = |law| {
+        move |i| app_policy::MoveRequest {
             start: START,
             target: [spread(i, 0.3, 2.8), spread(i, 0.4, 2.6), spread(i, -2.8, -0.4)],
-            law: LawKind::Zat,
-        },
-        |req| plan_move::plan_move(req, &limits).ok().map(|p| p.ts),
-    );
+            law,
+        }
+    };
+    b.run("app_plan_move", request(LawKind::Zat), |req| plan_move::plan_move(req, &limits).ok().map(|p| p.ts));
+    b.run("app_plan_move_paper", request(LawKind::ZatPaper), |req| {
+        plan_move::plan_move(req, &limits).ok().map(|p| p.ts)
+    });
     // One touch read: 5 samples of X, Y and the two pressure channels on the
     // shared pins, with settle times, pins handed back after.
     let mut bus = ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
@@ -347,7 +356,7 @@ fn main() -> ! {
             Some(p) => {
                 let a = match p.law() {
                     JointLaw::Zat(s) => s.a(),
-                    JointLaw::Classic(_) => f32::NAN,
+                    JointLaw::Scaled(_) | JointLaw::Classic(_) => f32::NAN,
                 };
                 (1u8, *p.target(), a)
             }

@@ -176,6 +176,7 @@ impl Config {
                     JointField::MinDeg => cal.min_rad = v * RAD_PER_CENTIDEG,
                     JointField::MaxDeg => cal.max_rad = v * RAD_PER_CENTIDEG,
                     JointField::MaxSpeed => cal.max_speed_rad_s = v * RAD_PER_CENTIDEG,
+                    JointField::MaxAccel => cal.max_accel_rad_s2 = v * RAD_PER_CENTIDEG,
                 }
             }
             CalSet::Touch { field, value } => {
@@ -207,6 +208,7 @@ impl Config {
             JointField::MinDeg => round_i32(c.min_rad / RAD_PER_CENTIDEG),
             JointField::MaxDeg => round_i32(c.max_rad / RAD_PER_CENTIDEG),
             JointField::MaxSpeed => round_i32(c.max_speed_rad_s / RAD_PER_CENTIDEG),
+            JointField::MaxAccel => round_i32(c.max_accel_rad_s2 / RAD_PER_CENTIDEG),
         }
     }
 }
@@ -233,10 +235,12 @@ pub enum JointField {
     MaxDeg,
     /// `max_speed`: degrees per second (decimal, 0..=3600).
     MaxSpeed,
+    /// `max_accel`: degrees per second squared (decimal, 0..=60000).
+    MaxAccel,
 }
 
 impl JointField {
-    pub const ALL: [JointField; 7] = [
+    pub const ALL: [JointField; 8] = [
         JointField::Offset,
         JointField::Scale,
         JointField::MinUs,
@@ -244,6 +248,7 @@ impl JointField {
         JointField::MinDeg,
         JointField::MaxDeg,
         JointField::MaxSpeed,
+        JointField::MaxAccel,
     ];
 
     pub fn name(self) -> crate::text::Text {
@@ -255,6 +260,7 @@ impl JointField {
             JointField::MinDeg => t!("min_deg"),
             JointField::MaxDeg => t!("max_deg"),
             JointField::MaxSpeed => t!("max_speed"),
+            JointField::MaxAccel => t!("max_accel"),
         }
     }
 

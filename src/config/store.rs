@@ -1,6 +1,6 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 1, little-endian, 90 bytes)
+//! # Record layout (version 2, little-endian, 102 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
@@ -11,7 +11,12 @@
 //! | 85 | 1  | touch flags: bit 0 swap, bit 1 invert_x, bit 2 invert_y (other bits 0) |
 //! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
 //! | 87 | 1  | motion law id ([`LawKind::id`]) |
-//! | 88 | 2  | CRC-16/CCITT-FALSE of bytes 0..88 |
+//! | 88 | 12 | 3 × joint `max_accel_rad_s2` f32 (version 2) |
+//! | 100 | 2 | CRC-16/CCITT-FALSE of bytes 0..100 |
+//!
+//! A version-1 record (before acceleration limits) ends with its CRC of
+//! bytes 0..88 at 88; it is still read, with the default acceleration limits
+//! ([`JointCal::DEFAULTS`]), and the next save writes version 2.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -36,12 +41,14 @@ use crate::touch::map::Calibration;
 
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
-pub const RECORD_LEN: usize = 90;
+pub const RECORD_LEN: usize = 102;
+/// A version-1 record's length (its CRC at 88).
+const RECORD_LEN_V1: usize = 90;
 pub const SLOT_A_ADDR: u16 = 0;
 /// Leaves room for the record to grow to 128 bytes.
 pub const SLOT_B_ADDR: u16 = 128;
 pub const MAGIC: [u8; 2] = *b"TA";
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 const FLAG_SWAP: u8 = 1 << 0;
@@ -80,6 +87,9 @@ impl Config {
             flags |= FLAG_INVERT_Y;
         }
         w.put(&[flags, self.speed.id(), self.law.id()]);
+        for j in self.joints.iter() {
+            w.put(&j.max_accel_rad_s2.to_le_bytes());
+        }
         let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
         if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
             dst.copy_from_slice(&crc.to_le_bytes());
@@ -87,19 +97,22 @@ impl Config {
         buf
     }
 
-    /// Parses and validates a record. Checks, in order: magic, version, CRC,
-    /// field values.
+    /// Parses and validates a record (version 2, or 1 with the default
+    /// acceleration limits). Checks, in order: magic, version, CRC, field
+    /// values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader { buf, pos: 0 };
         if r.take::<2>() != MAGIC {
             return Err(RecordError::NoMagic);
         }
         let [version] = r.take::<1>();
-        if version != VERSION {
-            return Err(RecordError::Version(version));
-        }
-        let (body, stored) = buf.split_at(CRC_OFFSET);
-        if crc16(body).to_le_bytes() != stored {
+        let crc_at = match version {
+            VERSION => CRC_OFFSET,
+            1 => RECORD_LEN_V1 - 2,
+            v => return Err(RecordError::Version(v)),
+        };
+        let (body, rest) = buf.split_at(crc_at);
+        if rest.get(..2).is_none_or(|stored| crc16(body).to_le_bytes() != stored) {
             return Err(RecordError::Crc);
         }
         let seq = u16::from_le_bytes(r.take());
@@ -124,6 +137,11 @@ impl Config {
         let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
             return Err(RecordError::Invalid);
         };
+        if version == VERSION {
+            for j in joints.iter_mut() {
+                j.max_accel_rad_s2 = f32::from_le_bytes(r.take());
+            }
+        }
         let config = Config {
             joints,
             touch: Calibration {

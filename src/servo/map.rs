@@ -96,6 +96,8 @@ pub struct JointCal {
     pub max_rad: f32,
     /// Largest joint speed the planner may command, rad/s.
     pub max_speed_rad_s: f32,
+    /// Largest joint acceleration the planner may command, rad/s².
+    pub max_accel_rad_s2: f32,
 }
 
 /// Accepted |µs per rad|: a 360° servo over 500..2500 µs is ~318; a 90° one ~1273.
@@ -107,12 +109,21 @@ pub const MAX_ABS_OFFSET_US: f32 = 20_000.0;
 pub const MAX_ABS_ANGLE_RAD: f32 = 2.0 * core::f32::consts::PI;
 /// Largest accepted `max_speed_rad_s` (a fast hobby servo unloaded is ~10 rad/s).
 pub const MAX_SPEED_LIMIT_RAD_S: f32 = 50.0;
+/// Largest accepted `max_accel_rad_s2` (an unloaded hobby servo reaches its
+/// speed in some 50 ms: ~200 rad/s²).
+pub const MAX_ACCEL_LIMIT_RAD_S2: f32 = 1000.0;
 
 const PI: f32 = core::f32::consts::PI;
 /// 600..2400 µs over π rad.
 const DEFAULT_US_PER_RAD: f32 = 1800.0 / PI;
 /// ≈ 170°/s: a margin below what a loaded MG996R/SG90-class servo manages.
 const DEFAULT_MAX_SPEED: f32 = 3.0;
+/// 1000°/s² ≈ 17.5 rad/s²: an unloaded MG996R/SG90-class servo reaches its
+/// ~6 rad/s in some 50–100 ms (60–120 rad/s²) and an arm link on it cuts
+/// that by about three, so this keeps a margin of two or more; the default
+/// speed is reached in 0.17 s. At the fast preset it lengthens only moves
+/// below ~45° (docs/method.md §10), which it keeps from jerking off.
+const DEFAULT_MAX_ACCEL: f32 = 1000.0 * PI / 180.0;
 
 impl JointCal {
     /// Base: α ∈ [0, π] → 600..2400 µs.
@@ -124,6 +135,7 @@ impl JointCal {
         min_rad: 0.0,
         max_rad: PI,
         max_speed_rad_s: DEFAULT_MAX_SPEED,
+        max_accel_rad_s2: DEFAULT_MAX_ACCEL,
     };
     /// Shoulder: q2 ∈ [0, π] → 600..2400 µs.
     pub const SHOULDER_DEFAULT: JointCal = JointCal::BASE_DEFAULT;
@@ -136,6 +148,7 @@ impl JointCal {
         min_rad: -PI,
         max_rad: 0.0,
         max_speed_rad_s: DEFAULT_MAX_SPEED,
+        max_accel_rad_s2: DEFAULT_MAX_ACCEL,
     };
     /// Defaults in [`Joint::index`] order.
     pub const DEFAULTS: [JointCal; 3] = [JointCal::BASE_DEFAULT, JointCal::SHOULDER_DEFAULT, JointCal::ELBOW_DEFAULT];
@@ -146,7 +159,8 @@ impl JointCal {
     }
 
     pub fn validate(&self) -> Result<(), JointCalError> {
-        let floats = [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s];
+        let floats =
+            [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s, self.max_accel_rad_s2];
         if floats.iter().any(|v| !v.is_finite()) {
             return Err(JointCalError::NotFinite);
         }
@@ -165,6 +179,9 @@ impl JointCal {
         }
         if !(self.max_speed_rad_s > 0.0 && self.max_speed_rad_s <= MAX_SPEED_LIMIT_RAD_S) {
             return Err(JointCalError::Speed);
+        }
+        if !(self.max_accel_rad_s2 > 0.0 && self.max_accel_rad_s2 <= MAX_ACCEL_LIMIT_RAD_S2) {
+            return Err(JointCalError::Accel);
         }
         // The angle range must reach the pulse range, else every command would
         // end at a pulse limit: a calibration mistake, not a usable joint.
@@ -191,6 +208,8 @@ pub enum JointCalError {
     Offset,
     /// Max speed not in (0, 50] rad/s.
     Speed,
+    /// Max acceleration not in (0, 1000] rad/s².
+    Accel,
     /// The angle range maps entirely outside the pulse range.
     NoOverlap,
 }
@@ -204,6 +223,7 @@ impl JointCalError {
             JointCalError::Scale => t!("scale"),
             JointCalError::Offset => t!("offset"),
             JointCalError::Speed => t!("speed"),
+            JointCalError::Accel => t!("accel"),
             JointCalError::NoOverlap => t!("angle range misses pulse range"),
         }
     }
@@ -325,6 +345,10 @@ impl ServoMap {
 
     pub fn max_speed<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_speed_rad_s)
+    }
+
+    pub fn max_accel<R: Real>(&self) -> R {
+        R::from_f32(self.cal.max_accel_rad_s2)
     }
 }
 
