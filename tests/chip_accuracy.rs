@@ -382,14 +382,14 @@ fn servo_track_matches_servo_mapping() {
                 Some(l) => JointLaw::classic(l, 1.5f32).unwrap(),
             };
             let plan = MultiPlan::with_law(&start, &target, &l).unwrap();
-            let track = ServoTrack::new(&plan, &maps).unwrap();
+            let track = ServoTrack::new(&plan, &maps, 0.02).unwrap();
             for k in -2..=80 {
                 let t = k as f32 * 0.02;
                 let f = track.frame(t);
                 let s = plan.sample(t);
                 let g = l.g(t) as f64;
                 for j in 0..JOINTS {
-                    assert_eq!(track.velocities(f.rate)[j], s[j].vel);
+                    assert_eq!(track.velocities(&f)[j], s[j].vel);
                     let c = maps[j].cal();
                     let want = maps[j].angle_to_pulse(s[j].pos).unwrap().ticks;
                     if t <= 0.0 || t >= 1.5 {
@@ -424,7 +424,7 @@ fn servo_track_matches_servo_mapping() {
 fn servo_track_rejects_angles_beyond_range() {
     let shape = ShapeParams { ts: 1.0f32, a: 0.5, n: 2.0 };
     let plan = MultiPlan::new(&[0.0, 0.0, 0.0], &[200.0, 0.0, 0.0], &shape).unwrap();
-    assert_eq!(ServoTrack::new(&plan, &maps()), Err(touch_arm::servo::track::TrackError::OutOfRange));
+    assert_eq!(ServoTrack::new(&plan, &maps(), 0.02), Err(touch_arm::servo::track::TrackError::OutOfRange));
 }
 
 // ------------------------------------------------------------ the plan path

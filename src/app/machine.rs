@@ -3,7 +3,7 @@
 
 use super::refusal::Refusal;
 use super::text::Line;
-use super::{build_maps, App, Io, Mode, Motion, MoveInfo, TouchTarget, FRAME_S};
+use super::{build_maps, App, Io, Mode, MoveInfo, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
@@ -13,7 +13,7 @@ use crate::motion::planner::plan_move::plan_move;
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
-use crate::servo::track::ServoTrack;
+use crate::servo::track::Replan;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
 impl App {
@@ -196,13 +196,38 @@ impl App {
             _ => return Err(Refusal::Homing),
         }
         self.check_limits(target)?;
+        let lim = self.plan_limits();
+        // A new target while moving: a correction superposed on the move.
+        if !self.track.is_done() {
+            let slack = 1.0 / (1.0 - self.params.speed_margin);
+            let r = Replan { target, law: self.config.law, lim: &lim, slack };
+            if let Some((ts, wait)) = self.track.replan(&r, &self.maps)? {
+                let end_velocity = [0.0; JOINTS];
+                let replan = Some(wait);
+                self.last_move = MoveInfo { target: *target, ts, replan, a: None, end_velocity, touch: touch.copied() };
+                return Ok(());
+            }
+        }
+        self.start_fresh(target, touch, &lim)
+    }
+
+    /// A move from the pose commanded last frame, at rest (not inlined: its
+    /// plan and track would otherwise share the caller's stack frame with
+    /// the re-plan's).
+    #[inline(never)]
+    fn start_fresh(
+        &mut self,
+        target: &[f32; JOINTS],
+        touch: Option<&TouchTarget>,
+        lim: &PlanLimits<f32>,
+    ) -> Result<(), Refusal> {
         let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
-        let planned = plan_move(&req, &self.plan_limits())?;
-        let track = ServoTrack::new(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;
-        self.motion = Some(Motion { track, frame: 0 });
+        let planned = plan_move(&req, lim)?;
+        self.track.start(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;
         self.last_move = MoveInfo {
             target: *target,
             ts: planned.ts,
+            replan: None,
             a: planned.a,
             end_velocity: planned.end_velocity,
             touch: touch.copied(),
@@ -257,16 +282,13 @@ impl App {
             };
         }
         self.frame_pulses = None;
-        if let Some(m) = &mut self.motion {
-            let t = f32::from(m.frame) * FRAME_S;
-            let f = m.track.frame(t);
-            self.commanded = m.track.plan().positions_with(t, f.g);
+        if !self.track.is_done() {
+            let f = self.track.frame_now();
+            self.commanded = self.track.positions(&f);
             self.frame_pulses = Some(f.pulses);
-            if m.track.plan().is_finished(t) {
-                self.motion = None;
+            self.track.advance();
+            if self.track.is_done() {
                 self.first_move = false;
-            } else {
-                m.frame = m.frame.saturating_add(1);
             }
         }
     }
@@ -313,14 +335,14 @@ impl App {
 
     fn latch_fault(&mut self) {
         self.stopped = true;
-        self.motion = None;
+        self.track.halt();
         self.last_refusal = Some(Refusal::Fault);
     }
 
     /// STOP: hold the pose commanded in the previous frame.
     pub(super) fn stop(&mut self) {
         self.stopped = true;
-        self.motion = None;
+        self.track.halt();
     }
 
     pub(super) fn resume(&mut self) {
@@ -328,6 +350,6 @@ impl App {
     }
 
     pub(super) fn is_moving(&self) -> bool {
-        self.motion.is_some()
+        !self.track.is_done()
     }
 }

@@ -41,8 +41,12 @@
 //!   the first move after power-up never runs faster than the slow preset.
 //! - **holding** / **moving**: a target (touch, `move`, `goto`) is mapped,
 //!   solved, checked against the joint limits and planned from the pose
-//!   commanded in the previous frame, so a new target while moving re-plans
-//!   without a position jump (the new profile starts at rest).
+//!   commanded in the previous frame. A new target while moving keeps the
+//!   running move and superposes a correction that starts at rest
+//!   ([`crate::motion::superpose`]), so neither the position nor the velocity
+//!   steps; under the linear law or the papers' ζ-a-tₛ (whose profiles start
+//!   with a velocity or change shape with tₛ) it re-plans from the commanded
+//!   pose at rest.
 //! - **stopped**: `stop` latches; the pose of the previous frame is held
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
@@ -270,20 +274,14 @@ enum Mode {
     Run,
 }
 
-/// A running move: the plan and the frames since it started.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Motion {
-    /// The plan with its pulse lines: one profile evaluation per frame gives
-    /// the pulses and the commanded angles.
-    track: ServoTrack,
-    frame: u16,
-}
-
 /// What the last accepted move was.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct MoveInfo {
     target: [f32; JOINTS],
     ts: f32,
+    /// Superposed on a running move, and the frames it waits for the
+    /// older of two running terms to end.
+    replan: Option<u16>,
     a: Option<AChoice<f32>>,
     end_velocity: [f32; JOINTS],
     touch: Option<TouchTarget>,
@@ -313,7 +311,10 @@ pub struct App {
     pulses: Option<[u16; JOINTS]>,
     /// This frame's pulses from the moving track (None when holding).
     frame_pulses: Option<[u16; JOINTS]>,
-    motion: Option<Motion>,
+    /// The running move (with any correction superposed on it), its pulse
+    /// lines and clock: one profile evaluation per running term and frame
+    /// gives the pulses and the commanded angles. Done when holding.
+    track: ServoTrack,
     last_move: MoveInfo,
     last_refusal: Option<Refusal>,
     source: Source,
@@ -355,8 +356,15 @@ impl App {
             commanded: params.home,
             pulses: None,
             frame_pulses: None,
-            motion: None,
-            last_move: MoveInfo { target: params.home, ts: 0.0, a: None, end_velocity: [0.0; JOINTS], touch: None },
+            track: ServoTrack::idle(&params.home, FRAME_S),
+            last_move: MoveInfo {
+                target: params.home,
+                ts: 0.0,
+                replan: None,
+                a: None,
+                end_velocity: [0.0; JOINTS],
+                touch: None,
+            },
             last_refusal: None,
             source: Source::Defaults,
             warning: None,
@@ -380,25 +388,14 @@ impl App {
             Mode::Boot => State::Off,
             _ if self.stopped => State::Stopped,
             Mode::Homing { .. } => State::Homing,
-            Mode::Run if self.motion.is_some() => State::Moving,
+            Mode::Run if !self.track.is_done() => State::Moving,
             Mode::Run => State::Holding,
         }
     }
 
     /// The snapshot a display draws from.
     pub fn status(&self) -> Status {
-        let progress = match &self.motion {
-            Some(m) => {
-                let ts = m.track.plan().duration();
-                let done = f32::from(m.frame) * FRAME_S;
-                if ts > 0.0 {
-                    ((done / ts).clamp(0.0, 1.0) * 100.0) as u8
-                } else {
-                    100
-                }
-            }
-            None => 100,
-        };
+        let progress = if self.track.is_done() { 100 } else { (self.track.progress() * 100.0) as u8 };
         Status {
             state: self.state(),
             law: self.config.law,

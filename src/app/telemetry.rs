@@ -12,8 +12,9 @@ use crate::servo::map::Joint;
 const CAL_SHOW_LINES: u8 = 4;
 
 impl App {
-    /// Appends ` [cond <c>] ts_ms <ms> [a_milli <a> smooth|limit|floor] vend <v> <v> <v>`
-    /// (end velocities in mrad/s) for the move just started.
+    /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
+    /// smooth|limit|floor] vend <v> <v> <v>` (end velocities in mrad/s) for
+    /// the move just started; `replan`: superposed on the running move.
     pub(super) fn describe_move(&self, line: &mut Line, with_condition: bool) {
         let m = &self.last_move;
         if with_condition {
@@ -22,6 +23,12 @@ impl App {
             }
         }
         line.word(t!("ts_ms")).num(milli(m.ts));
+        if let Some(wait) = m.replan {
+            line.word(t!("replan"));
+            if wait > 0 {
+                line.word(t!("wait_ms")).num(i32::from(wait) * super::FRAME_MS as i32);
+            }
+        }
         if let Some(a) = &m.a {
             line.word(t!("a_milli")).num(milli(a.a)).word(match a.kind {
                 AKind::SmoothStop => t!("smooth"),

@@ -8,6 +8,7 @@ pub mod laws;
 pub mod plan;
 pub mod planner;
 pub mod scaled;
+pub mod superpose;
 pub mod via;
 pub mod zat;
 

@@ -107,6 +107,20 @@ impl<R: Real> JointLaw<R> {
         }
     }
 
+    /// The law the user picks to get this profile.
+    pub fn kind(&self) -> LawKind {
+        match self {
+            JointLaw::Zat(_) => LawKind::ZatPaper,
+            JointLaw::Scaled(_) => LawKind::Zat,
+            JointLaw::Classic(l) => match l.law() {
+                Law::Quintic => LawKind::Quintic,
+                Law::Cubic => LawKind::Cubic,
+                Law::Trapezoid => LawKind::Trapezoid,
+                Law::Linear => LawKind::Linear,
+            },
+        }
+    }
+
     #[inline]
     pub fn duration(&self) -> R {
         match self {

@@ -343,6 +343,18 @@ impl ServoMap {
         (R::from_f32(self.cal.min_rad), R::from_f32(self.cal.max_rad))
     }
 
+    /// The angles (rad) no limit clamps: the angle limits and the pulse
+    /// limits' angles, intersected.
+    pub fn angle_window<R: Real>(&self) -> [R; 2] {
+        let (lo, hi) = self.angle_limits::<R>();
+        let (a, b) = (
+            self.pulse_to_angle::<R>(self.cal.min_us * TICKS_PER_US),
+            self.pulse_to_angle::<R>(self.cal.max_us * TICKS_PER_US),
+        );
+        let (plo, phi) = if a < b { (a, b) } else { (b, a) };
+        [lo.max(plo), hi.min(phi)]
+    }
+
     pub fn max_speed<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_speed_rad_s)
     }

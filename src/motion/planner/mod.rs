@@ -44,6 +44,8 @@
 //! and the plan clock counts frames, so this delays the move, it never jerks
 //! it.
 
+pub mod cells;
+pub mod correction;
 pub mod duration;
 pub mod peak_rate;
 pub mod plan_move;

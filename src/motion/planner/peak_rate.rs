@@ -53,6 +53,7 @@ pub struct Ratios {
 
 /// [`Ratios`] of a law (docs/method.md §9–10); `None` for the papers'
 /// ζ-a-tₛ, whose shape changes with tₛ.
+#[inline]
 pub fn law_ratios(kind: LawKind) -> Option<Ratios> {
     Some(match kind {
         LawKind::Zat => Ratios { vel: VEL_RATIO, acc: Some(ACC_RATIO), jerk: Some(JERK_RATIO) },

@@ -21,7 +21,10 @@ const ACC_SEARCH_AIM: f64 = 0.005;
 /// 1 % above the shortest one that passes.
 const ACC_SEARCH_TOL: f64 = 0.01;
 
-/// Plans a move under the speed and acceleration limits (see the module doc).
+/// Plans a move under the speed and acceleration limits (see the module
+/// doc). Not inlined, so that its searches' locals are not part of the
+/// caller's stack frame.
+#[inline(never)]
 pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<PlannedMove<R>, PlanError> {
     let ratio = time_ratio(req, &lim.speed)?;
     let acc_ratio = time_ratio(req, &lim.accel)?;
@@ -31,15 +34,8 @@ pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<P
             (JointLaw::Zat(z.shape), Some(z.choice()), peak, peak_acc)
         }
         Some(r) => {
-            let ts = scaled_duration(&r, ratio, acc_ratio, lim)?;
-            let law = match req.law {
-                LawKind::Zat => ScaledZat::new(ts).map(JointLaw::Scaled),
-                LawKind::Quintic => JointLaw::classic(Law::Quintic, ts),
-                LawKind::Cubic => JointLaw::classic(Law::Cubic, ts),
-                LawKind::Trapezoid => JointLaw::classic(Law::Trapezoid, ts),
-                _ => JointLaw::classic(Law::Linear, ts),
-            };
-            let law = law.map_err(|_| PlanError::Trajectory)?;
+            let ts = scaled_duration(&r, &[ratio, acc_ratio], lim)?;
+            let law = scaling_law(req.law, ts).map_err(|_| PlanError::Trajectory)?;
             let peak_acc = match r.acc {
                 Some(c) => R::lit(c) / (ts * ts),
                 None => R::lit(f64::INFINITY),
@@ -64,9 +60,28 @@ pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<P
     Ok(PlannedMove { end_velocity: plan.end_velocities(), plan, ts, a, peak_rate: peak, peak_acc })
 }
 
+/// The profile of a law that scales with its duration, over `ts` (the
+/// papers' ζ-a-tₛ gets the time-scaled one: it has no single shape).
+#[inline(never)]
+pub fn scaling_law<R: Real>(kind: LawKind, ts: R) -> Result<JointLaw<R>, TrajError<R>> {
+    let law = match kind {
+        LawKind::Zat | LawKind::ZatPaper => return ScaledZat::new(ts).map(JointLaw::Scaled),
+        LawKind::Quintic => Law::Quintic,
+        LawKind::Cubic => Law::Cubic,
+        LawKind::Trapezoid => Law::Trapezoid,
+        LawKind::Linear => Law::Linear,
+    };
+    JointLaw::classic(law, ts)
+}
+
 /// The shortest duration of a profile that scales with its duration:
-/// `max(ts_min, vel·ratio, √(acc·acc_ratio))`, Err(SpeedLimit) past ts_max.
-pub fn scaled_duration<R: Real>(r: &Ratios, ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<R, PlanError> {
+/// `max(ts_min, vel·ratio, √(acc·acc_ratio))` for `ratios` = [ratio,
+/// acc_ratio] ([`time_ratio`] of the speeds and of the accelerations),
+/// Err(SpeedLimit) past ts_max. Always inlined: LLVM would otherwise pass
+/// its promoted arguments on the AVR's stack.
+#[inline(always)]
+pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>) -> Result<R, PlanError> {
+    let [ratio, acc_ratio] = *ratios;
     let mut ts = (R::lit(r.vel) * ratio).max(lim.ts_min);
     if let Some(c) = r.acc {
         ts = ts.max((R::lit(c) * acc_ratio).sqrt());
@@ -86,6 +101,7 @@ pub fn scaled_duration<R: Real>(r: &Ratios, ratio: R, acc_ratio: R, lim: &PlanLi
 /// passing tₛ is within [`ACC_SEARCH_TOL`] of the longest failing one. The
 /// speed bound is verified again on the shape returned, with its P and max
 /// |G″|.
+#[inline(never)]
 fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
     let (z, peak) = zat_duration(ratio, lim)?;
     let acc = zat_peak_acc(&z.shape);
