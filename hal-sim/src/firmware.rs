@@ -276,3 +276,29 @@ pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::avr::Pulse;
+
+    /// Rises on the period grid and falls after whole ticks, each edge
+    /// stamped 0 to 4 cycles late: the widths come out in exact ticks, also
+    /// across a restart of the timer (a new grid).
+    #[test]
+    fn pulse_widths_are_whole_ticks_despite_late_stamps() {
+        let mut pulses = Vec::new();
+        let mut want = Vec::new();
+        for k in 0..40u64 {
+            let ticks = 2999 + k % 5;
+            // A second grid after a reset, 123 cycles off the first.
+            let bottom = if k < 20 { 1000 + k * PERIOD_CYCLES } else { 1123 + (k + 3) * PERIOD_CYCLES };
+            let (rise_lag, fall_lag) = ((k * 7) % 5, (k * 3) % 5);
+            let rise = bottom + rise_lag;
+            let fall = bottom + ticks * CYCLES_PER_TICK + fall_lag;
+            pulses.push(Pulse { rise_cycle: rise, width_cycles: fall - rise });
+            want.push((rise, ticks as u16));
+        }
+        assert_eq!(pulse_ticks(&pulses), want);
+    }
+}
