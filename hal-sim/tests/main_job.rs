@@ -19,9 +19,19 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         .expect("run touch-arm-sim");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    for key in
-        ["raw", "x_p", "y_p", "condition", "alpha_deg", "q", "target_pulses_us", "final_pulses_us", "arrival_s", "law", "ts_s"]
-    {
+    for key in [
+        "raw",
+        "x_p",
+        "y_p",
+        "condition",
+        "alpha_deg",
+        "q",
+        "target_pulses_us",
+        "final_pulses_us",
+        "arrival_s",
+        "law",
+        "ts_s",
+    ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}: {summary}");
     }
     assert_eq!(summary["condition"], 3);
