@@ -635,16 +635,19 @@ proptest! {
                 let a = m.a.unwrap().a;
                 prop_assert!(d / al * ref_peak_acc(m.ts, a, n) <= 1.0 + 1e-6, "accel broken at ts {}", m.ts);
                 prop_assert!(d / w * ref_peak(m.ts, a, n) <= 1.0 + 1e-6, "speed broken at ts {}", m.ts);
-                if m.ts > 1.2 * 1.001 {
-                    // The shortest by bisection below the planned one.
-                    let (mut lo, mut hi) = (1.2f64, m.ts);
-                    if !fits(lo) {
-                        for _ in 0..30 {
-                            let mid = (lo * hi).sqrt();
-                            if fits(mid) { hi = mid } else { lo = mid }
-                        }
-                        prop_assert!(m.ts <= hi * 1.03, "ts {} vs shortest {hi}", m.ts);
+                if m.ts > 1.2 * 1.001 && !fits(1.2) {
+                    // max |G″| need not fall with tₛ (small n): the planned
+                    // tₛ is within 3 % of where the passing range that
+                    // reaches it starts (bisection from the last failure
+                    // below it on a scan in ln tₛ).
+                    let scan: Vec<f64> = (0..=200).map(|k| 1.2 * (m.ts / 1.2).powf(k as f64 / 200.0)).collect();
+                    let last_fail = scan.iter().rev().copied().find(|&t| t < m.ts && !fits(t)).unwrap_or(1.2);
+                    let (mut lo, mut hi) = (last_fail, m.ts);
+                    for _ in 0..30 {
+                        let mid = (lo * hi).sqrt();
+                        if fits(mid) { hi = mid } else { lo = mid }
                     }
+                    prop_assert!(m.ts <= hi * 1.03, "ts {} vs the passing range from {hi}", m.ts);
                 }
             }
             Err(e) => {

@@ -305,11 +305,11 @@ fn main() -> ! {
         plan_move::plan_move(req, &limits).ok().map(|p| p.ts)
     });
     // The move time of ζ-a-tₛ over the quintic's under the same limits, ‰:
-    // 15 moves, from speed-bound (long, fast accelerations) to
-    // acceleration-bound (short, slow accelerations).
+    // 15 moves at 3 rad/s, from speed-bound (60 rad/s²) to
+    // acceleration-bound (1 rad/s²).
     let mut ratio = [0u32; REPS];
     for (i, r) in ratio.iter_mut().enumerate() {
-        let lim = app_policy::PlanLimits { accel: [spread(i, 40.0, 2.0); JOINTS], ..limits };
+        let lim = app_policy::PlanLimits { speed: [3.0; JOINTS], accel: [spread(i, 60.0, 1.0); JOINTS], ..limits };
         let req = request(LawKind::Zat)(i);
         let q = app_policy::MoveRequest { law: LawKind::Quintic, ..req };
         if let (Ok(z), Ok(q)) = (plan_move::plan_move(&req, &lim), plan_move::plan_move(&q, &lim)) {

@@ -310,7 +310,7 @@ fn scaled_peak<R: Real>(s: &ScaledZat<R>, ratio: f64) -> R {
 }
 
 /// Grid points per piece on which [`zat_peak_acc`] looks for the humps of G″.
-const ACC_GRID: u8 = 40;
+const ACC_GRID: u8 = 16;
 /// Illinois steps per hump (superlinear: 6–8 suffice).
 const ACC_STEPS: u8 = 16;
 

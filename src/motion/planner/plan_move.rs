@@ -12,8 +12,11 @@ use crate::motion::scaled::ScaledZat;
 use crate::motion::TrajError;
 
 /// Longer durations the papers' ζ-a-tₛ tries for its acceleration limit
-/// before it settles for the shortest passing one (3–5 suffice).
-const ACC_SEARCH_STEPS: u8 = 12;
+/// before it settles for the shortest passing one (3–5 suffice where
+/// max |G″| falls with tₛ).
+const ACC_SEARCH_STEPS: u8 = 16;
+/// ln of the growth of tₛ when the secant gives no step (×1.25).
+const ACC_SEARCH_GROW: f64 = 0.223;
 /// How far below f = 0 the acceleration search aims (so that a candidate
 /// usually passes).
 const ACC_SEARCH_AIM: f64 = 0.005;
@@ -97,10 +100,13 @@ pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>
 /// while the largest |G″| ([`zat_peak_acc`]) breaks an acceleration limit, a
 /// search for a longer one on f = ln(acc_ratio·max|G″|) over ln tₛ: secant
 /// steps (the first assumes max|G″| ∝ 1/tₛ²) aimed [`ACC_SEARCH_AIM`] below
-/// f = 0, bisection where a step leaves the bracket, until the shortest
-/// passing tₛ is within [`ACC_SEARCH_TOL`] of the longest failing one. The
-/// speed bound is verified again on the shape returned, with its P and max
-/// |G″|.
+/// f = 0, growth by a quarter or bisection where a step would leave the
+/// bracket, until the shortest passing tₛ is within [`ACC_SEARCH_TOL`] of
+/// the longest failing one. max |G″| falls with tₛ for n ≥ 2 but not always
+/// for smaller n, where a shorter tₛ inside a dip can pass too: the result
+/// passes and is near the start of the passing range the search brackets,
+/// not always the shortest. The speed bound is verified again on the shape
+/// returned, with its P and max |G″|.
 #[inline(never)]
 fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
     let (z, peak) = zat_duration(ratio, lim)?;
@@ -129,7 +135,10 @@ fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(Za
         let gap = R::lit(0.25 * ACC_SEARCH_TOL);
         let mut x = lo - (f_lo + R::lit(ACC_SEARCH_AIM)) / slope;
         if !(x > lo + gap && x < hi - gap) {
-            x = if best.is_some() { R::HALF * (lo + hi) } else { hi };
+            // No useful step: bisect the bracket, or grow by a quarter
+            // while none passed yet (max |G″| need not fall with tₛ: for
+            // small n it rises again over part of [1.2, 2] s).
+            x = if best.is_some() { R::HALF * (lo + hi) } else { (lo + R::lit(ACC_SEARCH_GROW)).min(hi) };
         }
         let c = zat_shape(x.exp().min(lim.ts_max), lim.n, l).map_err(|_| PlanError::Trajectory)?;
         let acc = zat_peak_acc(&c.shape);
@@ -145,9 +154,7 @@ fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(Za
             break;
         }
         let s = (f - f_lo) / (x - lo);
-        if s < R::ZERO {
-            slope = s;
-        }
+        slope = if s < R::ZERO { s } else { -R::TWO };
         lo = x;
         f_lo = f;
     }
