@@ -92,11 +92,13 @@ pub struct AppParams {
     /// Power-up pose (rad: base, shoulder, elbow), clamped into the joint
     /// limits of the loaded calibration.
     pub home: [f32; JOINTS],
-    /// ζ-a-tₛ base n.
+    /// The papers' ζ-a-tₛ base n (`law zat-paper`; the default law's
+    /// reference shape is fixed: [`crate::motion::scaled`]).
     pub n: f32,
-    /// Shortest classic move, s.
+    /// Shortest move of the laws that scale with their duration (the
+    /// classic ones and the time-scaled ζ-a-tₛ), s.
     pub ts_min: f32,
-    /// Shortest ζ-a-tₛ move, s, at least [`crate::motion::planner::request::ZAT_TS_FLOOR`]: above 1 so
+    /// Shortest move of the papers' ζ-a-tₛ, s, at least [`crate::motion::planner::request::ZAT_TS_FLOOR`]: above 1 so
     /// the smooth stop exists (for tₛ ≤ 1 a ζ-a-tₛ move ends with a velocity
     /// step of at least |Δ|·ln n / tₛ), and not just above 1, where the
     /// smooth-stop shape sits next to its pole.

@@ -1,10 +1,14 @@
 //! The main job: run the real firmware ELF in simavr, touch the simulated
-//! panel once, and record what the servos receive.
+//! panel once (twice with `--then`: a second map touch mid-move), and
+//! record what the servos receive.
 //!
 //! Writes to the output directory (default `out/`):
-//! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`;
+//! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`
+//!   (µs to the timer's 0.5 µs tick);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
-//!   final_pulses_us, arrival_s}`;
+//!   final_pulses_us, arrival_s, law, ts_s}` for the point the arm ends on,
+//!   and with `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
+//!   `then_ts_s`, `then_reply`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
 //! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes.
