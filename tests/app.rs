@@ -92,32 +92,10 @@ impl RefShape {
     }
 }
 
-/// max |G″| of the reference on (0, tₛ]: a dense grid refined by golden
-/// section around its best point.
+/// max |G″| of the reference on (0, tₛ] ([`dense_max`]).
 fn ref_peak_acc(ts: f64, a: f64, n: f64) -> f64 {
-    const N: usize = 20_000;
     let r = RefShape::new(ts, a, n);
-    let f = |t: f64| r.acc(t).abs();
-    let h = ts / N as f64;
-    let (mut best, mut at) = (f(ts), N);
-    for i in 1..N {
-        let v = f(h * i as f64);
-        if v > best {
-            best = v;
-            at = i;
-        }
-    }
-    let (mut lo, mut hi) = (h * (at as f64 - 1.0), (h * (at as f64 + 1.0)).min(ts));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..80 {
-        let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if f(c) > f(d) {
-            hi = d;
-        } else {
-            lo = c;
-        }
-    }
-    best.max(f(0.5 * (lo + hi)))
+    dense_max(ts, |t| r.acc(t).abs())
 }
 
 /// Largest a (below u_min) whose G′ stays ≥ 0 on a dense grid, by bisection.
@@ -225,12 +203,18 @@ fn choose_a_f32_agrees_with_f64_and_is_monotone() {
 /// max G′ of the reference profile: the best of a dense grid over (0, tₛ]
 /// (the end included), refined by golden section over its two cells.
 fn ref_peak(ts: f64, a: f64, n: f64) -> f64 {
-    const N: usize = 20_000;
     let r = RefShape::new(ts, a, n);
+    dense_max(ts, |t| r.rate(t))
+}
+
+/// The largest f on (0, tₛ]: a grid of 20 000 points refined by golden
+/// section around its best point.
+fn dense_max(ts: f64, f: impl Fn(f64) -> f64) -> f64 {
+    const N: usize = 20_000;
     let h = ts / N as f64;
-    let (mut best, mut at) = (r.rate(ts), N);
+    let (mut best, mut at) = (f(ts), N);
     for i in 1..N {
-        let v = r.rate(h * i as f64);
+        let v = f(h * i as f64);
         if v > best {
             best = v;
             at = i;
@@ -240,13 +224,13 @@ fn ref_peak(ts: f64, a: f64, n: f64) -> f64 {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..80 {
         let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if r.rate(c) > r.rate(d) {
+        if f(c) > f(d) {
             hi = d;
         } else {
             lo = c;
         }
     }
-    best.max(r.rate(0.5 * (lo + hi)))
+    best.max(f(0.5 * (lo + hi)))
 }
 
 /// What the peak search reads (`Shape::rate_terms`) against the reference
