@@ -21,8 +21,8 @@ pub const CELLS: usize = 16;
 /// A law's cell bounds.
 #[derive(Debug)]
 pub struct CellTable {
-    /// f(i/16), i = 0..=16: f is non-decreasing, so f on cell i lies in
-    /// [f[i], f[i + 1]].
+    /// f(i/16), i = 0..=16: f is non-decreasing, so f on cell i lies
+    /// between `f[i]` and `f[i + 1]`.
     pub f: [f32; CELLS + 1],
     /// max f′ on cell i (f′ ≥ 0).
     pub v: [f32; CELLS],

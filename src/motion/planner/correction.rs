@@ -25,9 +25,9 @@
 //! little to that peak on its fastest joint, however slowly it starts.
 //!
 //! # Search
-//! From the correction's own shortest T, ×[`GROW`] until a T passes (a
-//! longer correction is slower while the running term is fast), then
-//! [`REFINE`] bisections on ln T: the result is at most 1.25^(1/8) ≈ 2.8 %
+//! From the correction's own shortest T, ×1.25 until a T passes (a
+//! longer correction is slower while the running term is fast), then three
+//! bisections on ln T: the result is at most 1.25^(1/8) ≈ 2.8 %
 //! above the shortest passing T on the table's bounds. A T beyond ts_max is
 //! refused (`SpeedLimit`).
 

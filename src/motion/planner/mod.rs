@@ -1,7 +1,7 @@
 //! Move planning: how long a move takes (tₛ) and, for the papers' ζ-a-tₛ,
 //! which shape it uses (a), under every joint's speed and acceleration
 //! limits; and how long a correction superposed on a running move takes
-//! ([`correction`]). Pure numerics: it returns its own [`PlanError`], which
+//! ([`correction`]). Pure numerics: it returns its own [`PlanError`](request::PlanError), which
 //! the app turns into a user-facing refusal.
 //!
 //! # Duration

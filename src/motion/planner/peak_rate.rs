@@ -319,7 +319,7 @@ const ACC_STEPS: u8 = 16;
 /// [`zat_peak_rate`], (0, t*] and [t*, tₛ] are searched apart when t* < tₛ:
 /// the first holds G′'s hump and its steep fall into the near-stop at t*
 /// (two humps of G″ that can lie a tenth of t* apart), the second the slow
-/// creep. Every sign change of G‴ on a uniform grid of [`ACC_GRID`] points
+/// creep. Every sign change of G‴ on a uniform grid of 16 points
 /// per piece brackets a hump of G″, whose top is found by the Illinois method
 /// on G‴ = 0; the end value G″(tₛ⁻) counts too. A hump is flat at its top, so
 /// the value found is the peak to 1e-5 (the tests compare with dense scans
