@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
 # The README's main job: set-up, build the firmware, run it in simavr, write out/.
+#   scripts/run.sh [--xy X,Y | --raw X,Y]    one touch, results in out/
+#   scripts/run.sh --live [--port P]         the live bench at http://127.0.0.1:P/
+#                                            (default 8080; Ctrl-C stops it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 echo "== building firmware (cargo avr)"
 cargo avr
+if [ "${1:-}" = "--live" ]; then
+    shift
+    echo "== the live bench: the firmware in simavr, paced to real time"
+    # cargo run replaces itself with the bench, so Ctrl-C reaches it directly.
+    exec cargo run --release -q -p hal-sim --bin touch-arm-live -- "$@"
+fi
 echo "== running the firmware in simavr"
 cargo run --release -q -p hal-sim --bin touch-arm-sim -- "$@"

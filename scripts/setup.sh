@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Idempotent set-up for a fresh Debian machine: the AVR cross toolchain, simavr's
-# build needs, and the pinned Rust nightly with rust-src. Fast when all is present.
+# build needs, the pinned Rust nightly with rust-src, and ravedude (the flash
+# runner: scripts/flash.sh, `cargo avr-run`). Fast when all is present.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude fonts-dejavu-core)
+# libudev-dev: ravedude's serial-port discovery links libudev.
+# chromium: the live bench's page test (hal-sim/tests/live_page.rs).
+APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core chromium)
+RAVEDUDE_VERSION=0.2.2
 TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
 
 missing=()
@@ -35,4 +39,34 @@ if ! rustup toolchain list | grep -q "^$TOOLCHAIN"; then
     rustup toolchain install "$TOOLCHAIN" --profile minimal --component rust-src
 elif ! rustup component list --toolchain "$TOOLCHAIN" --installed 2>/dev/null | grep -q '^rust-src'; then
     rustup component add rust-src --toolchain "$TOOLCHAIN"
+fi
+
+# ravedude from the Rust package registry, with its own lock file (about a
+# minute to build on two cores, once per machine).
+if ! command -v ravedude >/dev/null 2>&1 || ! ravedude --version 2>/dev/null | grep -qw "v$RAVEDUDE_VERSION"; then
+    echo "setup: installing ravedude $RAVEDUDE_VERSION (cargo install)"
+    cargo install ravedude --version "$RAVEDUDE_VERSION" --locked --quiet
+fi
+
+# The hygiene gates of scripts/test.sh run rustfmt and clippy from the stable
+# toolchain: the pinned nightly ships neither.
+if ! rustup toolchain list | grep -q "^stable"; then
+    echo "setup: installing Rust stable (+rustfmt, clippy)"
+    rustup toolchain install stable --profile minimal --component rustfmt --component clippy
+else
+    for c in rustfmt clippy; do
+        rustup component list --toolchain stable --installed 2>/dev/null | grep -q "^$c" || rustup component add "$c" --toolchain stable
+    done
+fi
+
+# Playwright (playwright-core, pinned in hal-sim/tests/browser/package-lock.json)
+# drives Debian's chromium in the live page test; npm installs it into that
+# folder's node_modules/. Node.js and npm come with the machine.
+BROWSER_DIR=hal-sim/tests/browser
+want=$(sed -n 's/.*"playwright-core": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/package.json")
+have=$(sed -n 's/^ *"version": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/node_modules/playwright-core/package.json" 2>/dev/null | head -1 || true)
+if [ "$want" != "$have" ]; then
+    command -v npm >/dev/null 2>&1 || { echo "setup: npm not found (Node.js 20+ with npm is needed for the page test)" >&2; exit 1; }
+    echo "setup: installing playwright-core $want (npm ci in $BROWSER_DIR)"
+    (cd "$BROWSER_DIR" && npm ci --no-audit --no-fund >/tmp/touch-arm-npm.log 2>&1) || { tail -20 /tmp/touch-arm-npm.log; exit 1; }
 fi

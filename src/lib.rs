@@ -7,6 +7,7 @@
 //! [`servo`] → [`config`] → [`protocol`] → [`ui`] → [`app`] → `board` (AVR
 //! only).
 #![no_std]
+#![warn(missing_docs)]
 // The fixed-point 16×16 multiply is inline assembly on the chip.
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
 // The board layer's interrupt handlers use the AVR interrupt calling convention.

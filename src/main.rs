@@ -3,7 +3,8 @@
 //! Wires the board layer to the pure app (`touch_arm::app`): every 20 ms servo
 //! PWM period (Timer5 overflow) the app runs one frame (serial commands, one
 //! filtered touch read, the motion setpoint, the servo pulses), then redraws
-//! what changed on the ILI9341 screen. The watchdog
+//! what changed on the screen (whichever controller the boot probe found,
+//! `ui::controller`), as much as fits in the period (`board::frame`). The watchdog
 //! is fed once per frame, so a hang resets the chip into its power-up state
 //! (no pulses until the configuration is loaded and the home pose commanded).
 #![no_std]
@@ -16,7 +17,8 @@ use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
-use touch_arm::board::lcd::{Lcd, Rotation};
+use touch_arm::board::frame::{self, FrameBudget};
+use touch_arm::board::lcd::{Controller, IdReads, Lcd, Rotation};
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
@@ -24,6 +26,8 @@ use touch_arm::board::tick::Tick;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config::settings::Config;
+use touch_arm::seam::SerialPort;
+use touch_arm::text::line::Line;
 use ufmt::uwriteln;
 
 /// How the resistive panel is wired on this shield (SPEC §8 variants a/b/c;
@@ -43,6 +47,8 @@ struct Board {
     eeprom: Eeprom,
     pwm: ServoPwm,
     dog: Watchdog,
+    /// The display controller found at boot.
+    lcd: Controller,
 }
 
 #[avr_device::entry]
@@ -62,18 +68,27 @@ fn main() -> ! {
         // loaded calibration's limits every frame.
         pwm: ServoPwm::new(dp.TC5, &dp.PORTL, &[TickLimits { min: 1000, max: 5000 }; CHANNELS]),
         dog,
+        lcd: Controller::Ili9341,
     };
     // SAFETY: every peripheral the interrupt handlers touch is initialised.
     unsafe { avr_device::interrupt::enable() };
 
     let _ = uwriteln!(board.serial, "info touch-arm {} reset {}", env!("CARGO_PKG_VERSION"), reset_name(cause));
-    // The screen: reset, wake, landscape (≈ 270 ms, before the watchdog runs).
-    Lcd::new(&mut board.bus).init(Rotation::Landscape);
+    // The screen: reset, which controller, its initialisation, landscape
+    // (≈ 270 ms, more for the ILI9325; before the watchdog runs). An unknown
+    // controller is driven as an ILI9341; the arm works over serial either way.
+    let (ids, found) = Lcd::new(&mut board.bus).start(Rotation::Landscape);
+    board.lcd = found.unwrap_or(Controller::Ili9341);
+    report_lcd(&mut board.serial, &ids, found);
     let Some(app) = start_app() else {
         let _ = uwriteln!(board.serial, "err app parameters invalid");
         halt()
     };
+    app.set_screen_layout(board.lcd.layout());
     board.dog.enable(WATCHDOG);
+    // The overflow flag has been set since Timer5 started: drop it, so the
+    // first frame starts at a period start like every other.
+    let _ = board.pwm.period_started();
     loop {
         while !board.pwm.period_started() {}
         board.dog.feed();
@@ -107,15 +122,38 @@ fn frame(app: &mut App, b: &mut Board) {
         storage: &mut b.eeprom,
         serial: &mut b.serial,
     });
+    let app_ticks = b.pwm.ticks();
     // After the touch read, never during it: drawing holds the shared pins.
-    // Only what changed is redrawn; the PWM keeps its pulses meanwhile.
-    let _ = app.draw_screen(&mut Lcd::new(&mut b.bus));
+    // Only what changed is redrawn, and only as much as the period leaves;
+    // the rest in the next frames.
+    let _ = app.draw_screen_sliced(&mut Lcd::with_controller(&mut b.bus, b.lcd), &mut FrameBudget::new(&b.pwm));
+    frame::record(&b.pwm, app_ticks);
 }
 
-/// The configured pulse limits per joint, in Timer5 ticks (0.5 µs): the
-/// hardware layer's own clamp, under the app's.
+/// `info lcd <name> id 0x… <w>x<h>`, or `warn lcd unknown id 0x…` with the
+/// Read ID4 answer and then the other two probes.
+#[inline(never)]
+fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>) {
+    let mut line: Line<72> = Line::new();
+    match found {
+        Some(c) => {
+            let (w, h) = c.size();
+            let digits = if c.id() > 0xFFFF { 6 } else { 4 };
+            line.str(touch_arm::t!("info lcd ")).str(c.name()).str(touch_arm::t!(" id ")).hex(c.id(), digits);
+            line.bytes(b" ").u32(u32::from(w)).bytes(b"x").u32(u32::from(h));
+        }
+        None => {
+            line.str(touch_arm::t!("warn lcd unknown id ")).hex(ids.id4_value(), 6);
+            line.str(touch_arm::t!(" reg00 ")).hex(u32::from(ids.reg00_value()), 4);
+            line.str(touch_arm::t!(" rddid ")).hex(ids.rddid_value(), 6);
+        }
+    }
+    serial.write(line.finish());
+}
+
+/// The configured pulse limits per joint, in Timer5 ticks (0.5 µs).
 fn tick_limits(cfg: &Config) -> [TickLimits; CHANNELS] {
-    cfg.joints.map(|j| TickLimits { min: j.min_us.saturating_mul(2), max: j.max_us.saturating_mul(2) })
+    cfg.joints.map(|j| TickLimits::of_joint(&j))
 }
 
 fn reset_name(c: ResetCause) -> touch_arm::text::Text {

@@ -1,13 +1,43 @@
 //! The seam between the pure app and the hardware: small traits implemented by
 //! the AVR board layer (`board`, on the chip) and by `hal-sim` (the host twin).
 //! Everything above these traits is pure and tested on the host.
+//!
+//! # Failure convention
+//!
+//! One rule for every trait here, decided by what the device can do:
+//!
+//! - **A device that can fail returns `Result<_, E>`**, and `E` says what
+//!   failed ([`TouchError`]: a conversion of the ADC never finished;
+//!   [`StorageError`]: an access past the end, or the EEPROM stuck). A failed
+//!   call hands back no partial data as if it were good; the caller decides
+//!   what the fault means (the app counts a failed panel read as a miss and
+//!   reports a save it could not write).
+//! - **A device that cannot fail returns plainly**: the Timer5 compare
+//!   registers ([`ServoOutputs`]), the millisecond counter ([`Clock`]) and the
+//!   USART transmitter ([`SerialPort::write`]) accept every call. A `Result`
+//!   that is always `Ok` would cost code on the chip and teach callers to
+//!   ignore errors.
+//! - **Nothing there yet is not a failure**: `Option` ([`SerialPort::read_byte`]
+//!   when no byte has arrived).
+//!
+//! This is the convention of the embedded-hal family (`embedded_storage` and
+//! `embedded_io` return `Result` with an error type that names the fault), so a
+//! trait here can be replaced by theirs without changing how callers handle
+//! faults. An implementation that could lose data (a full transmit buffer)
+//! must either wait for room or report it through its return value: nothing
+//! is dropped silently.
+
+pub mod pins;
 
 /// One sample of the panel: X and Y positions and the pressure measure
 /// (see [`crate::touch::filter::pressure`]), all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawSample {
+    /// Voltage on the Y plate with the X plate driven, ADC counts 0..=1023.
     pub x: u16,
+    /// Voltage on the X plate with the Y plate driven, ADC counts 0..=1023.
     pub y: u16,
+    /// Pressure measure, 0..=2046, ≈ 0 untouched.
     pub z: u16,
 }
 
@@ -15,9 +45,17 @@ pub struct RawSample {
 /// pins, lets the voltage settle, samples, and hands every pin it shares with
 /// the LCD back exactly as it found it before returning.
 pub trait TouchPanel {
-    /// Fills `out` with consecutive raw readings (x, y, pressure) and returns how
-    /// many it filled (fewer on a hardware fault).
-    fn read(&mut self, out: &mut [RawSample]) -> usize;
+    /// Fills every slot of `out` with consecutive raw readings (x, y,
+    /// pressure), or fails; after a failure the contents of `out` are
+    /// unspecified.
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError>;
+}
+
+/// Why a panel read failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TouchError {
+    /// An ADC conversion did not finish (the converter is stuck or disabled).
+    Adc,
 }
 
 /// The three servo signal outputs (base, shoulder, elbow).
@@ -33,23 +71,67 @@ pub trait ServoOutputs {
 
 /// A monotonic millisecond clock.
 pub trait Clock {
+    /// Milliseconds since start; wraps after 49.7 days, so compare with
+    /// `wrapping_sub`.
     fn now_ms(&self) -> u32;
 }
 
-/// The line-oriented serial port (USART0 on the chip).
+/// The line-oriented serial port (USART0 on the chip). Neither direction
+/// blocks: received bytes wait in a bounded buffer until read, written bytes
+/// in a bounded buffer until sent.
+///
+/// Nothing is lost silently. Receive: when the buffer is full, arriving bytes
+/// are dropped until the reader has read everything kept before them; then
+/// [`SerialPort::read_byte`] returns `None` and [`SerialPort::take_rx_loss`]
+/// says which lines the drop cost. Transmit: [`SerialPort::write`] queues
+/// only what fits in [`SerialPort::tx_room`]; callers check the room first
+/// (the port counts bytes it had to drop, a caller's bug).
+///
+/// The defaults describe an unbounded port that never loses anything.
 pub trait SerialPort {
     /// The next received byte, if any (never blocks).
     fn read_byte(&mut self) -> Option<u8>;
-    /// Queues bytes for transmission.
+    /// After `read_byte` returned `None`: the bytes dropped at this point of
+    /// the stream, if any were; reading then resumes after them.
+    fn take_rx_loss(&mut self) -> Option<RxLoss> {
+        None
+    }
+    /// Bytes [`SerialPort::write`] can queue now.
+    fn tx_room(&self) -> usize {
+        usize::MAX
+    }
+    /// Queues bytes for transmission and returns at once.
     fn write(&mut self, bytes: &[u8]);
 }
 
-/// Byte-addressed non-volatile memory (the AVR EEPROM, or a test double).
-pub trait Storage {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError>;
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError>;
+/// What a full receive buffer cost, counted in lines as the serial protocol
+/// splits them (`\n`, `\r` or `\r\n` ends a line;
+/// `protocol::rx_loss::LossCounter` does the counting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RxLoss {
+    /// Lines with at least one byte that lost a byte or their terminator,
+    /// each counted once (a line the reader had started counts here; so does
+    /// the line still arriving, if it lost bytes).
+    pub lines: u16,
+    /// The line that continues after the loss lost bytes: the reader drops
+    /// the rest of it (it is counted, now or in an earlier loss).
+    pub rest_damaged: bool,
+    /// The last dropped byte was `\r` (so a `\n` right after the loss belongs
+    /// to it and ends no line).
+    pub after_cr: bool,
 }
 
+/// Byte-addressed non-volatile memory (the AVR EEPROM, the twin's, a test
+/// double): embedded-storage's [`ReadStorage`](embedded_storage::ReadStorage) and [`Storage`](embedded_storage::Storage)
+/// (reads and writes of any length at a byte offset; `write` erases as
+/// needed) whose error is [`StorageError`]. Implement those two traits; this
+/// one then holds by itself, so any embedded-storage driver with this error
+/// plugs into the configuration store and the app.
+pub trait Storage: embedded_storage::Storage<Error = StorageError> {}
+
+impl<T: embedded_storage::Storage<Error = StorageError> + ?Sized> Storage for T {}
+
+/// Why a storage access failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StorageError {
     /// The access would run past the end of the memory.

@@ -7,6 +7,8 @@
 //! one byte at a time. On the host the same handle wraps a plain `&'static str`,
 //! so host tests see exactly the bytes the chip sends.
 
+pub mod line;
+
 /// A handle to constant text (flash on AVR, a plain static elsewhere). Copy,
 /// 4 bytes on the chip.
 #[derive(Clone, Copy)]
@@ -37,6 +39,7 @@ impl Text {
         Text { s }
     }
 
+    /// Bytes of text.
     #[inline]
     pub fn len(&self) -> usize {
         #[cfg(target_arch = "avr")]
@@ -45,6 +48,7 @@ impl Text {
         return self.s.len();
     }
 
+    /// No bytes.
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
@@ -57,7 +61,9 @@ impl Text {
             return 0;
         }
         #[cfg(target_arch = "avr")]
-        return flash_byte(self.ptr.wrapping_add(i));
+        // SAFETY: `i < len`, and `ptr..ptr + len` is the `.progmem.data`
+        // static `t!` made.
+        return unsafe { flash_byte(self.ptr.wrapping_add(i)) };
         #[cfg(not(target_arch = "avr"))]
         return self.s.as_bytes()[i];
     }
@@ -124,9 +130,14 @@ impl ufmt::uDisplay for Text {
 /// One byte of program memory, by its flash address. Only `.progmem.data`
 /// statics are read this way; avr-gcc's linker script puts `.progmem*` in the
 /// low 64 KiB, so the 16-bit Z pointer and `lpm` reach them.
+///
+/// # Safety
+/// `p` must point into a live `'static` array placed in `.progmem.data` (on
+/// the host, into any live `'static` array): the host version reads it as
+/// data.
 #[cfg(target_arch = "avr")]
 #[inline]
-pub fn flash_byte(p: *const u8) -> u8 {
+pub unsafe fn flash_byte(p: *const u8) -> u8 {
     let byte: u8;
     // SAFETY: `lpm` only reads program memory.
     unsafe {
@@ -136,10 +147,13 @@ pub fn flash_byte(p: *const u8) -> u8 {
 }
 
 /// One byte of a constant (host: a plain read).
+///
+/// # Safety
+/// As on the chip: `p` must point into a live `'static` array.
 #[cfg(not(target_arch = "avr"))]
 #[inline]
-pub fn flash_byte(p: *const u8) -> u8 {
-    // SAFETY: callers pass pointers into live `'static` arrays.
+pub unsafe fn flash_byte(p: *const u8) -> u8 {
+    // SAFETY: the caller's promise.
     unsafe { p.read() }
 }
 
@@ -171,4 +185,69 @@ macro_rules! t {
             $crate::text::Text::from_str($s)
         }
     }};
+}
+
+/// The decimal digits of `v` into `out`, most significant first, without
+/// leading zeros (`0` is one digit); returns how many. By subtracting powers
+/// of ten (16-bit ones for the usual small values): on the ATmega2560 a
+/// 32-bit `/ 10` and `% 10` are library calls of several hundred cycles per
+/// digit, this is a few dozen.
+pub fn decimal(v: u32, out: &mut [u8; 10]) -> usize {
+    let mut d = Digits { out, n: 0 };
+    let mut small = match u16::try_from(v) {
+        Ok(mut s) => {
+            d.put16(&mut s, 10_000);
+            s
+        }
+        Err(_) => {
+            let mut rest = v;
+            for p in [1_000_000_000, 100_000_000, 10_000_000, 1_000_000, 100_000, 10_000] {
+                d.put32(&mut rest, p);
+            }
+            rest as u16
+        }
+    };
+    for p in [1000, 100, 10] {
+        d.put16(&mut small, p);
+    }
+    d.push(b'0' + small as u8);
+    d.n
+}
+
+/// Digits written so far.
+struct Digits<'a> {
+    out: &'a mut [u8; 10],
+    n: usize,
+}
+
+impl Digits<'_> {
+    fn push(&mut self, d: u8) {
+        if let Some(slot) = self.out.get_mut(self.n) {
+            *slot = d;
+        }
+        self.n += 1;
+    }
+
+    /// The digit of `p` in `rest`, unless it is a leading zero.
+    fn put32(&mut self, rest: &mut u32, p: u32) {
+        let mut d = b'0';
+        while *rest >= p {
+            *rest -= p;
+            d += 1;
+        }
+        if d != b'0' || self.n > 0 {
+            self.push(d);
+        }
+    }
+
+    fn put16(&mut self, rest: &mut u16, p: u16) {
+        let mut d = b'0';
+        while *rest >= p {
+            *rest -= p;
+            d += 1;
+        }
+        if d != b'0' || self.n > 0 {
+            self.push(d);
+        }
+    }
 }

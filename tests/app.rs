@@ -1,16 +1,16 @@
-//! The app's policy functions (duration bound, ζ-a-tₛ shape choice) and its
-//! refusals, against references computed here: the SPEC's closed-form G and
-//! G′ in f64 on dense grids, bisection, and the classic laws' closed forms.
+//! The planner's policy functions (duration bound, ζ-a-tₛ shape choice, peak
+//! rate) against references: the SPEC's G and G′ in f64 (`reference::zat`) on
+//! dense grids, bisection, and the classic laws' closed forms; and the app's
+//! text formatting. The app's commands and refusals run on the host twin in
+//! `hal-sim/tests/app_commands.rs`.
 
 use proptest::prelude::*;
-use std::collections::VecDeque;
+use reference::zat::Zat;
 use std::f64::consts::PI;
 
-use touch_arm::app::text::{centideg, Line};
-use touch_arm::app::Refusal;
-use touch_arm::app::{App, AppParams, Io, State};
-use touch_arm::config::store::EEPROM_SIZE;
+use touch_arm::app::text::Line;
 use touch_arm::geometry::ik::Branch;
+use touch_arm::math::units::rad_to_centideg;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::plan::{LawKind, MultiPlan};
 use touch_arm::motion::planner::duration::TS_SEARCH_TOL;
@@ -19,9 +19,6 @@ use touch_arm::motion::planner::plan_move::plan_move;
 use touch_arm::motion::planner::request::{MoveRequest, PlanError, PlanLimits};
 use touch_arm::motion::planner::shape_choice::{choose_a, monotone_limit_a, AKind};
 use touch_arm::motion::zat::{smooth_stop_a, Shape, ShapeParams};
-use touch_arm::seam::RawSample;
-use touch_arm::seam::{Clock, SerialPort, ServoOutputs, TouchPanel};
-use touch_arm::seam::{Storage, StorageError};
 use touch_arm::servo::map::{JointCal, ServoMap, ELBOW_BRANCH};
 
 fn cfg() -> ProptestConfig {
@@ -29,73 +26,34 @@ fn cfg() -> ProptestConfig {
 }
 
 // ---------------------------------------------------------------------------
-// Reference ζ-a-tₛ profile (SPEC §5, printed normalized form, f64).
+// The reference ζ-a-tₛ profile is `reference::zat::Zat` (SPEC §5 in f64).
 
-struct RefShape {
-    ts: f64,
-    a: f64,
-    l: f64,
+/// (min, max) of G′ on a uniform grid of (0, tₛ].
+fn rate_range(r: &Zat, n: usize) -> (f64, f64) {
+    let mut lo = f64::MAX;
+    let mut hi = f64::MIN;
+    for i in 1..=n {
+        let v = r.rate(r.ts() * i as f64 / n as f64);
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    (lo, hi)
 }
 
-impl RefShape {
-    fn new(ts: f64, a: f64, n: f64) -> Self {
-        RefShape { ts, a, l: n.ln() }
+/// G″ of the reference by a central difference of its G′ (one-sided at tₛ).
+fn ref_acc(r: &Zat, t: f64) -> f64 {
+    let ts = r.ts();
+    let h = 1e-6 * ts;
+    if t + h >= ts {
+        return (r.rate(t) - r.rate(t - h)) / h;
     }
-    fn q(&self, u: f64) -> f64 {
-        let x = self.l * (u - self.a);
-        if x > 700.0 {
-            0.0
-        } else {
-            1.0 / x.exp_m1()
-        }
-    }
-    fn g(&self, t: f64) -> f64 {
-        if t <= 0.0 {
-            return 0.0;
-        }
-        if t >= self.ts {
-            return 1.0;
-        }
-        let y = self.l * (self.ts / t - 1.0);
-        if y > 700.0 {
-            return 0.0;
-        }
-        (-y).exp() * (1.0 + self.q(t + self.ts / t - 1.0)) / (1.0 + self.q(self.ts))
-    }
-    /// G′ = G·L·(1 − u′·(1 + q)); at t = tₛ the left limit.
-    fn rate(&self, t: f64) -> f64 {
-        let g = if t >= self.ts { 1.0 } else { self.g(t) };
-        let u = t + self.ts / t - 1.0;
-        g * self.l * (1.0 - (1.0 - self.ts / (t * t)) * (1.0 + self.q(u)))
-    }
-    /// (min, max) of G′ on a uniform grid of (0, tₛ].
-    fn rate_range(&self, n: usize) -> (f64, f64) {
-        let mut lo = f64::MAX;
-        let mut hi = f64::MIN;
-        for i in 1..=n {
-            let r = self.rate(self.ts * i as f64 / n as f64);
-            lo = lo.min(r);
-            hi = hi.max(r);
-        }
-        (lo, hi)
-    }
-    fn end_rate(&self) -> f64 {
-        self.rate(self.ts)
-    }
-    /// G″ by a central difference of G′ (one-sided at tₛ).
-    fn acc(&self, t: f64) -> f64 {
-        let h = 1e-6 * self.ts;
-        if t + h >= self.ts {
-            return (self.rate(t) - self.rate(t - h)) / h;
-        }
-        (self.rate(t + h) - self.rate(t - h)) / (2.0 * h)
-    }
+    (r.rate(t + h) - r.rate(t - h)) / (2.0 * h)
 }
 
 /// max |G″| of the reference on (0, tₛ] ([`dense_max`]).
 fn ref_peak_acc(ts: f64, a: f64, n: f64) -> f64 {
-    let r = RefShape::new(ts, a, n);
-    dense_max(ts, |t| r.acc(t).abs())
+    let r = Zat::new(ts, a, n);
+    dense_max(ts, |t| ref_acc(&r, t).abs())
 }
 
 /// Largest a (below u_min) whose G′ stays ≥ 0 on a dense grid, by bisection.
@@ -104,7 +62,7 @@ fn monotone_boundary_by_scan(ts: f64, n: f64) -> f64 {
     let (mut lo, mut hi) = (u_min - 10.0, u_min - 1e-9);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
-        let (min_rate, _) = RefShape::new(ts, mid, n).rate_range(20_000);
+        let (min_rate, _) = rate_range(&Zat::new(ts, mid, n), 20_000);
         if min_rate >= 0.0 {
             lo = mid;
         } else {
@@ -138,9 +96,9 @@ fn smooth_stop_chosen_while_it_is_monotone() {
         assert_eq!(c.kind, AKind::SmoothStop, "ts={ts}");
         let a_star = ts - ts.ln() / l;
         assert!((c.a - a_star).abs() < 1e-12);
-        let r = RefShape::new(ts, c.a, 2.0);
+        let r = Zat::new(ts, c.a, 2.0);
         assert!(r.end_rate().abs() < 1e-9, "ts={ts}: end rate {}", r.end_rate());
-        assert!(r.rate_range(20_000).0 >= -1e-12);
+        assert!(rate_range(&r, 20_000).0 >= -1e-12);
     }
 }
 
@@ -151,17 +109,17 @@ fn beyond_the_smooth_stop_the_largest_monotone_a_is_chosen() {
         assert_eq!(c.kind, AKind::MonotoneLimit, "ts={ts}");
         let a_star = ts - ts.ln() / 2f64.ln();
         assert!(c.a < a_star);
-        let r = RefShape::new(ts, c.a, 2.0);
-        let (min_rate, _) = r.rate_range(20_000);
+        let r = Zat::new(ts, c.a, 2.0);
+        let (min_rate, _) = rate_range(&r, 20_000);
         assert!(min_rate >= -1e-9, "ts={ts}: not monotone, min G' {min_rate}");
         // Tight: a little more a backtracks.
-        let more = RefShape::new(ts, c.a + 2e-3 * (1.0 + c.a), 2.0);
-        assert!(more.rate_range(20_000).0 < 0.0, "ts={ts}: a is not at the boundary");
+        let more = Zat::new(ts, c.a + 2e-3 * (1.0 + c.a), 2.0);
+        assert!(rate_range(&more, 20_000).0 < 0.0, "ts={ts}: a is not at the boundary");
         // Best: the end rate only grows as a falls below the choice.
         let e = r.end_rate();
         assert!(e > 0.0);
         for da in [0.01, 0.1, 0.5] {
-            assert!(RefShape::new(ts, c.a - da, 2.0).end_rate() > e);
+            assert!(Zat::new(ts, c.a - da, 2.0).end_rate() > e);
         }
         // And it is small compared with a plain ramp's L/tₛ.
         assert!(e < 0.5 * 2f64.ln() / ts * 10.0, "ts={ts}: end rate {e}");
@@ -169,7 +127,7 @@ fn beyond_the_smooth_stop_the_largest_monotone_a_is_chosen() {
     // tₛ = 6: end rate 0.0282/s per unit Δ (computed with the SPEC formula in
     // an independent script), i.e. 28 mrad/s on a 1 rad move.
     let c = choose_a(6.0, 2.0).unwrap();
-    assert!((RefShape::new(6.0, c.a, 2.0).end_rate() - 0.02817).abs() < 2e-4);
+    assert!((Zat::new(6.0, c.a, 2.0).end_rate() - 0.02817).abs() < 2e-4);
 }
 
 #[test]
@@ -179,7 +137,7 @@ fn short_durations_use_the_floor_with_the_least_end_rate() {
         assert_eq!(c.kind, AKind::Floor);
         assert!(smooth_stop_a(ts, 2.0).is_none());
         // Infimum of the end rate over admissible a is L/tₛ (SPEC §5).
-        let e = RefShape::new(ts, c.a, 2.0).end_rate();
+        let e = Zat::new(ts, c.a, 2.0).end_rate();
         let inf = 2f64.ln() / ts;
         assert!(e >= inf && e < inf * (1.0 + 1e-6), "ts={ts}: {e} vs {inf}");
     }
@@ -203,7 +161,7 @@ fn choose_a_f32_agrees_with_f64_and_is_monotone() {
 /// max G′ of the reference profile: the best of a dense grid over (0, tₛ]
 /// (the end included), refined by golden section over its two cells.
 fn ref_peak(ts: f64, a: f64, n: f64) -> f64 {
-    let r = RefShape::new(ts, a, n);
+    let r = Zat::new(ts, a, n);
     dense_max(ts, |t| r.rate(t))
 }
 
@@ -240,9 +198,9 @@ fn rate_terms_match_the_reference() {
     for &(ts, n) in &[(1.2f64, 2.0f64), (3.0, 2.0), (10.0, 2.0), (6.0, 5.0), (0.7, 1.5)] {
         let c = choose_a(ts, n).unwrap();
         let s = Shape::new(&ShapeParams { ts, a: c.a, n }).unwrap();
-        let r = RefShape::new(ts, c.a, n);
+        let r = Zat::new(ts, c.a, n);
         // Scales of G″ and G‴ for the difference quotients' absolute errors.
-        let p = r.rate_range(2_000).1;
+        let p = rate_range(&r, 2_000).1;
         for i in 1..50 {
             let t = ts * i as f64 / 50.0;
             let Some(k) = s.rate_terms(t) else { continue };
@@ -280,7 +238,7 @@ proptest! {
             let p32 = zat_peak_rate(&s32) as f64;
             let want32 = ref_peak(ts32 as f64, a32 as f64, n32 as f64);
             let rel = p32 / want32 - 1.0;
-            prop_assert!(rel >= -2e-5 && rel <= 1.2e-4, "ts={ts} n={n}: f32 {p32} vs {want32}");
+            prop_assert!((-2e-5..=1.2e-4).contains(&rel), "ts={ts} n={n}: f32 {p32} vs {want32}");
         }
     }
 }
@@ -359,7 +317,7 @@ fn classic_durations_are_the_closed_form_bound() {
 fn zat_min_ts(ratio: f64) -> f64 {
     let peak = |ts: f64| {
         let c = choose_a(ts, 2.0).unwrap();
-        RefShape::new(ts, c.a, 2.0).rate_range(8_000).1
+        rate_range(&Zat::new(ts, c.a, 2.0), 8_000).1
     };
     let (mut lo, mut hi) = (1.2, 30.0);
     if ratio * peak(lo) <= 1.0 {
@@ -398,7 +356,7 @@ fn zat_duration_is_verified_and_near_minimal() {
         assert!(share > 0.97, "bound not tight: {share}");
         // End velocity as reported = Δ·G′(tₛ⁻) of the reference.
         let a = m.a.unwrap();
-        let e = RefShape::new(m.ts, a.a, 2.0).end_rate();
+        let e = Zat::new(m.ts, a.a, 2.0).end_rate();
         assert!((m.end_velocity[0] - d * e).abs() < 1e-6);
     }
     // Small moves: the floor zat_ts_min with the smooth stop.
@@ -672,215 +630,6 @@ fn elbow_branch_keeps_the_whole_workspace_inside_the_default_limits() {
     assert!(inside(Branch::Plus) > 100);
 }
 
-// ---------------------------------------------------------------------------
-// The app with minimal doubles of the seam.
-
-struct NoTouch;
-impl TouchPanel for NoTouch {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
-        for s in out.iter_mut() {
-            *s = RawSample { x: 512, y: 512, z: 0 };
-        }
-        out.len()
-    }
-}
-
-#[derive(Default)]
-struct Servos {
-    /// Timer5 ticks of 0.5 µs.
-    pulses: Option<[u16; 3]>,
-    log: Vec<Option<[u16; 3]>>,
-}
-impl ServoOutputs for Servos {
-    fn set_pulses(&mut self, p: &[u16; 3]) {
-        self.pulses = Some(*p);
-    }
-    fn disable(&mut self) {
-        self.pulses = None;
-    }
-}
-
-struct FixedClock(u32);
-impl Clock for FixedClock {
-    fn now_ms(&self) -> u32 {
-        self.0
-    }
-}
-
-struct Ram(Vec<u8>);
-impl Storage for Ram {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
-        buf.copy_from_slice(self.0.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?);
-        Ok(())
-    }
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
-        self.0.get_mut(a..a + data.len()).ok_or(StorageError::OutOfRange)?.copy_from_slice(data);
-        Ok(())
-    }
-}
-
-#[derive(Default)]
-struct Port {
-    input: VecDeque<u8>,
-    output: Vec<u8>,
-}
-impl SerialPort for Port {
-    fn read_byte(&mut self) -> Option<u8> {
-        self.input.pop_front()
-    }
-    fn write(&mut self, b: &[u8]) {
-        self.output.extend_from_slice(b);
-    }
-}
-
-struct Rig {
-    app: App,
-    panel: NoTouch,
-    servos: Servos,
-    clock: FixedClock,
-    eeprom: Ram,
-    port: Port,
-}
-
-impl Rig {
-    fn new(params: &AppParams) -> Rig {
-        Rig {
-            app: App::new(params).unwrap(),
-            panel: NoTouch,
-            servos: Servos::default(),
-            clock: FixedClock(0),
-            eeprom: Ram(vec![0xFF; EEPROM_SIZE as usize]),
-            port: Port::default(),
-        }
-    }
-    fn frames(&mut self, n: usize) {
-        for _ in 0..n {
-            let mut io = Io {
-                panel: &mut self.panel,
-                servos: &mut self.servos,
-                clock: &self.clock,
-                storage: &mut self.eeprom,
-                serial: &mut self.port,
-            };
-            self.app.frame(&mut io);
-            self.servos.log.push(self.servos.pulses);
-            self.clock.0 += 20;
-        }
-    }
-    /// Sends a line, runs two frames, returns the reply lines.
-    fn ask(&mut self, line: &str) -> Vec<String> {
-        self.port.output.clear();
-        self.port.input.extend(line.bytes().chain(*b"\n"));
-        self.frames(2);
-        String::from_utf8(self.port.output.clone())
-            .unwrap()
-            .lines()
-            .map(|l| l.trim_end().to_string())
-            .filter(|l| !l.starts_with("t "))
-            .collect()
-    }
-    fn homed(params: &AppParams) -> Rig {
-        let mut r = Rig::new(params);
-        r.frames(1 + params.home_settle_frames as usize);
-        assert_eq!(r.app.state(), State::Holding);
-        r
-    }
-}
-
-#[test]
-fn refusals_keep_the_pose_and_say_why() {
-    let mut r = Rig::homed(&AppParams::DEFAULT);
-    let home = r.servos.pulses;
-    assert_eq!(home, Some([3000, 3000, 3000]));
-    let cases: &[(&str, &str)] = &[
-        ("goto 200 90 -90", "err joint limit base"),
-        ("goto 90 -10 -90", "err joint limit shoulder"),
-        ("goto 90 90 10", "err joint limit elbow"),
-        ("goto 90 90 -180.5", "err joint limit elbow"),
-        ("move 50 500", "err outside calibrated area"),
-        ("move 500 950", "err outside calibrated area"),
-        ("move 500", "err missing argument"),
-        ("law warp", "err bad argument"),
-    ];
-    for (cmd, want) in cases {
-        assert_eq!(r.ask(cmd), vec![want.to_string()], "{cmd}");
-        assert_eq!(r.servos.pulses, home, "{cmd} moved the arm");
-        assert_eq!(r.app.state(), State::Holding);
-    }
-    // Limits are inclusive: 180° base and a straight elbow are fine.
-    assert_eq!(r.ask("goto 180 90 0")[0].split(' ').take(2).collect::<Vec<_>>(), ["ok", "goto"]);
-}
-
-#[test]
-fn unreachable_and_singular_points_are_refused() {
-    // k = 1.5: the top-right corner lies beyond l2 + l3 = 2.
-    let params = AppParams { k: 1.5, ..AppParams::DEFAULT };
-    let mut r = Rig::homed(&params);
-    assert_eq!(r.ask("move 900 880"), ["err unreachable"]);
-    assert_eq!(r.app.status().last_refusal, Some(Refusal::Unreachable));
-    assert_eq!(r.servos.pulses, Some([3000, 3000, 3000]));
-    // The origin with l2 = l3: shoulder angle undefined. A span of 123..931
-    // puts raw x = 527 exactly at x_p = 0.
-    let mut r = Rig::homed(&AppParams::DEFAULT);
-    assert_eq!(r.ask("cal set touch x_max 931"), ["ok cal set"]);
-    assert_eq!(r.ask("move 527 128"), ["err singular point"]);
-}
-
-#[test]
-fn homing_stop_and_speed_limit_refusals() {
-    let mut r = Rig::new(&AppParams::DEFAULT);
-    r.frames(1);
-    assert_eq!(r.servos.pulses, None, "no pulse in the boot frame");
-    assert_eq!(r.ask("goto 45 90 -90"), ["err homing"]);
-    r.frames(60);
-    assert_eq!(r.ask("stop"), ["ok stop"]);
-    assert_eq!(r.app.state(), State::Stopped);
-    assert_eq!(r.ask("goto 45 90 -90"), ["err stopped (send resume)"]);
-    assert_eq!(r.ask("resume"), ["ok resume"]);
-    // 0.5 °/s on the base: 90° would need ≫ 30 s.
-    assert_eq!(r.ask("cal set base max_speed 0.5"), ["ok cal set"]);
-    assert_eq!(r.ask("goto 0 90 -90"), ["err speed limit needs ts above max"]);
-    assert_eq!(r.servos.pulses, Some([3000, 3000, 3000]));
-}
-
-#[test]
-fn first_move_is_slow_and_reports_its_plan() {
-    let mut r = Rig::homed(&AppParams::DEFAULT);
-    assert_eq!(r.ask("law quintic"), ["ok law quintic"]);
-    // 60° on the base at 25 % (first move) of 3 rad/s less 2 %: 0.735 rad/s,
-    // T = 1.875·(π/3)/0.735 = 2.6714 s.
-    assert_eq!(r.ask("goto 30 90 -90"), ["ok goto ts_ms 2671 vend 0 0 0"]);
-    r.frames(200);
-    assert_eq!(r.servos.pulses, Some([1800, 3000, 3000]));
-    // The second at the normal 50 %: T = 1.875·(π/3)/1.47 = 1.3357 s.
-    assert_eq!(r.ask("goto 90 90 -90"), ["ok goto ts_ms 1336 vend 0 0 0"]);
-    // The time-scaled ζ-a-tₛ in closed form: T = 2.020156·(π/3)/1.47 =
-    // 1.43912 s, ending at rest.
-    r.frames(100);
-    assert_eq!(r.ask("law zat"), ["ok law zat"]);
-    assert_eq!(r.ask("goto 30 90 -90"), ["ok goto ts_ms 1439 vend 0 0 0"]);
-    // The papers' form reports a and the smooth stop; 60° at 50 % → tₛ ≈ 1.444 s.
-    r.frames(100);
-    assert_eq!(r.ask("law zat-paper"), ["ok law zat-paper"]);
-    let reply = r.ask("goto 90 90 -90");
-    let f: Vec<&str> = reply[0].split(' ').collect();
-    assert_eq!(&f[..3], ["ok", "goto", "ts_ms"]);
-    let ts: f64 = f[3].parse().unwrap();
-    assert!((1444.0..1474.0).contains(&ts), "{reply:?}");
-    assert_eq!(&f[4..], ["a_milli", f[5], "smooth", "vend", "0", "0", "0"]);
-    // A low acceleration limit lengthens a short move: 10° on the base at
-    // 100 °/s² less 2 %: T = √(6.636934·(π/18)/(1.7453·0.98)) = 0.8229 s,
-    // where the speed alone would take 0.24 s.
-    r.frames(100);
-    assert_eq!(r.ask("law zat"), ["ok law zat"]);
-    assert_eq!(r.ask("cal set base max_accel 100"), ["ok cal set"]);
-    assert_eq!(r.ask("goto 80 90 -90"), ["ok goto ts_ms 823 vend 0 0 0"]);
-    r.frames(50);
-    assert_eq!(r.ask("cal set base max_accel 0"), ["err base accel"]);
-}
-
 #[test]
 fn text_formatting() {
     let mut l = Line::new();
@@ -895,9 +644,9 @@ fn text_formatting() {
         .bytes(b" ")
         .u32(u32::MAX);
     assert_eq!(l.finish(), b"-2147483648 x 0 -7 -0.05 1234.56 4294967295\r\n");
-    assert_eq!(centideg(std::f32::consts::FRAC_PI_2), 9000);
-    assert_eq!(centideg(-2.0), -11459);
-    assert_eq!(centideg(f32::NAN), 0);
+    assert_eq!(rad_to_centideg(std::f32::consts::FRAC_PI_2), 9000);
+    assert_eq!(rad_to_centideg(-2.0), -11459);
+    assert_eq!(rad_to_centideg(f32::NAN), 0);
     // Overlong text is cut, the terminator kept.
     let mut l = Line::new();
     for _ in 0..300 {

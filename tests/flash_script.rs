@@ -1,5 +1,7 @@
-//! scripts/flash.sh, the way onto a real board: the dry run prints the exact
-//! avrdude command, and a missing board or firmware gives a clear message.
+//! scripts/flash.sh, the way onto a real board and the cargo runner behind
+//! `cargo avr-run`: the dry run prints the exact ravedude command, a missing
+//! board or firmware gives a clear message, and Ravedude.toml is the Mega's
+//! stock bootloader at 115200 with the console at 115200.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -10,11 +12,16 @@ fn root() -> PathBuf {
 
 fn flash(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     let mut cmd = Command::new("bash");
-    cmd.arg(root().join("scripts/flash.sh")).args(args).env_remove("TOUCH_ARM_PORT");
+    cmd.arg(root().join("scripts/flash.sh")).args(args);
+    run(cmd, env)
+}
+
+fn run(mut cmd: Command, env: &[(&str, &str)]) -> (i32, String, String) {
+    cmd.env_remove("TOUCH_ARM_PORT");
     for (k, v) in env {
         cmd.env(k, v);
     }
-    let out = cmd.output().expect("bash");
+    let out = cmd.output().expect("spawn");
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stdout).into(),
@@ -28,14 +35,26 @@ fn some_elf() -> String {
 }
 
 #[test]
-fn dry_run_prints_the_exact_avrdude_command() {
+fn dry_run_prints_the_exact_ravedude_command() {
     let elf = some_elf();
     let (code, out, err) = flash(&["--dry-run", "--port", "/dev/ttyACM3", &elf], &[]);
     assert_eq!(code, 0, "{err}");
-    let hex = elf.trim_end_matches(".elf").to_string() + ".hex";
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines[0], format!("avr-objcopy -O ihex -R .eeprom {elf} {hex}"));
-    assert_eq!(lines[1], format!("avrdude -p atmega2560 -c wiring -P /dev/ttyACM3 -b 115200 -D -U flash:w:{hex}:i"));
+    assert_eq!(out, format!("ravedude -P /dev/ttyACM3 -c {elf}\n"));
+    // Without the console; options may follow the ELF (as cargo passes them).
+    let (code, out, _) = flash(&[&elf, "--no-console", "--dry-run", "--port=/dev/ttyUSB1"], &[]);
+    assert_eq!(code, 0);
+    assert_eq!(out, format!("ravedude -P /dev/ttyUSB1 {elf}\n"));
+}
+
+#[test]
+fn a_relative_elf_is_the_callers() {
+    let mut cmd = Command::new("bash");
+    cmd.arg(root().join("scripts/flash.sh")).args(["--dry-run", "--port", "/dev/ttyACM0", "../Cargo.toml"]);
+    cmd.current_dir(root().join("hal-sim"));
+    let (code, out, err) = run(cmd, &[]);
+    assert_eq!(code, 0, "{err}");
+    let want = root().join("hal-sim").join("../Cargo.toml");
+    assert_eq!(out, format!("ravedude -P /dev/ttyACM0 -c {}\n", want.display()));
 }
 
 #[test]
@@ -58,4 +77,52 @@ fn missing_firmware_says_how_to_build_it() {
     let (code, _, err) = flash(&["--dry-run", "/nonexistent/touch-arm.elf"], &[]);
     assert_eq!(code, 1);
     assert!(err.contains("cargo avr"), "{err}");
+}
+
+#[test]
+fn unknown_option_is_refused() {
+    let (code, out, err) = flash(&["--baud", "9600"], &[]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert!(err.contains("unknown option --baud"), "{err}");
+}
+
+/// `cargo avr-run` is `cargo run --release` for the firmware: cargo builds
+/// the ELF and hands it to the runner (`scripts/flash.sh`) with the options
+/// after `--`. The firmware is already built by the test command, so this is
+/// a fingerprint check, not a build.
+#[test]
+fn cargo_avr_run_hands_the_firmware_to_the_runner() {
+    let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    cmd.args(["avr-run", "--quiet", "--", "--dry-run", "--port", "/dev/ttyACM9"]).current_dir(root());
+    let (code, out, err) = run(cmd, &[]);
+    assert_eq!(code, 0, "{err}");
+    let elf = out.trim_end().strip_prefix("ravedude -P /dev/ttyACM9 -c ").unwrap_or_else(|| panic!("{out}"));
+    assert!(elf.ends_with("/avr-none/release/touch-arm.elf") && PathBuf::from(elf).is_file(), "{out}");
+    // The alias no longer shadows probe-rs's `cargo flash`.
+    let config = std::fs::read_to_string(root().join(".cargo/config.toml")).unwrap();
+    assert!(config.contains("runner = \"scripts/flash.sh\""));
+    assert!(!config.lines().any(|l| l.trim_start().starts_with("flash =")), "{config}");
+}
+
+/// What ravedude makes of Ravedude.toml (scripts/setup.sh installs ravedude).
+#[test]
+fn ravedude_config_is_the_mega_bootloader_and_a_115200_console() {
+    let mut cmd = Command::new("ravedude");
+    cmd.arg("--dump-config").current_dir(root());
+    let out = cmd.output().expect("ravedude not installed: scripts/setup.sh installs it");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let value = |key: &str| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key)?.trim_start().strip_prefix('=').map(str::trim))
+            .unwrap_or_else(|| panic!("no {key} in\n{text}"))
+    };
+    assert_eq!(value("board"), "\"mega2560\"");
+    assert_eq!(value("serial-baudrate"), "115200");
+    assert_eq!(value("programmer"), "\"wiring\"");
+    assert_eq!(value("partno"), "\"atmega2560\"");
+    assert_eq!(value("baudrate"), "115200");
+    // No chip erase (avrdude -D, as the flash script always did).
+    assert_eq!(value("do-chip-erase"), "false");
 }

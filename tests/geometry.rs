@@ -831,7 +831,7 @@ fn f32_links_and_point() -> impl Strategy<Value = (f32, f32, f32, f32)> {
         (-1e-7f64..1e-7).prop_map(|d| -PI + d.abs()),
     ];
     (0.1f32..10.0, l3, u, th).prop_map(|(l2, l3, u, th)| {
-        let l3 = l3.map_or(l2, |f| if f < 0.5 || f > 2.0 { f } else { l2 * f });
+        let l3 = l3.map_or(l2, |f| if !(0.5..=2.0).contains(&f) { f } else { l2 * f });
         let (l2d, l3d) = (l2 as f64, l3 as f64);
         let (rmin, rmax) = ((l2d - l3d).abs(), l2d + l3d);
         let r = (rmin + u * (rmax - rmin)).max(1e-5 * rmax);

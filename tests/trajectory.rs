@@ -2,6 +2,7 @@
 //! (§7) and the synchronized multi-joint plan.
 
 use proptest::prelude::*;
+use reference::zat::Zat;
 use touch_arm::motion::laws::{eval, Law, LawParams, LawPlan};
 use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
 use touch_arm::motion::via::{iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan};
@@ -10,31 +11,16 @@ use touch_arm::motion::{Sample, TrajError};
 
 // ---------------------------------------------------------------- references
 
-/// Independent f64 reference for G: the printed form's n^t·q(t) normalized by
-/// its value at tₛ, in log space (no shared code with the crate's recipe).
+/// Independent f64 reference for G (the `reference` crate: the printed form
+/// normalized at tₛ, in log space, no shared code with the crate's recipe).
 fn g_ref(t: f64, ts: f64, a: f64, n: f64) -> f64 {
-    if t <= 0.0 {
-        return 0.0;
-    }
-    if t >= ts {
-        return 1.0;
-    }
-    let l = n.ln();
-    let u = t + ts / t - 1.0;
-    let ln_q = |w: f64| -(l * w).exp_m1().ln();
-    (l * (t - ts) + ln_q(u - a) - ln_q(ts - a)).exp()
+    Zat::new(ts, a, n).g(t)
 }
 
-/// The printed eq. 8/13 form with ζ, for 0 < t ≤ tₛ.
+/// The printed eq. 8/13 form with its own ζ (`reference`: the powers formed
+/// directly).
 fn printed(t: f64, q0: f64, sf: f64, ts: f64, a: f64, n: f64) -> f64 {
-    let z = zeta(&ZatParams { q0, sf, ts, a, n }).unwrap();
-    let u = t + ts / t - 1.0;
-    let m = n.powf(t - z) / (n.powf(u) - n.powf(a)).abs();
-    if sf >= q0 {
-        q0 + m
-    } else {
-        q0 - m
-    }
+    Zat::new(ts, a, n).printed(q0, sf, t)
 }
 
 fn shape64(ts: f64, a: f64, n: f64) -> Shape<f64> {
@@ -476,10 +462,10 @@ fn shape_refusal_ref(ts: f32, a: f32, n: f32) -> Result<(), TrajError<f32>> {
     if !(ts.is_finite() && a.is_finite() && n.is_finite()) {
         return Err(TrajError::NotFinite);
     }
-    if !(ts > 0.0) {
+    if ts <= 0.0 {
         return Err(TrajError::NonPositiveDuration);
     }
-    if !(n > 1.0) {
+    if n <= 1.0 {
         return Err(TrajError::BaseNotAboveOne);
     }
     let um = u_min(ts);
@@ -490,7 +476,7 @@ fn shape_refusal_ref(ts: f32, a: f32, n: f32) -> Result<(), TrajError<f32>> {
     let l = touch_arm::math::exp::ln(n);
     let l_delta = l * delta;
     let e_s = touch_arm::math::exp::expm1(l * (ts - a));
-    let on_pole = !(l_delta >= f32::EPSILON) && !((1.0 / l_delta).is_finite() && (1.0 / e_s).is_finite());
+    let on_pole = l_delta < f32::EPSILON && !((1.0 / l_delta).is_finite() && (1.0 / e_s).is_finite());
     if on_pole || !l_delta.is_finite() {
         return Err(TrajError::NotFinite);
     }
@@ -727,7 +713,7 @@ const LAWS: [Law; 4] = [Law::Linear, Law::Cubic, Law::Quintic, Law::Trapezoid];
 #[test]
 fn laws_endpoints_and_outside() {
     for law in LAWS {
-        for &(t0, tf, s0, sf) in &[(0.0, 1.0, 0.0, 3.141592653589793), (0.3, 1.7, 0.1, 0.7), (1.0, 2.1, 0.9, -0.2)] {
+        for &(t0, tf, s0, sf) in &[(0.0, 1.0, 0.0, std::f64::consts::PI), (0.3, 1.7, 0.1, 0.7), (1.0, 2.1, 0.9, -0.2)] {
             let p = LawParams { t0, tf, s0, sf };
             assert_eq!(eval(law, &p, tf).unwrap().s, sf);
             assert_eq!(eval(law, &p, t0).unwrap().s, s0);
@@ -873,8 +859,8 @@ fn multiplan_joints_arrive_together() {
         MultiPlan::<f32>::new(&[0.1, 0.7, -0.4], &[0.9, 0.2, 0.3], &ShapeParams { ts: 2.5, a: 1.0, n: 3.0 }).unwrap();
     assert_eq!(p32.positions(2.5), [0.9f32, 0.2, 0.3]);
     let mid = p32.positions(1.25);
-    for j in 0..JOINTS {
-        assert!((mid[j] as f64 - plan.positions(1.25)[j]).abs() < 1e-6);
+    for (m, p) in mid.iter().zip(plan.positions(1.25)) {
+        assert!((*m as f64 - p).abs() < 1e-6);
     }
 }
 

@@ -578,10 +578,10 @@ fn cmd_traj(a: &TrajArgs) -> Result<String, String> {
                 return Err(format!("{name} must be finite"));
             }
         }
-        if !(p.ts > 0.0) {
+        if p.ts <= 0.0 {
             return Err(format!("--ts must be > 0, got {}", p.ts));
         }
-        if !(p.n > 1.0) {
+        if p.n <= 1.0 {
             return Err(format!("--n must be > 1, got {}", p.n));
         }
         let shape = Shape::new(&p.shape());

@@ -77,7 +77,11 @@ impl Framebuffer {
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir)?;
         }
-        let w = BufWriter::new(File::create(path)?);
+        self.write_png(BufWriter::new(File::create(path)?))
+    }
+
+    /// Encodes an 8-bit RGB PNG into `w`.
+    pub fn write_png<W: std::io::Write>(&self, w: W) -> std::io::Result<()> {
         let mut enc = png::Encoder::new(w, self.width, self.height);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);

@@ -3,6 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use touch_arm::seam::pins::mega;
+use touch_arm::ui::Layout;
+
 use crate::avr::{Avr, Error};
 
 /// ATmega2560 on the Mega 2560 board.
@@ -20,9 +23,14 @@ fn avr_elf(name: &str, override_var: &str) -> PathBuf {
     if let Some(p) = std::env::var_os(override_var) {
         return PathBuf::from(p);
     }
+    avr_release_dir().join(format!("{name}.elf"))
+}
+
+/// `$CARGO_TARGET_DIR` (or target/) `/avr-none/release`.
+fn avr_release_dir() -> PathBuf {
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"));
-    target.join("avr-none/release").join(format!("{name}.elf"))
+    target.join("avr-none/release")
 }
 
 /// The product firmware (`cargo avr`), or `TOUCH_ARM_ELF`.
@@ -35,19 +43,81 @@ pub fn bench_elf() -> PathBuf {
     avr_elf("bench", "TOUCH_ARM_BENCH_ELF")
 }
 
+/// The on-chip UI check (`cargo avr`), or `UI_DEMO_ELF`.
+pub fn ui_demo_elf() -> PathBuf {
+    avr_elf("ui-demo", "UI_DEMO_ELF")
+}
+
+/// The code-above-128-KiB check (`cargo avr`), or `TOUCH_ARM_FAR_CALL_ELF`.
+pub fn far_call_elf() -> PathBuf {
+    avr_elf("far-call", "TOUCH_ARM_FAR_CALL_ELF")
+}
+
+/// The example programs the test command builds (`cargo avr`, and `cargo
+/// avr-mipidsi` for the last).
+pub const EXAMPLES: [&str; 3] = ["panel-probe", "servo-sweep", "mipidsi-fill"];
+
+/// Every firmware and example the test command builds, by name: what the
+/// post-link checks (`tests/firmware_elf.rs`) run over.
+pub fn all_elfs() -> Vec<(&'static str, PathBuf)> {
+    let mut elfs = vec![
+        ("touch-arm", default_elf()),
+        ("bench", bench_elf()),
+        ("ui-demo", ui_demo_elf()),
+        ("far-call", far_call_elf()),
+    ];
+    elfs.extend(EXAMPLES.iter().map(|name| (*name, example_elf(name))));
+    elfs
+}
+
+/// An example program (`examples/`, built by `cargo avr`), e.g. "panel-probe".
+pub fn example_elf(name: &str) -> PathBuf {
+    avr_release_dir().join("examples").join(format!("{name}.elf"))
+}
+
 /// A budget from memory.x: `__budget_<name> = <n>K;` or `= <n>;`, in bytes.
 pub fn budget(name: &str) -> Result<u64, String> {
     let path = workspace_root().join("memory.x");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    budget_in(&text, name)
+}
+
+/// [`budget`] from memory.x's text.
+pub fn budget_in(memory_x: &str, name: &str) -> Result<u64, String> {
     let key = format!("__budget_{name}");
     let line =
-        text.lines().find(|l| l.trim_start().starts_with(&key)).ok_or_else(|| format!("memory.x has no {key}"))?;
+        memory_x.lines().find(|l| l.trim_start().starts_with(&key)).ok_or_else(|| format!("memory.x has no {key}"))?;
     let value = line.split('=').nth(1).and_then(|v| v.split(';').next()).map(str::trim).unwrap_or("");
     let parsed = match value.strip_suffix('K') {
         Some(k) => k.parse::<u64>().map(|k| k * 1024),
         None => value.parse::<u64>(),
     };
     parsed.map_err(|_| format!("memory.x: {key} = {value:?} is not a size"))
+}
+
+/// An ELF's section sizes as `avr-size -A` reports them.
+pub fn section_sizes(elf: &Path) -> Result<Vec<(String, u64)>, String> {
+    let out = std::process::Command::new("avr-size")
+        .arg("-A")
+        .arg(elf)
+        .output()
+        .map_err(|e| format!("avr-size (binutils-avr): {e}"))?;
+    if !out.status.success() {
+        return Err(format!("avr-size -A {}: {}", elf.display(), String::from_utf8_lossy(&out.stderr).trim()));
+    }
+    Ok(parse_section_sizes(&String::from_utf8_lossy(&out.stdout)))
+}
+
+/// The `(.section, bytes)` rows of `avr-size -A` output.
+pub fn parse_section_sizes(text: &str) -> Vec<(String, u64)> {
+    text.lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let name = it.next()?;
+            let size = it.next()?.parse().ok()?;
+            name.starts_with('.').then(|| (name.to_string(), size))
+        })
+        .collect()
 }
 
 /// Runs an ELF until it prints `done` (or halts) and returns its UART text.
@@ -70,38 +140,50 @@ pub fn load(elf: &Path) -> Result<Avr, String> {
 /// Fill pattern for stack painting (unlikely as real stack content).
 const STACK_PAINT: u8 = 0xA5;
 
-/// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5.
+/// The servo signal pins: base, shoulder, elbow on OC5A/B/C = PL3/PL4/PL5
+/// (the firmware's pin map).
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
-    [crate::avr::Pin::new('L', 3), crate::avr::Pin::new('L', 4), crate::avr::Pin::new('L', 5)];
+    [crate::avr::Pin::of(mega::SERVOS[0]), crate::avr::Pin::of(mega::SERVOS[1]), crate::avr::Pin::of(mega::SERVOS[2])];
 
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
     pub avr: Avr,
-    /// The ILI9341 as the firmware's bus writes leave it.
+    /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
 }
 
 impl Session {
-    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring).
+    /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring)
+    /// and an ILI9341 on the shield.
     pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {
+        Self::start_with_lcd(elf, wiring, crate::lcd_bus::Chip::Ili9341, seed)
+    }
+
+    /// [`Session::start`] with `chip` as the shield's display controller.
+    pub fn start_with_lcd(
+        elf: &Path,
+        wiring: crate::panel::PanelWiring,
+        chip: crate::lcd_bus::Chip,
+        seed: u64,
+    ) -> Result<Session, String> {
         let mut avr = load(elf)?;
         // Before the first instruction, so the high-water mark covers the run.
         avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
         for pin in SERVO_PINS {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
-        let lcd = crate::lcd_bus::LcdBus::attach(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD)
+        let lcd = crate::lcd_bus::LcdBus::attach_chip(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD, chip)
             .map_err(|e| format!("{e:?}"))?;
         let panel = std::rc::Rc::new(std::cell::RefCell::new(crate::panel::PanelOnPins {
             wiring,
             panel: crate::twin::panel::SimPanel::new(seed),
         }));
         let model = panel.clone();
-        avr.set_adc_handler(move |req| match model.borrow_mut().read(req) {
-            Some(v) => crate::avr::AdcInput::Raw(v),
-            None => crate::avr::AdcInput::Raw(0),
+        avr.set_adc_handler(move |req| {
+            let v = model.borrow_mut().read(req).unwrap_or_else(|| crate::panel::PanelOnPins::read_off_panel(req));
+            crate::avr::AdcInput::Raw(v)
         });
         Ok(Session { avr, lcd, panel })
     }
@@ -153,6 +235,27 @@ impl Session {
             .map_err(|e| format!("no reply to {line:?}: {e:?}"))?;
         let out = String::from_utf8_lossy(&self.avr.uart_output()[before..]).to_string();
         Ok(out.lines().find(|l| l.starts_with("ok") || l.starts_with("err")).unwrap_or("").to_string())
+    }
+
+    /// Runs until the firmware has booted, homed and takes targets (`status`
+    /// says `holding`), polling every 0.1 s, for at most `max_s` seconds. The
+    /// boot time depends on the display controller (the ILI9325's power-up
+    /// sequence waits 350 ms more than the DCS controllers'), so a fixed wait
+    /// would be too short for one or needlessly long for the others. Call it
+    /// after the display's start-up (1 s in): serial bytes sent earlier would
+    /// overrun the USART while the firmware is still initialising the LCD.
+    pub fn run_until_ready(&mut self, max_s: f64) -> Result<(), String> {
+        let end = self.avr.time_s() + max_s;
+        loop {
+            let reply = self.command("status")?;
+            if reply.starts_with("ok status holding") {
+                return Ok(());
+            }
+            if self.avr.time_s() > end {
+                return Err(format!("not ready after {max_s} s: {reply}"));
+            }
+            self.run_for(0.1)?;
+        }
     }
 
     /// The deepest the stack has been since power-up, in bytes.
@@ -256,25 +359,97 @@ pub fn pulse_ticks(pulses: &[crate::avr::Pulse]) -> Vec<(u64, u16)> {
 /// Where to press the panel to pick workspace point (x, y) on the screen's
 /// map: the raw reading (default calibration) of the centre of the map pixel
 /// that shows the point, and that pixel's centre in workspace coordinates,
-/// which is the point the firmware sends the arm to (`ui::layout`).
+/// which is the point the firmware sends the arm to (`ui::layout`). On the
+/// 320×240 screen; [`map_touch_on`] for another layout.
 pub fn map_touch(x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
-    use touch_arm::ui::layout;
-    let (px, py) = layout::ws_point_to_pixel(x, y)?;
-    let (panel_x, panel_y) = layout::pixel_center_to_panel(px, py);
+    map_touch_on(&Layout::QVGA, x, y)
+}
+
+/// [`map_touch`] on a screen laid out as `lay`.
+pub fn map_touch_on(lay: &Layout, x: f32, y: f32) -> Option<((f64, f64), (f64, f64))> {
+    let (px, py) = lay.ws_point_to_pixel(x, y)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
+    Some((raw_at_pixel(lay, px, py)?, (f64::from(wx), f64::from(wy))))
+}
+
+/// The raw reading (default calibration) of a touch on the centre of
+/// screen pixel (x, y), rounded to counts.
+pub fn raw_at_pixel(lay: &Layout, x: i16, y: i16) -> Option<(f64, f64)> {
+    let (panel_x, panel_y) = lay.pixel_center_to_panel(x, y);
     let (raw_x, raw_y) =
         touch_arm::touch::map::Calibration::DEFAULT.unmap_exact::<f64>(f64::from(panel_x), f64::from(panel_y)).ok()?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
-    Some(((raw_x.round(), raw_y.round()), (f64::from(wx), f64::from(wy))))
+    Some((raw_x.round(), raw_y.round()))
+}
+
+/// The raw reading of a touch on the centre of screen area `a`.
+pub fn raw_at_centre(lay: &Layout, a: touch_arm::ui::draw::Area) -> Option<(f64, f64)> {
+    raw_at_pixel(lay, a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16)
 }
 
 /// The workspace point a raw reading picks on the screen's map, if it lands
-/// on the map at all.
+/// on the map at all (320×240; [`raw_to_map_point_on`] for another layout).
 pub fn raw_to_map_point(raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
-    use touch_arm::ui::layout;
+    raw_to_map_point_on(&Layout::QVGA, raw_x, raw_y)
+}
+
+/// [`raw_to_map_point`] on a screen laid out as `lay`.
+pub fn raw_to_map_point_on(lay: &Layout, raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
     let m = touch_arm::touch::map::Calibration::DEFAULT.map::<f32>(raw_x, raw_y).ok()?;
-    let (px, py) = layout::panel_to_pixel(m.x_p, m.y_p)?;
-    let (wx, wy) = layout::ws_pixel_to_point(px, py)?;
+    let (px, py) = lay.panel_to_pixel(m.x_p, m.y_p)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
     Some((f64::from(wx), f64::from(wy)))
+}
+
+/// The servo mappings of the default calibration (`Config::DEFAULT`), in
+/// joint order base, shoulder, elbow: how the host turns measured pulses
+/// back into angles and its own angles into pulses.
+pub fn default_servo_maps() -> Result<[touch_arm::servo::map::ServoMap; 3], String> {
+    let [b, s, e] = touch_arm::config::settings::Config::DEFAULT.joints;
+    let map =
+        |j: &touch_arm::servo::map::JointCal| touch_arm::servo::map::ServoMap::new(j).map_err(|e| format!("{e:?}"));
+    Ok([map(&b)?, map(&s)?, map(&e)?])
+}
+
+/// The host's f64 reference of the chain the firmware runs for a workspace
+/// point (SPEC §2–4: condition, α, transform, IK with the paper's geometry
+/// k = l2 = l3 = 1 and the firmware's elbow branch), and the pulses the
+/// default calibration gives those angles.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostTarget {
+    pub pose: touch_arm::geometry::pose::Pose<f64>,
+    /// Joint angles, rad: base α, shoulder q2, elbow q3.
+    pub q: [f64; 3],
+    /// Pulse per joint, µs (NaN where the angle is not finite).
+    pub pulses_us: [f64; 3],
+    /// Every angle lies within its joint's limits; the firmware refuses a
+    /// target otherwise ("joint limit"), it never clamps one.
+    pub within_limits: bool,
+}
+
+/// [`HostTarget`] of workspace point (x_p, y_p).
+pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
+    use touch_arm::geometry::ik::Links;
+    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+    let geo = ArmGeometry {
+        k: 1.0,
+        links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?,
+        branch: touch_arm::servo::map::ELBOW_BRANCH,
+    };
+    let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
+    let q = [pose.alpha, pose.q2, pose.q3];
+    let maps = default_servo_maps()?;
+    let mut pulses_us = [f64::NAN; 3];
+    let mut within_limits = true;
+    for j in 0..3 {
+        match maps[j].angle_to_pulse(q[j]) {
+            Ok(p) => {
+                pulses_us[j] = f64::from(p.us());
+                within_limits &= p.clamped.is_none();
+            }
+            Err(_) => within_limits = false,
+        }
+    }
+    Ok(HostTarget { pose, q, pulses_us, within_limits })
 }
 
 #[cfg(test)]

@@ -1,44 +1,177 @@
-//! The ILI9341 on the shield's 8-bit parallel bus, decoded from the pins of a
-//! firmware running under simavr: the picture the real ELF draws, as a
-//! framebuffer and PNG.
+//! The shield's display controller on its 8-bit parallel bus, decoded from
+//! the pins of a firmware running under simavr: the picture the real ELF
+//! draws, as a framebuffer and PNG, for each controller the firmware
+//! supports ([`Chip`]).
 //!
 //! Bus (SPEC §8, Mega pins): RD PF0, WR PF1, RS PF2 (D/C), CS PF3, RST PF4;
 //! D0 PH5, D1 PH6, D2 PE4, D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is
 //! latched on the rising edge of WR while CS is low and RST high; RS low
-//! makes it a command, high a parameter or pixel data. RD strobes are
-//! counted (nothing drives the data pins back).
+//! makes it a command (an index half on the ILI9325), high a parameter or
+//! pixel data. On the falling edge of RD (CS low) the controller drives the
+//! data lines with the next byte of a read (an ID read at boot), as an
+//! input pin sees it; a controller with nothing to say leaves them
+//! floating, so pulled-up inputs read ones. When RD rises the lines are let
+//! go (pulled-up inputs return to one).
 //!
-//! The controller model keeps its 240×320 GRAM in the panel's native
-//! portrait order and implements what drawing uses: SWRESET (0x01), SLPIN/
-//! SLPOUT (0x10/0x11), DISPOFF/DISPON (0x28/0x29), CASET (0x2A), PASET (0x2B),
-//! RAMWR (0x2C), RAMWR continue (0x3C), MADCTL (0x36) and COLMOD (0x3A);
-//! other commands and their parameters are logged and otherwise ignored.
-//! MADCTL: MV swaps the logical column/page to GRAM row/column, MX mirrors
-//! the GRAM column, MY the GRAM row; with the BGR bit set colours are shown
-//! as sent (the shields' panels are BGR), without it red and blue swap.
-//! [`Ili9341::landscape`] shows the GRAM as the user sees a landscape screen:
-//! MADCTL = MV|BGR (0x28) reads upright there.
+//! The controllers ([`dcs`] for the MIPI DCS ones, [`ili9325`] for the
+//! register-indexed one) implement what drawing and the ID probe use, from
+//! their datasheets; anything else is logged and ignored.
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
 use embedded_graphics::pixelcolor::raw::RawU16;
-use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
+use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::RawData;
 
-use crate::avr::{Avr, Error, Pin, PortLevels};
+use crate::avr::{Avr, Error, Pin, PinDrive, PortLevels};
 use crate::display::Framebuffer;
+use touch_arm::seam::pins::mega;
+use touch_arm::ui::Layout;
 
-pub const GRAM_W: u16 = 240;
-pub const GRAM_H: u16 = 320;
+pub mod dcs;
+pub mod ili9325;
 
+pub use dcs::{madctl, Dcs, Ili9341, GRAM_H, GRAM_W};
+pub use ili9325::Ili9325;
 pub use touch_arm::ui::ili9341 as cmd;
 
-pub mod madctl {
-    pub const MY: u8 = 0x80;
-    pub const MX: u8 = 0x40;
-    pub const MV: u8 = 0x20;
-    pub const BGR: u8 = 0x08;
+/// The display controller on the simulated shield.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Chip {
+    /// ILI9341, 240×320 (the default).
+    Ili9341,
+    /// ST7789V, 240×320.
+    St7789,
+    /// ILI9486, 320×480.
+    Ili9486,
+    /// ILI9325, 240×320, register-indexed.
+    Ili9325,
+    /// A DCS controller with the ILI9341's geometry that answers zeros on
+    /// every ID read (what an unknown clone does): the firmware must warn and
+    /// still draw through its ILI9341 driver.
+    Unknown,
+}
+
+impl Chip {
+    /// The controllers the firmware supports, by their `--lcd` names.
+    pub const SUPPORTED: [Chip; 4] = [Chip::Ili9341, Chip::St7789, Chip::Ili9486, Chip::Ili9325];
+
+    /// The name used by `--lcd` and in the firmware's `info lcd` line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Chip::Ili9341 => "ili9341",
+            Chip::St7789 => "st7789",
+            Chip::Ili9486 => "ili9486",
+            Chip::Ili9325 => "ili9325",
+            Chip::Unknown => "unknown",
+        }
+    }
+
+    /// A supported controller by name.
+    pub fn from_name(name: &str) -> Option<Chip> {
+        Chip::SUPPORTED.into_iter().find(|c| c.name() == name)
+    }
+
+    /// The screen held in landscape: width, height.
+    pub fn landscape_size(self) -> (u16, u16) {
+        match self {
+            Chip::Ili9486 => (480, 320),
+            _ => (320, 240),
+        }
+    }
+
+    /// The firmware's UI layout for this screen.
+    pub fn layout(self) -> Layout {
+        let (w, h) = self.landscape_size();
+        Layout::for_size(w, h).unwrap_or(Layout::QVGA)
+    }
+}
+
+/// A controller model.
+#[derive(Debug, Clone)]
+pub enum Model {
+    /// ILI9341, ST7789V, ILI9486 or the unknown clone.
+    Dcs(Dcs),
+    /// The ILI9325.
+    Indexed(Ili9325),
+}
+
+impl Model {
+    /// `chip` at power-on.
+    pub fn of(chip: Chip) -> Model {
+        match chip {
+            Chip::Ili9325 => Model::Indexed(Ili9325::new()),
+            _ => Model::Dcs(Dcs::of(chip)),
+        }
+    }
+
+    pub fn stats(&self) -> &BusStats {
+        match self {
+            Model::Dcs(m) => &m.stats,
+            Model::Indexed(m) => &m.stats,
+        }
+    }
+
+    fn stats_mut(&mut self) -> &mut BusStats {
+        match self {
+            Model::Dcs(m) => &mut m.stats,
+            Model::Indexed(m) => &mut m.stats,
+        }
+    }
+
+    fn hardware_reset(&mut self) {
+        match self {
+            Model::Dcs(m) => m.hardware_reset(),
+            Model::Indexed(m) => m.hardware_reset(),
+        }
+    }
+
+    fn command(&mut self, b: u8) {
+        match self {
+            Model::Dcs(m) => m.command(b),
+            Model::Indexed(m) => m.command(b),
+        }
+    }
+
+    fn data(&mut self, b: u8) {
+        match self {
+            Model::Dcs(m) => m.data(b),
+            Model::Indexed(m) => m.data(b),
+        }
+    }
+
+    fn read(&mut self) -> Option<u8> {
+        match self {
+            Model::Dcs(m) => m.read(),
+            Model::Indexed(m) => m.read(),
+        }
+    }
+
+    /// Whether a command or index just selected pixel data (for the stream
+    /// timing statistics).
+    fn streaming(&self, byte: u8) -> bool {
+        match self {
+            Model::Dcs(_) => byte == cmd::RAMWR || byte == cmd::RAMWRC,
+            Model::Indexed(_) => byte == touch_arm::ui::ili9325::GRAM_DATA,
+        }
+    }
+
+    /// The display is on (DISPON; R07h on the ILI9325).
+    pub fn display_on(&self) -> bool {
+        match self {
+            Model::Dcs(m) => m.display_on,
+            Model::Indexed(m) => m.display_on(),
+        }
+    }
+
+    /// The screen held in landscape, at the panel's size.
+    pub fn landscape(&self) -> Framebuffer {
+        match self {
+            Model::Dcs(m) => m.landscape(),
+            Model::Indexed(m) => m.landscape(),
+        }
+    }
 }
 
 /// Counters of what went over the bus.
@@ -55,6 +188,11 @@ pub struct BusStats {
     pub wrong_format: u64,
     /// RD strobes with CS low.
     pub reads: u64,
+    /// RD strobes the controller answered (drove the data lines).
+    pub reads_answered: u64,
+    /// RD strobes while a data pin was an output: the MCU and the
+    /// controller would both drive the bus.
+    pub read_conflicts: u64,
     /// WR strobes with CS low while a data pin was not an output (the bus
     /// was left in touch mode): the byte is garbage.
     pub undriven_writes: u64,
@@ -69,6 +207,8 @@ pub struct BusStats {
     /// Smallest gap seen between two WR rising edges.
     pub min_gap_cycles: Option<u64>,
     pub first_write_cycle: Option<u64>,
+    /// When the first pixel reached the GRAM (boot time to first pixel).
+    pub first_pixel_cycle: Option<u64>,
     pub last_write_cycle: Option<u64>,
 }
 
@@ -76,208 +216,6 @@ impl BusStats {
     /// Mean cycles per byte inside pixel streams.
     pub fn cycles_per_stream_byte(&self) -> Option<f64> {
         (self.stream_gaps > 0).then(|| self.stream_gap_cycles as f64 / self.stream_gaps as f64)
-    }
-}
-
-/// The controller: registers, address counters and GRAM.
-#[derive(Debug, Clone)]
-pub struct Ili9341 {
-    gram: Vec<Rgb565>,
-    pub madctl: u8,
-    pub colmod: u8,
-    pub sleeping: bool,
-    pub display_on: bool,
-    /// Column and page windows (inclusive ends) and the write pointer.
-    pub sc: u16,
-    pub ec: u16,
-    pub sp: u16,
-    pub ep: u16,
-    col: u16,
-    page: u16,
-    current: Option<u8>,
-    params: [u8; 4],
-    nparams: usize,
-    high: Option<u8>,
-    /// Every command byte in order.
-    pub command_log: Vec<u8>,
-    pub stats: BusStats,
-}
-
-impl Default for Ili9341 {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl Ili9341 {
-    /// Power-on state: GRAM black, sleeping, display off.
-    pub fn new() -> Self {
-        let mut s = Self {
-            gram: vec![Rgb565::BLACK; usize::from(GRAM_W) * usize::from(GRAM_H)],
-            madctl: 0,
-            colmod: 0x66,
-            sleeping: true,
-            display_on: false,
-            sc: 0,
-            ec: GRAM_W - 1,
-            sp: 0,
-            ep: GRAM_H - 1,
-            col: 0,
-            page: 0,
-            current: None,
-            params: [0; 4],
-            nparams: 0,
-            high: None,
-            command_log: Vec::new(),
-            stats: BusStats::default(),
-        };
-        s.reset_registers();
-        s
-    }
-
-    /// SWRESET / hardware reset: registers to defaults, GRAM kept.
-    fn reset_registers(&mut self) {
-        self.madctl = 0;
-        self.colmod = 0x66;
-        self.sleeping = true;
-        self.display_on = false;
-        self.sc = 0;
-        self.ec = GRAM_W - 1;
-        self.sp = 0;
-        self.ep = GRAM_H - 1;
-        self.current = None;
-        self.high = None;
-    }
-
-    pub fn hardware_reset(&mut self) {
-        self.stats.hardware_resets += 1;
-        self.reset_registers();
-    }
-
-    /// A byte with RS low.
-    pub fn command(&mut self, c: u8) {
-        self.stats.commands += 1;
-        self.command_log.push(c);
-        self.current = Some(c);
-        self.nparams = 0;
-        self.high = None;
-        match c {
-            cmd::SWRESET => self.reset_registers(),
-            cmd::SLPIN => self.sleeping = true,
-            cmd::SLPOUT => self.sleeping = false,
-            cmd::DISPOFF => self.display_on = false,
-            cmd::DISPON => self.display_on = true,
-            cmd::RAMWR => {
-                self.col = self.sc;
-                self.page = self.sp;
-            }
-            _ => {}
-        }
-    }
-
-    /// A byte with RS high.
-    pub fn data(&mut self, b: u8) {
-        let Some(c) = self.current else {
-            self.stats.stray_data += 1;
-            return;
-        };
-        match c {
-            cmd::RAMWR | cmd::RAMWRC => {
-                if self.colmod & 0x0f != 0x05 {
-                    self.stats.wrong_format += 1;
-                }
-                match self.high.take() {
-                    None => self.high = Some(b),
-                    Some(h) => self.pixel(u16::from_be_bytes([h, b])),
-                }
-                return;
-            }
-            _ => {}
-        }
-        self.stats.params += 1;
-        if let Some(slot) = self.params.get_mut(self.nparams) {
-            *slot = b;
-        }
-        self.nparams += 1;
-        let p = self.params;
-        match (c, self.nparams) {
-            (cmd::CASET, 4) => {
-                self.sc = u16::from_be_bytes([p[0], p[1]]);
-                self.ec = u16::from_be_bytes([p[2], p[3]]);
-            }
-            (cmd::PASET, 4) => {
-                self.sp = u16::from_be_bytes([p[0], p[1]]);
-                self.ep = u16::from_be_bytes([p[2], p[3]]);
-            }
-            (cmd::MADCTL, 1) => self.madctl = b,
-            (cmd::COLMOD, 1) => self.colmod = b,
-            (cmd::SWRESET | cmd::SLPIN | cmd::SLPOUT | cmd::DISPON | cmd::DISPOFF | cmd::NOP, _) => {
-                self.stats.stray_data += 1
-            }
-            _ => {}
-        }
-    }
-
-    /// Logical address space: 320×240 with MV, else 240×320.
-    fn logical_size(&self) -> (u16, u16) {
-        if self.madctl & madctl::MV != 0 {
-            (GRAM_H, GRAM_W)
-        } else {
-            (GRAM_W, GRAM_H)
-        }
-    }
-
-    fn pixel(&mut self, raw: u16) {
-        let (w, h) = self.logical_size();
-        let (c, p) = (self.col, self.page);
-        if c < w && p < h {
-            let (a, b) = if self.madctl & madctl::MV != 0 { (p, c) } else { (c, p) };
-            let x = if self.madctl & madctl::MX != 0 { GRAM_W - 1 - a } else { a };
-            let y = if self.madctl & madctl::MY != 0 { GRAM_H - 1 - b } else { b };
-            let mut color = Rgb565::from(RawU16::new(raw));
-            if self.madctl & madctl::BGR == 0 {
-                color = Rgb565::new(color.b(), color.g(), color.r());
-            }
-            self.gram[usize::from(y) * usize::from(GRAM_W) + usize::from(x)] = color;
-            self.stats.pixels += 1;
-        } else {
-            self.stats.pixels_clipped += 1;
-        }
-        // Column first, then page; past the window's end back to its start.
-        if self.col >= self.ec {
-            self.col = self.sc;
-            self.page = if self.page >= self.ep { self.sp } else { self.page + 1 };
-        } else {
-            self.col += 1;
-        }
-    }
-
-    /// GRAM pixel at native column `x` (0..240), row `y` (0..320).
-    pub fn gram(&self, x: u16, y: u16) -> Option<Rgb565> {
-        (x < GRAM_W && y < GRAM_H).then(|| self.gram[usize::from(y) * usize::from(GRAM_W) + usize::from(x)])
-    }
-
-    /// The GRAM as the panel shows it held upright (240×320).
-    pub fn portrait(&self) -> Framebuffer {
-        let mut fb = Framebuffer::new(u32::from(GRAM_W), u32::from(GRAM_H), Rgb565::BLACK);
-        for y in 0..GRAM_H {
-            for x in 0..GRAM_W {
-                fb.set_pixel(x.into(), y.into(), self.gram[usize::from(y) * usize::from(GRAM_W) + usize::from(x)]);
-            }
-        }
-        fb
-    }
-
-    /// The GRAM as a landscape screen (320×240): view `(x, y)` is GRAM column
-    /// `y`, row `x`, so MADCTL = MV|BGR draws upright here.
-    pub fn landscape(&self) -> Framebuffer {
-        let mut fb = Framebuffer::new(u32::from(GRAM_H), u32::from(GRAM_W), Rgb565::BLACK);
-        for vy in 0..GRAM_W {
-            for vx in 0..GRAM_H {
-                fb.set_pixel(vx.into(), vy.into(), self.gram[usize::from(vx) * usize::from(GRAM_W) + usize::from(vy)]);
-            }
-        }
-        fb
     }
 }
 
@@ -294,22 +232,22 @@ pub struct BusPins {
 }
 
 impl BusPins {
-    /// The UNO-form shield on the Mega 2560 (SPEC §8).
+    /// The UNO-form shield on the Mega 2560: the firmware's pin map.
     pub const MEGA_SHIELD: BusPins = BusPins {
-        rd: Pin::new('F', 0),
-        wr: Pin::new('F', 1),
-        rs: Pin::new('F', 2),
-        cs: Pin::new('F', 3),
-        rst: Pin::new('F', 4),
+        rd: Pin::of(mega::LCD_RD),
+        wr: Pin::of(mega::LCD_WR),
+        rs: Pin::of(mega::LCD_RS),
+        cs: Pin::of(mega::LCD_CS),
+        rst: Pin::of(mega::LCD_RST),
         data: [
-            Pin::new('H', 5),
-            Pin::new('H', 6),
-            Pin::new('E', 4),
-            Pin::new('E', 5),
-            Pin::new('G', 5),
-            Pin::new('E', 3),
-            Pin::new('H', 3),
-            Pin::new('H', 4),
+            Pin::of(mega::LCD_DATA[0]),
+            Pin::of(mega::LCD_DATA[1]),
+            Pin::of(mega::LCD_DATA[2]),
+            Pin::of(mega::LCD_DATA[3]),
+            Pin::of(mega::LCD_DATA[4]),
+            Pin::of(mega::LCD_DATA[5]),
+            Pin::of(mega::LCD_DATA[6]),
+            Pin::of(mega::LCD_DATA[7]),
         ],
     };
 
@@ -325,7 +263,7 @@ impl BusPins {
 /// Edge detector between the pins and the controller.
 struct Decoder {
     pins: BusPins,
-    lcd: Rc<RefCell<Ili9341>>,
+    lcd: Rc<RefCell<Model>>,
     wr: bool,
     rd: bool,
     rst: bool,
@@ -334,7 +272,7 @@ struct Decoder {
 }
 
 impl Decoder {
-    fn on_write(&mut self, cycle: u64, lv: &PortLevels) {
+    fn on_write(&mut self, cycle: u64, lv: &PortLevels, drive: &mut PinDrive<'_>) {
         let p = self.pins;
         let (wr, rd, rst, cs) = (lv.level(p.wr), lv.level(p.rd), lv.level(p.rst), lv.level(p.cs));
         let mut lcd = self.lcd.borrow_mut();
@@ -344,19 +282,28 @@ impl Decoder {
         self.rst = rst;
         let wr_rise = wr && !self.wr;
         let rd_fall = !rd && self.rd;
+        let rd_rise = rd && !self.rd;
         self.wr = wr;
         self.rd = rd;
+        if rd_rise {
+            // The controller lets go; pulled-up lines float back to one.
+            for pin in p.data {
+                if lv.is_pulled_up(pin) {
+                    drive.drive(pin, true);
+                }
+            }
+        }
         if !rst {
             return;
         }
         if rd_fall && !cs {
-            lcd.stats.reads += 1;
+            self.answer_read(&mut lcd, lv, drive);
         }
         if !wr_rise {
             return;
         }
         if cs {
-            lcd.stats.deselected_writes += 1;
+            lcd.stats_mut().deselected_writes += 1;
             return;
         }
         let mut byte = 0u8;
@@ -367,15 +314,16 @@ impl Decoder {
             }
             driven &= lv.is_output(*pin);
         }
+        let rs = lv.level(p.rs);
+        let in_stream = self.in_stream;
+        let s = lcd.stats_mut();
         if !driven {
-            lcd.stats.undriven_writes += 1;
+            s.undriven_writes += 1;
         }
-        let s = &mut lcd.stats;
         if let Some(prev) = self.last_wr_cycle {
             let gap = cycle - prev;
             s.min_gap_cycles = Some(s.min_gap_cycles.map_or(gap, |m| m.min(gap)));
-            let rs = lv.level(p.rs);
-            if self.in_stream && rs && gap <= 400 {
+            if in_stream && rs && gap <= 400 {
                 s.stream_gap_cycles += gap;
                 s.stream_gaps += 1;
             }
@@ -383,11 +331,30 @@ impl Decoder {
         s.first_write_cycle.get_or_insert(cycle);
         s.last_write_cycle = Some(cycle);
         self.last_wr_cycle = Some(cycle);
-        if lv.level(p.rs) {
+        if rs {
             lcd.data(byte);
+            let s = lcd.stats_mut();
+            if s.pixels > 0 && s.first_pixel_cycle.is_none() {
+                s.first_pixel_cycle = Some(cycle);
+            }
         } else {
             lcd.command(byte);
-            self.in_stream = byte == cmd::RAMWR || byte == cmd::RAMWRC;
+            self.in_stream = lcd.streaming(byte);
+        }
+    }
+
+    /// RD fell with CS low: the controller puts its next byte on the lines.
+    fn answer_read(&self, lcd: &mut Model, lv: &PortLevels, drive: &mut PinDrive<'_>) {
+        let conflict = self.pins.data.iter().any(|pin| lv.is_output(*pin));
+        let answer = lcd.read();
+        let s = lcd.stats_mut();
+        s.reads += 1;
+        s.read_conflicts += u64::from(conflict);
+        if let Some(byte) = answer {
+            s.reads_answered += 1;
+            for (i, pin) in self.pins.data.iter().enumerate() {
+                drive.drive(*pin, byte >> i & 1 == 1);
+            }
         }
     }
 }
@@ -395,13 +362,19 @@ impl Decoder {
 /// A controller attached to a running [`Avr`]'s pins.
 #[derive(Clone)]
 pub struct LcdBus {
-    lcd: Rc<RefCell<Ili9341>>,
+    chip: Chip,
+    lcd: Rc<RefCell<Model>>,
 }
 
 impl LcdBus {
-    /// Starts decoding `pins` of `avr` from now on.
+    /// Starts decoding `pins` of `avr` from now on, with an ILI9341 on them.
     pub fn attach(avr: &mut Avr, pins: BusPins) -> Result<LcdBus, Error> {
-        let lcd = Rc::new(RefCell::new(Ili9341::new()));
+        Self::attach_chip(avr, pins, Chip::Ili9341)
+    }
+
+    /// Starts decoding `pins` of `avr` from now on, with `chip` on them.
+    pub fn attach_chip(avr: &mut Avr, pins: BusPins, chip: Chip) -> Result<LcdBus, Error> {
+        let lcd = Rc::new(RefCell::new(Model::of(chip)));
         let ports = avr.ports();
         let level = |pin: Pin| ports.level(pin).unwrap_or(false);
         let mut dec = Decoder {
@@ -413,21 +386,46 @@ impl LcdBus {
             last_wr_cycle: None,
             in_stream: false,
         };
-        avr.add_port_listener(&pins.ports(), move |_, cycle, lv| dec.on_write(cycle, lv))?;
-        Ok(LcdBus { lcd })
+        avr.add_bus_device(&pins.ports(), move |_, cycle, lv, drive| dec.on_write(cycle, lv, drive))?;
+        Ok(LcdBus { chip, lcd })
     }
 
-    /// The controller state (borrow it briefly, not across `run_*`).
-    pub fn lcd(&self) -> std::cell::Ref<'_, Ili9341> {
+    /// The controller on the bus.
+    pub fn chip(&self) -> Chip {
+        self.chip
+    }
+
+    /// The DCS controller's state (borrow it briefly, not across `run_*`).
+    ///
+    /// # Panics
+    /// On the ILI9325, which is not a DCS controller: see [`LcdBus::model`].
+    pub fn lcd(&self) -> std::cell::Ref<'_, Dcs> {
+        std::cell::Ref::map(self.lcd.borrow(), |m| match m {
+            Model::Dcs(d) => d,
+            Model::Indexed(_) => panic!("LcdBus::lcd: the ILI9325 is not a DCS controller; use LcdBus::model"),
+        })
+    }
+
+    /// The controller model, whichever it is.
+    pub fn model(&self) -> std::cell::Ref<'_, Model> {
         self.lcd.borrow()
     }
 
     pub fn stats(&self) -> BusStats {
-        self.lcd.borrow().stats
+        *self.lcd.borrow().stats()
     }
 
+    /// The screen held in landscape, at the panel's size.
     pub fn landscape(&self) -> Framebuffer {
         self.lcd.borrow().landscape()
+    }
+
+    /// Forgets the command log (a long-running session would grow it forever).
+    pub fn forget_command_log(&self) {
+        match &mut *self.lcd.borrow_mut() {
+            Model::Dcs(d) => d.command_log.clear(),
+            Model::Indexed(i) => i.index_log.clear(),
+        }
     }
 }
 

@@ -6,6 +6,8 @@
 
 use crate::avr::{AdcRequest, Pin, PortsSnapshot};
 use crate::twin::panel::{Drive, PanelPins, Pin as Terminal, SimPanel};
+use touch_arm::seam::pins::PanelPinout;
+use touch_arm::touch::filter::ADC_MAX;
 
 /// Which MCU pins carry the panel's terminals, and the ADC channel of each
 /// terminal that sits on an analog pin.
@@ -19,40 +21,31 @@ pub struct PanelWiring {
 
 impl PanelWiring {
     /// SPEC §8 wiring (a): XP = D8 (PH5), XM = A2 (PF2), YP = A3 (PF3), YM = D9 (PH6).
-    pub const A: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 5), None),
-        xm: (Pin::new('F', 2), Some(2)),
-        yp: (Pin::new('F', 3), Some(3)),
-        ym: (Pin::new('H', 6), None),
-    };
+    pub const A: PanelWiring = PanelWiring::of(&PanelPinout::A);
     /// Wiring (b): XP = D6 (PH3), XM = A2 (PF2), YP = A1 (PF1), YM = D7 (PH4).
-    pub const B: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 3), None),
-        xm: (Pin::new('F', 2), Some(2)),
-        yp: (Pin::new('F', 1), Some(1)),
-        ym: (Pin::new('H', 4), None),
-    };
+    pub const B: PanelWiring = PanelWiring::of(&PanelPinout::B);
     /// Wiring (c): XP = D7 (PH4), XM = A1 (PF1), YP = A2 (PF2), YM = D6 (PH3).
-    pub const C: PanelWiring = PanelWiring {
-        xp: (Pin::new('H', 4), None),
-        xm: (Pin::new('F', 1), Some(1)),
-        yp: (Pin::new('F', 2), Some(2)),
-        ym: (Pin::new('H', 3), None),
-    };
+    pub const C: PanelWiring = PanelWiring::of(&PanelPinout::C);
 
-    /// How the firmware drives each terminal, from the port registers. An
-    /// input with its pull-up on counts as floating: ~35 kΩ against plates
-    /// of a few hundred ohms.
+    /// A pinout of the firmware's pin map, with the ADC channel of each
+    /// terminal on an analog pin.
+    pub const fn of(p: &PanelPinout) -> PanelWiring {
+        const fn terminal(pin: touch_arm::seam::pins::Pin) -> (Pin, Option<u8>) {
+            (Pin::of(pin), pin.adc_channel())
+        }
+        PanelWiring { xp: terminal(p.xp), xm: terminal(p.xm), yp: terminal(p.yp), ym: terminal(p.ym) }
+    }
+
+    /// How the firmware drives each terminal, from the port registers.
     pub fn drives(&self, ports: &PortsSnapshot) -> PanelPins {
         let drive = |pin: Pin| match ports.get(pin.port) {
-            Some(p) if p.is_output(pin.bit) => {
-                if p.port >> pin.bit & 1 == 1 {
-                    Drive::High
-                } else {
-                    Drive::Low
-                }
-            }
-            _ => Drive::Float,
+            Some(p) => match p.driven(pin.bit) {
+                Some(true) => Drive::High,
+                Some(false) => Drive::Low,
+                None if p.pull_up(pin.bit) => Drive::PullUp,
+                None => Drive::Float,
+            },
+            None => Drive::Float,
         };
         PanelPins { xp: drive(self.xp.0), xm: drive(self.xm.0), yp: drive(self.yp.0), ym: drive(self.ym.0) }
     }
@@ -79,5 +72,16 @@ impl PanelOnPins {
         let t = self.wiring.terminal_on_channel(req.channel)?;
         let pins = self.wiring.drives(req.ports);
         Some(self.panel.adc(&pins, t))
+    }
+
+    /// What an analog pin off the panel reads: its own level when the
+    /// firmware drives it or pulls it up, 0 when it floats (nothing else is
+    /// wired to it in the model).
+    pub fn read_off_panel(req: &AdcRequest<'_>) -> u16 {
+        let pin = if req.channel < 8 { Pin::new('F', req.channel) } else { Pin::new('K', req.channel - 8) };
+        match req.ports.get(pin.port) {
+            Some(p) if p.driven(pin.bit) == Some(true) || p.pull_up(pin.bit) => ADC_MAX,
+            _ => 0,
+        }
     }
 }

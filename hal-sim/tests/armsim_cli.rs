@@ -4,6 +4,7 @@
 use std::f64::consts::PI;
 use std::process::Command;
 
+use reference::zat::Zat;
 use serde_json::Value;
 
 fn armsim(args: &[&str]) -> (i32, String, String) {
@@ -268,21 +269,10 @@ fn csv(args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
-/// The papers' printed form (SPEC §5), evaluated independently in f64.
+/// The papers' printed form (SPEC §5), evaluated independently in f64
+/// (`reference`).
 fn printed_zat(q0: f64, sf: f64, ts: f64, a: f64, n: f64, t: f64) -> f64 {
-    if t <= 0.0 {
-        return q0;
-    }
-    if t >= ts {
-        return sf;
-    }
-    let zeta = ts - ((sf - q0).abs() * (n.powf(ts) - n.powf(a))).ln() / n.ln();
-    let m = n.powf(t - zeta) / (n.powf(t + ts / t - 1.0) - n.powf(a)).abs();
-    if sf >= q0 {
-        q0 + m
-    } else {
-        q0 - m
-    }
+    Zat::new(ts, a, n).printed(q0, sf, t)
 }
 
 #[test]

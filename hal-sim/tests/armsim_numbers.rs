@@ -193,7 +193,7 @@ fn law_csv_reads_back_exactly() {
 /// (x of either sign, by exponent) and random points.
 fn workspace_points() -> Vec<(f64, f64)> {
     let small: Vec<f64> = powers_of_two().into_iter().filter(|&v| v <= 1.0).collect();
-    let sign = |i: usize| if i % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = |i: usize| if i.is_multiple_of(2) { 1.0 } else { -1.0 };
     let mut pts: Vec<(f64, f64)> =
         small.iter().enumerate().map(|(i, &v)| (sign(i / 3) * v, small[small.len() - 1 - i])).collect();
     let (u, w) = (random_unit(1000, 3), random_unit(1000, 4));
@@ -307,7 +307,7 @@ fn via_json_reads_back_exactly() {
             continue;
         };
         check_json(
-            &out,
+            out,
             &[
                 ("r", Some(plan.r())),
                 ("s_v", Some(plan.sv())),

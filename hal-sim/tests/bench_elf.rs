@@ -9,6 +9,7 @@
 //! `cargo test` runs; `TOUCH_ARM_BENCH_ELF` overrides its path.
 
 use hal_sim::firmware;
+use reference::zat::Zat;
 use std::collections::HashMap;
 use std::sync::OnceLock;
 use touch_arm::geometry::ik::{Branch, Links};
@@ -127,12 +128,7 @@ fn chip_profile_within_2e6_of_f64_and_exact_at_ts() {
     let (mut worst_g, mut worst_v, mut at_ts) = (0.0f64, 0.0f64, 0);
     for v in a {
         let [ts, av, n, t, g, r, _paper] = [0, 1, 2, 3, 4, 5, 6].map(|i| f32::from_bits(v[i]) as f64);
-        let l = n.ln();
-        let u = t + ts / t - 1.0;
-        let ln_q = |w: f64| -(l * w).exp_m1().ln();
-        let gr = if t >= ts { 1.0 } else { (l * (t - ts) + ln_q(u - av) - ln_q(ts - av)).exp() };
-        let q = 1.0 / (l * (u - av)).exp_m1();
-        let vr = gr * (l - l * (1.0 - ts / (t * t)) * (1.0 + q));
+        let (gr, vr) = Zat::new(ts, av, n).g_rate(t);
         if t == ts {
             assert_eq!(g, 1.0, "G(tₛ) on the chip");
             at_ts += 1;
@@ -178,6 +174,7 @@ fn chip_plans_are_the_hosts_bit_for_bit() {
     // The whole chain (touch map, pose with its arctangents, a*, the shape and
     // its checks) on the chip equals the host's: a miscompile anywhere in it
     // shows up here (one in `ln` once did).
+    #[allow(clippy::approx_constant, reason = "the bench firmware's START literal (src/bin/bench.rs), bit for bit")]
     const START: [f32; 3] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
     let geo = ArmGeometry { k: 1.0f32, links: Links::new(1.0f32, 1.0).unwrap(), branch: Branch::Minus };
     let p = fields("P");

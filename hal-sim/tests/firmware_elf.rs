@@ -1,104 +1,87 @@
-//! Gates on the firmware ELF itself: the memory budgets stated in `memory.x`
-//! and the stack-argument lint (LLVM miscompiles stack-passed arguments on the
-//! ATmega2560). The ELF is built by `scripts/test.sh` (`cargo avr`) before
-//! `cargo test` runs.
+//! Gates on the firmware ELFs themselves (`hal_sim::elf`): the memory budgets
+//! stated in `memory.x`, every 16-bit code pointer reaching its target (code
+//! above 128 KiB through a linker trampoline) with `lpm` data below 64 KiB,
+//! and no function reading stack-passed arguments (LLVM miscompiles those on
+//! the ATmega2560). The ELFs are built by `scripts/test.sh` (`cargo avr`)
+//! before `cargo test` runs; `tests/elf_fixtures.rs` shows each check failing.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
+use hal_sim::elf::{code_pointers, stack_args, Image};
 use hal_sim::firmware;
-
-fn root() -> PathBuf {
-    firmware::workspace_root()
-}
-
-fn firmware_elf() -> PathBuf {
-    let elf = firmware::default_elf();
-    assert!(
-        elf.exists(),
-        "{} missing: build the firmware first with `cargo avr` (scripts/test.sh does)",
-        elf.display()
-    );
-    elf
-}
 
 fn budget(name: &str) -> u64 {
     firmware::budget(name).unwrap()
 }
 
-/// Section sizes from `avr-size -A`.
-fn sections(elf: &Path) -> Vec<(String, u64)> {
-    let out = Command::new("avr-size").arg("-A").arg(elf).output().expect("avr-size (binutils-avr)");
-    assert!(out.status.success());
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .filter_map(|l| {
-            let mut it = l.split_whitespace();
-            let name = it.next()?;
-            let size = it.next()?.parse().ok()?;
-            name.starts_with('.').then(|| (name.to_string(), size))
-        })
-        .collect()
+fn read(elf: &Path) -> Vec<u8> {
+    std::fs::read(elf).unwrap_or_else(|e| {
+        panic!("{}: {e}: build the firmware first with `cargo avr` (scripts/test.sh does)", elf.display())
+    })
 }
 
-fn size_of(s: &[(String, u64)], name: &str) -> u64 {
-    s.iter().find(|(n, _)| n == name).map_or(0, |(_, v)| *v)
+/// Runs `f` on every firmware `cargo avr` builds.
+fn each_firmware(mut f: impl FnMut(&str, &Image)) {
+    for (name, elf) in firmware::all_elfs() {
+        let bytes = read(&elf);
+        f(name, &Image::parse(&bytes).unwrap());
+    }
 }
 
 #[test]
 fn memory_x_states_the_budgets() {
-    assert_eq!(budget("flash"), 120 * 1024);
+    // 256 KiB less the stock bootloader's 8 KiB at the top.
+    assert_eq!(budget("flash"), 248 * 1024);
     assert_eq!(budget("static_ram"), 2048);
     assert_eq!(budget("stack"), 2048);
 }
 
 #[test]
 fn firmware_fits_flash_and_static_ram_budgets() {
-    let s = sections(&firmware_elf());
-    let text = size_of(&s, ".text");
-    let data = size_of(&s, ".data");
-    let bss = size_of(&s, ".bss");
-    assert!(text > 0, "no .text in the ELF");
-    let flash = text + data;
-    let ram = data + bss;
-    eprintln!(
-        "firmware: flash {flash} B (budget {}), static RAM {ram} B (budget {})",
-        budget("flash"),
-        budget("static_ram")
-    );
-    assert!(flash <= budget("flash"), "flash {flash} B exceeds the memory.x budget {}", budget("flash"));
+    each_firmware(|name, image| {
+        let (end, bytes) = (image.flash_end(), image.flash_bytes());
+        eprintln!("{name}: flash {bytes} B, ends at {end:#x} (budget {})", budget("flash"));
+        assert!(bytes > 0, "{name}: nothing in flash");
+        assert!(end <= budget("flash"), "{name}: flash ends at {end:#x}, past the memory.x budget {}", budget("flash"));
+    });
+    let bytes = read(&firmware::default_elf());
+    let ram = Image::parse(&bytes).unwrap().static_ram();
+    eprintln!("touch-arm: static RAM {ram} B (budget {})", budget("static_ram"));
     assert!(ram <= budget("static_ram"), "static RAM {ram} B exceeds the memory.x budget {}", budget("static_ram"));
 }
 
 #[test]
-fn firmware_has_no_function_reading_stack_passed_arguments() {
-    let lint = root().join("../shared/tools/stackarg_lint.py");
-    assert!(lint.exists(), "{} missing (shared/ must sit beside the checkout)", lint.display());
-    let out = Command::new("python3").arg(&lint).arg(firmware_elf()).output().expect("python3");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && text.contains("0 function(s)"),
-        "stack-argument lint failed:\n{text}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+fn every_code_pointer_reaches_its_target_and_lpm_data_stays_low() {
+    each_firmware(|name, image| {
+        let r = code_pointers::check(image);
+        eprintln!(
+            "{name}: {} code-pointer sites ({} through trampolines), {} trampolines ending at {:#x}, \
+             low flash (.progmem) ends at {:#x}",
+            r.sites.len(),
+            r.far_sites(),
+            r.trampolines.len(),
+            r.trampolines_end,
+            r.progmem_end
+        );
+        assert!(r.problems.is_empty(), "{name}:\n{}", r.problems.join("\n"));
+        // avr-libc's start-up code loads EIND from hh8(pm(__vectors)): the
+        // check saw the relocations, and that one holds 0.
+        assert_eq!(r.count(code_pointers::Kind::Hh8Pm), 1, "{name}");
+    });
 }
 
-/// Function pointers on the ATmega2560 are 16-bit word addresses: code past
-/// the first 128 KiB is reached only through EIND and linker trampolines,
-/// which this project does not rely on. The product has its tighter budget
-/// above; the bench firmware
-/// (many more routines) must stay below this line too, or its figures would
-/// come from a binary that cannot be trusted.
 #[test]
-fn bench_firmware_stays_below_128_kib() {
-    let elf = firmware::bench_elf();
-    assert!(elf.exists(), "{} missing: build it first with `cargo avr`", elf.display());
-    let s = sections(&elf);
-    let flash = size_of(&s, ".text") + size_of(&s, ".data");
-    eprintln!("bench firmware: flash {flash} B");
-    assert!(
-        flash <= 128 * 1024,
-        "bench firmware flash {flash} B is past the 128 KiB that 16-bit function pointers reach"
-    );
+fn firmware_has_no_function_reading_stack_passed_arguments() {
+    each_firmware(|name, image| {
+        let lint = stack_args::lint(image);
+        eprintln!(
+            "{name}: {} functions, {} with a frame pointer, {} read stack-passed arguments",
+            lint.functions,
+            lint.with_frame_pointer,
+            lint.offenders.len()
+        );
+        assert!(lint.functions > 0, "{name}: no function symbols (stripped ELF?)");
+        let offenders: Vec<String> = lint.offenders.iter().map(|o| o.to_string()).collect();
+        assert!(offenders.is_empty(), "{name}:\n{}", offenders.join("\n"));
+    });
 }

@@ -1,15 +1,18 @@
-//! The ILI9341 bus decoder (`hal_sim::lcd_bus`): a C fixture built with
+//! The display bus decoder (`hal_sim::lcd_bus`): a C fixture built with
 //! avr-gcc bit-bangs the shield's 8-bit bus on the Mega's real pins under
 //! simavr, and the decoded picture, registers and counters must be exactly
-//! what the fixture sent. The controller model's MADCTL rotations are checked
-//! against the geometry of the four standard orientations.
+//! what the fixture sent. The DCS model's MADCTL rotations are checked
+//! against the geometry of the four standard orientations, each DCS chip's
+//! ID answers against its datasheet, and the ILI9325 model's register reads,
+//! address counter and scan directions against the ILI9325 datasheet.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use hal_sim::avr::{Avr, Error, HaltReason};
-use hal_sim::lcd_bus::{cmd, rgb565, BusPins, Ili9341, LcdBus};
+use hal_sim::lcd_bus::{cmd, rgb565, BusPins, Chip, Dcs, Ili9325, Ili9341, LcdBus};
+use touch_arm::ui::ili9325 as reg;
 
 fn fixture(name: &str, defines: &[&str]) -> PathBuf {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/fixtures/simavr/{name}.c"));
@@ -211,4 +214,165 @@ fn madctl_orientations_are_rotations_of_one_another() {
     lcd.data(0xF8);
     lcd.data(0x00);
     assert_eq!(lcd.gram(0, 0), Some(Rgb565::BLUE));
+}
+
+// ---- the ILI9325 (register-indexed) --------------------------------------
+
+/// Index `r`, then `v` upper byte first, as the 8-bit bus carries them.
+fn write_reg(lcd: &mut Ili9325, r: u8, v: u16) {
+    lcd.command(0x00);
+    lcd.command(r);
+    let [hi, lo] = v.to_be_bytes();
+    lcd.data(hi);
+    lcd.data(lo);
+}
+
+/// R22h, then one pixel per colour.
+fn write_pixels(lcd: &mut Ili9325, colors: &[u16]) {
+    lcd.command(0x00);
+    lcd.command(reg::GRAM_DATA);
+    for c in colors {
+        let [hi, lo] = c.to_be_bytes();
+        lcd.data(hi);
+        lcd.data(lo);
+    }
+}
+
+#[test]
+fn ili9325_reads_its_driver_code_and_moves_its_address_counter_as_the_datasheet_says() {
+    let mut lcd = Ili9325::new();
+    // R00h: 9325h, upper byte first; nothing more to read.
+    lcd.command(0x00);
+    lcd.command(reg::DRIVER_CODE);
+    assert_eq!([lcd.read(), lcd.read(), lcd.read()], [Some(0x93), Some(0x25), None]);
+    // A register reads back what was written.
+    write_reg(&mut lcd, reg::GATE_SCAN, 0xA700);
+    lcd.command(0x00);
+    lcd.command(reg::GATE_SCAN);
+    assert_eq!([lcd.read(), lcd.read()], [Some(0xA7), Some(0x00)]);
+
+    // Window columns 10..=12, rows 20..=21.
+    write_reg(&mut lcd, reg::WINDOW_X0, 10);
+    write_reg(&mut lcd, reg::WINDOW_X1, 12);
+    write_reg(&mut lcd, reg::WINDOW_Y0, 20);
+    write_reg(&mut lcd, reg::WINDOW_Y1, 21);
+    let at = |lcd: &Ili9325, x: u16, y: u16| hal_sim::lcd_bus::raw565(lcd.gram(x, y).unwrap());
+    // AM = 0, I/D = 11 (BGR): along the row, then down, from R20h/R21h;
+    // the seventh pixel wraps to the window's start.
+    write_reg(&mut lcd, reg::ENTRY_MODE, 0x1030);
+    write_reg(&mut lcd, reg::GRAM_X, 10);
+    write_reg(&mut lcd, reg::GRAM_Y, 20);
+    write_pixels(&mut lcd, &[1, 2, 3, 4, 5, 6, 7]);
+    let rows = [
+        [at(&lcd, 10, 20), at(&lcd, 11, 20), at(&lcd, 12, 20)],
+        [at(&lcd, 10, 21), at(&lcd, 11, 21), at(&lcd, 12, 21)],
+    ];
+    assert_eq!(rows, [[7, 2, 3], [4, 5, 6]]);
+    // AM = 1, I/D1 = 1 (rows up), I/D0 = 0 (columns down), from column 12:
+    // down the column first, then one column left.
+    write_reg(&mut lcd, reg::ENTRY_MODE, 0x1028);
+    write_reg(&mut lcd, reg::GRAM_X, 12);
+    write_reg(&mut lcd, reg::GRAM_Y, 20);
+    write_pixels(&mut lcd, &[11, 12, 13, 14, 15, 16]);
+    let rows = [
+        [at(&lcd, 10, 20), at(&lcd, 11, 20), at(&lcd, 12, 20)],
+        [at(&lcd, 10, 21), at(&lcd, 11, 21), at(&lcd, 12, 21)],
+    ];
+    assert_eq!(rows, [[15, 13, 11], [16, 14, 12]]);
+    // R22h does not reset the counter (unlike RAMWR): the next pixel goes
+    // where the last left off (the window's start again).
+    write_pixels(&mut lcd, &[21]);
+    assert_eq!(at(&lcd, 12, 20), 21);
+    assert_eq!(lcd.stats.pixels, 14);
+    assert_eq!((lcd.stats.stray_data, lcd.stats.wrong_format), (0, 0));
+
+    // BGR clear: red and blue swap on the glass; TRI/DFM set: not the
+    // 16-bit two-transfer format.
+    write_reg(&mut lcd, reg::ENTRY_MODE, 0x0030);
+    write_reg(&mut lcd, reg::GRAM_X, 10);
+    write_reg(&mut lcd, reg::GRAM_Y, 20);
+    write_pixels(&mut lcd, &[0xF800]);
+    assert_eq!(lcd.gram(10, 20), Some(Rgb565::BLUE));
+    write_reg(&mut lcd, reg::ENTRY_MODE, 0xC030);
+    write_pixels(&mut lcd, &[0]);
+    assert_eq!(lcd.stats.wrong_format, 1);
+    // An index cut short by RS rising is a protocol error.
+    lcd.command(0x00);
+    lcd.data(0x12);
+    assert_eq!(lcd.stats.stray_data, 1);
+    // R07h D1:0 = 11 shows the GRAM.
+    assert!(!lcd.display_on());
+    write_reg(&mut lcd, reg::DISPLAY_CONTROL, 0x0133);
+    assert!(lcd.display_on());
+}
+
+#[test]
+fn ili9325_landscape_view_follows_the_scan_directions() {
+    let mut lcd = Ili9325::new();
+    write_reg(&mut lcd, reg::ENTRY_MODE, 0x1030);
+    // One distinct pixel near each GRAM corner.
+    for (x, y, c) in [(1u16, 2u16, 0x1111u16), (238, 3, 0x2222), (4, 317, 0x3333), (235, 318, 0x4444)] {
+        write_reg(&mut lcd, reg::GRAM_X, x);
+        write_reg(&mut lcd, reg::GRAM_Y, y);
+        write_pixels(&mut lcd, &[c]);
+    }
+    let view = |lcd: &Ili9325, vx: u16, vy: u16| {
+        hal_sim::lcd_bus::raw565(lcd.landscape().pixel(vx.into(), vy.into()).unwrap())
+    };
+    // SS and GS set (the shields' reference initialisation): portrait shows
+    // GRAM (x, y) at (x, y); landscape (vx, vy) is portrait (239 − vy, vx).
+    write_reg(&mut lcd, reg::DRIVER_OUTPUT, 0x0100);
+    write_reg(&mut lcd, reg::GATE_SCAN, 0xA700);
+    assert_eq!(lcd.landscape().width(), 320);
+    assert_eq!(view(&lcd, 2, 239 - 1), 0x1111);
+    assert_eq!(view(&lcd, 3, 239 - 238), 0x2222);
+    assert_eq!(view(&lcd, 317, 239 - 4), 0x3333);
+    // SS and GS clear: the glass shows both axes mirrored.
+    write_reg(&mut lcd, reg::DRIVER_OUTPUT, 0x0000);
+    write_reg(&mut lcd, reg::GATE_SCAN, 0x2700);
+    assert_eq!(view(&lcd, 319 - 2, 1), 0x1111);
+    assert_eq!(view(&lcd, 319 - 318, 235), 0x4444);
+}
+
+#[test]
+fn each_dcs_chip_answers_its_datasheet_ids() {
+    // A dummy byte, then the ID; nothing after the answer, nothing after a
+    // command that reads nothing.
+    for (chip, rddid, id4) in [
+        (Chip::Ili9341, [0x00, 0x00, 0x00], Some([0x00, 0x93, 0x41])),
+        (Chip::St7789, [0x85, 0x85, 0x52], None),
+        (Chip::Ili9486, [0x00, 0x00, 0x00], Some([0x00, 0x94, 0x86])),
+    ] {
+        let mut lcd = Dcs::of(chip);
+        lcd.command(cmd::RDDID);
+        let got: Vec<Option<u8>> = (0..5).map(|_| lcd.read()).collect();
+        assert_eq!(got, [Some(0), Some(rddid[0]), Some(rddid[1]), Some(rddid[2]), None], "{chip:?}");
+        lcd.command(cmd::RDID4);
+        let got: Vec<Option<u8>> = (0..4).map(|_| lcd.read()).collect();
+        let want: Vec<Option<u8>> = match id4 {
+            Some(id) => vec![Some(0), Some(id[0]), Some(id[1]), Some(id[2])],
+            None => vec![None; 4],
+        };
+        assert_eq!(got, want, "{chip:?}");
+        lcd.command(cmd::NOP);
+        assert_eq!(lcd.read(), None);
+    }
+    // The ILI9486's GRAM is 320×480: landscape 480×320.
+    let mut lcd = Dcs::of(Chip::Ili9486);
+    assert_eq!(lcd.gram_size(), (320, 480));
+    lcd.command(cmd::MADCTL);
+    lcd.data(0x28);
+    lcd.command(cmd::COLMOD);
+    lcd.data(0x55);
+    lcd.command(cmd::CASET);
+    [0x01, 0xDF, 0x01, 0xDF].into_iter().for_each(|b| lcd.data(b));
+    lcd.command(cmd::PASET);
+    [0x01, 0x3F, 0x01, 0x3F].into_iter().for_each(|b| lcd.data(b));
+    lcd.command(cmd::RAMWR);
+    lcd.data(0xFF);
+    lcd.data(0xFF);
+    let fb = lcd.landscape();
+    assert_eq!((fb.width(), fb.height()), (480, 320));
+    assert_eq!(fb.pixel(479, 319), Some(Rgb565::WHITE));
+    assert_eq!(lcd.stats.pixels_clipped, 0);
 }

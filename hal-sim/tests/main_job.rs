@@ -5,9 +5,8 @@
 use std::process::Command;
 
 use serde_json::Value;
-use touch_arm::touch::map::Calibration;
 use touch_arm::ui::draw::Area;
-use touch_arm::ui::layout;
+use touch_arm::ui::Layout;
 
 #[test]
 fn main_job_writes_pulses_summary_plots_and_screen() {
@@ -53,18 +52,45 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Width and height from a PNG's header (IHDR).
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+#[test]
+fn lcd_chooses_the_simulated_controller_around_the_same_elf() {
+    for (lcd, size, id) in [("ili9486", (480, 320), "0x9486"), ("ili9325", (320, 240), "0x9325")] {
+        let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-{lcd}", std::process::id()));
+        let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+            .args(["--xy", "0.4,0.6", "--lcd", lcd, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("run touch-arm-sim");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "--lcd {lcd}: {}{stdout}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains(&format!("info lcd {lcd} id {id} {}x{}", size.0, size.1)), "{stdout}");
+        // The arm went to the point picked on this screen's map.
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
+        assert!((x - 0.4).abs() < 0.01 && (y - 0.6).abs() < 0.01, "--lcd {lcd}: ({x}, {y})");
+        assert_eq!(png_size(&std::fs::read(dir.join("screen.png")).unwrap()), size, "--lcd {lcd}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
 /// `--raw X,Y` for the centre of a screen region (default calibration).
 fn raw_at_centre(a: Area) -> String {
-    let (x, y) = layout::pixel_center_to_panel(a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16);
-    let (rx, ry) = Calibration::DEFAULT.unmap_exact::<f64>(f64::from(x), f64::from(y)).unwrap();
-    format!("{},{}", rx.round(), ry.round())
+    let (rx, ry) = hal_sim::firmware::raw_at_centre(&Layout::QVGA, a).unwrap();
+    format!("{rx},{ry}")
 }
 
 #[test]
 fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
-    let guard_below_map = layout::GAPS[1];
+    let guard_below_map = Layout::QVGA.gaps()[1];
     for (region, expect, firmware) in [
-        (layout::STOP, "STOP pressed: the arm holds", Some("firmware: info screen stop")),
+        (Layout::QVGA.stop(), "STOP pressed: the arm holds", Some("firmware: info screen stop")),
         (guard_below_map, "guard band or a gap: the screen ignores it and the arm holds", None),
     ] {
         let raw = raw_at_centre(region);

@@ -75,7 +75,7 @@ fn timed_move(s: &mut Session, law: &str, goto: &str) -> (f64, f64, [f64; 3]) {
     let mut last_step = [0.0; 3];
     for (j, w) in widths_after(s, t0).iter().enumerate() {
         // The last change of this joint's pulse.
-        last_step[j] = w.windows(2).map(|w| w[1] - w[0]).filter(|d| *d != 0.0).last().unwrap_or(0.0).abs();
+        last_step[j] = w.windows(2).map(|w| w[1] - w[0]).rfind(|d| *d != 0.0).unwrap_or(0.0).abs();
     }
     (planned, took, last_step)
 }

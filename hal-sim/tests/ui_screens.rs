@@ -14,14 +14,15 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use hal_sim::display::{Counting, Framebuffer};
+use hal_sim::twin::rng::Rng;
 use touch_arm::config::settings::SpeedPreset;
 use touch_arm::geometry::workspace::{condition, Condition};
 use touch_arm::touch::map::{Calibration, CalibrationError};
-use touch_arm::ui::calibration::{cal_point, CAL_COUNT, CAL_PIXELS, CANCEL_AREA, CROSS_R, SAVE_AREA};
+use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
-use touch_arm::ui::layout::{self, pixel_center_to_panel, ws_pixel_to_point, ws_point_to_pixel, WS};
-use touch_arm::ui::ws_view::{BASE_AREA, MARKER_R};
+use touch_arm::ui::layout::Layout;
+use touch_arm::ui::ws_view::{base_area, marker_r};
 use touch_arm::ui::{
     theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Redrawn, Refusal, Ui, UiConfig, UiModel,
     UiState,
@@ -30,6 +31,38 @@ use touch_arm::ui::{
 fn snapshot(fb: &Framebuffer, name: &str) {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/ui-snapshots");
     fb.save_png(dir.join(format!("{name}.png"))).unwrap();
+}
+
+/// The 320×240 screen: the layout every test below checks pixel by pixel.
+const L: Layout = Layout::QVGA;
+const WS: Area = L.ws();
+const BASE_AREA: Area = base_area(&L);
+const MARKER_R: u16 = marker_r(&L);
+const CROSS_R: u16 = cross_r(&L);
+const SAVE_AREA: Area = save_area(&L);
+const CAL_PIXELS: [(i16, i16); CAL_COUNT] = {
+    let mut p = [(0, 0); CAL_COUNT];
+    let mut i = 0;
+    while i < CAL_COUNT {
+        p[i] = match cal_pixel(&L, i) {
+            Some(xy) => xy,
+            None => panic!(),
+        };
+        i += 1;
+    }
+    p
+};
+
+fn pixel_center_to_panel(x: i16, y: i16) -> (f32, f32) {
+    L.pixel_center_to_panel(x, y)
+}
+
+fn ws_pixel_to_point(x: i16, y: i16) -> Option<(f32, f32)> {
+    L.ws_pixel_to_point(x, y)
+}
+
+fn ws_point_to_pixel(x: f32, y: f32) -> Option<(i16, i16)> {
+    L.ws_point_to_pixel(x, y)
 }
 
 const REACH_MIN: f32 = 0.3;
@@ -154,54 +187,143 @@ fn font_glyphs_are_distinct_and_scale_to_the_expected_pixel_counts() {
 
 // ---- layout and mappings ----------------------------------------------------------
 
-#[test]
-fn pixel_and_coordinate_mappings_round_trip() {
-    for y in 0..240i16 {
-        for x in 0..320i16 {
-            let (x_p, y_p) = pixel_center_to_panel(x, y);
-            assert_eq!(layout::panel_to_pixel(x_p, y_p), Some((x, y)));
+/// Every pixel's panel point maps back to it, every map pixel's workspace
+/// point is its exact half-unit centre and maps back to it, and the regions
+/// tile the screen exactly (each pixel belongs to one region or gap).
+fn check_mappings_and_tiling(lay: &Layout) {
+    let (w, h) = (lay.width() as i16, lay.height() as i16);
+    for y in 0..h {
+        for x in 0..w {
+            let (x_p, y_p) = lay.pixel_center_to_panel(x, y);
+            assert_eq!(lay.panel_to_pixel(x_p, y_p), Some((x, y)));
         }
     }
-    for y in WS.y..WS.bottom() {
-        for x in WS.x..WS.right() {
-            let (x_p, y_p) = ws_pixel_to_point(x, y).unwrap();
-            // Exactly the half-unit centre.
-            assert_eq!(x_p, (2.0 * f32::from(x) + 1.0 - 240.0) / 240.0);
-            assert_eq!(y_p, (239.0 - 2.0 * f32::from(y)) / 240.0);
-            assert_eq!(ws_point_to_pixel(x_p, y_p), Some((x, y)));
+    let ws = lay.ws();
+    let two_s = f32::from(2 * lay.scale());
+    for y in ws.y..ws.bottom() {
+        for x in ws.x..ws.right() {
+            let (x_p, y_p) = lay.ws_pixel_to_point(x, y).unwrap();
+            assert_eq!(x_p, (2.0 * f32::from(x) + 1.0 - two_s) / two_s);
+            assert_eq!(y_p, (two_s - 1.0 - 2.0 * f32::from(y)) / two_s);
+            assert_eq!(lay.ws_point_to_pixel(x_p, y_p), Some((x, y)));
         }
     }
-    assert_eq!(ws_pixel_to_point(240, 10), None);
-    assert_eq!(ws_pixel_to_point(10, 120), None);
+    assert_eq!(lay.ws_pixel_to_point(ws.right(), 10), None);
+    assert_eq!(lay.ws_pixel_to_point(10, ws.bottom()), None);
     // Corners and edges of both coordinate systems.
-    assert_eq!(layout::panel_to_pixel(-1.0, 1.0), Some((0, 0)));
-    assert_eq!(layout::panel_to_pixel(1.0, 0.0), Some((319, 239)));
-    assert_eq!(layout::panel_to_pixel(0.0, 0.5), Some((160, 120)));
-    assert_eq!(ws_point_to_pixel(-1.0, 0.0), Some((0, 119)));
-    assert_eq!(ws_point_to_pixel(1.0, 1.0), Some((239, 0)));
-    assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
-    assert_eq!(ws_point_to_pixel(-1e-6, 0.0), Some((119, 119)));
+    assert_eq!(lay.panel_to_pixel(-1.0, 1.0), Some((0, 0)));
+    assert_eq!(lay.panel_to_pixel(1.0, 0.0), Some((w - 1, h - 1)));
+    assert_eq!(lay.panel_to_pixel(0.0, 0.5), Some((w / 2, h / 2)));
+    let s = lay.scale() as i16;
+    assert_eq!(lay.ws_point_to_pixel(-1.0, 0.0), Some((0, s - 1)));
+    assert_eq!(lay.ws_point_to_pixel(1.0, 1.0), Some((2 * s - 1, 0)));
+    assert_eq!(lay.ws_point_to_pixel(0.0, 0.0), Some((s, s - 1)));
+    assert_eq!(lay.ws_point_to_pixel(-1e-6, 0.0), Some((s - 1, s - 1)));
     for bad in [f32::NAN, f32::INFINITY, 1.01, -1.01] {
-        assert_eq!(layout::panel_to_pixel(bad, 0.5), None);
-        assert_eq!(ws_point_to_pixel(bad, 0.5), None);
+        assert_eq!(lay.panel_to_pixel(bad, 0.5), None);
+        assert_eq!(lay.ws_point_to_pixel(bad, 0.5), None);
     }
-    assert_eq!(ws_point_to_pixel(0.0, -0.01), None);
-    assert_eq!(ws_point_to_pixel(0.0, 1.01), None);
-    // The map keeps one scale on both axes: 120 px per unit.
-    assert_eq!((WS.w, WS.h), (240, 120));
-    // Regions tile the screen without overlapping (each pixel belongs to
-    // exactly one region or gap).
-    let mut owner = vec![0u8; 320 * 240];
-    let mut regions =
-        vec![WS, layout::STOP, layout::HEADLINE, layout::DETAIL, layout::INFO, layout::WARN, layout::JOINTS];
-    regions.extend([layout::SLOW, layout::NORMAL, layout::FAST, layout::CALIBRATE]);
-    regions.extend(layout::GAPS);
+    assert_eq!(lay.ws_point_to_pixel(0.0, -0.01), None);
+    assert_eq!(lay.ws_point_to_pixel(0.0, 1.01), None);
+    // The map keeps one scale on both axes.
+    assert_eq!((ws.w, ws.h), (2 * lay.scale(), lay.scale()));
+    let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
+    let mut regions = vec![ws, lay.stop(), lay.headline(), lay.detail(), lay.info(), lay.warn(), lay.joints()];
+    regions.extend([lay.slow(), lay.normal(), lay.fast(), lay.calibrate()]);
+    regions.extend(lay.gaps());
     for a in regions {
         for p in rect(a).points() {
-            owner[(p.y * 320 + p.x) as usize] += 1;
+            owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
         }
     }
     assert!(owner.iter().all(|&n| n == 1), "regions must tile the screen exactly");
+}
+
+#[test]
+fn pixel_and_coordinate_mappings_round_trip() {
+    check_mappings_and_tiling(&L);
+    // 320×240: 120 px per unit, the map at the top left.
+    assert_eq!(WS, Area::new(0, 0, 240, 120));
+    assert_eq!(L.panel_to_pixel(1.0, 0.0), Some((319, 239)));
+    assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
+}
+
+#[test]
+fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
+    let big = Layout::HVGA;
+    check_mappings_and_tiling(&big);
+    // Same map proportions (2:1, the arm base mid-bottom), 160 px per unit.
+    assert_eq!(big.ws(), Area::new(0, 0, 320, 160));
+    assert_eq!(big.ws_origin_x(), 160);
+    // Every touch target is larger, and the guard bands stay 8 px.
+    for (a, b) in [
+        (L.stop(), big.stop()),
+        (L.slow(), big.slow()),
+        (L.normal(), big.normal()),
+        (L.fast(), big.fast()),
+        (L.calibrate(), big.calibrate()),
+    ] {
+        assert!(b.w > a.w && b.h > a.h, "{a:?} -> {b:?}");
+    }
+    assert_eq!((big.stop().w, big.stop().h), (152, 160));
+    assert_eq!(big.gaps()[0].w, 8);
+    assert_eq!(big.gaps()[1].h, 8);
+    // STOP's guard band: beside and below STOP, not beside the map.
+    assert_eq!(big.stop_hit(), Area::new(320, 0, 160, 168));
+    // The labels fit their buttons (3× text: 18 px per character).
+    for (a, label) in [(big.slow(), "Slow"), (big.normal(), "Normal"), (big.fast(), "Fast"), (big.calibrate(), "Calib")]
+    {
+        let ink = 18 * label.len() as u16 - 3;
+        assert!(ink <= a.w, "{label}: {ink} px in {}", a.w);
+    }
+    // The hit test follows the layout.
+    let mut ui = Ui::with_layout(&CONFIG, big);
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
+    ui.draw(&moving_model(), &mut fb).unwrap();
+    snapshot(&fb, "hvga_moving");
+    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    for (a, hit) in [
+        (big.stop(), Hit::Stop),
+        (big.slow(), Hit::Speed(SpeedPreset::Slow)),
+        (big.normal(), Hit::Speed(SpeedPreset::Normal)),
+        (big.fast(), Hit::Speed(SpeedPreset::Fast)),
+        (big.calibrate(), Hit::Calibrate),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit));
+        let (x_p, y_p) = big.pixel_center_to_panel(x, y);
+        assert_eq!(ui.hit_panel(x_p, y_p), Some(hit));
+    }
+    assert_eq!(ui.hit(319, 0), Some(Hit::Map { x_p: 319.0 / 320.0, y_p: 319.0 / 320.0 }));
+    assert_eq!(ui.hit(100, 164), None, "the guard band below the map");
+    let (cx, cy) = big.ws_point_to_pixel(0.4, 0.5).unwrap();
+    assert_eq!(fb.pixel(cx.into(), cy.into()), Some(theme::TOUCH_MARK));
+    // The map's colours follow the conditions and the reach, pixel by pixel
+    // (the diagonals, the vertical, the base and the zone numbers' ink
+    // aside).
+    let mut idle = UiModel::new(SpeedPreset::Slow);
+    idle.state = UiState::Idle;
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
+    Ui::with_layout(&CONFIG, big).draw_full(&idle, &mut fb).unwrap();
+    snapshot(&fb, "hvga_idle");
+    let mut checked = 0;
+    for y in 0..160i16 {
+        for x in 0..320i16 {
+            let px = fb.pixel(x.into(), y.into()).unwrap();
+            let on_line = x == y || x == 319 - y || x == 159 || x == 160;
+            if on_line || base_area(&big).contains(x, y) || px == theme::TEXT {
+                continue;
+            }
+            let (x_p, y_p) = big.ws_pixel_to_point(x, y).unwrap();
+            let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
+            let r = f64::from(x_p).hypot(f64::from(y_p));
+            let reach = r >= f64::from(REACH_MIN) && r <= f64::from(REACH_MAX);
+            let want = if reach { theme::ZONE[zone] } else { theme::ZONE_OUT[zone] };
+            assert_eq!(px, want, "pixel ({x},{y}) = ({x_p},{y_p})");
+            checked += 1;
+        }
+    }
+    assert!(checked > 48_000, "checked {checked} map pixels");
 }
 
 // ---- the map ------------------------------------------------------------------------
@@ -306,7 +428,8 @@ fn assert_text_at(fb: &Framebuffer, s: &[u8], x: i16, y: i16, style: &TextStyle)
 fn status_lines_say_what_happens_in_words() {
     let head = |c: Rgb565| TextStyle::opaque(2, c, theme::BG);
     let small = TextStyle::opaque(1, theme::TEXT, theme::BG);
-    let cases: [(UiState, &[u8], Rgb565, Option<&[u8]>); 9] = [
+    type Case<'a> = (UiState, &'a [u8], Rgb565, Option<&'a [u8]>);
+    let cases: [Case; 9] = [
         (UiState::PowerUp, b"Starting up", theme::TEXT, Some(b"Please wait")),
         (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
         (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
@@ -338,13 +461,13 @@ fn status_lines_say_what_happens_in_words() {
     let mut m = moving_model();
     m.state = UiState::Moving { progress: 0.25 };
     let fb = full(&m);
-    let fill = layout::BAR_FILL;
+    let fill = L.bar_fill();
     let filled = fb.count_in(&rect(fill), theme::PROGRESS);
     assert_eq!(filled, 58 * 12, "0.25·230 = 57.5 → 58 columns");
     assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
     // Unknown angles show dashes; the top warning is shown in words.
     let mut m = UiModel::new(SpeedPreset::Fast);
-    m.warnings = warn::TOUCH_CLAMPED | warn::SERVOS_OFF;
+    m.warnings = warn::DEFAULT_SETTINGS | warn::SERVOS_OFF;
     let fb = full(&m);
     snapshot(&fb, "powerup_warning");
     assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 185, &small);
@@ -355,7 +478,7 @@ fn status_lines_say_what_happens_in_words() {
 
 #[test]
 fn stop_is_large_red_and_becomes_a_green_resume() {
-    assert!(layout::STOP.w >= 60 && layout::STOP.h >= 60);
+    const { assert!(L.stop().w >= 60 && L.stop().h >= 60) };
     let mut ui = Ui::new(&CONFIG);
     // STOP works before anything is drawn.
     assert_eq!(ui.hit(280, 60), Some(Hit::Stop));
@@ -363,7 +486,7 @@ fn stop_is_large_red_and_becomes_a_green_resume() {
     let mut fb = Framebuffer::landscape();
     let mut m = moving_model();
     ui.draw(&m, &mut fb).unwrap();
-    let stop = rect(layout::STOP);
+    let stop = rect(L.stop());
     let red = fb.count_in(&stop, theme::STOP_RED);
     let white = fb.count_in(&stop, theme::WHITE);
     assert_eq!(red + white, 72 * 120, "STOP is red with white letters only");
@@ -494,15 +617,15 @@ fn partial_redraws_write_only_the_changed_regions() {
     m.joints[1] = 0.2;
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::JOINTS));
-    assert_only_in(&c, &[layout::JOINTS], "joints");
+    assert_only_in(&c, &[L.joints()], "joints");
     assert_eq!(c.touched(), 320 * 14);
 
     // Progress 0.30 → 0.31: the bar columns between (69 → 71) and the percent.
     m.state = UiState::Moving { progress: 0.31 };
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::DETAIL));
-    let bar_delta = Area::new(layout::BAR_FILL.x + 69, layout::BAR_FILL.y, 2, 12);
-    assert_only_in(&c, &[bar_delta, layout::BAR_TEXT], "progress");
+    let bar_delta = Area::new(L.bar_fill().x + 69, L.bar_fill().y, 2, 12);
+    assert_only_in(&c, &[bar_delta, L.bar_text()], "progress");
     assert_eq!(c.touched(), 2 * 12 + 72 * 16);
 
     // A new touch: only the boxes of the old and new plus.
@@ -519,82 +642,96 @@ fn partial_redraws_write_only_the_changed_regions() {
     m.speed = SpeedPreset::Fast;
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::SPEED));
-    assert_only_in(&c, &[layout::SLOW, layout::NORMAL, layout::FAST], "speed");
+    assert_only_in(&c, &[L.slow(), L.normal(), L.fast()], "speed");
     assert_eq!(fb, full(&m));
 }
 
-/// A small deterministic generator for model sequences.
-struct Lcg(u64);
+/// Uniform in [0, 1), for model fields.
+fn unit(rng: &mut Rng) -> f32 {
+    rng.uniform() as f32
+}
 
-impl Lcg {
-    fn next(&mut self) -> u32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 33) as u32
-    }
-
-    fn unit(&mut self) -> f32 {
-        self.next() as f32 / (1u64 << 31) as f32
-    }
-
-    fn point(&mut self) -> Option<(f32, f32)> {
-        match self.next() % 4 {
-            0 => None,
-            // Edges and corners too.
-            1 => Some(([-1.0, 1.0, 0.0][self.next() as usize % 3], [0.0, 1.0][self.next() as usize % 2])),
-            _ => Some((self.unit() * 2.0 - 1.0, self.unit())),
-        }
+/// A model point: none, an edge or corner, or anywhere in the workspace.
+fn point(rng: &mut Rng) -> Option<(f32, f32)> {
+    match rng.below(4) {
+        0 => None,
+        // Edges and corners too.
+        1 => Some(([-1.0, 1.0, 0.0][rng.below(3) as usize], [0.0, 1.0][rng.below(2) as usize])),
+        _ => Some((unit(rng) * 2.0 - 1.0, unit(rng))),
     }
 }
 
-#[test]
-fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
-    let mut rng = Lcg(7);
-    let mut ui = Ui::new(&CONFIG);
-    let mut fb = Framebuffer::landscape();
+/// Random model changes on `lay`: after each, the partially redrawn
+/// picture equals a full redraw.
+fn random_redraws(lay: Layout, steps: usize) {
+    let mut rng = Rng::new(7);
+    let mut ui = Ui::with_layout(&CONFIG, lay);
+    let mut fb = Framebuffer::new(lay.width().into(), lay.height().into(), Rgb565::BLACK);
     let mut m = UiModel::new(SpeedPreset::Normal);
-    for step in 0..300 {
-        match rng.next() % 8 {
-            0 => m.touch = rng.point(),
-            1 => m.target = rng.point(),
+    let full = |m: &UiModel| {
+        let mut fb = Framebuffer::new(lay.width().into(), lay.height().into(), Rgb565::BLACK);
+        Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
+        fb
+    };
+    for step in 0..steps {
+        match rng.below(8) {
+            0 => m.touch = point(&mut rng),
+            1 => m.target = point(&mut rng),
             2 => {
-                m.state = match rng.next() % 7 {
+                m.state = match rng.below(7) {
                     0 => UiState::Idle,
-                    1 | 2 => UiState::Moving { progress: rng.unit() },
+                    1 | 2 => UiState::Moving { progress: unit(&mut rng) },
                     3 => UiState::Holding,
                     4 => UiState::Stopped,
                     5 => UiState::Refused(Refusal::TooClose),
                     _ => UiState::Refused(Refusal::JointLimit),
                 }
             }
-            3 => m.joints[(rng.next() % 3) as usize] = rng.unit() * 3.0 - 1.0,
-            4 => m.speed = SpeedPreset::ALL[(rng.next() % 3) as usize],
-            5 => m.warnings = (rng.next() & 0x1f) as u8,
+            3 => m.joints[rng.below(3) as usize] = unit(&mut rng) * 3.0 - 1.0,
+            4 => m.speed = SpeedPreset::ALL[rng.below(3) as usize],
+            5 => m.warnings = rng.below(32) as u8,
             6 => {
-                m.condition = [None, Some(Condition::C1), Some(Condition::C4)][(rng.next() % 3) as usize];
-                m.alpha = rng.unit() * 3.0;
+                m.condition = [None, Some(Condition::C1), Some(Condition::C4)][rng.below(3) as usize];
+                m.alpha = unit(&mut rng) * 3.0;
             }
             _ => {
-                m.touch = rng.point();
+                m.touch = point(&mut rng);
                 m.target = m.touch;
             }
         }
         ui.draw(&m, &mut fb).unwrap();
-        assert!(fb == full(&m), "step {step}: partial redraws diverged from a full redraw of {m:?}");
+        assert!(fb == full(&m), "{lay:?} step {step}: partial redraws diverged from a full redraw of {m:?}");
     }
+}
+
+#[test]
+fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
+    random_redraws(Layout::QVGA, 300);
+    random_redraws(Layout::HVGA, 150);
 }
 
 // ---- calibration -------------------------------------------------------------
 
-/// What an ideal panel wired as `cal` reads at crosshair `i`.
+/// What an ideal panel wired as `cal` reads at crosshair `i` (320×240).
 fn raw_at(cal: &Calibration, i: usize) -> (u16, u16) {
-    let (x_p, y_p) = cal_point(i).unwrap();
+    raw_at_on(&L, cal, i)
+}
+
+/// ... on the screen laid out as `lay`.
+fn raw_at_on(lay: &Layout, cal: &Calibration, i: usize) -> (u16, u16) {
+    let (x_p, y_p) = cal_point(lay, i).unwrap();
     let raw = cal.unmap::<f64>(f64::from(x_p), f64::from(y_p)).unwrap();
     (raw.x, raw.y)
 }
 
-/// The raw reading of a touch at the centre of screen area `a`.
+/// The raw reading of a touch at the centre of screen area `a` (320×240).
 fn raw_on(cal: &Calibration, a: Area) -> (u16, u16) {
-    let (x_p, y_p) = pixel_center_to_panel(a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    raw_on_screen(&L, cal, a)
+}
+
+/// ... on the screen laid out as `lay`.
+fn raw_on_screen(lay: &Layout, cal: &Calibration, a: Area) -> (u16, u16) {
+    let (x_p, y_p) = lay.pixel_center_to_panel(a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
     let raw = cal.unmap::<f64>(f64::from(x_p), f64::from(y_p)).unwrap();
     (raw.x, raw.y)
 }
@@ -615,44 +752,49 @@ fn panels() -> Vec<Calibration> {
 
 #[test]
 fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
-    for truth in panels() {
-        let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
-        for i in 0..CAL_COUNT {
-            assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
-            assert_eq!(flow.crosshair_pixel(), Some(CAL_PIXELS[i]));
-            let (x, y) = raw_at(&truth, i);
+    for lay in [Layout::QVGA, Layout::HVGA] {
+        for truth in panels() {
+            let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay);
+            for i in 0..CAL_COUNT {
+                assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
+                assert_eq!(flow.crosshair_pixel(), cal_pixel(&lay, i));
+                let (x, y) = raw_at_on(&lay, &truth, i);
+                assert_eq!(flow.feed(x, y), None);
+            }
+            let CalPhase::Review { result: Ok(fit) } = flow.phase() else {
+                panic!("fit failed for {truth:?}: {:?}", flow.phase())
+            };
+            assert_eq!((fit.swap_xy, fit.invert_x, fit.invert_y), (truth.swap_xy, truth.invert_x, truth.invert_y));
+            for (a, b) in
+                [(fit.x_min, truth.x_min), (fit.x_max, truth.x_max), (fit.y_min, truth.y_min), (fit.y_max, truth.y_max)]
+            {
+                assert!(a.abs_diff(b) <= 1, "{lay:?}: fit {fit:?} vs truth {truth:?}");
+            }
+            // Touches outside the buttons do nothing; Save (mapped with the
+            // new calibration) hands the fit over.
+            let (x, y) = raw_on_screen(&lay, &truth, Area::new(lay.sx(150), lay.sy(40), 20, 20));
             assert_eq!(flow.feed(x, y), None);
+            let (x, y) = raw_on_screen(&lay, &truth, save_area(&lay));
+            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Done(fit)));
+            // Cancel keeps the old one.
+            let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay);
+            for i in 0..CAL_COUNT {
+                let (x, y) = raw_at_on(&lay, &truth, i);
+                flow.feed(x, y);
+            }
+            let (x, y) = raw_on_screen(&lay, &truth, cancel_area(&lay));
+            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Cancelled));
         }
-        let CalPhase::Review { result: Ok(fit) } = flow.phase() else {
-            panic!("fit failed for {truth:?}: {:?}", flow.phase())
-        };
-        assert_eq!((fit.swap_xy, fit.invert_x, fit.invert_y), (truth.swap_xy, truth.invert_x, truth.invert_y));
-        for (a, b) in
-            [(fit.x_min, truth.x_min), (fit.x_max, truth.x_max), (fit.y_min, truth.y_min), (fit.y_max, truth.y_max)]
-        {
-            assert!(a.abs_diff(b) <= 1, "fit {fit:?} vs truth {truth:?}");
-        }
-        // Touches outside the buttons do nothing; Save (mapped with the new
-        // calibration) hands the fit over.
-        let (x, y) = raw_on(&truth, Area::new(150, 40, 20, 20));
-        assert_eq!(flow.feed(x, y), None);
-        let (x, y) = raw_on(&truth, SAVE_AREA);
-        assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Done(fit)));
-        // Cancel keeps the old one.
-        let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
-        for i in 0..CAL_COUNT {
-            let (x, y) = raw_at(&truth, i);
-            flow.feed(x, y);
-        }
-        let (x, y) = raw_on(&truth, CANCEL_AREA);
-        assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Cancelled));
     }
+    // The 480×320 crosshairs: the same 10 % insets and the centre.
+    let big: Vec<_> = (0..CAL_COUNT).filter_map(|i| cal_pixel(&Layout::HVGA, i)).collect();
+    assert_eq!(big, [(48, 32), (432, 32), (432, 288), (48, 288), (240, 160)]);
 }
 
 #[test]
 fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
     let truth = Calibration::DEFAULT;
-    let mut flow = CalibrationFlow::new(truth);
+    let mut flow = CalibrationFlow::new(truth, &L);
     let (x0, y0) = raw_at(&truth, 0);
     flow.feed(x0, y0);
     // The same spot again (a bounce, or the finger still on the first cross).
@@ -665,7 +807,7 @@ fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
     assert_eq!(flow.phase(), CalPhase::Touch { index: 2 });
     // Readings where both channels say the same: neither assignment of
     // channels to axes explains them.
-    let mut flow = CalibrationFlow::new(truth);
+    let mut flow = CalibrationFlow::new(truth, &L);
     for (x, y) in DIAGONAL {
         flow.feed(x, y);
     }
@@ -684,7 +826,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let mut ui = Ui::new(&CONFIG);
     let mut fb = Framebuffer::landscape();
     ui.draw(&moving_model(), &mut fb).unwrap();
-    let mut flow = CalibrationFlow::new(Calibration::DEFAULT);
+    let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L);
     ui.draw_calibration(&flow, &mut fb).unwrap();
     assert_eq!(ui.hit(280, 60), None, "main-screen buttons are off during calibration");
     for i in 0..CAL_COUNT {
@@ -718,9 +860,10 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let style = TextStyle::opaque(2, theme::TEXT, theme::WHITE);
     let l = format!("X {} - {}", fit.x_min, fit.x_max);
     assert_text_at(&fb, l.as_bytes(), (320 - 12 * l.len() as i16 + 2) / 2, 48, &style);
-    assert_eq!(fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN) > 5000, true);
+    let green = fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN);
+    assert!(green > 5000, "{green} green pixels");
     // A failed fit shows Retry.
-    let mut bad = CalibrationFlow::new(Calibration::DEFAULT);
+    let mut bad = CalibrationFlow::new(Calibration::DEFAULT, &L);
     for (x, y) in DIAGONAL {
         bad.feed(x, y);
     }

@@ -2,17 +2,20 @@
 //! module doc of `app`).
 
 use super::refusal::Refusal;
+use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, App, Io, Mode, MoveInfo, TouchTarget};
+use super::{build_maps, Answer, App, Io, Mode, MoveInfo, PlanDue, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
+use crate::math::units::centideg_to_rad;
 use crate::motion::plan::JOINTS;
 use crate::motion::planner::plan_move::plan_move;
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
+use crate::servo::map::{Joint, ServoMap};
 use crate::servo::track::Replan;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
@@ -32,17 +35,23 @@ impl App {
             return;
         }
         let now = io.clock.now_ms();
+        self.busy = false;
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
+        // After the pulses: a plan may take most of the frame, and the next
+        // period's pulses are already set if it takes a little longer.
+        self.finish_plan(io.serial);
         if self.log {
             self.send_telemetry(io.serial, now);
         }
         self.flush_pending(io.serial);
+        self.report_dropped(io.serial);
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
+    #[inline(never)]
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
         self.source = loaded.source;
@@ -70,51 +79,99 @@ impl App {
             store::Source::Defaults => t!("defaults"),
         });
         line.word(t!("seq")).num(i32::from(loaded.seq));
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
         if let Some(w) = self.warning {
-            serial.write(line.clear().str(t!("warn ")).str(w.reason()).finish());
+            line.clear().str(t!("warn ")).str(w.reason());
+            self.emit(serial, &mut line);
         }
     }
 
-    /// `pose` with every angle pulled into its joint's limits.
+    /// `pose` with every angle pulled into its joint's output window (angle
+    /// and pulse limits), so the pose describes the pulses the servos get.
     fn clamp_to_limits(&self, pose: &[f32; JOINTS]) -> [f32; JOINTS] {
         let mut out = *pose;
         for (o, m) in out.iter_mut().zip(self.maps.iter()) {
-            let (lo, hi) = m.angle_limits::<f32>();
-            *o = o.clamp(lo, hi);
+            *o = m.clamp_angle(*o);
         }
         out
     }
 
+    /// One filtered panel read; a confirmed touch acts. A frame does one
+    /// heavy thing (a plan can take most of it; a reply is formatted in it):
+    /// after a serial line or a plan the panel is not read, a touch that would
+    /// plan waits for the next frame, and that frame takes no serial line.
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
+        if let Some(p) = self.deferred_touch {
+            if self.busy {
+                return;
+            }
+            self.deferred_touch = None;
+            self.route_touch(&p, storage, serial);
+        }
+        // A busy frame has no time for a read (the filter takes the next
+        // one; a touch would have to wait anyway).
+        if self.busy {
+            return;
+        }
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
-        let got = panel.read(samples).min(n);
-        let step = self.filter.update(samples.get(..got).unwrap_or(&[]));
-        match step.event {
+        // A failed read is a miss: the filter refuses an empty read.
+        let read: &[RawSample] = if panel.read(samples).is_ok() { samples } else { &[] };
+        let step = self.filter.update(read);
+        let p = match step.event {
             // On a screen a press is a button or a map point; a drag (Moved)
             // must not turn into a second button press.
-            Some(TouchEvent::Pressed(p)) if self.params.screen => self.screen_touch(&p, storage, serial),
-            Some(TouchEvent::Moved(_)) if self.params.screen => {}
-            Some(TouchEvent::Pressed(p)) | Some(TouchEvent::Moved(p)) => self.touch_target(&p, serial),
-            Some(TouchEvent::Released) | None => {}
+            Some(TouchEvent::Pressed(p)) => p,
+            Some(TouchEvent::Moved(p)) if !self.params.screen => p,
+            _ => return,
+        };
+        if self.busy && self.touch_plans(&p) {
+            self.deferred_touch = Some(p);
+        } else {
+            self.route_touch(&p, storage, serial);
+        }
+    }
+
+    fn route_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
+        if self.params.screen {
+            self.screen_touch(p, storage, serial);
+        } else {
+            self.touch_target(p, serial);
         }
     }
 
     /// A confirmed touch: move there, or say why not.
     fn touch_target<U: SerialPort>(&mut self, p: &TouchPoint, serial: &mut U) {
-        let mut line = Line::new();
         match self.move_to_raw(p) {
+            // Answered once planned (`finish_plan`).
+            Ok(()) => self.answer_due(Answer::Touch(*p)),
+            Err(e) => self.report_touch(serial, p, Err(e)),
+        }
+    }
+
+    /// Who hears how this frame's due plan goes.
+    pub(super) fn answer_due(&mut self, answer: Answer) {
+        if let Some(due) = self.plan_due.as_mut() {
+            due.answer = answer;
+        }
+    }
+
+    /// `info touch <x> <y> …` or `err touch <x> <y> <reason>` (its buffer is
+    /// not on the stack while the touch is planned).
+    #[inline(never)]
+    pub(super) fn report_touch<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, r: Result<(), Refusal>) {
+        let mut line = Line::new();
+        match r {
             Ok(()) => {
                 line.str(t!("info touch")).num(i32::from(p.x)).num(i32::from(p.y));
                 self.describe_move(&mut line, true);
             }
-            Err(r) => {
-                line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
+            Err(e) => {
+                line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(e.reason());
             }
         }
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
     }
 
     /// Raw panel point → calibration → pose → move.
@@ -176,17 +233,31 @@ impl App {
         r
     }
 
-    /// Joint target → move (the `goto` path).
-    pub(super) fn move_to_angles(&mut self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
-        let r = self.start_move(target, None);
+    /// Joint target in hundredths of a degree → move (the `goto` path). A
+    /// target outside a joint's angle limits by a hundredth of a degree (the
+    /// unit `cal show` prints them in) is refused: the limits get half a
+    /// hundredth of slack for the float conversions, not the servo layer's
+    /// 0.5 µs rounding allowance.
+    pub(super) fn move_to_angles(&mut self, centideg: &[i32; JOINTS]) -> Result<(), Refusal> {
+        const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
+        let mut target = [0.0f32; JOINTS];
+        let mut r = Ok(());
+        for ((t, c), (m, j)) in target.iter_mut().zip(centideg.iter()).zip(self.maps.iter().zip(Joint::ALL.iter())) {
+            *t = centideg_to_rad(*c);
+            let (lo, hi) = m.angle_limits::<f32>();
+            if (*t < lo - HALF_CENTIDEG || *t > hi + HALF_CENTIDEG) && r.is_ok() {
+                r = Err(Refusal::JointLimit(*j));
+            }
+        }
+        let r = r.and_then(|()| self.start_move(&target, None));
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
         r
     }
 
-    /// Checks state and limits, plans from the pose commanded last frame and
-    /// starts the move.
+    /// Checks state and limits and accepts the target: it is planned after
+    /// this frame's pulses (`finish_plan`).
     fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         if self.stopped {
             return Err(Refusal::Stopped);
@@ -196,7 +267,34 @@ impl App {
             _ => return Err(Refusal::Homing),
         }
         self.check_limits(target)?;
-        let lim = self.plan_limits();
+        self.busy = true;
+        self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody });
+        Ok(())
+    }
+
+    /// Plans this frame's accepted target (the move starts in the next frame)
+    /// and answers whoever asked: while moving, a correction superposed on
+    /// the running move; at rest, a move from the pose just commanded.
+    fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
+        let Some(due) = self.plan_due.take() else { return };
+        let r = self.plan_target(&due.target, due.touch.as_ref());
+        if let Err(e) = r {
+            self.last_refusal = Some(e);
+        }
+        match due.answer {
+            Answer::Nobody => {}
+            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done)),
+            Answer::Touch(p) => self.report_touch(serial, &p, r),
+            Answer::Screen(p, x_p, y_p) => {
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
+                self.report_touch(serial, &p, r);
+            }
+        }
+    }
+
+    /// The plan of an accepted target under this move's limits.
+    fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+        let lim = self.plan_limits(&self.maps, self.move_percent());
         // A new target while moving: a correction superposed on the move.
         if !self.track.is_done() {
             let slack = 1.0 / (1.0 - self.params.speed_margin);
@@ -208,31 +306,61 @@ impl App {
                 return Ok(());
             }
         }
-        self.start_fresh(target, touch, &lim)
+        let start = self.commanded;
+        let info = self.start_fresh(&start, target, None, &lim)?;
+        self.last_move = MoveInfo { touch: touch.copied(), ..info };
+        Ok(())
     }
 
-    /// A move from the pose commanded last frame, at rest (not inlined: its
-    /// plan and track would otherwise share the caller's stack frame with
-    /// the re-plan's).
+    /// Plans a synchronized move from `start` to `target` under `new_maps`
+    /// (the running calibration's if `None`) at `pct` % of every joint's max
+    /// speed and within its max acceleration, less the safety margin, and
+    /// starts it from rest (a calibration slew). Returns what to report.
+    pub(super) fn plan_motion(
+        &mut self,
+        start: &[f32; JOINTS],
+        target: &[f32; JOINTS],
+        new_maps: Option<&[ServoMap; JOINTS]>,
+        pct: u8,
+    ) -> Result<MoveInfo, Refusal> {
+        let lim = self.plan_limits(new_maps.unwrap_or(&self.maps), pct);
+        self.start_fresh(start, target, new_maps, &lim)
+    }
+
+    /// A move from `start` at rest (not inlined: its plan and track would
+    /// otherwise share the caller's stack frame with the re-plan's).
     #[inline(never)]
     fn start_fresh(
         &mut self,
+        start: &[f32; JOINTS],
         target: &[f32; JOINTS],
-        touch: Option<&TouchTarget>,
+        new_maps: Option<&[ServoMap; JOINTS]>,
         lim: &PlanLimits<f32>,
-    ) -> Result<(), Refusal> {
-        let req = MoveRequest { start: self.commanded, target: *target, law: self.config.law };
+    ) -> Result<MoveInfo, Refusal> {
+        self.busy = true;
+        let req = MoveRequest { start: *start, target: *target, law: self.config.law };
         let planned = plan_move(&req, lim)?;
-        self.track.start(&planned.plan, &self.maps).map_err(|_| Refusal::Trajectory)?;
-        self.last_move = MoveInfo {
+        let maps = new_maps.unwrap_or(&self.maps);
+        self.track.start(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
+        Ok(MoveInfo {
             target: *target,
             ts: planned.ts,
             replan: None,
             a: planned.a,
             end_velocity: planned.end_velocity,
-            touch: touch.copied(),
-        };
-        Ok(())
+            touch: None,
+        })
+    }
+
+    /// The speed preset's percentage for the next move: the slow preset at
+    /// most before the first move has completed.
+    fn move_percent(&self) -> u8 {
+        let pct = self.config.speed.percent();
+        if self.first_move {
+            pct.min(SpeedPreset::Slow.percent())
+        } else {
+            pct
+        }
     }
 
     /// A target angle the servo layer would have to clamp (angle or pulse
@@ -248,19 +376,14 @@ impl App {
         Ok(())
     }
 
-    /// Limits for the next move: the preset's share of every joint's max
-    /// speed (the slow preset at most before the first move has completed)
+    /// Limits for a move under `maps`: `pct` % of every joint's max speed
     /// and its max acceleration, both less the safety margin.
-    fn plan_limits(&self) -> PlanLimits<f32> {
-        let mut pct = self.config.speed.percent();
-        if self.first_move {
-            pct = pct.min(SpeedPreset::Slow.percent());
-        }
+    fn plan_limits(&self, maps: &[ServoMap; JOINTS], pct: u8) -> PlanLimits<f32> {
         let keep = 1.0 - self.params.speed_margin;
         let share = f32::from(pct) * 0.01 * keep;
         let mut speed = [0.0f32; JOINTS];
         let mut accel = [0.0f32; JOINTS];
-        for ((s, a), m) in speed.iter_mut().zip(accel.iter_mut()).zip(self.maps.iter()) {
+        for ((s, a), m) in speed.iter_mut().zip(accel.iter_mut()).zip(maps.iter()) {
             *s = m.max_speed::<f32>() * share;
             *a = m.max_accel::<f32>() * keep;
         }

@@ -16,18 +16,25 @@
 //!
 //! # One frame, in order
 //! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
-//!    line, answered with one `ok …`/`err …` line (see `serial.rs`). A partial
-//!    line idle for `line_timeout_ms` is dropped.
+//!    line, only while the port has room for the longest reply; one `ok …`/
+//!    `err …` line (see `serial.rs`). A partial line idle for
+//!    `line_timeout_ms` is dropped.
 //! 2. Touch: one filtered read; a confirmed press or a drag to a new resting
-//!    point becomes a target (`info touch …` or `err touch …` line).
+//!    point becomes a target. A frame does one heavy thing: after a serial
+//!    line the panel is not read and a touch that would plan waits a frame.
 //! 3. Motion: the setpoint of every joint at t = frames since the plan × 20 ms
 //!    (exact, no clock drift); the move ends exactly on its target at tₛ.
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
 //!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
 //!    the previous pulse and latches STOP (`Refusal::Fault`).
-//! 5. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
+//! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
+//!    commanded, and answered (`ok move`, `info touch …`); the move starts in
+//!    the next frame. A plan can take most of a frame; coming after the
+//!    pulses, it cannot delay them.
+//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
 //!    angles in centidegrees.
-//! 6. One line of a multi-line reply (`cal show`), if pending.
+//! 7. One line of a multi-line reply (`cal show`), if pending and the frame
+//!    is not busy.
 //!
 //! # States
 //! - **off**: before the first frame; that frame loads the configuration
@@ -52,6 +59,7 @@
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod machine;
+mod recalibrate;
 pub mod refusal;
 mod screen;
 mod serial;
@@ -68,9 +76,10 @@ use crate::motion::planner::shape_choice::AChoice;
 use crate::protocol::command::SerialLine;
 use crate::servo::map::{ServoMap, ELBOW_BRANCH};
 use crate::servo::track::ServoTrack;
-use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter};
+use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter, TouchPoint};
 
 pub use refusal::Refusal;
+pub use telemetry::status_line;
 
 /// One frame = one servo PWM period.
 pub const FRAME_MS: u32 = 20;
@@ -86,6 +95,7 @@ pub struct AppParams {
     pub k: f32,
     /// Upper arm and forearm lengths (arm units; k = l2 = l3 = 1 is the paper's).
     pub l2: f32,
+    /// Forearm length (arm units).
     pub l3: f32,
     /// IK elbow branch; the servo defaults assume [`ELBOW_BRANCH`].
     pub branch: Branch,
@@ -109,6 +119,8 @@ pub struct AppParams {
     pub speed_margin: f32,
     /// Frames of holding the home pose before targets are accepted.
     pub home_settle_frames: u16,
+    /// Touch filter: samples per read, pressure window, spread and the press
+    /// and release confirmations.
     pub filter: FilterConfig,
     /// Serial bytes read per frame at most (115200 baud brings ≤ 230).
     pub serial_bytes_per_frame: u8,
@@ -121,6 +133,9 @@ pub struct AppParams {
 }
 
 impl AppParams {
+    /// The paper's arm (k = l2 = l3 = 1), home at (90°, 90°, −90°), n = 2, moves
+    /// of 0.5 s (classic) or 1.2 s (ζ-a-tₛ) up to 30 s, 2 % speed reserve, 1 s
+    /// of settling at home, no screen.
     pub const DEFAULT: AppParams = AppParams {
         k: 1.0,
         l2: 1.0,
@@ -173,8 +188,10 @@ impl Default for AppParams {
     }
 }
 
+/// Why [`AppParams::geometry`] refused the parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ParamsError {
+    /// A link length is not positive and finite.
     Links(LinksError),
     /// k not positive and finite.
     Scale,
@@ -186,6 +203,7 @@ pub enum ParamsError {
     Margin,
     /// A home angle not finite.
     Home,
+    /// The touch filter configuration is inconsistent.
     Filter(FilterConfigError),
     /// The built-in default calibration does not validate (a build error).
     Defaults,
@@ -193,24 +211,38 @@ pub enum ParamsError {
 
 /// The seam handed to [`App::frame`]: one borrow of each hardware part.
 pub struct Io<'a, P, S, C, E, U> {
+    /// The touch panel, read once per frame.
     pub panel: &'a mut P,
+    /// The three servo outputs, written once per frame.
     pub servos: &'a mut S,
+    /// Milliseconds, for the serial line timeout and telemetry stamps.
     pub clock: &'a C,
+    /// The EEPROM holding the configuration record.
     pub storage: &'a mut E,
+    /// The command and reply line.
     pub serial: &'a mut U,
 }
 
 /// What the arm is doing, for `status` and the display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum State {
+    /// Before the configuration is loaded: no pulses.
     Off,
+    /// Going to and settling at the home pose; targets are refused.
     Homing,
+    /// At rest, holding the last pose; a target starts a move.
     Holding,
+    /// Following a planned move.
     Moving,
+    /// Halted by STOP where it was; only RESUME (or `resume`) moves again.
     Stopped,
 }
 
 impl State {
+    /// Every state, for tests that go through them all.
+    pub const ALL: [State; 5] = [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped];
+
+    /// The word `status` prints for the state.
     pub fn name(self) -> crate::text::Text {
         match self {
             State::Off => t!("off"),
@@ -227,10 +259,13 @@ impl State {
 pub struct TouchTarget {
     /// Raw panel reading it came from.
     pub raw_x: u16,
+    /// Raw panel reading, Y (ADC counts).
     pub raw_y: u16,
     /// Normalized workspace point.
     pub x_p: f32,
+    /// Normalized workspace height, 0..=1 (`x_p` is −1..=1).
     pub y_p: f32,
+    /// The point's triangle condition (zone 1–4).
     pub condition: Condition,
     /// Base direction α, rad.
     pub alpha: f32,
@@ -239,8 +274,11 @@ pub struct TouchTarget {
 /// Read-only snapshot for a display (and for `status`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Status {
+    /// What the arm is doing.
     pub state: State,
+    /// The trajectory law new moves use.
     pub law: LawKind,
+    /// The speed preset new moves use.
     pub speed: SpeedPreset,
     /// Pose commanded in the last frame, rad (base, shoulder, elbow).
     pub commanded: [f32; JOINTS],
@@ -261,11 +299,15 @@ pub struct Status {
     pub touch_target: Option<TouchTarget>,
     /// A press is being held on the panel.
     pub touch_held: bool,
+    /// Why the last target was refused, until the next accepted one.
     pub last_refusal: Option<Refusal>,
+    /// Where the running configuration came from (EEPROM slot or defaults).
     pub config_source: Source,
+    /// What went wrong loading the configuration, if anything.
     pub config_warning: Option<Warning>,
     /// The first move after power-up is limited to the slow preset.
     pub first_move_pending: bool,
+    /// Per-frame telemetry is on (`log on`).
     pub log: bool,
 }
 
@@ -289,6 +331,28 @@ struct MoveInfo {
     touch: Option<TouchTarget>,
 }
 
+/// A target accepted in this frame's serial or touch step: it is planned
+/// after the frame's pulses are out, and then answered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PlanDue {
+    target: [f32; JOINTS],
+    touch: Option<TouchTarget>,
+    answer: Answer,
+}
+
+/// Who hears how a due plan went.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Answer {
+    /// Not attached yet (the caller attaches right after `start_move`).
+    Nobody,
+    /// A serial line: its reply if the plan succeeds.
+    Serial(serial::Done),
+    /// A touch without a screen: `info touch …` / `err touch …`.
+    Touch(TouchPoint),
+    /// A touch on the screen's map (workspace point for the refusal words).
+    Screen(TouchPoint, f32, f32),
+}
+
 /// Lines still to send of a multi-line reply.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Pending {
@@ -304,7 +368,6 @@ pub struct App {
     maps: [ServoMap; JOINTS],
     filter: TouchFilter,
     line: SerialLine,
-    line_partial: bool,
     last_rx_ms: u32,
     mode: Mode,
     stopped: bool,
@@ -323,6 +386,15 @@ pub struct App {
     warning: Option<Warning>,
     log: bool,
     pending: Option<Pending>,
+    /// Unsolicited lines the port had no room for, not yet reported.
+    tx_dropped: u16,
+    /// This frame has done its one heavy thing: answered a serial line or
+    /// planned a move (see `poll_touch`).
+    busy: bool,
+    /// A touch target that waits for a frame with no plan yet.
+    deferred_touch: Option<TouchPoint>,
+    /// The target of this frame, planned after the pulses.
+    plan_due: Option<PlanDue>,
     screen: screen::Screen,
 }
 
@@ -350,7 +422,6 @@ impl App {
             maps,
             filter,
             line: SerialLine::new(),
-            line_partial: false,
             last_rx_ms: 0,
             mode: Mode::Boot,
             stopped: false,
@@ -372,10 +443,15 @@ impl App {
             warning: None,
             log: false,
             pending: None,
+            tx_dropped: 0,
+            busy: false,
+            deferred_touch: None,
+            plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
         })
     }
 
+    /// The build-time parameters the app was made with.
     pub fn params(&self) -> &AppParams {
         &self.params
     }
@@ -385,6 +461,7 @@ impl App {
         &self.config
     }
 
+    /// What the arm is doing now.
     pub fn state(&self) -> State {
         match self.mode {
             Mode::Boot => State::Off,

@@ -36,6 +36,25 @@ pub enum Refusal {
 }
 
 impl Refusal {
+    /// Every refusal (so the longest reply can be sized and tested).
+    pub const ALL: [Refusal; 15] = [
+        Refusal::Stopped,
+        Refusal::Homing,
+        Refusal::Busy,
+        Refusal::OutsideCalibration,
+        Refusal::OutsideWorkspace,
+        Refusal::Unreachable,
+        Refusal::Singular,
+        Refusal::JointLimit(Joint::Base),
+        Refusal::JointLimit(Joint::Shoulder),
+        Refusal::JointLimit(Joint::Elbow),
+        Refusal::SpeedLimit,
+        Refusal::Trajectory,
+        Refusal::NotFinite,
+        Refusal::Fault,
+        Refusal::HeldPoseOutside,
+    ];
+
     /// Text of the `err <reason>` reply.
     pub fn reason(self) -> crate::text::Text {
         match self {

@@ -4,15 +4,19 @@
 //! crosshair flow), and the app draws its state through the UI after each
 //! frame. Without a screen the whole panel is the workspace, as in the paper.
 
+use crate::config::settings::SpeedPreset;
 use crate::config::store;
 use crate::seam::SerialPort;
 use crate::seam::Storage;
 use crate::touch::filter::TouchPoint;
-use crate::ui::{self, CalibrationEvent, CalibrationFlow, Canvas, Hit, Redrawn, Ui, UiConfig, UiModel, UiState};
+use crate::ui::{
+    self, CalibrationEvent, CalibrationFlow, Canvas, DrawBudget, Drawn, Hit, Layout, Redrawn, Ui, UiConfig, UiModel,
+    UiState, Unlimited,
+};
 
 use super::refusal::Refusal;
 use super::text::Line;
-use super::{App, State};
+use super::{Answer, App, State};
 
 /// What the screen shows and how far the calibration flow has got.
 pub(super) struct Screen {
@@ -30,6 +34,19 @@ impl Screen {
     }
 }
 
+/// What a confirmed touch did on the screen, for its line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ScreenEvent {
+    Nothing,
+    Map(Result<(), Refusal>),
+    CalSaved(Option<u16>),
+    CalCancelled,
+    Stop,
+    Resume,
+    Speed(SpeedPreset),
+    Calibrate(Result<(), Refusal>),
+}
+
 /// The arm's reach drawn on the map: the IK annulus divided by the scale.
 pub(super) fn reach(l2: f32, l3: f32, k: f32) -> UiConfig {
     let d = l2 - l3;
@@ -39,33 +56,34 @@ pub(super) fn reach(l2: f32, l3: f32, k: f32) -> UiConfig {
 impl App {
     /// A confirmed touch in screen mode.
     pub(super) fn screen_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
-        let mut line = Line::new();
+        let event = self.screen_event(p, storage);
+        if event != ScreenEvent::Nothing {
+            self.report_screen(serial, p, &event);
+        }
+    }
+
+    /// What a confirmed touch does on the screen.
+    fn screen_event<E: Storage>(&mut self, p: &TouchPoint, storage: &mut E) -> ScreenEvent {
         if let Some(flow) = self.screen.calibration.as_mut() {
-            match flow.feed(p.x, p.y) {
+            return match flow.feed(p.x, p.y) {
                 Some(CalibrationEvent::Done(cal)) => {
                     self.screen.calibration = None;
                     self.screen.ui.invalidate();
                     let mut next = self.config;
                     next.touch = cal;
-                    match store::save(storage, &next) {
-                        Ok(seq) => {
-                            self.config = next;
-                            line.str(t!("info cal touch saved seq")).num(i32::from(seq));
-                        }
-                        Err(_) => {
-                            line.str(t!("err cal touch not saved"));
-                        }
+                    let saved = self.save_config(storage, &next).ok();
+                    if saved.is_some() {
+                        self.config = next;
                     }
+                    ScreenEvent::CalSaved(saved)
                 }
                 Some(CalibrationEvent::Cancelled) => {
                     self.screen.calibration = None;
                     self.screen.ui.invalidate();
-                    line.str(t!("info cal touch cancelled"));
+                    ScreenEvent::CalCancelled
                 }
-                None => return,
-            }
-            serial.write(line.finish());
-            return;
+                None => ScreenEvent::Nothing,
+            };
         }
         let hit = match self.raw_to_panel(p) {
             Ok((x, y)) => self.screen.ui.hit_panel(x, y),
@@ -74,48 +92,92 @@ impl App {
         match hit {
             Some(Hit::Map { x_p, y_p }) => {
                 self.screen.touched = Some((x_p, y_p));
-                match self.move_to_point(p, x_p, y_p) {
-                    Ok(()) => {
-                        self.screen.refusal = None;
-                        line.str(t!("info touch")).num(i32::from(p.x)).num(i32::from(p.y));
-                        self.describe_move(&mut line, true);
-                    }
-                    Err(r) => {
-                        self.screen.refusal = Some(self.ui_refusal(r, x_p, y_p));
-                        line.str(t!("err touch")).num(i32::from(p.x)).num(i32::from(p.y)).word(r.reason());
-                    }
+                let r = self.move_to_point(p, x_p, y_p);
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
+                if r.is_ok() {
+                    // Answered once planned (`finish_plan`).
+                    self.answer_due(Answer::Screen(*p, x_p, y_p));
+                    return ScreenEvent::Nothing;
                 }
+                ScreenEvent::Map(r)
             }
             Some(Hit::Stop) => {
                 self.stop();
-                line.str(t!("info screen stop"));
+                ScreenEvent::Stop
             }
             Some(Hit::Resume) => {
                 self.resume();
                 self.screen.refusal = None;
-                line.str(t!("info screen resume"));
+                ScreenEvent::Resume
             }
             Some(Hit::Speed(s)) => {
                 self.config.speed = s;
-                line.str(t!("info screen speed")).word(s.name());
+                ScreenEvent::Speed(s)
+            }
+            Some(Hit::Calibrate) if self.is_moving() => {
+                self.screen.refusal = Some(ui::Refusal::Busy);
+                ScreenEvent::Calibrate(Err(Refusal::Busy))
             }
             Some(Hit::Calibrate) => {
-                if self.is_moving() {
-                    self.screen.refusal = Some(ui::Refusal::Busy);
-                    line.str(t!("err screen calibrate")).word(Refusal::Busy.reason());
-                } else {
-                    self.screen.calibration = Some(CalibrationFlow::new(self.config.touch));
-                    line.str(t!("info screen calibrate"));
-                }
+                self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
+                ScreenEvent::Calibrate(Ok(()))
             }
             // Guard bands and gaps between buttons: deliberately nothing.
-            None => return,
+            None => ScreenEvent::Nothing,
         }
-        serial.write(line.finish());
+    }
+
+    /// The line a screen event sends (its buffer is not on the stack while
+    /// the touch is planned).
+    #[inline(never)]
+    fn report_screen<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, event: &ScreenEvent) {
+        let mut line = Line::new();
+        match *event {
+            ScreenEvent::Nothing => return,
+            ScreenEvent::Map(r) => return self.report_touch(serial, p, r),
+            ScreenEvent::CalSaved(Some(seq)) => {
+                line.str(t!("info cal touch saved seq")).num(i32::from(seq));
+            }
+            ScreenEvent::CalSaved(None) => {
+                line.str(t!("err cal touch not saved"));
+            }
+            ScreenEvent::CalCancelled => {
+                line.str(t!("info cal touch cancelled"));
+            }
+            ScreenEvent::Stop => {
+                line.str(t!("info screen stop"));
+            }
+            ScreenEvent::Resume => {
+                line.str(t!("info screen resume"));
+            }
+            ScreenEvent::Speed(s) => {
+                line.str(t!("info screen speed")).word(s.name());
+            }
+            ScreenEvent::Calibrate(Ok(())) => {
+                line.str(t!("info screen calibrate"));
+            }
+            ScreenEvent::Calibrate(Err(r)) => {
+                line.str(t!("err screen calibrate")).word(r.reason());
+            }
+        }
+        self.emit(serial, &mut line);
+    }
+
+    /// Whether a confirmed touch would plan a move (a map point on the main
+    /// screen, or any touch without a screen).
+    pub(super) fn touch_plans(&self, p: &TouchPoint) -> bool {
+        if !self.params.screen {
+            return true;
+        }
+        let hit = match self.raw_to_panel(p) {
+            Ok((x, y)) if self.screen.calibration.is_none() => self.screen.ui.hit_panel(x, y),
+            _ => None,
+        };
+        matches!(hit, Some(Hit::Map { .. }))
     }
 
     /// The words the screen uses for a refused map point.
-    fn ui_refusal(&self, r: Refusal, x_p: f32, y_p: f32) -> ui::Refusal {
+    pub(super) fn ui_refusal(&self, r: Refusal, x_p: f32, y_p: f32) -> ui::Refusal {
         match r {
             Refusal::Unreachable | Refusal::Singular => {
                 let k = self.params.k;
@@ -133,15 +195,37 @@ impl App {
         }
     }
 
+    /// Lays the screen out for the panel found at boot (320×240 until
+    /// then); what is on the glass is forgotten, so the next draw is full.
+    pub fn set_screen_layout(&mut self, layout: Layout) {
+        let reach = reach(self.params.l2, self.params.l3, self.params.k);
+        self.screen.ui = Ui::with_layout(&reach, layout);
+        self.screen.calibration = None;
+    }
+
     /// Draws what changed since the last call (everything the first time, and
     /// after the calibration screen). Call between frames: drawing holds the
     /// shared pins, so it must not overlap a touch read.
     pub fn draw_screen<D: Canvas>(&mut self, d: &mut D) -> Result<Redrawn, D::Error> {
+        self.draw_screen_sliced(d, &mut Unlimited).map(|r| r.redrawn)
+    }
+
+    /// [`App::draw_screen`] within `budget` (what the frame leaves); the rest
+    /// is drawn by the next calls.
+    pub fn draw_screen_sliced<D: Canvas, B: DrawBudget>(
+        &mut self,
+        d: &mut D,
+        budget: &mut B,
+    ) -> Result<Drawn, D::Error> {
+        // Not even the model is worked out when the frame has no room left.
+        if !budget.may_start() {
+            return Ok(Drawn { redrawn: Redrawn(0), finished: false });
+        }
         if let Some(flow) = &self.screen.calibration {
-            return self.screen.ui.draw_calibration(flow, d);
+            return self.screen.ui.draw_calibration_sliced(flow, d, budget);
         }
         let model = self.ui_model();
-        self.screen.ui.draw(&model, d)
+        self.screen.ui.draw_sliced(&model, d, budget)
     }
 
     /// The main screen's content, from the app's state.
@@ -159,8 +243,10 @@ impl App {
         };
         let target = st.touch_target.map(|t| (t.x_p, t.y_p));
         let mut warnings = 0;
-        if st.config_warning.is_some() {
-            warnings |= ui::warn::DEFAULT_SETTINGS;
+        match st.config_warning {
+            Some(store::Warning::CopyDamaged) => warnings |= ui::warn::COPY_DAMAGED,
+            Some(_) => warnings |= ui::warn::DEFAULT_SETTINGS,
+            None => {}
         }
         if st.pulses.is_none() {
             warnings |= ui::warn::SERVOS_OFF;

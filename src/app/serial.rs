@@ -1,202 +1,280 @@
 //! Serial command handling: bytes → lines → [`Command`] → one reply line.
 //!
-//! Every line gets exactly one reply, `ok …` or `err <reason>` (empty lines
-//! are ignored; `cal show` sends its data lines first, one per frame, and
-//! ends with `ok cal show …`). A malformed, over-long or out-of-range line is
-//! answered with `err` and changes nothing. While a multi-line reply is being
-//! sent no new line is read (the bytes wait in the port).
+//! Every non-empty line gets exactly one reply, `ok …` or `err <reason>`
+//! (a line of only spaces and tabs: `err empty line`; `cal show` sends its
+//! data lines first, one per frame, and ends with `ok cal show …`). A
+//! malformed, over-long or out-of-range line is answered with `err` and
+//! changes nothing.
+//!
+//! Flow control, so nothing is lost silently and nothing blocks the frame:
+//! - at most one line is taken per frame, and only while the port has room
+//!   for the longest reply ([`LINE_CAP`]); until then the bytes wait in the
+//!   port; no line is taken while a multi-line reply is being sent or a touch
+//!   waits for a frame to plan in;
+//! - lines the port lost (its receive buffer was full, or a byte arrived
+//!   garbled) are answered together, in their place in the stream:
+//!   `err input lost: <n> lines`;
+//! - other output (touch and screen events, telemetry) goes out when it fits
+//!   and is otherwise counted, then reported as `warn output full: <n> lines
+//!   dropped` as soon as that fits.
 
 use super::refusal::Refusal;
 use super::telemetry::status_line;
-use super::text::Line;
-use super::{build_maps, App, Io, Pending};
+use super::text::{Line, LINE_CAP};
+use super::{Answer, App, Io, Pending};
 use crate::config::settings::CalSet;
-use crate::config::settings::{Config, ConfigError};
+use crate::config::settings::{Config, ConfigError, SpeedPreset};
 use crate::config::store::{self, SaveError};
-use crate::motion::plan::JOINTS;
-use crate::protocol::command::{centideg_to_rad, parse, CmdError, Command, LINE_LEN};
+use crate::motion::plan::LawKind;
+use crate::protocol::command::{parse, CmdError, Command};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 
+/// What a line did, for its reply. The reply is formatted after the work, in
+/// [`App::send_reply`], so its buffer is not on the stack while a move is
+/// planned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Done {
+    /// No reply: an empty line, or `cal show` (its lines follow).
+    Nothing,
+    Bad(CmdError),
+    Refused(Refusal),
+    Moved,
+    Went,
+    Stopped,
+    Resumed,
+    Status,
+    Law(LawKind),
+    Speed(SpeedPreset),
+    Log(bool),
+    CalSet(Option<f32>),
+    CalReset(Option<f32>),
+    CalInvalid(ConfigError),
+    CalSaved(Result<u16, SaveError>),
+    /// Lines the port lost.
+    Lost(u16),
+}
+
 impl App {
-    /// Reads up to the byte budget, stopping after the first complete line,
-    /// and answers it.
+    /// Reads up to the byte budget, stopping after the first complete line
+    /// (or a receive loss), and answers it.
     pub(super) fn poll_serial<P, S, C, E, U>(&mut self, io: &mut Io<'_, P, S, C, E, U>, now_ms: u32)
     where
         E: Storage,
         U: SerialPort,
     {
-        if self.pending.is_some() {
+        // A touch waiting to plan has this frame (see `poll_touch`).
+        if self.pending.is_some() || self.deferred_touch.is_some() || io.serial.tx_room() < LINE_CAP {
             return;
         }
-        if self.line_partial && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
+        if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
             self.line.clear();
-            self.line_partial = false;
         }
-        let mut copy = [0u8; LINE_LEN];
+        let mut done = Done::Nothing;
         let mut budget = self.params.serial_bytes_per_frame;
         while budget > 0 {
             budget -= 1;
-            let Some(byte) = io.serial.read_byte() else { break };
-            self.last_rx_ms = now_ms;
-            let got = match self.line.push(byte) {
-                None => {
-                    self.line_partial = !matches!(byte, b'\r' | b'\n');
-                    continue;
-                }
-                Some(Ok(l)) => {
-                    let n = l.len().min(LINE_LEN);
-                    if let (Some(dst), Some(src)) = (copy.get_mut(..n), l.get(..n)) {
-                        dst.copy_from_slice(src);
+            let Some(byte) = io.serial.read_byte() else {
+                if let Some(loss) = io.serial.take_rx_loss() {
+                    self.line.after_loss(&loss);
+                    if loss.lines > 0 {
+                        done = Done::Lost(loss.lines);
                     }
-                    Ok(n)
                 }
-                Some(Err(e)) => Err(e),
+                break;
             };
-            self.line_partial = false;
-            let mut reply = Line::new();
-            match got {
-                Ok(n) => self.handle_line(copy.get(..n).unwrap_or(&[]), io.storage, &mut reply),
-                Err(e) => {
-                    reply.str(t!("err ")).str(e.reason());
-                }
-            }
-            if !reply.as_bytes().is_empty() {
-                io.serial.write(reply.finish());
-            }
+            self.last_rx_ms = now_ms;
+            let parsed = match self.line.push(byte) {
+                None => continue,
+                Some(Ok([])) => None,
+                Some(Ok(l)) => Some(parse(l)),
+                Some(Err(e)) => Some(Err(e)),
+            };
+            done = match parsed {
+                None => Done::Nothing,
+                Some(Ok(cmd)) => self.execute(cmd, io.storage),
+                Some(Err(e)) => Done::Bad(e),
+            };
             break;
         }
+        if done == Done::Nothing {
+            return;
+        }
+        self.busy = true;
+        // A move is answered once it is planned (`finish_plan`).
+        if let Some(due) = self.plan_due.as_mut().filter(|d| d.answer == Answer::Nobody) {
+            due.answer = Answer::Serial(done);
+            return;
+        }
+        self.send_reply(io.serial, &done);
     }
 
-    /// Parses and executes one line; the reply goes into `reply` (left
-    /// empty for an empty line).
-    fn handle_line<E: Storage>(&mut self, bytes: &[u8], storage: &mut E, reply: &mut Line) {
-        let cmd = match parse(bytes) {
-            Ok(c) => c,
-            Err(CmdError::Empty) => return,
-            Err(e) => {
-                reply.str(t!("err ")).str(e.reason());
-                return;
-            }
-        };
+    /// Carries out one command.
+    fn execute<E: Storage>(&mut self, cmd: Command, storage: &mut E) -> Done {
         let result = match cmd {
-            Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| {
-                reply.str(t!("ok move"));
-                self.describe_move(reply, true);
-            }),
-            Command::Goto { centideg } => {
-                let mut target = [0.0f32; JOINTS];
-                for (t, c) in target.iter_mut().zip(centideg.iter()) {
-                    *t = centideg_to_rad(*c);
-                }
-                self.move_to_angles(&target).map(|()| {
-                    reply.str(t!("ok goto"));
-                    self.describe_move(reply, false);
-                })
-            }
+            Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| Done::Moved),
+            Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| Done::Went),
             Command::Stop => {
                 self.stop();
-                reply.str(t!("ok stop"));
-                Ok(())
+                Ok(Done::Stopped)
             }
             Command::Resume => {
                 self.resume();
-                reply.str(t!("ok resume"));
-                Ok(())
+                Ok(Done::Resumed)
             }
-            Command::Status => {
-                status_line(&self.status(), reply);
-                Ok(())
-            }
+            Command::Status => Ok(Done::Status),
             Command::Law(l) => {
                 self.config.law = l;
-                reply.str(t!("ok law ")).str(l.name());
-                Ok(())
+                Ok(Done::Law(l))
             }
             Command::Speed(s) => {
                 self.config.speed = s;
-                reply.str(t!("ok speed ")).str(s.name());
-                Ok(())
+                Ok(Done::Speed(s))
             }
             Command::Log(on) => {
                 self.log = on;
-                reply.str(if on { t!("ok log on") } else { t!("ok log off") });
-                Ok(())
+                Ok(Done::Log(on))
             }
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
                 self.pending = Some(Pending::CalShow(0));
-                Ok(())
+                Ok(Done::Nothing)
             }
-            Command::CalSet(set) => self.cal_set(&set, reply),
-            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(|()| {
-                reply.str(t!("ok cal reset"));
-            }),
-            Command::CalSave => self.cal_save(storage, reply),
+            Command::CalSet(set) => self.cal_set(&set),
+            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(Done::CalReset),
+            Command::CalSave => self.cal_save(storage),
         };
-        if let Err(r) = result {
-            reply.clear().str(t!("err ")).str(r.reason());
-        }
+        result.unwrap_or_else(Done::Refused)
     }
 
-    fn cal_set(&mut self, set: &CalSet, reply: &mut Line) -> Result<(), Refusal> {
+    fn cal_set(&mut self, set: &CalSet) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
         let mut next = self.config;
         if let Err(e) = next.apply(set) {
-            reply.str(t!("err "));
-            config_error(&e, reply);
-            return Ok(());
+            return Ok(Done::CalInvalid(e));
         }
-        self.replace_config(&next, matches!(set, CalSet::Touch { .. }))?;
-        reply.str(t!("ok cal set"));
-        Ok(())
+        self.replace_config(&next, matches!(set, CalSet::Touch { .. })).map(Done::CalSet)
     }
 
-    /// Installs a valid configuration, unless a move runs or the held pose
-    /// would fall outside the new limits (the servo would jump to a limit).
-    fn replace_config(&mut self, next: &Config, touch_changed: bool) -> Result<(), Refusal> {
+    fn cal_save<E: Storage>(&mut self, storage: &mut E) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
         }
-        let maps = build_maps(next).ok_or(Refusal::Fault)?;
-        for (m, q) in maps.iter().zip(self.commanded.iter()) {
-            match m.angle_to_pulse(*q) {
-                Ok(p) if p.clamped.is_none() => {}
-                _ => return Err(Refusal::HeldPoseOutside),
-            }
-        }
-        if touch_changed || next.touch != self.config.touch {
-            self.filter.reset();
-        }
-        self.config = *next;
-        self.maps = maps;
-        Ok(())
+        let config = self.config;
+        Ok(Done::CalSaved(self.save_config(storage, &config)))
     }
 
-    fn cal_save<E: Storage>(&mut self, storage: &mut E, reply: &mut Line) -> Result<(), Refusal> {
-        if self.is_moving() {
-            return Err(Refusal::Busy);
+    /// The one reply line of a command (see [`Done`]).
+    #[inline(never)]
+    pub(super) fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
+        let mut reply = Line::new();
+        let r = &mut reply;
+        match *done {
+            Done::Nothing => return,
+            Done::Bad(e) => {
+                r.str(t!("err ")).str(e.reason());
+            }
+            Done::Refused(e) => {
+                r.str(t!("err ")).str(e.reason());
+            }
+            Done::Moved => {
+                r.str(t!("ok move"));
+                self.describe_move(r, true);
+            }
+            Done::Went => {
+                r.str(t!("ok goto"));
+                self.describe_move(r, false);
+            }
+            Done::Stopped => {
+                r.str(t!("ok stop"));
+            }
+            Done::Resumed => {
+                r.str(t!("ok resume"));
+            }
+            Done::Status => status_line(&self.status(), r),
+            Done::Law(l) => {
+                r.str(t!("ok law ")).str(l.name());
+            }
+            Done::Speed(s) => {
+                r.str(t!("ok speed ")).str(s.name());
+            }
+            Done::Log(on) => {
+                r.str(if on { t!("ok log on") } else { t!("ok log off") });
+            }
+            Done::CalSet(slew) => {
+                r.str(t!("ok cal set"));
+                slew_suffix(slew, r);
+            }
+            Done::CalReset(slew) => {
+                r.str(t!("ok cal reset"));
+                slew_suffix(slew, r);
+            }
+            Done::CalInvalid(e) | Done::CalSaved(Err(SaveError::Invalid(e))) => {
+                r.str(t!("err "));
+                config_error(&e, r);
+            }
+            Done::CalSaved(Ok(seq)) => {
+                r.str(t!("ok cal save seq")).num(i32::from(seq));
+            }
+            Done::CalSaved(Err(SaveError::Storage(_))) => {
+                r.str(t!("err save failed: storage"));
+            }
+            Done::CalSaved(Err(SaveError::Verify)) => {
+                r.str(t!("err save failed: verify"));
+            }
+            Done::Lost(n) => {
+                r.str(t!("err input lost:")).num(i32::from(n)).str(t!(" lines"));
+            }
         }
-        match store::save(storage, &self.config) {
-            Ok(seq) => {
-                // Both copies now hold this configuration.
-                self.warning = None;
-                reply.str(t!("ok cal save seq")).num(i32::from(seq));
-            }
-            Err(SaveError::Invalid(e)) => {
-                reply.str(t!("err "));
-                config_error(&e, reply);
-            }
-            Err(SaveError::Storage(_)) => {
-                reply.str(t!("err save failed: storage"));
-            }
-            Err(SaveError::Verify) => {
-                reply.str(t!("err save failed: verify"));
-            }
+        serial.write(reply.finish());
+    }
+}
+
+impl App {
+    /// Sends a line nobody asked for (touch and screen events, telemetry)
+    /// if it fits in the port; otherwise counts it for
+    /// [`App::report_dropped`].
+    pub(super) fn emit<U: SerialPort>(&mut self, serial: &mut U, line: &mut Line) {
+        let bytes = line.finish();
+        if serial.tx_room() >= bytes.len() {
+            serial.write(bytes);
+        } else {
+            self.tx_dropped = self.tx_dropped.saturating_add(1);
         }
-        Ok(())
+    }
+
+    /// `warn output full: <n> lines dropped`, once it fits, for the lines
+    /// [`App::emit`] could not send.
+    #[inline(never)]
+    pub(super) fn report_dropped<U: SerialPort>(&mut self, serial: &mut U) {
+        if self.tx_dropped == 0 {
+            return;
+        }
+        let mut line = Line::new();
+        line.str(t!("warn output full:")).num(i32::from(self.tx_dropped)).str(t!(" lines dropped"));
+        let bytes = line.finish();
+        if serial.tx_room() >= bytes.len() {
+            serial.write(bytes);
+            self.tx_dropped = 0;
+        }
+    }
+
+    /// Writes `config` to both EEPROM copies. Both now hold it, so a warning
+    /// about the stored copies no longer holds (every save goes through here:
+    /// `cal save` and the screen's calibration Save).
+    pub(super) fn save_config<E: Storage>(&mut self, storage: &mut E, config: &Config) -> Result<u16, SaveError> {
+        let seq = store::save(storage, config)?;
+        self.warning = None;
+        Ok(seq)
+    }
+}
+
+/// ` slew ts_ms <ms>` when a calibration change moves the held pulses.
+fn slew_suffix(slew: Option<f32>, reply: &mut Line) {
+    if let Some(ts) = slew {
+        reply.word(t!("slew ts_ms")).num(super::text::milli(ts));
     }
 }
 

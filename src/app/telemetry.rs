@@ -1,9 +1,10 @@
 //! The app's output lines (integers only): move summaries, `status`,
 //! `cal show` and the per-frame telemetry of `log on`.
 
-use super::text::{centideg, milli, Line};
+use super::text::{milli, Line};
 use super::{App, Pending, Status};
 use crate::config::settings::{JointField, TouchField};
+use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
 use crate::seam::SerialPort;
 use crate::servo::map::Joint;
@@ -45,25 +46,36 @@ impl App {
     /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
     /// commanded angles in centidegrees and the pulses written this frame
     /// (µs, `.5` for a half: the timer's resolution).
-    pub(super) fn send_telemetry<U: SerialPort>(&self, serial: &mut U, now_ms: u32) {
+    #[inline(never)]
+    pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
         line.str(t!("t ")).u32(now_ms);
         for q in self.commanded.iter() {
-            line.num(centideg(*q));
+            line.num(rad_to_centideg(*q));
         }
         for t in pulses.iter() {
             line.bytes(b" ").ticks_us(*t);
         }
-        serial.write(line.finish());
+        self.emit(serial, &mut line);
     }
 
     /// Sends the next line of a multi-line reply, if one is pending.
+    #[inline(never)]
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(Pending::CalShow(i)) = self.pending else { return };
+        // Not in a busy frame: the line waits for the next.
+        if self.busy {
+            return;
+        }
         let mut line = Line::new();
         self.cal_show_line(i, &mut line);
-        serial.write(line.finish());
+        // Part of a reply: it waits for room rather than being dropped.
+        let bytes = line.finish();
+        if serial.tx_room() < bytes.len() {
+            return;
+        }
+        serial.write(bytes);
         self.pending = if i < CAL_SHOW_LINES { Some(Pending::CalShow(i + 1)) } else { None };
     }
 
@@ -113,16 +125,16 @@ impl App {
 /// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
 /// <3 us (.5 for a half) | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
 /// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
-pub(super) fn status_line(s: &Status, line: &mut Line) {
+pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
     line.word(t!("q"));
     for q in s.commanded.iter() {
-        line.num(centideg(*q));
+        line.num(rad_to_centideg(*q));
     }
     line.word(t!("target"));
     for q in s.target.iter() {
-        line.num(centideg(*q));
+        line.num(rad_to_centideg(*q));
     }
     line.word(t!("pulses"));
     match &s.pulses {
@@ -139,7 +151,7 @@ pub(super) fn status_line(s: &Status, line: &mut Line) {
     line.word(t!("ts_ms")).num(milli(s.ts));
     if let Some(t) = &s.touch_target {
         line.word(t!("cond")).num(i32::from(t.condition.number()));
-        line.word(t!("alpha")).num(centideg(t.alpha));
+        line.word(t!("alpha")).num(rad_to_centideg(t.alpha));
     }
     if s.first_move_pending {
         line.word(t!("first_move_slow"));

@@ -1,9 +1,10 @@
-//! On-chip check of the touch-screen UI: initialises the ILI9341 over the
-//! shield bus and draws the fixed script of `touch_arm::ui::demo`, one step
-//! per byte received on USART0, reporting `S <step> <cycles>` after each
-//! draw (Timer1 at clk/256, so cycles are multiples of 256). The simavr test
-//! `ui_firmware` decodes the bus and compares the picture with the host
-//! rendering of the same script.
+//! On-chip check of the touch-screen UI: probes the display controller over
+//! the shield bus (as the product does), initialises it and draws the fixed
+//! script of `touch_arm::ui::demo` in the controller's layout, one step per
+//! byte received on USART0, reporting `S <step> <cycles>` after each draw
+//! (Timer1 at clk/256, so cycles are multiples of 256). The simavr tests
+//! `ui_firmware` and `lcd_controllers` decode the bus and compare the
+//! picture with the host rendering of the same script.
 #![no_std]
 #![no_main]
 
@@ -12,6 +13,7 @@ use touch_arm::board::fault::halt;
 use touch_arm::board::lcd::{Lcd, Rotation};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::usart::Usart0;
+use touch_arm::ui::controller::Controller;
 use touch_arm::ui::demo::{self, Screen};
 use touch_arm::ui::Ui;
 use ufmt::uwriteln;
@@ -25,13 +27,18 @@ fn main() -> ! {
     let tc1 = dp.TC1;
     let mut serial = Usart0::new(dp.USART0);
     let mut lcd = Lcd::new(ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH));
-    lcd.init(Rotation::Landscape);
-    let mut ui = Ui::new(&demo::CONFIG);
+    let t0 = tc1.tcnt1().read().bits();
+    let (_, found) = lcd.start(Rotation::Landscape);
+    let boot = tc1.tcnt1().read().bits().wrapping_sub(t0);
+    let controller = found.unwrap_or(Controller::Ili9341);
+    let layout = controller.layout();
+    let mut ui = Ui::with_layout(&demo::CONFIG, layout);
+    let _ = uwriteln!(serial, "lcd {} start {}", found.is_some() as u8, u32::from(boot) * 256);
     let _ = uwriteln!(serial, "ui-demo {}", demo::STEPS);
     for k in 0..demo::STEPS {
         wait_byte();
         let t0 = tc1.tcnt1().read().bits();
-        let screen = demo::screen(k);
+        let screen = demo::screen(k, &layout);
         let ok = match &screen {
             Screen::Main(m) => ui.draw(m, &mut lcd).is_ok(),
             Screen::Calibration(f) => ui.draw_calibration(f, &mut lcd).is_ok(),

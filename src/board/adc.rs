@@ -25,6 +25,7 @@ const ADMUX_REFS_AVCC: u8 = 0b0100_0000;
 /// ≥ 1 ms against ≤ 200 µs for the slowest (first) conversion.
 const MAX_POLLS: u16 = 1000;
 
+/// Why a conversion gave no value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AdcError {
     /// The channel number is above 15.
@@ -33,6 +34,7 @@ pub enum AdcError {
     Timeout,
 }
 
+/// The 10-bit ADC, single-ended on channels 0..=15 (A0..A15), AVcc reference.
 pub struct Adc {
     regs: ADC,
     /// The channel currently on the multiplexer.

@@ -31,6 +31,7 @@ pub struct Stamp {
     coarse: u16,
 }
 
+/// Owner of Timers 1 and 3 while they count cycles (see the module doc).
 pub struct CycleCounter {
     tc1: TC1,
     tc3: TC3,

@@ -1,4 +1,5 @@
-//! The 4 KiB internal EEPROM as [`Storage`].
+//! The 4 KiB internal EEPROM as embedded-storage's [`ReadStorage`] and
+//! [`Storage`] (the seam's storage, [`crate::seam::Storage`]).
 //!
 //! Writes use the atomic erase-and-write mode (3.4 ms per byte) and skip bytes
 //! that already hold the value: a cell survives ~100 000 writes, and a config
@@ -9,22 +10,27 @@
 
 use avr_device::atmega2560::EEPROM;
 
-use crate::seam::{Storage, StorageError};
+use embedded_storage::{ReadStorage, Storage};
+
+use crate::seam::StorageError;
 
 use super::delay_us;
 use super::watchdog;
 
+/// Bytes of EEPROM on the ATmega2560; addresses are 0..EEPROM_SIZE.
 pub const EEPROM_SIZE: u16 = 4096;
 
 /// Polls of EEPE, ≥ 1 µs apart, before the EEPROM counts as stuck: ≥ 10 ms
 /// against 3.4 ms for a write.
 const MAX_POLLS: u16 = 10_000;
 
+/// The EEPROM controller, owned.
 pub struct Eeprom {
     regs: EEPROM,
 }
 
 impl Eeprom {
+    /// Takes the controller; no access happens until the first read or write.
     pub fn new(regs: EEPROM) -> Self {
         Self { regs }
     }
@@ -41,6 +47,7 @@ impl Eeprom {
         Err(StorageError::Device)
     }
 
+    /// The byte at `addr`, after any write still in progress has finished.
     pub fn read_byte(&mut self, addr: u16) -> Result<u8, StorageError> {
         if addr >= EEPROM_SIZE {
             return Err(StorageError::OutOfRange);
@@ -81,8 +88,14 @@ fn check_range(addr: u16, len: usize) -> Result<(), StorageError> {
     }
 }
 
-impl Storage for Eeprom {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
+/// An embedded-storage offset as an EEPROM address.
+#[inline(always)]
+fn address(offset: u32) -> Result<u16, StorageError> {
+    u16::try_from(offset).map_err(|_| StorageError::OutOfRange)
+}
+
+impl Eeprom {
+    fn read_at(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
         check_range(addr, buf.len())?;
         let mut a = addr;
         for slot in buf.iter_mut() {
@@ -92,7 +105,7 @@ impl Storage for Eeprom {
         Ok(())
     }
 
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
+    fn write_at(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
         check_range(addr, data.len())?;
         let mut a = addr;
         for &b in data {
@@ -100,5 +113,29 @@ impl Storage for Eeprom {
             a = a.wrapping_add(1);
         }
         Ok(())
+    }
+}
+
+// The trait methods only narrow the offset: inlined into the callers, whose
+// offsets are 16-bit constants, they cost nothing over 16-bit addresses.
+impl ReadStorage for Eeprom {
+    type Error = StorageError;
+
+    #[inline(always)]
+    fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), StorageError> {
+        self.read_at(address(offset)?, bytes)
+    }
+
+    fn capacity(&self) -> usize {
+        EEPROM_SIZE as usize
+    }
+}
+
+/// Every byte of `bytes` that differs is erased and written (see the module
+/// doc), so a `write` is all a caller needs.
+impl Storage for Eeprom {
+    #[inline(always)]
+    fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), StorageError> {
+        self.write_at(address(offset)?, bytes)
     }
 }

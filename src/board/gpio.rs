@@ -1,5 +1,7 @@
-//! GPIO pins of the ATmega2560 addressed by (port, bit), and the Arduino Mega
-//! names of the shield signals (SPEC §8).
+//! Register access for the GPIO pins of the pin map ([`crate::seam::pins`]:
+//! ports, pins and the Arduino Mega names of the shield signals, re-exported
+//! here), and the pins of the ports no driver owns as embedded-hal pins
+//! ([`split`]).
 //!
 //! A [`Pin`] is only a descriptor (two bytes, `Copy`). Its register accessors
 //! are crate-private: the right to change a pin comes from owning the PAC port
@@ -15,21 +17,7 @@
 
 use core::ptr::{read_volatile, write_volatile};
 
-/// The eleven GPIO ports of the ATmega2560 (there is no port I).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Port {
-    A,
-    B,
-    C,
-    D,
-    E,
-    F,
-    G,
-    H,
-    J,
-    K,
-    L,
-}
+pub use crate::seam::pins::{mega, Pin, Port};
 
 impl Port {
     /// Data-space address of PINx; DDRx and PORTx follow at +1 and +2.
@@ -80,45 +68,16 @@ impl PinMode {
     }
 }
 
-/// One GPIO pin: a port and a bit number 0..=7.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Pin {
-    port: Port,
-    bit: u8,
-}
-
+/// Register access of a pin (the descriptor is the pin map's, `seam::pins`).
 impl Pin {
-    /// `bit` is taken modulo 8.
-    pub const fn new(port: Port, bit: u8) -> Pin {
-        Pin { port, bit: bit & 7 }
-    }
-
-    pub const fn port(self) -> Port {
-        self.port
-    }
-
-    pub const fn bit(self) -> u8 {
-        self.bit
-    }
-
     const fn mask(self) -> u8 {
-        1 << self.bit
-    }
-
-    /// The ADC channel on this pin: PF0..PF7 are ADC0..7 (A0..A7), PK0..PK7
-    /// are ADC8..15 (A8..A15).
-    pub const fn adc_channel(self) -> Option<u8> {
-        match self.port {
-            Port::F => Some(self.bit),
-            Port::K => Some(8 + self.bit),
-            _ => None,
-        }
+        1 << self.bit()
     }
 
     /// The pin's current (DDR, PORT) state.
     #[inline]
     pub(crate) fn mode(self) -> PinMode {
-        let base = self.port.pin_reg();
+        let base = self.port().pin_reg();
         avr_device::interrupt::free(|_| {
             // SAFETY: fixed, always-mapped I/O registers of the ATmega2560;
             // byte-wide volatile access is their defined interface.
@@ -136,7 +95,7 @@ impl Pin {
     /// sees a spurious low pulse from a mode change.
     #[inline]
     pub(crate) fn set_mode(self, mode: PinMode) {
-        let base = self.port.pin_reg();
+        let base = self.port().pin_reg();
         let ddr_reg = (base + 1) as *mut u8;
         let port_reg = (base + 2) as *mut u8;
         let m = self.mask();
@@ -157,10 +116,17 @@ impl Pin {
         });
     }
 
+    /// The level on the pin (its PINx bit), whatever drives it.
+    #[inline]
+    pub(crate) fn is_high(self) -> bool {
+        // SAFETY: see `mode`; reading PINx has no side effect.
+        unsafe { read_volatile(self.port().pin_reg() as *const u8) & self.mask() != 0 }
+    }
+
     /// Sets the PORT bit (drives the level if the pin is an output).
     #[inline]
     pub(crate) fn write(self, high: bool) {
-        let port_reg = (self.port.pin_reg() + 2) as *mut u8;
+        let port_reg = (self.port().pin_reg() + 2) as *mut u8;
         let m = self.mask();
         avr_device::interrupt::free(|_| {
             // SAFETY: see `mode`; only this pin's bit changes.
@@ -172,42 +138,108 @@ impl Pin {
     }
 }
 
-/// Arduino Mega 2560 names of the pins the UNO-form TFT shield uses.
-pub mod mega {
-    use super::{Pin, Port};
+/// A port that no driver of this board owns: A, B, C, D, J and K. Ports E,
+/// F, G and H carry the shield's LCD/touch pins and belong to
+/// [`ShieldBus`](super::shield::ShieldBus); port L carries the servo signals
+/// (PL3..PL5) of [`ServoPwm`](super::servo_pwm::ServoPwm).
+pub trait FreePort: sealed::Sealed {
+    /// Which port the PAC peripheral is.
+    const PORT: Port;
+}
 
-    /// A0 = PF0: LCD_RD.
-    pub const A0: Pin = Pin::new(Port::F, 0);
-    /// A1 = PF1: LCD_WR.
-    pub const A1: Pin = Pin::new(Port::F, 1);
-    /// A2 = PF2: LCD_RS (command/data).
-    pub const A2: Pin = Pin::new(Port::F, 2);
-    /// A3 = PF3: LCD_CS.
-    pub const A3: Pin = Pin::new(Port::F, 3);
-    /// A4 = PF4: LCD_RST.
-    pub const A4: Pin = Pin::new(Port::F, 4);
-    /// D2 = PE4: LCD_D2.
-    pub const D2: Pin = Pin::new(Port::E, 4);
-    /// D3 = PE5: LCD_D3.
-    pub const D3: Pin = Pin::new(Port::E, 5);
-    /// D4 = PG5: LCD_D4.
-    pub const D4: Pin = Pin::new(Port::G, 5);
-    /// D5 = PE3: LCD_D5.
-    pub const D5: Pin = Pin::new(Port::E, 3);
-    /// D6 = PH3: LCD_D6.
-    pub const D6: Pin = Pin::new(Port::H, 3);
-    /// D7 = PH4: LCD_D7.
-    pub const D7: Pin = Pin::new(Port::H, 4);
-    /// D8 = PH5: LCD_D0.
-    pub const D8: Pin = Pin::new(Port::H, 5);
-    /// D9 = PH6: LCD_D1.
-    pub const D9: Pin = Pin::new(Port::H, 6);
+mod sealed {
+    pub trait Sealed {}
+}
 
-    pub const LCD_RD: Pin = A0;
-    pub const LCD_WR: Pin = A1;
-    pub const LCD_RS: Pin = A2;
-    pub const LCD_CS: Pin = A3;
-    pub const LCD_RST: Pin = A4;
-    /// LCD data bits D0..D7 in bit order.
-    pub const LCD_DATA: [Pin; 8] = [D8, D9, D2, D3, D4, D5, D6, D7];
+macro_rules! free_ports {
+    ($($pac:ident => $port:ident),*) => {$(
+        impl sealed::Sealed for avr_device::atmega2560::$pac {}
+        impl FreePort for avr_device::atmega2560::$pac {
+            const PORT: Port = Port::$port;
+        }
+    )*};
+}
+
+free_ports!(PORTA => A, PORTB => B, PORTC => C, PORTD => D, PORTJ => J, PORTK => K);
+
+/// The eight pins of a free port, bit 0 first. Takes the PAC port: owning
+/// it is the right to change its pins (`Peripherals::take` hands it out
+/// once), and each returned pin is the right to one bit.
+pub fn split<P: FreePort>(_port: P) -> [FreePin; 8] {
+    core::array::from_fn(|bit| FreePin { pin: Pin::new(P::PORT, bit as u8) })
+}
+
+/// One pin of a free port, not yet configured (as the chip left it).
+pub struct FreePin {
+    pin: Pin,
+}
+
+impl FreePin {
+    /// The (port, bit) this handle stands for.
+    pub fn pin(&self) -> Pin {
+        self.pin
+    }
+
+    /// An output starting at `high`.
+    pub fn into_output(self, high: bool) -> Output {
+        self.pin.set_mode(if high { PinMode::OutputHigh } else { PinMode::OutputLow });
+        Output { pin: self.pin }
+    }
+
+    /// An input, with the internal pull-up (20–50 kΩ) if `pull_up`.
+    pub fn into_input(self, pull_up: bool) -> Input {
+        self.pin.set_mode(if pull_up { PinMode::PullUp } else { PinMode::Floating });
+        Input { pin: self.pin }
+    }
+}
+
+/// A free pin driven as an output: embedded-hal's `OutputPin` and
+/// `StatefulOutputPin`.
+pub struct Output {
+    pin: Pin,
+}
+
+/// A free pin as an input: embedded-hal's `InputPin`.
+pub struct Input {
+    pin: Pin,
+}
+
+impl embedded_hal::digital::ErrorType for Output {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal::digital::ErrorType for Input {
+    type Error = core::convert::Infallible;
+}
+
+impl embedded_hal::digital::OutputPin for Output {
+    fn set_low(&mut self) -> Result<(), Self::Error> {
+        self.pin.write(false);
+        Ok(())
+    }
+
+    fn set_high(&mut self) -> Result<(), Self::Error> {
+        self.pin.write(true);
+        Ok(())
+    }
+}
+
+impl embedded_hal::digital::StatefulOutputPin for Output {
+    fn is_set_high(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.mode() == PinMode::OutputHigh)
+    }
+
+    fn is_set_low(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.mode() == PinMode::OutputLow)
+    }
+}
+
+impl embedded_hal::digital::InputPin for Input {
+    fn is_high(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.pin.is_high())
+    }
+
+    fn is_low(&mut self) -> Result<bool, Self::Error> {
+        Ok(!self.pin.is_high())
+    }
 }

@@ -1,5 +1,11 @@
-//! ILI9341 on the UNO-form shield's 8-bit parallel bus (SPEC §8), as an
-//! embedded-graphics `DrawTarget<Color = Rgb565>` and a UI [`Canvas`].
+//! The display controller on the UNO-form shield's 8-bit parallel bus
+//! (SPEC §8), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
+//! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486) and the
+//! register-indexed ILI9325, told apart at boot by their ID registers
+//! ([`Lcd::start`], `lcd/start.rs`). They differ only in their
+//! initialisation, their size and how a window is set (`lcd/indexed.rs` for
+//! the ILI9325); the pixel stream after the window is the same RGB565 byte
+//! pairs, so every fast path below serves all four.
 //!
 //! Pins: RD PF0, WR PF1, RS PF2, CS PF3, RST PF4; D0 PH5, D1 PH6, D2 PE4,
 //! D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is three port stores (the
@@ -26,7 +32,8 @@
 //! read at the start of each transfer and written back unchanged).
 //! Timing: the WR low and high phases are one cycle (62.5 ns) each and
 //! back-to-back strobes are 2 cycles apart (125 ns), within the ILI9341's
-//! 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns).
+//! and ST7789V's 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns) and the
+//! slowest of the four, the ILI9325's (≥ 100 ns, each phase ≥ 50 ns).
 
 use crate::board::shield::ShieldBus;
 use core::ptr::{read_volatile, write_volatile};
@@ -277,9 +284,13 @@ pub unsafe fn stream_pixels<I: Iterator<Item = u16>>(colors: I) {
 
 /// The byte-level bus the driver talks through.
 pub trait Bus8 {
+    /// Sends command byte `c` (RS low).
     fn command(&mut self, c: u8);
+    /// Sends parameter or pixel bytes (RS high).
     fn data(&mut self, bytes: &[u8]);
+    /// `n` pixels of one RGB565 colour, high byte first.
     fn repeat(&mut self, color: u16, n: u32);
+    /// One pixel per RGB565 colour of `colors`, high byte first.
     fn stream<I: Iterator<Item = u16>>(&mut self, colors: I);
     /// `n` pixels of one colour (part of a longer pixel stream).
     fn run(&mut self, color: u16, n: u16);
@@ -289,6 +300,9 @@ pub trait Bus8 {
     fn select(&mut self, on: bool);
     /// The RST line level.
     fn set_reset(&mut self, high: bool);
+    /// Reads `out.len()` bytes from the controller (RS high, one RD strobe
+    /// each), the data pins switched to inputs meanwhile and put back after.
+    fn read(&mut self, out: &mut [u8]);
 }
 
 impl<B: Bus8> Bus8 for &mut B {
@@ -315,6 +329,9 @@ impl<B: Bus8> Bus8 for &mut B {
     }
     fn set_reset(&mut self, high: bool) {
         (**self).set_reset(high)
+    }
+    fn read(&mut self, out: &mut [u8]) {
+        (**self).read(out)
     }
 }
 
@@ -360,30 +377,37 @@ impl Bus8 for ShieldBus {
             write_volatile(PORTF_R, if high { v | RST } else { v & !RST });
         }
     }
+    fn read(&mut self, out: &mut [u8]) {
+        self.with_read(|pins| out.iter_mut().for_each(|b| *b = pins.byte()))
+    }
 }
 
+pub use crate::ui::controller::{Controller, IdReads, Protocol};
+pub use crate::ui::ili9325 as reg;
 pub use crate::ui::ili9341 as cmd;
 
-/// Screen orientation as MADCTL values (BGR set: the shields' panels are
-/// BGR).
+mod indexed;
+mod start;
+
+/// Screen orientation: the MADCTL value of the DCS controllers (BGR set: the
+/// shields' panels are BGR); the ILI9325 gets the same picture through its
+/// entry mode and address mapping (`lcd/indexed.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rotation {
-    /// 240×320, MX.
+    /// Portrait (240×320 or 320×480), MX.
     Portrait = 0x48,
-    /// 320×240, MV: the UI's orientation.
+    /// Landscape (320×240 or 480×320), MV: the UI's orientation.
     Landscape = 0x28,
-    /// 240×320, MY.
+    /// Portrait upside down, MY.
     PortraitFlipped = 0x88,
-    /// 320×240, MV|MX|MY.
+    /// Landscape upside down, MV|MX|MY.
     LandscapeFlipped = 0xE8,
 }
 
 impl Rotation {
-    pub const fn size(self) -> (u16, u16) {
-        match self {
-            Rotation::Landscape | Rotation::LandscapeFlipped => (320, 240),
-            Rotation::Portrait | Rotation::PortraitFlipped => (240, 320),
-        }
+    /// Rows and columns are exchanged (MV).
+    pub const fn is_landscape(self) -> bool {
+        matches!(self, Rotation::Landscape | Rotation::LandscapeFlipped)
     }
 }
 
@@ -391,55 +415,70 @@ fn delay_ms(ms: u16) {
     avr_device::asm::delay_cycles(16_000 * u32::from(ms));
 }
 
-/// The display. Holds the bus (by value or `&mut`), the orientation and
-/// the last column and page ranges sent: the controller keeps them, so a run
-/// of windows on one row (map rows, a line of text) skips the repeats.
+/// The display. Holds the bus (by value or `&mut`), which controller is on
+/// it, the orientation and the last column and page ranges sent: the
+/// controller keeps them, so a run of windows on one row (map rows, a line
+/// of text) skips the repeats.
 pub struct Lcd<B> {
     bus: B,
+    controller: Controller,
     rotation: Rotation,
     columns: Option<(u16, u16)>,
     pages: Option<(u16, u16)>,
 }
 
 impl<B: Bus8> Lcd<B> {
-    /// Wraps a bus whose controller is already initialised in landscape (or
-    /// call [`Lcd::init`]). The window cache starts empty.
+    /// Wraps a bus whose ILI9341 is already initialised in landscape (or
+    /// call [`Lcd::init`] or [`Lcd::start`]). The window cache starts empty.
     pub fn new(bus: B) -> Self {
-        Self { bus, rotation: Rotation::Landscape, columns: None, pages: None }
+        Self::with_controller(bus, Controller::Ili9341)
     }
 
-    /// Hardware and software reset, wake-up, 16-bit pixels, `rotation`,
-    /// display on (~270 ms of waits, as the datasheet asks after RST, SWRESET
-    /// and SLPOUT). Leaves the chip selected.
+    /// Wraps a bus whose `controller` is already initialised in landscape
+    /// (what [`Lcd::start`] found at boot).
+    pub fn with_controller(bus: B, controller: Controller) -> Self {
+        Self { bus, controller, rotation: Rotation::Landscape, columns: None, pages: None }
+    }
+
+    /// The controller driven.
+    pub fn controller(&self) -> Controller {
+        self.controller
+    }
+
+    /// Width and height in pixels in the current orientation.
+    pub fn size(&self) -> (u16, u16) {
+        let (w, h) = self.controller.size();
+        if self.rotation.is_landscape() {
+            (w, h)
+        } else {
+            (h, w)
+        }
+    }
+
+    /// Hardware reset, then the controller's initialisation, `rotation` and
+    /// display on (the waits its datasheet asks for: ~270 ms on the DCS
+    /// controllers). Leaves the chip selected.
     pub fn init(&mut self, rotation: Rotation) {
-        self.bus.select(false);
-        self.bus.set_reset(true);
-        delay_ms(1);
-        self.bus.set_reset(false);
-        delay_ms(1);
-        self.bus.set_reset(true);
-        delay_ms(120);
-        self.bus.select(true);
-        self.bus.command(cmd::SWRESET);
-        self.columns = None;
-        self.pages = None;
-        delay_ms(5);
-        self.bus.command(cmd::SLPOUT);
-        delay_ms(120);
-        self.bus.command(cmd::COLMOD);
-        self.bus.data(&[0x55]);
-        self.set_rotation(rotation);
-        self.bus.command(cmd::DISPON);
+        self.hardware_reset();
+        self.configure(rotation);
     }
 
+    /// Sets the scan direction; the window cache is dropped, since the
+    /// controller's column and page ranges change meaning.
     pub fn set_rotation(&mut self, rotation: Rotation) {
         self.rotation = rotation;
         self.columns = None;
         self.pages = None;
-        self.bus.command(cmd::MADCTL);
-        self.bus.data(&[rotation as u8]);
+        match self.controller.protocol() {
+            Protocol::Dcs => {
+                self.bus.command(cmd::MADCTL);
+                self.bus.data(&[rotation as u8]);
+            }
+            Protocol::Indexed => self.write_reg(reg::ENTRY_MODE, indexed::entry_mode(rotation)),
+        }
     }
 
+    /// The orientation last set.
     pub fn rotation(&self) -> Rotation {
         self.rotation
     }
@@ -451,6 +490,9 @@ impl<B: Bus8> Lcd<B> {
 
     /// Sets the address window (inclusive) and starts a memory write.
     fn window(&mut self, x0: u16, y0: u16, x1: u16, y1: u16) {
+        if self.controller.protocol() == Protocol::Indexed {
+            return self.window_indexed(x0, y0, x1, y1);
+        }
         if self.columns != Some((x0, x1)) {
             let [a, b] = x0.to_be_bytes();
             let [c, d] = x1.to_be_bytes();
@@ -470,7 +512,7 @@ impl<B: Bus8> Lcd<B> {
 
     /// The part of `area` on the screen as inclusive corners.
     fn clip(&self, area: &Rectangle) -> Option<(u16, u16, u16, u16)> {
-        let (w, h) = self.rotation.size();
+        let (w, h) = self.size();
         // Narrow to 16 bits first: 32-bit arithmetic is four times the work
         // here, and this runs for every window.
         let narrow = |v: i32| v.clamp(-0x4000, 0x4000) as i16;
@@ -541,7 +583,7 @@ fn raw(c: Rgb565) -> u16 {
 
 impl<B: Bus8> OriginDimensions for Lcd<B> {
     fn size(&self) -> Size {
-        let (w, h) = self.rotation.size();
+        let (w, h) = Lcd::size(self);
         Size::new(u32::from(w), u32::from(h))
     }
 }
@@ -555,7 +597,7 @@ impl<B: Bus8> DrawTarget for Lcd<B> {
     where
         I: IntoIterator<Item = Pixel<Rgb565>>,
     {
-        let (w, h) = self.rotation.size();
+        let (w, h) = self.size();
         for Pixel(p, c) in pixels {
             if p.x >= 0 && p.y >= 0 && p.x < i32::from(w) && p.y < i32::from(h) {
                 let (x, y) = (p.x as u16, p.y as u16);

@@ -9,24 +9,47 @@
 //! period, which is what the app's 50 Hz frame aligns with.
 
 use avr_device::atmega2560::{PORTL, TC5};
+use embedded_hal::pwm::SetDutyCycle;
 
+use crate::seam::pins::mega::SERVOS;
+use crate::seam::pins::Port;
+use crate::servo::map::{us_to_ticks, JointCal, TIMER5_TOP};
+
+/// Timer5 compare channels in use: OC5A, OC5B, OC5C (base, shoulder, elbow).
 pub const CHANNELS: usize = 3;
-/// PL3, PL4, PL5.
-const SERVO_PINS: u8 = 0b0011_1000;
-/// ICR5: 40000 ticks of 0.5 µs per period.
-pub const TOP: u16 = 39_999;
+/// PL3, PL4, PL5 (the pin map's servo pins, all on port L).
+const SERVO_PINS: u8 = (1 << SERVOS[0].bit()) | (1 << SERVOS[1].bit()) | (1 << SERVOS[2].bit());
+const _: () = assert!(
+    matches!(SERVOS[0].port(), Port::L) && matches!(SERVOS[1].port(), Port::L) && matches!(SERVOS[2].port(), Port::L)
+);
 
 /// Inclusive pulse-width window (ticks) a channel may ever be set to.
 #[derive(Clone, Copy, Debug)]
 pub struct TickLimits {
+    /// Shortest pulse, ticks of 0.5 µs.
     pub min: u16,
+    /// Longest pulse, ticks of 0.5 µs.
     pub max: u16,
 }
 
+impl TickLimits {
+    /// A joint calibration's pulse limits (µs) in ticks: the hardware
+    /// layer's own clamp, under the app's.
+    pub fn of_joint(cal: &JointCal) -> TickLimits {
+        TickLimits { min: us_to_ticks(cal.min_us), max: us_to_ticks(cal.max_us) }
+    }
+}
+
+/// Timer5 and its three compare outputs, owned, with a tick window per
+/// channel.
 pub struct ServoPwm {
     tc5: TC5,
     limits: [TickLimits; CHANNELS],
     enabled: [bool; CHANNELS],
+    /// When the last `set_pulses` came: ticks into the period, and whether
+    /// the next period had already started (its pulses then went out with
+    /// the previous widths: a missed period).
+    pub last_write: (u16, bool),
 }
 
 impl ServoPwm {
@@ -40,11 +63,11 @@ impl ServoPwm {
         tc5.tccr5b().write(|w| w.cs5().no_clock());
         tc5.tccr5a().write(|w| w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected());
         avr_device::interrupt::free(|_| {
-            tc5.icr5().write(|w| w.set(TOP));
+            tc5.icr5().write(|w| w.set(TIMER5_TOP));
             tc5.tcnt5().write(|w| w.set(0));
         });
         tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
-        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS] };
+        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS], last_write: (0, false) };
         for ch in 0..CHANNELS {
             pwm.limits[ch] = sanitize(limits[ch]);
         }
@@ -95,6 +118,18 @@ impl ServoPwm {
         self.enabled = [false; CHANNELS];
     }
 
+    /// Timer ticks (0.5 µs, 8 CPU cycles) since the current period started.
+    pub fn ticks(&self) -> u16 {
+        // 16-bit read through the shared TEMP byte: keep interrupts out.
+        avr_device::interrupt::free(|_| self.tc5.tcnt5().read().bits())
+    }
+
+    /// A new period has started since the flag was last cleared (a frame
+    /// that sees this at its end overran).
+    pub fn period_pending(&self) -> bool {
+        self.tc5.tifr5().read().tov5().bit_is_set()
+    }
+
     /// True once per 20 ms period (at BOTTOM), clearing the flag.
     pub fn period_started(&mut self) -> bool {
         if self.tc5.tifr5().read().tov5().bit_is_set() {
@@ -106,11 +141,53 @@ impl ServoPwm {
     }
 }
 
+/// One servo output as embedded-hal's [`SetDutyCycle`]: the duty cycle is
+/// the pulse width in Timer5 ticks out of the period ([`PERIOD_TICKS`], so a
+/// duty of 3000 is a 1.5 ms pulse). Every value goes through
+/// [`ServoPwm::set`]'s clamp, so no duty cycle, not even 0 ("fully off") or
+/// the maximum, drives the servo outside its channel's window: use
+/// [`ServoPwm::disable_all`] to stop the pulses.
+pub struct ServoChannel<'a> {
+    pwm: &'a mut ServoPwm,
+    ch: usize,
+}
+
+/// Timer5 ticks per PWM period (20 ms): the duty cycle's full scale.
+pub const PERIOD_TICKS: u16 = TIMER5_TOP + 1;
+
+impl ServoPwm {
+    /// Channel `ch` (0 base, 1 shoulder, 2 elbow) as a [`SetDutyCycle`], or
+    /// `None` past the last channel.
+    pub fn channel(&mut self, ch: usize) -> Option<ServoChannel<'_>> {
+        (ch < CHANNELS).then_some(ServoChannel { pwm: self, ch })
+    }
+
+    /// Channel `ch`'s window in ticks.
+    pub fn limits(&self, ch: usize) -> Option<TickLimits> {
+        self.limits.get(ch).copied()
+    }
+}
+
+impl embedded_hal::pwm::ErrorType for ServoChannel<'_> {
+    type Error = core::convert::Infallible;
+}
+
+impl SetDutyCycle for ServoChannel<'_> {
+    fn max_duty_cycle(&self) -> u16 {
+        PERIOD_TICKS
+    }
+
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+        self.pwm.set(self.ch, duty);
+        Ok(())
+    }
+}
+
 /// A limit window must lie inside one period and be ordered; anything else is
 /// collapsed to an empty-but-safe window at the lower bound.
 fn sanitize(l: TickLimits) -> TickLimits {
-    let min = l.min.min(TOP);
-    let max = l.max.min(TOP).max(min);
+    let min = l.min.min(TIMER5_TOP);
+    let max = l.max.min(TIMER5_TOP).max(min);
     TickLimits { min, max }
 }
 
@@ -120,6 +197,7 @@ impl crate::seam::ServoOutputs for ServoPwm {
         for (ch, &t) in ticks.iter().enumerate() {
             self.set(ch, t);
         }
+        self.last_write = (self.ticks(), self.period_pending());
     }
 
     fn disable(&mut self) {

@@ -13,12 +13,19 @@
 //! inside that call, which restores all 13 pins before it returns. A caller
 //! holding the bus therefore cannot observe touch mode, and drawing (which
 //! needs `&mut ShieldBus`) cannot overlap a touch read.
+//!
+//! Reading the controller (its ID at boot) turns the eight data pins around
+//! the same way: [`ShieldBus::with_read`] makes them pulled-up inputs, lends a
+//! [`ReadPins`] that only strobes RD and samples them, and puts all 13 pins
+//! back before it returns.
 
 use avr_device::atmega2560::{PORTE, PORTF, PORTG, PORTH};
 
-use super::adc::Adc;
-use super::gpio::mega::{A1, A2, A3, D6, D7, D8, D9, LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
+use super::adc::{Adc, AdcError};
+use super::delay_us;
+use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
+use crate::seam::pins::PanelPinout;
 
 /// Every LCD pin, in the order they are restored after a touch read: data and
 /// RS first, then the RD/WR strobes, chip select last. Had CS been left active
@@ -47,10 +54,15 @@ const SHIELD_PINS: [Pin; 13] = RESTORE_ORDER;
 /// A control line of the LCD.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LcdLine {
+    /// LCD_RD (A0), read strobe, active low.
     Rd,
+    /// LCD_WR (A1), write strobe, active low.
     Wr,
+    /// LCD_RS (A2): low = command, high = data.
     Rs,
+    /// LCD_CS (A3), chip select, active low.
     Cs,
+    /// LCD_RST (A4), reset, active low.
     Rst,
 }
 
@@ -140,6 +152,119 @@ impl ShieldBus {
     }
 }
 
+/// RD low to sampling: the slowest access time of the supported
+/// controllers' 8080 read cycle is 340 ns (frame-memory reads of the
+/// ILI9341, ILI9486 and ST7789V; ID and register reads are faster).
+const RD_ACCESS_CYCLES: u32 = 8;
+/// RD high before the next strobe (the read cycles' high phase and cycle
+/// time, 90–450 ns).
+const RD_RECOVER_CYCLES: u32 = 8;
+
+impl ShieldBus {
+    /// Lends the data lines to the controller for a read and hands them back
+    /// in LCD mode.
+    ///
+    /// Before `f` runs, the (DDR, PORT) state of all 13 LCD pins is saved;
+    /// WR and RD are driven high (no write strobe can happen, the read
+    /// strobe is idle), RS high (reads return data), and D0..D7 become
+    /// inputs with their pull-ups, so a controller that does not answer reads
+    /// as all ones instead of floating. CS stays as the caller left it (it
+    /// selects the controller for the read). After `f`, every pin is put back
+    /// exactly as saved, as [`ShieldBus::with_touch`] does; the data lines
+    /// turn back into outputs only after RD is high again, so the bus is
+    /// never driven from both ends.
+    pub fn with_read<R>(&mut self, f: impl FnOnce(&mut ReadPins<'_>) -> R) -> R {
+        let saved = snapshot();
+        for p in [LCD_WR, LCD_RD, LCD_RS] {
+            p.set_mode(PinMode::OutputHigh);
+        }
+        for p in LCD_DATA {
+            p.set_mode(PinMode::PullUp);
+        }
+        let r = f(&mut ReadPins { _bus: core::marker::PhantomData });
+        restore(&saved);
+        r
+    }
+}
+
+/// The data lines while they are inputs, inside [`ShieldBus::with_read`].
+pub struct ReadPins<'a> {
+    _bus: core::marker::PhantomData<&'a mut ShieldBus>,
+}
+
+impl ReadPins<'_> {
+    /// One RD strobe: RD low, wait the access time, sample D0..D7, RD high,
+    /// wait the recovery time.
+    pub fn byte(&mut self) -> u8 {
+        LCD_RD.write(false);
+        avr_device::asm::delay_cycles(RD_ACCESS_CYCLES);
+        let mut b = 0u8;
+        for (k, p) in LCD_DATA.iter().enumerate() {
+            if p.is_high() {
+                b |= 1 << k;
+            }
+        }
+        LCD_RD.write(true);
+        avr_device::asm::delay_cycles(RD_RECOVER_CYCLES);
+        b
+    }
+}
+
+/// Wait before sampling a link: the 20–50 kΩ pull-up charges the sense line
+/// (the ADC's sample-and-hold, the LCD input, any filter capacitor a shield
+/// puts there: up to ~10 nF, τ ≤ 0.5 ms) through no plate when the pair is
+/// open.
+const LINK_SETTLE_US: u32 = 2_000;
+
+/// Why [`ShieldBus::plate_link`] measured nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinkError {
+    /// A pin is not one of the 13 shield LCD pins.
+    NotShieldPin,
+    /// `sense` has no ADC channel.
+    NotAnalog,
+    /// `drive` and `sense` are the same pin.
+    Same,
+    /// The conversion failed (see [`AdcError`]).
+    Adc(AdcError),
+}
+
+impl ShieldBus {
+    /// How `drive` and `sense` are connected through the panel: the ADC count
+    /// on `sense`, pulled up by its 20–50 kΩ, while `drive` is low. The two
+    /// ends of one plate (a few hundred ohms) read under 20 counts; an open
+    /// pair reads 1023. Nobody may touch the panel meanwhile (the plates would
+    /// meet).
+    ///
+    /// Every other shield pin but RST is a pulled-up input meanwhile, so no
+    /// pin is driven against `drive` through a plate, CS, RD and WR stay at
+    /// their inactive high level unless a plate pulls one of them low (and a
+    /// plate has two ends, so never two of them), and no LCD line can fake a
+    /// link by driving the far end of `sense`'s plate. RST stays high. All 13
+    /// pins are restored as [`ShieldBus::with_touch`] restores them.
+    pub fn plate_link(&mut self, adc: &mut Adc, drive: Pin, sense: Pin) -> Result<u16, LinkError> {
+        if !(is_shield_pin(drive) && is_shield_pin(sense)) {
+            return Err(LinkError::NotShieldPin);
+        }
+        if drive == sense {
+            return Err(LinkError::Same);
+        }
+        let channel = sense.adc_channel().ok_or(LinkError::NotAnalog)?;
+        let saved = snapshot();
+        // CS first: the controller is deselected before anything else moves.
+        for p in RESTORE_ORDER.iter().rev() {
+            if *p != LCD_RST && *p != drive {
+                p.set_mode(PinMode::PullUp);
+            }
+        }
+        drive.set_mode(PinMode::OutputLow);
+        delay_us(LINK_SETTLE_US);
+        let count = adc.read(channel);
+        restore(&saved);
+        count.map_err(LinkError::Adc)
+    }
+}
+
 fn snapshot() -> [PinMode; 13] {
     RESTORE_ORDER.map(|p| p.mode())
 }
@@ -161,6 +286,7 @@ pub struct TouchWiring {
     pub(super) yp_channel: u8,
 }
 
+/// Why [`TouchWiring::new`] refused a wiring.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WiringError {
     /// A pin is not one of the 13 shield LCD pins (the bus owns no other).
@@ -196,11 +322,18 @@ const fn checked(w: Result<TouchWiring, WiringError>) -> TouchWiring {
 
 impl TouchWiring {
     /// (a) XP = D8, XM = A2, YP = A3, YM = D9.
-    pub const A: TouchWiring = checked(TouchWiring::new(D8, A2, A3, D9));
+    pub const A: TouchWiring = checked(TouchWiring::of(&PanelPinout::A));
     /// (b) XP = D6, XM = A2, YP = A1, YM = D7.
-    pub const B: TouchWiring = checked(TouchWiring::new(D6, A2, A1, D7));
+    pub const B: TouchWiring = checked(TouchWiring::of(&PanelPinout::B));
     /// (c) XP = D7, XM = A1, YP = A2, YM = D6.
-    pub const C: TouchWiring = checked(TouchWiring::new(D7, A1, A2, D6));
+    pub const C: TouchWiring = checked(TouchWiring::of(&PanelPinout::C));
+
+    /// [`TouchWiring::new`] for a pinout of the pin map.
+    pub const fn of(p: &PanelPinout) -> Result<TouchWiring, WiringError> {
+        TouchWiring::new(p.xp, p.xm, p.yp, p.ym)
+    }
+    /// The known wirings with their names, for tools that try each.
+    pub const PRESETS: [(char, TouchWiring); 3] = [('a', Self::A), ('b', Self::B), ('c', Self::C)];
 
     /// Checks that all four are distinct shield pins and X−, Y+ are analog.
     pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {
@@ -216,15 +349,19 @@ impl TouchWiring {
         }
     }
 
+    /// The X+ electrode's pin.
     pub const fn xp(&self) -> Pin {
         self.xp
     }
+    /// The X− electrode's pin (analog).
     pub const fn xm(&self) -> Pin {
         self.xm
     }
+    /// The Y+ electrode's pin (analog).
     pub const fn yp(&self) -> Pin {
         self.yp
     }
+    /// The Y− electrode's pin.
     pub const fn ym(&self) -> Pin {
         self.ym
     }

@@ -21,7 +21,7 @@
 //! module is the measurement made with them.
 
 use crate::seam::RawSample;
-use crate::seam::TouchPanel;
+use crate::seam::{TouchError, TouchPanel};
 use crate::touch::filter::pressure;
 
 use super::adc::{Adc, AdcError};
@@ -90,24 +90,18 @@ impl TouchPins<'_> {
         Ok(RawSample { x, y, z: pressure(p.z1, p.z2) })
     }
 
-    /// Fills `out` with consecutive samples; stops at the first ADC fault and
-    /// returns how many were filled.
-    pub fn fill(&mut self, out: &mut [RawSample]) -> usize {
-        let mut n = 0;
+    /// Fills `out` with consecutive samples; stops at the first ADC fault.
+    pub fn fill(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         for slot in out.iter_mut() {
-            match self.sample() {
-                Ok(s) => *slot = s,
-                Err(_) => break,
-            }
-            n += 1;
+            *slot = self.sample().map_err(|_| TouchError::Adc)?;
         }
-        n
+        Ok(())
     }
 }
 
 /// Inside `with_touch`: the restore happens when that call returns.
 impl TouchPanel for TouchPins<'_> {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         self.fill(out)
     }
 }
@@ -121,13 +115,14 @@ pub struct TouchReader<'a> {
 }
 
 impl<'a> TouchReader<'a> {
+    /// A reader for the panel wired as `wiring`.
     pub fn new(bus: &'a mut ShieldBus, adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
         Self { bus, adc, wiring }
     }
 }
 
 impl TouchPanel for TouchReader<'_> {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         self.bus.with_touch(self.adc, self.wiring, |p| p.fill(out))
     }
 }

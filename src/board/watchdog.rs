@@ -28,9 +28,13 @@ const WDRF: u8 = 1 << 3;
 /// Watchdog timeout (the 128 kHz watchdog oscillator: ±10 % or worse).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Timeout {
+    /// About 250 ms.
     Ms250,
+    /// About 500 ms.
     Ms500,
+    /// About 1 s.
     S1,
+    /// About 2 s.
     S2,
 }
 
@@ -53,15 +57,20 @@ pub struct ResetCause {
 }
 
 impl ResetCause {
+    /// The watchdog reset the chip (a hang, or a deliberate watchdog reset).
     pub const fn watchdog(self) -> bool {
         self.bits & WDRF != 0
     }
+    /// Power was applied.
     pub const fn power_on(self) -> bool {
         self.bits & PORF != 0
     }
+    /// The RESET pin was pulled low (the reset button, or a bootloader upload).
     pub const fn external(self) -> bool {
         self.bits & EXTRF != 0
     }
+    /// The supply dropped below the brown-out level (e.g. servos on the
+    /// board's 5 V).
     pub const fn brown_out(self) -> bool {
         self.bits & BORF != 0
     }
@@ -71,6 +80,7 @@ impl ResetCause {
     }
 }
 
+/// The watchdog timer, owned.
 pub struct Watchdog {
     regs: WDT,
 }
@@ -94,10 +104,12 @@ impl Watchdog {
         self.timed_write(WDE | timeout.prescaler_bits());
     }
 
+    /// Stops the watchdog.
     pub fn disable(&mut self) {
         self.timed_write(0);
     }
 
+    /// Restarts the watchdog's count (`wdr`).
     pub fn feed(&self) {
         feed();
     }

@@ -4,7 +4,9 @@
 //! Bitwise rather than table-driven: on AVR a `static` table lives in SRAM
 //! unless it is placed in program memory, and 512 bytes of an 8 KiB SRAM is too
 //! much for a checksum that runs a few times per boot. A 16-bit CRC detects every
-//! error burst of up to 16 bits, so every single torn EEPROM byte.
+//! error burst of up to 16 bits, so any one decayed or overwritten EEPROM byte;
+//! a save torn by a power loss is excluded by the store's commit byte
+//! (`config::store`), not left to the CRC's 2⁻¹⁶ odds.
 
 /// Initial register value.
 pub const CRC16_INIT: u16 = 0xFFFF;

@@ -3,6 +3,7 @@
 //! vocabulary of their fields that the serial protocol parses into and `cal
 //! show` prints ([`JointField`], [`TouchField`], [`CalSet`]).
 
+use crate::math::units::{centideg_to_rad, deg_per_rad, rad_to_centideg, round_i32};
 use crate::motion::plan::LawKind;
 use crate::servo::map::{Joint, JointCal, JointCalError};
 use crate::touch::map::{Calibration, CalibrationError};
@@ -22,8 +23,10 @@ pub enum SpeedPreset {
 }
 
 impl SpeedPreset {
+    /// Every preset, slowest first (the order of the screen's buttons).
     pub const ALL: [SpeedPreset; 3] = [SpeedPreset::Slow, SpeedPreset::Normal, SpeedPreset::Fast];
 
+    /// The byte stored in the EEPROM record: 0, 1, 2. Never renumber.
     pub fn id(self) -> u8 {
         match self {
             SpeedPreset::Slow => 0,
@@ -32,10 +35,12 @@ impl SpeedPreset {
         }
     }
 
+    /// The preset stored as `id`; `None` for an unknown byte.
     pub fn from_id(id: u8) -> Option<SpeedPreset> {
         SpeedPreset::ALL.iter().copied().find(|p| p.id() == id)
     }
 
+    /// The word of the serial protocol (`speed slow|normal|fast`).
     pub fn name(self) -> crate::text::Text {
         match self {
             SpeedPreset::Slow => t!("slow"),
@@ -44,6 +49,7 @@ impl SpeedPreset {
         }
     }
 
+    /// The preset named `name` on the serial line.
     pub fn from_name(name: &[u8]) -> Option<SpeedPreset> {
         SpeedPreset::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
     }
@@ -76,6 +82,7 @@ pub fn validate_touch(cal: &Calibration) -> Result<(), TouchCalError> {
     Ok(())
 }
 
+/// Why a touch calibration is not accepted as configuration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TouchCalError {
     /// A limit above 1023.
@@ -91,18 +98,26 @@ pub enum TouchCalError {
 pub struct Config {
     /// In [`Joint::index`] order.
     pub joints: [JointCal; 3],
+    /// Raw panel readings ↔ normalized panel points.
     pub touch: Calibration,
+    /// Share of the joints' speed limits moves are planned for.
     pub speed: SpeedPreset,
+    /// The trajectory law of new moves.
     pub law: LawKind,
 }
 
+/// Why a configuration is refused (by `validate`, or a `cal set` that
+/// would make it invalid).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ConfigError {
+    /// A joint's calibration is inconsistent.
     Joint(Joint, JointCalError),
+    /// The touch calibration is not acceptable.
     Touch(TouchCalError),
 }
 
 impl ConfigError {
+    /// The reason as the `err` reply states it.
     pub fn reason(self) -> crate::text::Text {
         match self {
             ConfigError::Joint(_, e) => e.reason(),
@@ -110,18 +125,6 @@ impl ConfigError {
             ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
             ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
         }
-    }
-}
-
-const DEG_PER_RAD: f32 = 180.0 / core::f32::consts::PI;
-const RAD_PER_CENTIDEG: f32 = core::f32::consts::PI / 18_000.0;
-
-/// Rounds half away from zero; saturates (core has no `f32::round`).
-pub(crate) fn round_i32(v: f32) -> i32 {
-    if v >= 0.0 {
-        (v + 0.5) as i32
-    } else {
-        (v - 0.5) as i32
     }
 }
 
@@ -135,6 +138,8 @@ impl Config {
         law: LawKind::Zat,
     };
 
+    /// Checks every joint calibration and the touch calibration; the first
+    /// failure is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
         for (joint, cal) in Joint::ALL.iter().zip(self.joints.iter()) {
             cal.validate().map_err(|e| ConfigError::Joint(*joint, e))?;
@@ -142,6 +147,7 @@ impl Config {
         validate_touch(&self.touch).map_err(ConfigError::Touch)
     }
 
+    /// The calibration of `joint`.
     pub fn joint(&self, joint: Joint) -> &JointCal {
         match joint {
             Joint::Base => &self.joints[0],
@@ -170,13 +176,13 @@ impl Config {
                 let v = value as f32;
                 match field {
                     JointField::Offset => cal.offset_us = v / 100.0,
-                    JointField::Scale => cal.us_per_rad = v / 100.0 * DEG_PER_RAD,
+                    JointField::Scale => cal.us_per_rad = v / 100.0 * deg_per_rad::<f32>(),
                     JointField::MinUs => cal.min_us = value.clamp(0, u16::MAX as i32) as u16,
                     JointField::MaxUs => cal.max_us = value.clamp(0, u16::MAX as i32) as u16,
-                    JointField::MinDeg => cal.min_rad = v * RAD_PER_CENTIDEG,
-                    JointField::MaxDeg => cal.max_rad = v * RAD_PER_CENTIDEG,
-                    JointField::MaxSpeed => cal.max_speed_rad_s = v * RAD_PER_CENTIDEG,
-                    JointField::MaxAccel => cal.max_accel_rad_s2 = v * RAD_PER_CENTIDEG,
+                    JointField::MinDeg => cal.min_rad = centideg_to_rad(value),
+                    JointField::MaxDeg => cal.max_rad = centideg_to_rad(value),
+                    JointField::MaxSpeed => cal.max_speed_rad_s = centideg_to_rad(value),
+                    JointField::MaxAccel => cal.max_accel_rad_s2 = centideg_to_rad(value),
                 }
             }
             CalSet::Touch { field, value } => {
@@ -202,13 +208,13 @@ impl Config {
         let c = self.joint(joint);
         match field {
             JointField::Offset => round_i32(c.offset_us * 100.0),
-            JointField::Scale => round_i32(c.us_per_rad * 100.0 / DEG_PER_RAD),
+            JointField::Scale => round_i32(c.us_per_rad * 100.0 / deg_per_rad::<f32>()),
             JointField::MinUs => c.min_us as i32,
             JointField::MaxUs => c.max_us as i32,
-            JointField::MinDeg => round_i32(c.min_rad / RAD_PER_CENTIDEG),
-            JointField::MaxDeg => round_i32(c.max_rad / RAD_PER_CENTIDEG),
-            JointField::MaxSpeed => round_i32(c.max_speed_rad_s / RAD_PER_CENTIDEG),
-            JointField::MaxAccel => round_i32(c.max_accel_rad_s2 / RAD_PER_CENTIDEG),
+            JointField::MinDeg => rad_to_centideg(c.min_rad),
+            JointField::MaxDeg => rad_to_centideg(c.max_rad),
+            JointField::MaxSpeed => rad_to_centideg(c.max_speed_rad_s),
+            JointField::MaxAccel => rad_to_centideg(c.max_accel_rad_s2),
         }
     }
 }
@@ -229,9 +235,11 @@ pub enum JointField {
     Scale,
     /// `min_us` / `max_us`: pulse limits, whole µs, 500..=2500.
     MinUs,
+    /// `max_us`, see [`JointField::MinUs`].
     MaxUs,
     /// `min_deg` / `max_deg`: angle limits, degrees (decimal, |v| ≤ 360).
     MinDeg,
+    /// `max_deg`, see [`JointField::MinDeg`].
     MaxDeg,
     /// `max_speed`: degrees per second (decimal, 0..=3600).
     MaxSpeed,
@@ -240,6 +248,7 @@ pub enum JointField {
 }
 
 impl JointField {
+    /// Every field, in the order `cal show` prints them.
     pub const ALL: [JointField; 8] = [
         JointField::Offset,
         JointField::Scale,
@@ -251,6 +260,7 @@ impl JointField {
         JointField::MaxAccel,
     ];
 
+    /// The field's word in `cal set` and `cal show`.
     pub fn name(self) -> crate::text::Text {
         match self {
             JointField::Offset => t!("offset"),
@@ -275,16 +285,22 @@ impl JointField {
 pub enum TouchField {
     /// `x_min`, `x_max`, `y_min`, `y_max`: raw ADC, integers 0..=1023.
     XMin,
+    /// `x_max`, see [`TouchField::XMin`].
     XMax,
+    /// `y_min`, see [`TouchField::XMin`].
     YMin,
+    /// `y_max`, see [`TouchField::XMin`].
     YMax,
     /// `swap`, `invert_x`, `invert_y`: 0 or 1.
     Swap,
+    /// `invert_x`, see [`TouchField::Swap`].
     InvertX,
+    /// `invert_y`, see [`TouchField::Swap`].
     InvertY,
 }
 
 impl TouchField {
+    /// Every field, in the order `cal show` prints them.
     pub const ALL: [TouchField; 7] = [
         TouchField::XMin,
         TouchField::XMax,
@@ -295,6 +311,7 @@ impl TouchField {
         TouchField::InvertY,
     ];
 
+    /// The field's word in `cal set touch` and `cal show`.
     pub fn name(self) -> crate::text::Text {
         match self {
             TouchField::XMin => t!("x_min"),
@@ -316,8 +333,23 @@ impl TouchField {
     }
 }
 
+/// One parsed `cal set` command: a field and its value in the field's units.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalSet {
-    Joint { joint: Joint, field: JointField, value: i32 },
-    Touch { field: TouchField, value: u16 },
+    /// `cal set <joint> <field> <value>`.
+    Joint {
+        /// The joint whose calibration changes.
+        joint: Joint,
+        /// Which field.
+        field: JointField,
+        /// In hundredths of the field's unit, or whole µs for the pulse limits.
+        value: i32,
+    },
+    /// `cal set touch <field> <value>`.
+    Touch {
+        /// Which field.
+        field: TouchField,
+        /// ADC counts, or 0/1 for the flags.
+        value: u16,
+    },
 }

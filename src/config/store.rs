@@ -4,7 +4,7 @@
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (1) |
+//! | 2  | 1  | layout version (2) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
@@ -23,14 +23,32 @@
 //!
 //! # Two copies
 //! Copy A lives at [`SLOT_A_ADDR`], copy B at [`SLOT_B_ADDR`]. [`save`] writes the
-//! new record (sequence + 1) to both, **first to the slot that does not hold the
-//! newest valid copy, then to the other**, verifying each by reading it back.
-//! A power loss while writing the first slot leaves the other slot's old copy
-//! intact; a loss while writing the second leaves the first slot's complete new
-//! copy, which has the higher sequence number. A torn record fails the CRC
-//! (a 16-bit CRC catches every error burst of up to 16 bits, so any single
-//! garbled byte). [`load`] takes the valid copy with the newer sequence number;
-//! with no valid copy it returns the defaults and a [`Warning`].
+//! new record (sequence + 1) to both, **first to the slot [`load`] would not
+//! pick, then to the other** (one function, [`pick`], decides for both, ties
+//! included), verifying each by reading it back. A power loss while writing
+//! the first slot leaves the picked slot's copy intact; a loss while writing
+//! the second leaves the first slot's complete new copy, which has the higher
+//! sequence number.
+//!
+//! # Tear-proof by construction
+//! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
+//! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
+//! otherwise), then bytes 1..102 (body and CRC), then byte 0 := `T`. A power
+//! loss tears at most the one byte being written; whatever value that byte is
+//! left with:
+//! - during step 1 the body is untouched and byte 0 read `T` before: the slot
+//!   holds its old content unchanged, or nothing valid (were byte 0 rewritten
+//!   when it was not `T`, a tear could turn it into `T` and commit a stale body
+//!   left by an earlier interrupted save);
+//! - during step 2 byte 0 is [`UNCOMMITTED`], so the slot is invalid whatever
+//!   the body holds;
+//! - during step 3 the body and CRC are complete: the slot is the complete new
+//!   record if byte 0 came out `T`, else invalid.
+//!
+//! So a slot is never read as a mixture of two records; the CRC is left to
+//! catch what it is for (cells that decay or are overwritten), not tears.
+//! [`load`] takes the copy [`pick`] chooses; with no valid copy it returns the
+//! defaults and a [`Warning`].
 
 use super::crc::crc16;
 use super::settings::{Config, ConfigError, SpeedPreset};
@@ -41,16 +59,25 @@ use crate::touch::map::Calibration;
 
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
+/// Bytes of one record, CRC included.
 pub const RECORD_LEN: usize = 102;
 /// A version-1 record's length (its CRC at 88).
 const RECORD_LEN_V1: usize = 90;
+/// EEPROM address of the first copy.
 pub const SLOT_A_ADDR: u16 = 0;
 /// Leaves room for the record to grow to 128 bytes.
 pub const SLOT_B_ADDR: u16 = 128;
+/// The record's first bytes: tells a written slot from erased or foreign
+/// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
+/// Layout version of the record written; version 1 is still read (see the
+/// module doc), any other is not.
 pub const VERSION: u8 = 2;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
+/// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
+pub const UNCOMMITTED: u8 = 0x00;
+const _: () = assert!(UNCOMMITTED != MAGIC[0]);
 const FLAG_SWAP: u8 = 1 << 0;
 const FLAG_INVERT_X: u8 = 1 << 1;
 const FLAG_INVERT_Y: u8 = 1 << 2;
@@ -195,16 +222,20 @@ impl Reader<'_> {
 /// A decoded, valid record.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Record {
+    /// Save counter (wraps; compared with [`seq_newer`]).
     pub seq: u16,
+    /// The configuration it holds, validated.
     pub config: Config,
 }
 
+/// Why a slot holds no usable record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RecordError {
     /// No magic: never written (erased EEPROM reads 0xFF) or overwritten.
     NoMagic,
     /// Written by another layout version.
     Version(u8),
+    /// The CRC does not match: a torn or damaged write.
     Crc,
     /// CRC correct but a value is out of range (written by a buggy build).
     Invalid,
@@ -215,11 +246,15 @@ pub enum RecordError {
 /// Which copy a loaded configuration came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
+    /// The copy at [`SLOT_A_ADDR`].
     SlotA,
+    /// The copy at [`SLOT_B_ADDR`].
     SlotB,
+    /// No usable copy: the built-in defaults.
     Defaults,
 }
 
+/// What was wrong with the stored configuration at load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Warning {
     /// Neither copy was ever written: defaults in use.
@@ -233,6 +268,10 @@ pub enum Warning {
 }
 
 impl Warning {
+    /// Every warning, for tests that go through them all.
+    pub const ALL: [Warning; 4] = [Warning::Missing, Warning::Corrupt, Warning::VersionMismatch, Warning::CopyDamaged];
+
+    /// The warning as the boot log and `status` state it.
     pub fn reason(self) -> crate::text::Text {
         match self {
             Warning::Missing => t!("no stored config, defaults"),
@@ -243,12 +282,16 @@ impl Warning {
     }
 }
 
+/// What [`load`] found: the configuration to run with and where it came from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Loaded {
+    /// The configuration to run with (always valid).
     pub config: Config,
+    /// Which copy it is.
     pub source: Source,
     /// Sequence number of the copy used (0 for defaults).
     pub seq: u16,
+    /// Set when a copy was missing or bad.
     pub warning: Option<Warning>,
 }
 
@@ -260,31 +303,43 @@ pub fn seq_newer(a: u16, b: u16) -> bool {
 
 fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordError> {
     let mut buf = [0u8; RECORD_LEN];
-    storage.read(addr, &mut buf).map_err(RecordError::Storage)?;
+    storage.read(u32::from(addr), &mut buf).map_err(RecordError::Storage)?;
     Config::decode(&buf)
+}
+
+/// Which of two read slots [`load`] uses: the valid one, or of two valid ones
+/// the newer, A on a tie. [`save`] writes the other slot first.
+pub fn pick(a: &Result<Record, RecordError>, b: &Result<Record, RecordError>) -> Option<Source> {
+    match (a, b) {
+        (Ok(ra), Ok(rb)) if seq_newer(rb.seq, ra.seq) => Some(Source::SlotB),
+        (Ok(_), _) => Some(Source::SlotA),
+        (Err(_), Ok(_)) => Some(Source::SlotB),
+        (Err(_), Err(_)) => None,
+    }
 }
 
 /// Reads both copies and picks the configuration to run with.
 pub fn load<S: Storage>(storage: &mut S) -> Loaded {
     let a = read_slot(storage, SLOT_A_ADDR);
     let b = read_slot(storage, SLOT_B_ADDR);
-    let pick = |r: &Record, source| Loaded { config: r.config, source, seq: r.seq, warning: None };
-    match (&a, &b) {
-        (Ok(ra), Ok(rb)) => {
-            if seq_newer(rb.seq, ra.seq) {
-                pick(rb, Source::SlotB)
-            } else {
-                pick(ra, Source::SlotA)
-            }
-        }
-        (Ok(ra), Err(_)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(ra, Source::SlotA) },
-        (Err(_), Ok(rb)) => Loaded { warning: Some(Warning::CopyDamaged), ..pick(rb, Source::SlotB) },
-        (Err(ea), Err(eb)) => Loaded {
+    let damaged = a.is_err() || b.is_err();
+    let loaded = |r: &Record, source| Loaded {
+        config: r.config,
+        source,
+        seq: r.seq,
+        warning: if damaged { Some(Warning::CopyDamaged) } else { None },
+    };
+    match (pick(&a, &b), &a, &b) {
+        (Some(Source::SlotA), Ok(ra), _) => loaded(ra, Source::SlotA),
+        (Some(Source::SlotB), _, Ok(rb)) => loaded(rb, Source::SlotB),
+        (_, Err(ea), Err(eb)) => Loaded {
             config: Config::DEFAULT,
             source: Source::Defaults,
             seq: 0,
             warning: Some(worse(classify(*ea), classify(*eb))),
         },
+        // `pick` names a slot only when that slot read valid.
+        _ => Loaded { config: Config::DEFAULT, source: Source::Defaults, seq: 0, warning: Some(Warning::Corrupt) },
     }
 }
 
@@ -312,38 +367,53 @@ fn worse(a: Warning, b: Warning) -> Warning {
     }
 }
 
+/// Why [`save`] did not complete.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SaveError {
     /// The configuration is invalid and was not written.
     Invalid(ConfigError),
+    /// The storage failed a read or write.
     Storage(StorageError),
     /// A slot read back differently from what was written.
     Verify,
 }
 
-/// Writes `config` to both copies (see the module doc for the order) and
-/// returns the new sequence number.
+/// Writes `config` to both copies (see the module doc for the order and the
+/// commit byte) and returns the new sequence number.
 pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveError> {
     config.validate().map_err(SaveError::Invalid)?;
-    let a = read_slot(storage, SLOT_A_ADDR).ok();
-    let b = read_slot(storage, SLOT_B_ADDR).ok();
-    // `first` must not be the slot holding the newest valid copy.
-    let (newest, first, second) = match (a, b) {
-        (Some(ra), Some(rb)) if seq_newer(ra.seq, rb.seq) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
-        (Some(_), Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
-        (Some(ra), None) => (ra.seq, SLOT_B_ADDR, SLOT_A_ADDR),
-        (None, Some(rb)) => (rb.seq, SLOT_A_ADDR, SLOT_B_ADDR),
-        (None, None) => (0, SLOT_A_ADDR, SLOT_B_ADDR),
+    let a = read_slot(storage, SLOT_A_ADDR);
+    let b = read_slot(storage, SLOT_B_ADDR);
+    let (newest, first, second) = match pick(&a, &b) {
+        Some(Source::SlotA) => (a.map_or(0, |r| r.seq), SLOT_B_ADDR, SLOT_A_ADDR),
+        Some(Source::SlotB) => (b.map_or(0, |r| r.seq), SLOT_A_ADDR, SLOT_B_ADDR),
+        _ => (0, SLOT_A_ADDR, SLOT_B_ADDR),
     };
     let seq = newest.wrapping_add(1);
     let record = config.encode(seq);
     for addr in [first, second] {
-        storage.write(addr, &record).map_err(SaveError::Storage)?;
-        let mut check = [0u8; RECORD_LEN];
-        storage.read(addr, &mut check).map_err(SaveError::Storage)?;
-        if check != record {
-            return Err(SaveError::Verify);
-        }
+        write_slot(storage, addr, &record)?;
     }
     Ok(seq)
+}
+
+/// One slot in the three steps of the module doc, then read back.
+fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN]) -> Result<(), SaveError> {
+    let addr = u32::from(addr);
+    let (commit, body) = record.split_at(1);
+    let mut first = [0u8];
+    storage.read(addr, &mut first).map_err(SaveError::Storage)?;
+    // Only a committed slot is uncommitted first: rewriting a byte that is
+    // already uncommitted could tear it into `T` and commit a stale body.
+    if first == [MAGIC[0]] {
+        storage.write(addr, &[UNCOMMITTED]).map_err(SaveError::Storage)?;
+    }
+    storage.write(addr + 1, body).map_err(SaveError::Storage)?;
+    storage.write(addr, commit).map_err(SaveError::Storage)?;
+    let mut check = [0u8; RECORD_LEN];
+    storage.read(addr, &mut check).map_err(SaveError::Storage)?;
+    if check != *record {
+        return Err(SaveError::Verify);
+    }
+    Ok(())
 }

@@ -4,6 +4,7 @@
 
 use crate::math::real::Real;
 
+/// Why link lengths were refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinksError {
     /// A length (or its square) is NaN or infinite.
@@ -12,11 +13,14 @@ pub enum LinksError {
     NotPositive,
 }
 
+/// Why the IK has no solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum IkError<R> {
-    /// The target lies outside the annulus `|l2 − l3| ≤ r ≤ l2 + l3`; `c` is the
-    /// elbow cosine it would need (|c| > 1).
-    Unreachable { c: R },
+    /// The target lies outside the annulus `|l2 − l3| ≤ r ≤ l2 + l3`.
+    Unreachable {
+        /// The elbow cosine it would need (|c| > 1).
+        c: R,
+    },
     /// The shoulder angle is undefined: the target is the shoulder itself
     /// (possible only with `l2 = l3`).
     Singular,
@@ -29,7 +33,9 @@ pub enum IkError<R> {
 /// the elbow below the shoulder–target line ("elbow down"), `Minus` above it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Branch {
+    /// `q3 = +acos(c)`, in [0, π].
     Plus,
+    /// `q3 = −acos(c)`, in [−π, 0]: the elbow-up pose the app uses.
     Minus,
 }
 
@@ -56,16 +62,23 @@ pub struct Links<R> {
     slack_scale: R,
 }
 
+/// Planar IK solution, radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointAngles2<R> {
+    /// Shoulder angle from the horizontal, counter-clockwise positive.
     pub q2: R,
+    /// Elbow angle relative to the upper link, counter-clockwise positive.
     pub q3: R,
 }
 
+/// 3-DoF IK solution ([`ik3`]), radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointAngles3<R> {
+    /// Base rotation about the vertical axis, atan2(y_e, x_e).
     pub th1: R,
+    /// Shoulder angle in the arm's vertical plane (the planar `q2`).
     pub th2: R,
+    /// Elbow angle relative to the upper link (the planar `q3`).
     pub th3: R,
 }
 
@@ -74,6 +87,8 @@ pub struct JointAngles3<R> {
 const C_SLACK_ULPS: f64 = 8.0;
 
 impl<R: Real> Links<R> {
+    /// Checks `l2`, `l3` (finite, positive, squares finite) and precomputes
+    /// the IK's constants.
     pub fn new(l2: R, l3: R) -> Result<Self, LinksError> {
         if !(l2.is_finite() && l3.is_finite()) {
             return Err(LinksError::NotFinite);
@@ -105,10 +120,12 @@ impl<R: Real> Links<R> {
         Ok(links)
     }
 
+    /// Upper arm length.
     pub fn l2(&self) -> R {
         self.l2
     }
 
+    /// Forearm length.
     pub fn l3(&self) -> R {
         self.l3
     }
@@ -145,6 +162,25 @@ impl<R: Real> Links<R> {
 /// on the rounding error of c, i.e. a radial distance of a few ε·r — and is
 /// then taken as exactly ±1. Anything further out is `Unreachable`, never
 /// clamped.
+///
+/// ```
+/// use touch_arm::geometry::ik::{fk2, ik2, Branch, IkError, Links};
+/// use std::f64::consts::FRAC_PI_2;
+///
+/// // Unit links, target (1, 1): r² = 2, so c = (2 − 1 − 1)/2 = 0, a square
+/// // elbow; on the Plus branch q3 = +π/2 and q2 = π/4 − atan2(1, 1) = 0.
+/// let links = Links::new(1.0_f64, 1.0).unwrap();
+/// let q = ik2(&links, 1.0, 1.0, Branch::Plus).unwrap();
+/// assert!((q.q3 - FRAC_PI_2).abs() < 1e-15 && q.q2.abs() < 1e-15);
+/// // The other elbow: q3 = −π/2, q2 = π/2.
+/// let m = ik2(&links, 1.0, 1.0, Branch::Minus).unwrap();
+/// assert!((m.q3 + FRAC_PI_2).abs() < 1e-15 && (m.q2 - FRAC_PI_2).abs() < 1e-15);
+/// // Forward kinematics lands on the target again.
+/// let (x, y) = fk2(&links, m.q2, m.q3);
+/// assert!((x - 1.0).abs() < 1e-15 && (y - 1.0).abs() < 1e-15);
+/// // Past the outer rim r = 2: c = (9 − 2)/2 = 3.5, refused rather than clamped.
+/// assert_eq!(ik2(&links, 3.0, 0.0, Branch::Plus), Err(IkError::Unreachable { c: 3.5 }));
+/// ```
 pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<JointAngles2<R>, IkError<R>> {
     if !(x.is_finite() && y.is_finite()) {
         return Err(IkError::NotFinite);

@@ -11,27 +11,35 @@ use crate::math::real::Real;
 pub struct ArmGeometry<R> {
     /// Screen-to-arm scale of the linear transform.
     pub k: R,
+    /// Upper arm and forearm.
     pub links: Links<R>,
+    /// Elbow solution used.
     pub branch: Branch,
 }
 
 /// Where a screen point sends the arm.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose<R> {
+    /// Triangle condition (zone 1–4) of the point.
     pub condition: Condition,
     /// Base direction α in radians, [0, π].
     pub alpha: R,
     /// Planar IK target: k·|x_p| and k·y_p.
     pub reach: R,
+    /// Height of the planar IK target, k·y_p.
     pub height: R,
     /// Shoulder and elbow angles (radians) from the IK.
     pub q2: R,
+    /// Elbow angle relative to the upper arm (radians) from the IK.
     pub q3: R,
 }
 
+/// Why a point has no pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PoseError<R> {
+    /// The point is not in the workspace, or k is bad.
     Workspace(WorkspaceError),
+    /// The arm cannot reach the transformed point.
     Ik(IkError<R>),
 }
 

@@ -4,7 +4,9 @@
 //! All angles are radians unless a name ends in `_deg`.
 
 use crate::math::real::Real;
+use crate::math::units::rad_to_deg;
 
+/// Why a workspace computation was refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WorkspaceError {
     /// A coordinate is NaN or infinite.
@@ -20,9 +22,13 @@ pub enum WorkspaceError {
 /// 135° belongs to the lower-numbered one, the origin to 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Condition {
+    /// 0–45°, right of the base, low.
     C1,
+    /// 45–90°, right of the base, high.
     C2,
+    /// 90–135°, left of the base, high.
     C3,
+    /// 135–180°, left of the base, low.
     C4,
 }
 
@@ -78,9 +84,13 @@ pub struct WorkspacePoint<R> {
 /// Result of a linear transform: the arm-frame point, its angle and its label.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transformed<R> {
+    /// Arm-frame x, arm units.
     pub x: R,
+    /// Arm-frame y (height), arm units.
     pub y: R,
+    /// The point's direction, radians.
     pub alpha: R,
+    /// The condition (mirrored for transform 2).
     pub condition: Condition,
 }
 
@@ -88,20 +98,21 @@ pub struct Transformed<R> {
 /// height)` and the base angle `alpha` (radians), plus the point's condition.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target<R> {
+    /// Horizontal distance from the shoulder, k·|x_p|.
     pub reach: R,
+    /// Height above the shoulder, k·y_p.
     pub height: R,
+    /// Base direction α, radians, [0, π].
     pub alpha: R,
+    /// The touched point's condition.
     pub condition: Condition,
 }
 
 impl<R: Real> Target<R> {
+    /// α in degrees, [0, 180].
     pub fn alpha_deg(&self) -> R {
-        to_deg(self.alpha)
+        rad_to_deg(self.alpha)
     }
-}
-
-fn to_deg<R: Real>(rad: R) -> R {
-    rad * R::lit(180.0 / core::f64::consts::PI)
 }
 
 fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
@@ -113,6 +124,7 @@ fn check_scale<R: Real>(k: R) -> Result<(), WorkspaceError> {
 }
 
 impl<R: Real> WorkspacePoint<R> {
+    /// A finite point inside `[−1, 1] × [0, 1]` (−0 is stored as +0).
     #[inline]
     pub fn new(x_p: R, y_p: R) -> Result<Self, WorkspaceError> {
         if !(x_p.is_finite() && y_p.is_finite()) {
@@ -125,10 +137,12 @@ impl<R: Real> WorkspacePoint<R> {
         Ok(Self { x_p: plus_zero(x_p), y_p: plus_zero(y_p) })
     }
 
+    /// Horizontal coordinate, −1..=1 (0 below the base).
     pub fn x_p(&self) -> R {
         self.x_p
     }
 
+    /// Vertical coordinate, 0..=1.
     pub fn y_p(&self) -> R {
         self.y_p
     }
@@ -151,9 +165,10 @@ impl<R: Real> WorkspacePoint<R> {
 
     /// α in degrees, [0, 180].
     pub fn alpha_deg(&self) -> R {
-        to_deg(self.alpha())
+        rad_to_deg(self.alpha())
     }
 
+    /// The triangle condition the point lies in.
     #[inline]
     pub fn condition(&self) -> Condition {
         Condition::classify(self.x_p, self.y_p)

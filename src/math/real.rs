@@ -26,10 +26,15 @@ pub trait Real:
     + SubAssign
     + MulAssign
 {
+    /// 0.
     const ZERO: Self;
+    /// 1.
     const ONE: Self;
+    /// 2.
     const TWO: Self;
+    /// 0.5.
     const HALF: Self;
+    /// π rounded to the type.
     const PI: Self;
     /// Relative machine precision of the type.
     const EPSILON: Self;
@@ -37,23 +42,37 @@ pub trait Real:
     /// Converts a compile-time constant (f64 literal). Inlined, so on AVR the
     /// conversion folds away and no double arithmetic is linked.
     fn lit(v: f64) -> Self;
+    /// Widens an f32 exactly (f64), or keeps it (f32).
     fn from_f32(v: f32) -> Self;
+    /// Exact in both types.
     fn to_f64(self) -> f64;
+    /// Rounds to nearest (f64), or keeps it (f32).
     fn to_f32(self) -> f32;
+    /// Exact in both types.
     fn from_u16(v: u16) -> Self;
 
+    /// |self|, by clearing the sign bit (NaN stays NaN).
     fn abs(self) -> Self;
+    /// Square root (NaN below 0).
     fn sqrt(self) -> Self;
+    /// eˣ (f32: the integer-core routine of [`crate::math::exp`]).
     fn exp(self) -> Self;
     /// `exp(x) - 1` without cancellation for small `x`.
     fn expm1(self) -> Self;
+    /// Natural logarithm (f32: integer core; NaN below 0, −∞ at 0).
     fn ln(self) -> Self;
+    /// Sine of radians.
     fn sin(self) -> Self;
+    /// Cosine of radians.
     fn cos(self) -> Self;
+    /// Arc cosine in [0, π]; NaN outside [−1, 1].
     fn acos(self) -> Self;
+    /// Angle of the point (x, self) in (−π, π] (f32: [`crate::math::atan`]).
     fn atan2(self, x: Self) -> Self;
+    /// Neither infinite nor NaN.
     fn is_finite(self) -> bool;
 
+    /// The larger of the two; `self` when they are unordered (NaN).
     #[inline]
     fn max(self, o: Self) -> Self {
         if o > self {
@@ -62,6 +81,7 @@ pub trait Real:
             self
         }
     }
+    /// The smaller of the two; `self` when they are unordered (NaN).
     #[inline]
     fn min(self, o: Self) -> Self {
         if o < self {
@@ -115,10 +135,12 @@ pub trait Real:
     fn eq_num(self, o: Self) -> bool {
         self == o
     }
+    /// 1 / self.
     #[inline]
     fn recip(self) -> Self {
         Self::ONE / self
     }
+    /// selfⁿ by repeated multiplication (1 for n = 0).
     #[inline]
     fn powi(self, n: u32) -> Self {
         let mut r = Self::ONE;

@@ -9,21 +9,29 @@
 use crate::math::real::Real;
 use crate::motion::{all_finite, Sample, TrajError};
 
+/// The classic point-to-point laws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Law {
     /// Velocity steps at both ends.
     Linear,
+    /// 3τ² − 2τ³: zero velocity at both ends, acceleration steps.
     Cubic,
+    /// 10τ³ − 15τ⁴ + 6τ⁵: zero velocity and acceleration at both ends.
     Quintic,
     /// Trapezoidal velocity with T_acc = T_dec = T/3.
     Trapezoid,
 }
 
+/// A move from `s0` at `t0` to `sf` at `tf`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LawParams<R> {
+    /// Start time, s.
     pub t0: R,
+    /// End time, s; must be after `t0`.
     pub tf: R,
+    /// Start position.
     pub s0: R,
+    /// End position.
     pub sf: R,
 }
 
@@ -40,9 +48,10 @@ pub struct LawPlan<R> {
 }
 
 impl<R: Real> LawPlan<R> {
+    /// Checks the parameters (finite, `tf > t0`) and precomputes Δ and 1/T.
     pub fn new(law: Law, p: &LawParams<R>) -> Result<Self, TrajError<R>> {
         all_finite(&[p.t0, p.tf, p.s0, p.sf])?;
-        if !(p.tf > p.t0) {
+        if p.tf <= p.t0 {
             return Err(TrajError::EmptyInterval);
         }
         let t = p.tf - p.t0;
@@ -54,18 +63,22 @@ impl<R: Real> LawPlan<R> {
         Ok(LawPlan { law, t0: p.t0, tf: p.tf, s0: p.s0, sf: p.sf, delta, inv_t })
     }
 
+    /// Which law.
     #[inline]
     pub fn law(&self) -> Law {
         self.law
     }
+    /// Start time, s.
     #[inline]
     pub fn t0(&self) -> R {
         self.t0
     }
+    /// End time, s.
     #[inline]
     pub fn tf(&self) -> R {
         self.tf
     }
+    /// T = t_f − t0, s.
     #[inline]
     pub fn duration(&self) -> R {
         self.tf - self.t0
@@ -122,6 +135,8 @@ impl<R: Real> LawPlan<R> {
         }
     }
 
+    /// Position and its three derivatives at time `t` (at rest outside
+    /// [t0, t_f]).
     pub fn sample(&self, t: R) -> Sample<R> {
         if t < self.t0 {
             return Sample::at_rest(self.s0);

@@ -19,9 +19,13 @@ use crate::math::real::Real;
 /// Position and its first three time derivatives at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample<R> {
+    /// Position (rad for a joint, or normalized units).
     pub s: R,
+    /// Velocity, per second.
     pub v: R,
+    /// Acceleration, per second².
     pub acc: R,
+    /// Jerk, per second³.
     pub jerk: R,
 }
 
@@ -42,18 +46,29 @@ pub enum TrajError<R> {
     BaseNotAboveOne,
     /// The shape parameter puts a pole of the ζ-a-tₛ denominator inside the
     /// motion: it needs a < u_min.
-    ShapeNotAdmissible { a: R, u_min: R },
+    ShapeNotAdmissible {
+        /// The shape parameter given.
+        a: R,
+        /// The bound it must stay below.
+        u_min: R,
+    },
     /// An input was NaN or infinite, or the parameters are so extreme that the
     /// plan's constants are not representable.
     NotFinite,
-    /// The normalized profile leaves [0, 1] or runs backwards; `peak` is the
-    /// maximum of G (a peak ≤ 1 means it backtracks without overshooting).
-    Overshoot { peak: R },
+    /// The normalized profile leaves [0, 1] or runs backwards.
+    Overshoot {
+        /// The maximum of G (a peak ≤ 1 means it backtracks without
+        /// overshooting).
+        peak: R,
+    },
     /// The via time t_v is not in (0, tₛ).
     ViaTimeOutOfRange,
     /// r = G(t_v) ≥ 1: the paper's via iteration diverges (and at r = 1 the
     /// closed form has no solution either).
-    ViaDiverges { r: R },
+    ViaDiverges {
+        /// G(t_v).
+        r: R,
+    },
     /// The via iteration did not reach the tolerance within its iteration cap.
     NoConvergence,
     /// A motion law's interval has t_f ≤ t0.

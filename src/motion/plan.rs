@@ -22,13 +22,18 @@ pub enum LawKind {
     /// The papers' own ζ-a-tₛ (SPEC §5): tₛ in seconds, the shape chosen per
     /// move (an expert option).
     ZatPaper,
+    /// [`Law::Quintic`]: zero velocity and acceleration at both ends.
     Quintic,
+    /// [`Law::Cubic`]: zero velocity at both ends.
     Cubic,
+    /// [`Law::Trapezoid`]: constant acceleration, cruise, deceleration.
     Trapezoid,
+    /// [`Law::Linear`]: constant velocity, steps at both ends.
     Linear,
 }
 
 impl LawKind {
+    /// Every law, the product's own first.
     pub const ALL: [LawKind; 6] =
         [LawKind::Zat, LawKind::ZatPaper, LawKind::Quintic, LawKind::Cubic, LawKind::Trapezoid, LawKind::Linear];
 
@@ -44,6 +49,7 @@ impl LawKind {
         }
     }
 
+    /// The law stored as `id`; `None` for an unknown byte.
     pub fn from_id(id: u8) -> Option<LawKind> {
         LawKind::ALL.iter().copied().find(|l| l.id() == id)
     }
@@ -60,6 +66,7 @@ impl LawKind {
         }
     }
 
+    /// The law named `name` in a `law` command.
     pub fn from_name(name: &[u8]) -> Option<LawKind> {
         LawKind::ALL.iter().copied().find(|l| l.name().eq_bytes(name))
     }
@@ -68,7 +75,7 @@ impl LawKind {
 /// A normalized profile g: g(t) = 0 for t ≤ 0, 1 for t ≥ duration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum JointLaw<R> {
-    /// The papers' ζ-a-tₛ, in seconds.
+    /// The papers' ζ-a-tₛ G over [0, tₛ], tₛ in seconds.
     Zat(Shape<R>),
     /// The time-scaled ζ-a-tₛ.
     Scaled(ScaledZat<R>),
@@ -88,7 +95,7 @@ impl<R: Real> JointLaw<R> {
         if !duration.is_finite() {
             return Err(TrajError::NotFinite);
         }
-        if !(duration > R::ZERO) {
+        if duration <= R::ZERO {
             return Err(TrajError::NonPositiveDuration);
         }
         Ok(JointLaw::Classic(LawPlan::new(law, &LawParams { t0: R::ZERO, tf: duration, s0: R::ZERO, sf: R::ONE })?))
@@ -121,6 +128,7 @@ impl<R: Real> JointLaw<R> {
         }
     }
 
+    /// Time from 0 to the end of the profile, s (tₛ for ζ-a-tₛ).
     #[inline]
     pub fn duration(&self) -> R {
         match self {
@@ -184,7 +192,9 @@ impl<R: Real> JointLaw<R> {
 /// Position and velocity of one joint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointState<R> {
+    /// Angle, rad.
     pub pos: R,
+    /// Angular velocity, rad/s.
     pub vel: R,
 }
 
@@ -218,18 +228,22 @@ impl<R: Real> MultiPlan<R> {
         Ok(MultiPlan { law: *law, start: [s0, s1, s2], target: [e0, e1, e2], delta })
     }
 
+    /// The shared profile.
     #[inline]
     pub fn law(&self) -> &JointLaw<R> {
         &self.law
     }
+    /// Duration of the move, s.
     #[inline]
     pub fn duration(&self) -> R {
         self.law.duration()
     }
+    /// Joint angles at t = 0, rad.
     #[inline]
     pub fn start(&self) -> &[R; JOINTS] {
         &self.start
     }
+    /// Joint angles at the end, rad.
     #[inline]
     pub fn target(&self) -> &[R; JOINTS] {
         &self.target
@@ -239,6 +253,7 @@ impl<R: Real> MultiPlan<R> {
     pub fn delta(&self) -> &[R; JOINTS] {
         &self.delta
     }
+    /// `t` (s since the start) is at or past the end.
     #[inline]
     pub fn is_finished(&self, t: R) -> bool {
         t >= self.duration()

@@ -63,6 +63,7 @@ impl<R: Real> ScaledZat<R> {
         Ok(ScaledZat { shape, k, ts })
     }
 
+    /// The move's duration tₛ, s.
     #[inline]
     pub fn ts(&self) -> R {
         self.ts

@@ -41,12 +41,14 @@ pub const TERMS: usize = ACTIVE + 1;
 /// One profile of a superposed motion: Δ·g at its own local time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Term<R> {
+    /// The term's normalized profile.
     pub law: JointLaw<R>,
     /// Per joint: how far the term moves.
     pub delta: [R; JOINTS],
 }
 
 impl<R: Real> Term<R> {
+    /// The term's duration, s.
     #[inline]
     pub fn duration(&self) -> R {
         self.law.duration()
@@ -92,6 +94,7 @@ impl<R: Real> Superposed<R> {
         &self.target
     }
 
+    /// The running and waiting terms (empty slots `None`).
     #[inline]
     pub fn terms(&self) -> &[Option<Term<R>>; TERMS] {
         &self.terms

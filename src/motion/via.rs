@@ -13,17 +13,23 @@ use crate::motion::{all_finite, Sample, TrajError};
 /// A via-point move q0 → (θ_v at t_v) → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViaParams<R> {
+    /// Start value.
     pub q0: R,
     /// The value the trajectory must pass through at t_v.
     pub theta_v: R,
+    /// End value S_f.
     pub sf: R,
     /// Via time, in (0, tₛ).
     pub tv: R,
+    /// Duration of the whole move tₛ, s.
     pub ts: R,
+    /// Shape parameter of the main term G.
     pub a: R,
+    /// Base of the main term G, > 1.
     pub n: R,
     /// Shape and base of the via segment Gv.
     pub av: R,
+    /// Base of the via segment Gv, > 1.
     pub nv: R,
 }
 
@@ -146,6 +152,7 @@ impl<R: Real> ViaPlan<R> {
         Ok(ViaPlan { gv, g, q0: p.q0, sv, sf: p.sf, r })
     }
 
+    /// The via term's target S_v that makes S(t_v) = θ_v.
     #[inline]
     pub fn sv(&self) -> R {
         self.sv
@@ -155,23 +162,28 @@ impl<R: Real> ViaPlan<R> {
     pub fn r(&self) -> R {
         self.r
     }
+    /// Via time t_v, s.
     #[inline]
     pub fn tv(&self) -> R {
         self.gv.ts()
     }
+    /// Duration tₛ, s.
     #[inline]
     pub fn ts(&self) -> R {
         self.g.ts()
     }
+    /// Gv, the shape of the via term over (t_v, a_v, n_v).
     #[inline]
     pub fn via_shape(&self) -> &Shape<R> {
         &self.gv
     }
+    /// G, the shape of the main term over (tₛ, a, n).
     #[inline]
     pub fn main_shape(&self) -> &Shape<R> {
         &self.g
     }
 
+    /// Where S_v lies relative to q0 and S_f (the paper's conditions 1–4).
     #[inline]
     pub fn condition(&self) -> ViaCondition {
         via_condition(self.q0, self.sv, self.sf)
@@ -219,11 +231,13 @@ impl<R: Real> ViaPlan<R> {
         Sample { s: R::ZERO, v: k * d.v, acc: k * d.acc, jerk: k * d.jerk }
     }
 
+    /// Velocity step at t_v (right minus left limit), per second.
     #[inline]
     pub fn velocity_jump(&self) -> R {
         -(self.sv - self.q0) * self.gv.end_rate()
     }
 
+    /// Acceleration step at t_v (right minus left limit), per second².
     #[inline]
     pub fn acc_jump(&self) -> R {
         self.jumps().acc
@@ -247,6 +261,7 @@ pub struct ViaIteration<R> {
     pub error: R,
     /// ζ_i and ζ_v,i of the accepted iterate (`None` = ∞).
     pub zeta: Option<R>,
+    /// ζ_v,i of the accepted iterate (`None` = ∞).
     pub zeta_v: Option<R>,
 }
 

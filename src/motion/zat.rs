@@ -130,7 +130,7 @@ pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
 /// `None` when it is not admissible (tₛ ≤ 1, or ln n ≥ ln tₛ/(√tₛ − 1)²).
 pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
-    if !(ts.is_finite() && n.is_finite()) || !R::ONE.lt_num(ts) || !R::ONE.lt_num(n) {
+    if !(ts.is_finite() && n.is_finite() && R::ONE.lt_num(ts) && R::ONE.lt_num(n)) {
         return None;
     }
     let a = ts - ts.ln() / ln_base(n);
@@ -150,14 +150,20 @@ pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
 /// Parameters of one ζ-a-tₛ move q0 → S_f.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ZatParams<R> {
+    /// Start value.
     pub q0: R,
+    /// End value S_f.
     pub sf: R,
+    /// Duration tₛ > 0, s.
     pub ts: R,
+    /// Shape parameter, a < u_min(tₛ).
     pub a: R,
+    /// Base n > 1.
     pub n: R,
 }
 
 impl<R: Real> ZatParams<R> {
+    /// The (tₛ, a, n) part, shared by all joints of a move.
     #[inline]
     pub fn shape(&self) -> ShapeParams<R> {
         ShapeParams { ts: self.ts, a: self.a, n: self.n }
@@ -168,6 +174,18 @@ impl<R: Real> ZatParams<R> {
 /// −(ln|Δ| + ln(1 − n^(a − tₛ)))/ln n so that n^tₛ never overflows.
 /// `None` when S_f = q0 (ζ = ∞) or the value is undefined (n ≤ 1, a ≥ tₛ,
 /// non-finite inputs).
+///
+/// ```
+/// use touch_arm::motion::zat::{zeta, ZatParams};
+///
+/// // tₛ = 4, a = 0, n = 2 and a move of 1/15: |Δ|·(n^tₛ − n^a) = 15/15 = 1, ζ = tₛ.
+/// let p = ZatParams { q0: 0.0_f64, sf: 1.0 / 15.0, ts: 4.0, a: 0.0, n: 2.0 };
+/// assert!((zeta(&p).unwrap() - 4.0).abs() < 1e-14);
+/// // A move of 1: ζ = 4 − log₂ 15.
+/// assert!((zeta(&ZatParams { sf: 1.0, ..p }).unwrap() - (4.0 - 15f64.log2())).abs() < 1e-14);
+/// // No move, ζ = ∞.
+/// assert_eq!(zeta(&ZatParams { sf: 0.0, ..p }), None);
+/// ```
 pub fn zeta<R: Real>(p: &ZatParams<R>) -> Option<R> {
     if all_finite(&[p.q0, p.sf, p.ts, p.a, p.n]).is_err() || p.n <= R::ONE || p.a >= p.ts {
         return None;
@@ -380,18 +398,22 @@ impl<R: Real> Shape<R> {
         Ok(Shape { ts: p.ts, a: p.a, n: p.n, l, sqrt_ts, sqrt_corr, l_delta, long, e_s, inv_ps, mono })
     }
 
+    /// The parameters it was built from.
     #[inline]
     pub fn params(&self) -> ShapeParams<R> {
         ShapeParams { ts: self.ts, a: self.a, n: self.n }
     }
+    /// Duration tₛ, s.
     #[inline]
     pub fn ts(&self) -> R {
         self.ts
     }
+    /// Shape parameter a.
     #[inline]
     pub fn a(&self) -> R {
         self.a
     }
+    /// Base n.
     #[inline]
     pub fn n(&self) -> R {
         self.n
@@ -480,6 +502,17 @@ impl<R: Real> Shape<R> {
     }
 
     /// G(t): 0 for t ≤ 0, 1 (exactly) for t ≥ tₛ. The cheap per-frame path.
+    ///
+    /// ```
+    /// use touch_arm::motion::zat::{Shape, ShapeParams};
+    ///
+    /// // tₛ = 4, a = 0, n = 2 at t = 2: u = t + tₛ/t − 1 = 3 and
+    /// // G = n^(1 − tₛ/t) · n^(u−a)/(n^(u−a) − 1) · (n^(tₛ−a) − 1)/n^(tₛ−a)
+    /// //   = 2⁻¹ · 8/7 · 15/16 = 15/28.
+    /// let shape = Shape::new(&ShapeParams { ts: 4.0_f64, a: 0.0, n: 2.0 }).unwrap();
+    /// assert!((shape.g(2.0) - 15.0 / 28.0).abs() < 1e-15);
+    /// assert_eq!((shape.g(0.0), shape.g(4.0)), (0.0, 1.0));
+    /// ```
     #[inline]
     pub fn g(&self, t: R) -> R {
         self.g_inline(t)
@@ -631,11 +664,11 @@ impl<R: Real> Shape<R> {
             let it = t.recip();
             let f = self.phi_it(t, it, ln_ts);
             let df = l * (R::ONE - self.ts * it * it) - R::TWO * it;
-            if !(f > R::ZERO) || !(df < R::ZERO) {
+            if !f.is_positive() || !df.is_negative() {
                 break;
             }
             let next = t - f / df;
-            if !(next > t) || !next.is_finite() {
+            if next <= t || !next.is_finite() {
                 break;
             }
             t = next.min(self.ts);
@@ -657,7 +690,7 @@ impl<R: Real> Shape<R> {
     /// so G″ = G·(h1² + h1′): [`Shape::g_derivs`] and searches over G′ use
     /// them. `None` for t ≤ 0, t > tₛ and where G is below 1e-34.
     pub fn rate_terms(&self, t: R) -> Option<RateTerms<R>> {
-        if !(t > R::ZERO) || t > self.ts {
+        if !t.is_positive() || t > self.ts {
             return None;
         }
         let i = self.at(t)?;
@@ -688,7 +721,9 @@ impl<R: Real> Shape<R> {
 /// See [`Shape::rate_terms`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RateTerms<R> {
+    /// G(t), 0..=1.
     pub g: R,
+    /// q(t) = 1/expm1(L·(u(t) − a)) with u(t) = t + tₛ/t − 1.
     pub q: R,
     /// G′/G.
     pub h1: R,
@@ -720,14 +755,17 @@ impl<R: Real> ZatPlan<R> {
         Ok(ZatPlan { shape, q0: p.q0, sf: p.sf, delta })
     }
 
+    /// The normalized profile G.
     #[inline]
     pub fn shape(&self) -> &Shape<R> {
         &self.shape
     }
+    /// Start value.
     #[inline]
     pub fn q0(&self) -> R {
         self.q0
     }
+    /// End value S_f.
     #[inline]
     pub fn sf(&self) -> R {
         self.sf

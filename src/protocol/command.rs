@@ -29,8 +29,8 @@
 //! error is reported.
 
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
-use crate::math::real::Real;
 use crate::motion::plan::LawKind;
+use crate::seam::RxLoss;
 use crate::servo::map::Joint;
 
 /// Capacity of the serial line buffer (bytes of a line, terminator excluded).
@@ -42,38 +42,61 @@ pub type SerialLine = LineBuffer<LINE_LEN>;
 /// `goto` accepts ±360.00° (joint limits are the servo layer's business).
 pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
 
+/// One parsed command line (see the module doc's grammar).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Command {
+    /// `move <raw_x> <raw_y>`: go where this raw panel reading maps.
     Move {
+        /// Raw X, ADC counts 0..=1023.
         x: u16,
+        /// Raw Y, ADC counts 0..=1023.
         y: u16,
     },
     /// Angles in hundredths of a degree, in [`Joint::index`] order.
     Goto {
+        /// Base, shoulder, elbow, each within ±[`GOTO_MAX_CENTIDEG`].
         centideg: [i32; 3],
     },
+    /// `stop`: halt where the arm is.
     Stop,
+    /// `resume`: accept moves again after a stop.
     Resume,
+    /// `status`: report state, pose, move and warnings.
     Status,
+    /// `law <name>`: the law of new moves.
     Law(LawKind),
+    /// `speed <name>`: the preset of new moves.
     Speed(SpeedPreset),
+    /// `cal show`: print every calibration field.
     CalShow,
+    /// `cal set ...`: change one calibration field (in RAM).
     CalSet(CalSet),
+    /// `cal save`: store the running configuration in the EEPROM.
     CalSave,
+    /// `cal reset`: back to the built-in defaults (in RAM).
     CalReset,
+    /// `log on|off`: per-frame telemetry.
     Log(bool),
 }
 
+/// Why a line was not a command; each has the reason the `err` reply gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CmdError {
+    /// Nothing but whitespace.
     Empty,
+    /// The first word is no command.
     UnknownCommand,
     /// An unknown keyword argument (law, speed, joint, field, on/off, cal verb).
     BadArgument,
+    /// Fewer arguments than the command takes.
     MissingArgument,
+    /// More arguments than the command takes.
     ExtraArgument,
+    /// A number that does not follow the grammar (module doc, Numbers).
     BadNumber,
+    /// A well-formed number outside its field's range.
     OutOfRange,
+    /// The line exceeded [`LINE_LEN`] bytes.
     TooLong,
     /// A byte that is not printable ASCII, space or tab.
     BadCharacter,
@@ -204,20 +227,6 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
     Ok(v)
 }
 
-/// Hundredths of a degree to radians (any `i32`, without an integer-to-float
-/// conversion wider than `u16`, which `Real` does not offer).
-pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
-    let mag = centideg.unsigned_abs();
-    let hi = R::from_u16((mag >> 16) as u16);
-    let lo = R::from_u16((mag & 0xFFFF) as u16);
-    let rad = (hi * R::lit(65_536.0) + lo) * (R::PI / R::lit(18_000.0));
-    if centideg < 0 {
-        -rad
-    } else {
-        rad
-    }
-}
-
 fn parse_joint(tok: &[u8]) -> Option<Joint> {
     Joint::ALL.iter().copied().find(|j| j.name().eq_bytes(tok))
 }
@@ -299,13 +308,17 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
 /// make a second, empty line). Backspace (0x08) and DEL (0x7F) remove the last
 /// byte, for typing in a terminal. A line longer than `N` bytes is discarded
 /// up to its terminator and reported once as [`CmdError::TooLong`]; the next
-/// line is received normally.
+/// line is received normally. After bytes were lost in the port
+/// ([`LineBuffer::after_loss`]) a damaged line is discarded without a report:
+/// the loss is reported instead.
 #[derive(Debug, Clone)]
 pub struct LineBuffer<const N: usize> {
     buf: [u8; N],
     len: usize,
     overflowed: bool,
     after_cr: bool,
+    /// Drop everything up to the next terminator, silently.
+    skip: bool,
 }
 
 impl<const N: usize> Default for LineBuffer<N> {
@@ -315,8 +328,9 @@ impl<const N: usize> Default for LineBuffer<N> {
 }
 
 impl<const N: usize> LineBuffer<N> {
+    /// An empty buffer.
     pub const fn new() -> Self {
-        LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false }
+        LineBuffer { buf: [0; N], len: 0, overflowed: false, after_cr: false, skip: false }
     }
 
     /// Feeds one byte. Returns `Some` when a line is complete: `Ok(line)`
@@ -327,12 +341,16 @@ impl<const N: usize> LineBuffer<N> {
             b'\n' if after_cr => None,
             b'\r' | b'\n' => {
                 let len = core::mem::replace(&mut self.len, 0);
-                if core::mem::replace(&mut self.overflowed, false) {
+                if core::mem::replace(&mut self.skip, false) {
+                    self.overflowed = false;
+                    None
+                } else if core::mem::replace(&mut self.overflowed, false) {
                     Some(Err(CmdError::TooLong))
                 } else {
                     Some(Ok(self.buf.get(..len).unwrap_or(&[])))
                 }
             }
+            _ if self.skip => None,
             0x08 | 0x7F => {
                 if !self.overflowed {
                     self.len = self.len.saturating_sub(1);
@@ -360,5 +378,23 @@ impl<const N: usize> LineBuffer<N> {
         self.len = 0;
         self.overflowed = false;
         self.after_cr = false;
+        self.skip = false;
+    }
+
+    /// Bytes were lost right after the ones pushed so far (see
+    /// [`crate::seam::SerialPort`]): the partial line belongs to a lost line
+    /// and is dropped, and so is the rest of a line the loss cut into.
+    pub fn after_loss(&mut self, loss: &RxLoss) {
+        if loss.lines > 0 {
+            self.len = 0;
+            self.overflowed = false;
+        }
+        self.skip = loss.rest_damaged;
+        self.after_cr = loss.after_cr;
+    }
+
+    /// A partial line is waiting for its terminator.
+    pub fn is_partial(&self) -> bool {
+        self.len > 0 || self.overflowed || self.skip
     }
 }

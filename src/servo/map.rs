@@ -45,22 +45,28 @@ pub const ELBOW_BRANCH: Branch = Branch::Minus;
 
 /// Absolute pulse limits no calibration may exceed.
 pub const ABS_MIN_US: u16 = 500;
+/// The longest pulse ever sent, µs.
 pub const ABS_MAX_US: u16 = 2500;
 
 /// Timer5 in mode 14 (fast PWM, TOP = ICR5), prescaler 8 at 16 MHz: 0.5 µs per
 /// tick, 40000 ticks = 20 ms = 50 Hz.
 pub const TIMER5_TOP: u16 = 39_999;
+/// Timer5 ticks per µs of pulse (0.5 µs resolution).
 pub const TICKS_PER_US: u16 = 2;
 
 /// Joint servos in Timer5 channel order: OC5A (D46), OC5B (D45), OC5C (D44).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Joint {
+    /// Turns the arm about the vertical axis (α).
     Base,
+    /// Raises the upper arm (q2).
     Shoulder,
+    /// Bends the forearm relative to the upper arm (q3).
     Elbow,
 }
 
 impl Joint {
+    /// Every joint, in [`Joint::index`] order.
     pub const ALL: [Joint; 3] = [Joint::Base, Joint::Shoulder, Joint::Elbow];
 
     /// Index into per-joint arrays, also the Timer5 channel (0 = A).
@@ -72,6 +78,7 @@ impl Joint {
         }
     }
 
+    /// The joint's word in `cal set`, `cal show` and the replies.
     pub fn name(self) -> crate::text::Text {
         match self {
             Joint::Base => t!("base"),
@@ -90,9 +97,11 @@ pub struct JointCal {
     pub us_per_rad: f32,
     /// Pulse limits, µs, within 500..=2500.
     pub min_us: u16,
+    /// Longest pulse, µs; above `min_us`, at most 2500.
     pub max_us: u16,
     /// Angle limits, rad.
     pub min_rad: f32,
+    /// Largest angle, rad; above `min_rad`, within ±2π.
     pub max_rad: f32,
     /// Largest joint speed the planner may command, rad/s.
     pub max_speed_rad_s: f32,
@@ -102,6 +111,7 @@ pub struct JointCal {
 
 /// Accepted |µs per rad|: a 360° servo over 500..2500 µs is ~318; a 90° one ~1273.
 pub const MIN_US_PER_RAD: f32 = 100.0;
+/// Largest accepted |µs per rad| (see [`MIN_US_PER_RAD`]).
 pub const MAX_US_PER_RAD: f32 = 3000.0;
 /// Accepted |offset| (keeps `offset + k·angle` exact to well below 1 µs in f32).
 pub const MAX_ABS_OFFSET_US: f32 = 20_000.0;
@@ -158,6 +168,8 @@ impl JointCal {
         self.offset_us + self.us_per_rad * angle
     }
 
+    /// Checks every field against the limits above and that the angle range
+    /// reaches the pulse range; the first failure is returned.
     pub fn validate(&self) -> Result<(), JointCalError> {
         let floats =
             [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s, self.max_accel_rad_s2];
@@ -194,6 +206,7 @@ impl JointCal {
     }
 }
 
+/// Why a joint calibration is refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JointCalError {
     /// A field is NaN or infinite.
@@ -215,6 +228,7 @@ pub enum JointCalError {
 }
 
 impl JointCalError {
+    /// The reason as the `err` reply states it.
     pub fn reason(self) -> crate::text::Text {
         match self {
             JointCalError::NotFinite => t!("not finite"),
@@ -232,9 +246,13 @@ impl JointCalError {
 /// Which limit changed a commanded pulse.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Limit {
+    /// Below the joint's `min_rad`.
     AngleMin,
+    /// Above the joint's `max_rad`.
     AngleMax,
+    /// Below the joint's `min_us`.
     PulseMin,
+    /// Above the joint's `max_us`.
     PulseMax,
 }
 
@@ -245,7 +263,9 @@ pub enum Limit {
 /// and a pulse limit act, the pulse limit (applied last) is reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
+    /// Width, Timer5 ticks (0.5 µs).
     pub ticks: u16,
+    /// The limit that changed it, if one did (by ≥ 0.5 µs).
     pub clamped: Option<Limit>,
 }
 
@@ -256,6 +276,7 @@ impl Pulse {
     }
 }
 
+/// Why no pulse was computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ServoError {
     /// The requested angle is NaN or infinite: hold the previous pulse.
@@ -274,6 +295,7 @@ pub struct ServoMap {
 }
 
 impl ServoMap {
+    /// A mapping for `cal`, once it validates.
     pub fn new(cal: &JointCal) -> Result<ServoMap, JointCalError> {
         cal.validate()?;
         Ok(ServoMap {
@@ -285,6 +307,7 @@ impl ServoMap {
         })
     }
 
+    /// The calibration it was built from.
     pub fn cal(&self) -> &JointCal {
         &self.cal
     }
@@ -338,6 +361,31 @@ impl ServoMap {
         (R::from_u16(ticks) * R::HALF - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
     }
 
+    /// The angles whose pulse no limit changes: the angle limits intersected
+    /// with the pulse limits seen as angles (non-empty: `validate` refuses a
+    /// calibration whose angle range misses its pulse range).
+    pub fn output_window(&self) -> (f32, f32) {
+        let c = &self.cal;
+        let a = (self.min_us - c.offset_us) * self.rad_per_us;
+        let b = (self.max_us - c.offset_us) * self.rad_per_us;
+        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+        let lo = lo.max(c.min_rad);
+        (lo, hi.min(c.max_rad).max(lo))
+    }
+
+    /// `angle` pulled into [`ServoMap::output_window`]: the angle the pulse
+    /// [`ServoMap::angle_to_pulse`] gives for `angle` stands for, so a pose
+    /// held at it describes what the servo really gets.
+    pub fn clamp_angle(&self, angle: f32) -> f32 {
+        let (lo, hi) = self.output_window();
+        // NaN maps to `lo` (a comparison with NaN is false).
+        if angle > lo {
+            angle.min(hi)
+        } else {
+            lo
+        }
+    }
+
     /// Angle limits (rad).
     pub fn angle_limits<R: Real>(&self) -> (R, R) {
         (R::from_f32(self.cal.min_rad), R::from_f32(self.cal.max_rad))
@@ -355,10 +403,12 @@ impl ServoMap {
         [lo.max(plo), hi.min(phi)]
     }
 
+    /// The joint's speed limit, rad/s.
     pub fn max_speed<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_speed_rad_s)
     }
 
+    /// The joint's acceleration limit, rad/s².
     pub fn max_accel<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_accel_rad_s2)
     }
@@ -368,4 +418,12 @@ impl ServoMap {
 /// it is always a servo pulse (never 0 = off or ≥ TOP = always high).
 pub fn clamp_ticks(ticks: u16) -> u16 {
     ticks.clamp(ABS_MIN_US * TICKS_PER_US, ABS_MAX_US * TICKS_PER_US)
+}
+
+/// Timer5 compare value (OCR5x) for a pulse of `us` µs: `2·us`, with `us`
+/// first clamped to the absolute 500..=2500 µs, so the result is always a
+/// servo pulse (never 0 = off or ≥ TOP = always high). The board converts
+/// the pulse limits with this; pulses arrive in ticks ([`clamp_ticks`]).
+pub fn us_to_ticks(us: u16) -> u16 {
+    us.clamp(ABS_MIN_US, ABS_MAX_US) * TICKS_PER_US
 }

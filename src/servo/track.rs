@@ -29,6 +29,7 @@ pub struct ServoFrame {
     /// Each term's profile g and rate g′ (1/s; 0 and 0 for an empty slot):
     /// joint j moves at Σ Δ_kj·g′_k ([`ServoTrack::velocities`]).
     pub g: [f32; TERMS],
+    /// Each term's g′, 1/s.
     pub rate: [f32; TERMS],
     /// A single move would put some joint over its `max_speed_rad_s`
     /// (|Δ_j·g′| > limit); a superposed motion's speed is the planner's
@@ -39,9 +40,11 @@ pub struct ServoFrame {
 /// A new target for a running motion.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Replan<'a> {
+    /// The new target's joint angles, rad.
     pub target: &'a [f32; JOINTS],
     /// The correction's law.
     pub law: LawKind,
+    /// The speed and acceleration limits of this move.
     pub lim: &'a PlanLimits<f32>,
     /// Factor (≥ 1) on the limits for the sum of two terms
     /// ([`crate::motion::planner::correction`]).
@@ -69,7 +72,7 @@ impl Span {
     /// The term's pulse travel for a joint moving Δ under calibration `m`.
     fn of(m: &ServoMap, delta: f32) -> Result<Span, TrackError> {
         let span = m.cal().us_per_rad * delta;
-        if !(span.abs() <= TRACK_RANGE_US) {
+        if !span.abs().le(&TRACK_RANGE_US) {
             return Err(TrackError::OutOfRange);
         }
         Ok(Span { mag: (span.abs() * 65_536.0) as u32, neg: span < 0.0 })
@@ -171,7 +174,7 @@ impl ServoTrack {
         for ((m, ((&s, &e), &d)), ((base, (lo, hi)), (span, (su, eu)))) in joints.zip(out) {
             let c = m.cal();
             let at_target = c.offset_us + c.us_per_rad * e;
-            if !(at_target.abs() <= TRACK_RANGE_US) {
+            if !at_target.abs().le(&TRACK_RANGE_US) {
                 return Err(TrackError::OutOfRange);
             }
             let (pa, pb) = (c.offset_us + c.us_per_rad * c.min_rad, c.offset_us + c.us_per_rad * c.max_rad);
@@ -244,6 +247,7 @@ impl ServoTrack {
         Ok(())
     }
 
+    /// The move being tracked.
     #[inline]
     pub fn motion(&self) -> &Superposed<f32> {
         &self.motion

@@ -59,7 +59,9 @@ pub const ADC_MAX: u16 = 1023;
 /// A filtered panel position in raw ADC counts (calibration is applied later).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TouchPoint {
+    /// X, ADC counts.
     pub x: u16,
+    /// Y, ADC counts.
     pub y: u16,
 }
 
@@ -94,6 +96,7 @@ pub struct FilterConfig {
     /// Pressure window: a sample is in contact iff `z_min ≤ z ≤ z_max`.
     /// `z_min` must be > 0 (an untouched panel reads z ≈ 0).
     pub z_min: u16,
+    /// Upper end of the pressure window (above it: a short, not a finger).
     pub z_max: u16,
     /// Consecutive stable touched reads that confirm a press (≥ 2).
     pub press_confirm: u8,
@@ -116,8 +119,9 @@ impl FilterConfig {
         stability_radius: 8,
     };
 
+    /// Checks the ranges given with each field.
     pub fn validate(&self) -> Result<(), FilterConfigError> {
-        if self.samples == 0 || self.samples as usize > MAX_SAMPLES || self.samples % 2 == 0 {
+        if self.samples == 0 || self.samples as usize > MAX_SAMPLES || self.samples.is_multiple_of(2) {
             return Err(FilterConfigError::SampleCount);
         }
         if self.z_min == 0 || self.z_min > self.z_max {
@@ -136,6 +140,7 @@ impl Default for FilterConfig {
     }
 }
 
+/// Why a filter configuration was refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FilterConfigError {
     /// `samples` is not odd in `1..=9`.
@@ -153,7 +158,9 @@ pub enum Reject {
     SampleCount,
     /// Some samples in the pressure window, some not: finger landing/lifting.
     PartialContact,
+    /// The X samples spread more than `max_spread`: noise or a sliding finger.
     SpreadX,
+    /// The Y samples spread more than `max_spread`.
     SpreadY,
 }
 
@@ -169,24 +176,36 @@ pub enum NoTouch {
 /// Classification of one read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Read {
-    Touched { point: TouchPoint, z: u16 },
+    /// Every sample in contact and the spreads small.
+    Touched {
+        /// The median X and Y, ADC counts.
+        point: TouchPoint,
+        /// The median pressure (see [`pressure`]).
+        z: u16,
+    },
+    /// Nothing on the panel (or a fault that looks like it).
     NotTouched(NoTouch),
+    /// Not usable: breaks a press run, and counts as a miss while held.
     Rejected(Reject),
 }
 
+/// What the filter tells the app, at most one per read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TouchEvent {
     /// A press was confirmed at this point (mean of the stable run).
     Pressed(TouchPoint),
     /// While held, the finger came to rest at a different point.
     Moved(TouchPoint),
+    /// The press ended (after `release_confirm` non-touch reads).
     Released,
 }
 
 /// Result of [`TouchFilter::update`]: the read's classification and at most one event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Step {
+    /// How the read was classified.
     pub read: Read,
+    /// What it changed, if anything.
     pub event: Option<TouchEvent>,
 }
 
@@ -264,11 +283,13 @@ pub struct TouchFilter {
 }
 
 impl TouchFilter {
+    /// An idle filter with `cfg`, once it validates.
     pub fn new(cfg: &FilterConfig) -> Result<TouchFilter, FilterConfigError> {
         cfg.validate()?;
         Ok(TouchFilter { cfg: *cfg, run: Run::EMPTY, held: None, misses: 0 })
     }
 
+    /// The configuration in use.
     pub fn config(&self) -> &FilterConfig {
         &self.cfg
     }

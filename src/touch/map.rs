@@ -14,16 +14,25 @@ pub const ADC_MAX: u16 = 1023;
 /// A screen axis, to say where a calibration problem is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Axis {
+    /// Screen X, left → right (`x_p`).
     X,
+    /// Screen Y, bottom → top (`y_p`).
     Y,
 }
 
+/// Why a calibration is invalid, or could not be fitted or applied.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CalibrationError {
     /// `min >= max` on this screen axis.
-    EmptyRange { axis: Axis },
+    EmptyRange {
+        /// The axis.
+        axis: Axis,
+    },
     /// A limit above [`ADC_MAX`] on this screen axis.
-    AboveAdcRange { axis: Axis },
+    AboveAdcRange {
+        /// The axis.
+        axis: Axis,
+    },
     /// Inverse mapping of a point outside `[−1, 1] × [0, 1]` or not finite.
     PointOutOfRange,
     /// Fewer crosshairs than the fit needs (2 with a known swap, 3 to detect it).
@@ -38,7 +47,10 @@ pub enum CalibrationError {
     AmbiguousAxes,
     /// The fitted raw value at an end of this screen axis lies outside the ADC
     /// range (readings far off the panel's response).
-    FitOutOfAdcRange { axis: Axis },
+    FitOutOfAdcRange {
+        /// The axis.
+        axis: Axis,
+    },
 }
 
 /// Raw span, channel assignment and directions of one touch panel.
@@ -50,9 +62,13 @@ pub enum CalibrationError {
 /// through [`Calibration::validate`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Calibration {
+    /// Raw value at the screen's left edge (right edge with `invert_x`).
     pub x_min: u16,
+    /// Raw value at the other X edge; above `x_min`.
     pub x_max: u16,
+    /// Raw value at the bottom edge (top with `invert_y`).
     pub y_min: u16,
+    /// Raw value at the other Y edge; above `y_min`.
     pub y_max: u16,
     /// Panel channel `raw_y` follows screen X and `raw_x` follows screen Y.
     pub swap_xy: bool,
@@ -66,15 +82,20 @@ pub struct Calibration {
 /// calibrated span and was pulled onto its edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MappedPoint<R> {
+    /// −1..=1, left → right.
     pub x_p: R,
+    /// 0..=1, bottom → top.
     pub y_p: R,
+    /// A raw value lay outside the span and was pulled onto its edge.
     pub clamped: bool,
 }
 
 /// Two panel channels as read, before any swap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawPoint {
+    /// The X channel (`RawSample::x`), ADC counts.
     pub x: u16,
+    /// The Y channel (`RawSample::y`), ADC counts.
     pub y: u16,
 }
 
@@ -83,9 +104,13 @@ pub struct RawPoint {
 /// Positions need not lie inside the workspace; insets from the edges are usual.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Crosshair<R> {
+    /// Crosshair position, normalized X.
     pub x_p: R,
+    /// Crosshair position, normalized Y.
     pub y_p: R,
+    /// The X channel's reading there.
     pub raw_x: u16,
+    /// The Y channel's reading there.
     pub raw_y: u16,
 }
 
@@ -168,6 +193,21 @@ impl Calibration {
     /// `(raw − mid)/half`, and `y_p = (raw − min)/(max − min)`: numerators and
     /// denominators are small integers (exact in f32), so each coordinate is the
     /// exact value rounded once and the span ends land on exactly −1, 1, 0, 1.
+    ///
+    /// ```
+    /// use touch_arm::touch::map::Calibration;
+    ///
+    /// // The default span is X 123..932, Y 128..897.
+    /// let cal = Calibration::DEFAULT;
+    /// let corner = cal.map::<f64>(123, 897).unwrap();
+    /// assert_eq!((corner.x_p, corner.y_p, corner.clamped), (-1.0, 1.0, false));
+    /// // (549, 745): x_p = (2·549 − 123 − 932)/809 = 43/809, y_p = (745 − 128)/769.
+    /// let p = cal.map::<f64>(549, 745).unwrap();
+    /// assert_eq!((p.x_p, p.y_p), (43.0 / 809.0, 617.0 / 769.0));
+    /// // Outside the span: clamped onto its edge, and said so.
+    /// let out = cal.map::<f64>(1000, 100).unwrap();
+    /// assert_eq!((out.x_p, out.y_p, out.clamped), (1.0, 0.0, true));
+    /// ```
     pub fn map<R: Real>(&self, raw_x: u16, raw_y: u16) -> Result<MappedPoint<R>, CalibrationError> {
         self.validate()?;
         let (sx, sy) = if self.swap_xy { (raw_y, raw_x) } else { (raw_x, raw_y) };
@@ -276,7 +316,7 @@ impl Calibration {
             SwapMode::Detect => {
                 let det = sxx * syy - sxy * sxy;
                 // 1 − (correlation of the positions)² > 1 %: not (nearly) one line.
-                if !(det > R::lit(0.01) * sxx * syy) {
+                if !det.gt(&(R::lit(0.01) * sxx * syy)) {
                     return Err(CalibrationError::DegeneratePositions);
                 }
                 // Coefficients of the 2-D fits times det (> 0), which cancels in

@@ -4,12 +4,14 @@
 //! and each draw timed in cycles.
 
 use super::calibration::{cal_point, CalibrationFlow};
+use super::layout::Layout;
 use super::model::{warn, Refusal, UiModel, UiState};
 use super::screen::UiConfig;
 use crate::config::settings::SpeedPreset;
 use crate::geometry::workspace::Condition;
 use crate::touch::map::Calibration;
 
+/// The map's shading for the script: reachable between radius 0.3 and 0.9.
 pub const CONFIG: UiConfig = UiConfig { reach_min: 0.3, reach_max: 0.9 };
 
 /// Steps of the script.
@@ -17,7 +19,9 @@ pub const STEPS: u8 = 16;
 
 /// What step `k` draws.
 pub enum Screen {
+    /// The main screen showing this model.
     Main(UiModel),
+    /// The calibration screen in this state.
     Calibration(CalibrationFlow),
 }
 
@@ -38,7 +42,7 @@ fn moving(progress: f32) -> UiModel {
 /// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
 /// a refused touch, STOP, a preset change with a warning, two calibration
 /// screens, and a full redraw back on the main screen.
-pub fn screen(k: u8) -> Screen {
+pub fn screen(k: u8, lay: &Layout) -> Screen {
     let mut m = moving(0.0);
     match k {
         0..=8 => m.state = UiState::Moving { progress: f32::from(k) / 8.0 },
@@ -59,9 +63,9 @@ pub fn screen(k: u8) -> Screen {
         }
         13 | 14 => {
             let cal = Calibration::DEFAULT;
-            let mut flow = CalibrationFlow::new(cal);
+            let mut flow = CalibrationFlow::new(cal, lay);
             if k == 14 {
-                if let Some(raw) = cal_point(0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
+                if let Some(raw) = cal_point(lay, 0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
                     flow.feed(raw.x, raw.y);
                 }
             }

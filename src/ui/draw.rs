@@ -19,13 +19,18 @@ use super::font::{glyph_row, CELL_H};
 /// A screen rectangle in pixels (8 bytes, cheap to pass by value).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Area {
+    /// Left column.
     pub x: i16,
+    /// Top row.
     pub y: i16,
+    /// Width in pixels.
     pub w: u16,
+    /// Height in pixels.
     pub h: u16,
 }
 
 impl Area {
+    /// The `w`×`h` rectangle with its top-left pixel at (`x`, `y`).
     pub const fn new(x: i16, y: i16, w: u16, h: u16) -> Self {
         Self { x, y, w, h }
     }
@@ -40,10 +45,12 @@ impl Area {
         self.y.saturating_add(self.h as i16)
     }
 
+    /// No pixel inside.
     pub const fn is_empty(&self) -> bool {
         self.w == 0 || self.h == 0
     }
 
+    /// Pixel (`x`, `y`) lies inside.
     pub const fn contains(&self, x: i16, y: i16) -> bool {
         x >= self.x && x < self.right() && y >= self.y && y < self.bottom()
     }
@@ -86,6 +93,7 @@ impl Area {
         Area::new(cx.saturating_sub(r as i16), cy.saturating_sub(r as i16), 2 * r + 1, 2 * r + 1)
     }
 
+    /// The same rectangle for embedded-graphics.
     pub fn to_rect(self) -> Rectangle {
         Rectangle::new(
             Point::new(i32::from(self.x), i32::from(self.y)),
@@ -121,17 +129,23 @@ pub fn frame<D: Canvas>(d: &mut D, a: Area, t: u16, c: Rgb565) -> Result<(), D::
 /// 1 for tight big labels), `bg` = `None` draws only the ink (transparent).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TextStyle {
+    /// Pixels per font pixel, ≥ 1.
     pub scale: u8,
+    /// Blank columns after each glyph, pixels.
     pub gap: u8,
+    /// Ink colour.
     pub fg: Rgb565,
+    /// Background colour; `None` leaves it as it was.
     pub bg: Option<Rgb565>,
 }
 
 impl TextStyle {
+    /// `fg` on `bg`, the normal 6×8 cell scaled.
     pub const fn opaque(scale: u8, fg: Rgb565, bg: Rgb565) -> Self {
         Self { scale, gap: scale, fg, bg: Some(bg) }
     }
 
+    /// Only the ink, in `fg`, over whatever is there.
     pub const fn ink(scale: u8, fg: Rgb565) -> Self {
         Self { scale, gap: scale, fg, bg: None }
     }
@@ -159,7 +173,9 @@ impl TextStyle {
 /// A run of one colour in a row-major pixel stream.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Run {
+    /// Pixels in the run.
     pub len: u16,
+    /// Their colour.
     pub color: Rgb565,
 }
 
@@ -182,6 +198,19 @@ pub trait Canvas: DrawTarget<Color = Rgb565> {
         let area = Area::new(x, y, cell.width(), cell.height());
         self.fill_contiguous(&area.to_rect(), CellPixels { cell, x: 0, y: 0 })
     }
+
+    /// Drawing stopped for this call (a sliced redraw ran out of budget,
+    /// `ui::slice`): loops that compute before they draw return early.
+    fn paused(&self) -> bool {
+        false
+    }
+
+    /// The next drawing operation was done by an earlier call of a sliced
+    /// redraw: it is counted as done and the caller skips it, without
+    /// computing it (a glyph's rows, a map row's runs).
+    fn skip_op(&mut self) -> bool {
+        false
+    }
 }
 
 /// The pixels of a run list, colour by colour (for [`Canvas::fill_runs`]).
@@ -192,6 +221,7 @@ pub struct RunPixels<'a> {
 }
 
 impl<'a> RunPixels<'a> {
+    /// Starts at the first pixel of the first run.
     pub fn new(runs: &'a [Run]) -> Self {
         Self { runs, k: 0, left: runs.first().map_or(0, |r| r.len) }
     }
@@ -215,18 +245,25 @@ impl Iterator for RunPixels<'_> {
 /// then `gap` background columns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GlyphCell {
+    /// The glyph's rows, top first; bit 4 is the leftmost column.
     pub rows: [u8; 8],
+    /// Pixels per font pixel, ≥ 1.
     pub scale: u8,
+    /// Background columns after the glyph, pixels.
     pub gap: u8,
+    /// Ink colour.
     pub fg: Rgb565,
+    /// Background colour.
     pub bg: Rgb565,
 }
 
 impl GlyphCell {
+    /// The cell's width in pixels, gap included.
     pub fn width(&self) -> u16 {
         5 * u16::from(self.scale) + u16::from(self.gap)
     }
 
+    /// The cell's height in pixels.
     pub fn height(&self) -> u16 {
         CELL_H * u16::from(self.scale)
     }
@@ -282,8 +319,13 @@ pub fn text<D: Canvas, T: TextSource + ?Sized>(
     let width = style.advance();
     let mut cx = x;
     for i in 0..text.len() {
+        if d.paused() {
+            break;
+        }
         let ch = text.at(i);
         match style.bg {
+            // One operation per opaque glyph.
+            Some(_) if d.skip_op() => {}
             Some(bg) => glyph_opaque(d, cx, y, ch, bg, style)?,
             None => glyph_ink(d, cx, y, ch, style)?,
         }
@@ -340,7 +382,9 @@ pub fn text_centered<D: Canvas, T: TextSource + ?Sized>(
 /// Passes only what falls inside `clip` on to the wrapped target: used to
 /// repaint a small box of a layered picture (background, labels, markers).
 pub struct Clip<'a, D> {
+    /// The target drawn on.
     pub inner: &'a mut D,
+    /// The only area that may change.
     pub clip: Area,
 }
 
@@ -363,12 +407,24 @@ impl<D: Canvas> DrawTarget for Clip<'_, D> {
     }
 
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb565) -> Result<(), Self::Error> {
-        let r = area.intersection(&self.clip.to_rect());
-        if r.size.width == 0 || r.size.height == 0 {
-            return Ok(());
+        // In 16 bits (the UI's areas are screen-sized): embedded-graphics'
+        // i32 intersection is several times slower on the ATmega2560, and a
+        // clipped repaint runs it for every ink run of every glyph it meets.
+        let a = Area::new(
+            area.top_left.x as i16,
+            area.top_left.y as i16,
+            area.size.width.min(u32::from(u16::MAX)) as u16,
+            area.size.height.min(u32::from(u16::MAX)) as u16,
+        );
+        match a.intersect(&self.clip) {
+            Some(r) => self.inner.fill_solid(&r.to_rect(), color),
+            None => Ok(()),
         }
-        self.inner.fill_solid(&r, color)
     }
 }
 
-impl<D: Canvas> Canvas for Clip<'_, D> {}
+impl<D: Canvas> Canvas for Clip<'_, D> {
+    fn paused(&self) -> bool {
+        self.inner.paused()
+    }
+}

@@ -13,9 +13,11 @@ use crate::text::Text;
 
 /// Bytes of text, wherever they are kept.
 pub trait TextSource {
+    /// Bytes of text.
     fn len(&self) -> usize;
     /// Byte `i` (0 past the end).
     fn at(&self, i: usize) -> u8;
+    /// No bytes.
     fn is_empty(&self) -> bool {
         self.len() == 0
     }

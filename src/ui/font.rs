@@ -123,7 +123,8 @@ pub fn glyph_row(ch: u8, row: u8) -> u8 {
 #[inline]
 fn read_font(index: u16) -> u8 {
     let i = usize::from(index).min(GLYPHS * ROWS - 1);
-    super::flash::flash_byte(FONT.as_ptr().wrapping_add(i))
+    // SAFETY: `i` is clamped into the static `FONT` table.
+    unsafe { super::flash::flash_byte(FONT.as_ptr().wrapping_add(i)) }
 }
 
 /// Width in pixels of `len` characters at `scale`.

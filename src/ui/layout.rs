@@ -1,12 +1,20 @@
-//! Where everything sits on the 320×240 landscape screen, and the two
-//! coordinate mappings.
+//! Where everything sits on the landscape screen, for both panel sizes the
+//! firmware drives (320×240: ILI9341, ST7789V, ILI9325; 480×320: ILI9486),
+//! and the two coordinate mappings.
+//!
+//! One description: every region is placed by the same arithmetic from a
+//! handful of numbers ([`Layout`]: screen size, map scale `s`, text scale,
+//! row and button heights). [`Layout::QVGA`] gives the 320×240 screen
+//! below; [`Layout::HVGA`] the same arrangement on 480×320, with the map at
+//! 160 px per unit (same 2:1 proportions), a 152×160 STOP, taller and
+//! wider buttons and text one scale larger.
 //!
 //! ```text
-//!  0                                240 248             320
+//!  0                                240 248             320     (QVGA; 2s = 240)
 //!  +----------------------------------+--+---------------+ 0
-//!  | workspace map 240×120             |g |  STOP/RESUME  |
+//!  | workspace map 2s×s (240×120)      |g |  STOP/RESUME  |
 //!  | (x_p, y_p) ∈ [−1,1]×[0,1]          |  |    72×120     |
-//!  +----------------------------------+  +---------------+ 120
+//!  +----------------------------------+  +---------------+ s = 120
 //!  guard band (touches ignored; next to STOP they count as STOP)   128
 //!  headline  (2×)                                          148
 //!  detail: hint (2×) or progress bar                       168
@@ -20,18 +28,18 @@
 //! **Panel coordinates** are what the touch pipeline produces from a raw
 //! reading with the calibration (SPEC §2): `(x_p, y_p)` over the *whole* glass,
 //! `x_p = −1` at the left edge, `+1` at the right, `y_p = 0` at the bottom,
-//! `1` at the top. [`panel_to_pixel`] turns them into a screen pixel and
-//! [`pixel_center_to_panel`] back; the calibration crosshairs are placed with
-//! this mapping.
+//! `1` at the top. [`Layout::panel_to_pixel`] turns them into a screen pixel
+//! and [`Layout::pixel_center_to_panel`] back; the calibration crosshairs are
+//! placed with this mapping.
 //!
 //! **Workspace coordinates** are the paper's `(x_p, y_p) ∈ [−1, 1] × [0, 1]`
-//! that the arm math takes. They live in the 240×120 map at the top left,
-//! 120 pixels per unit on both axes, so the reach circle is drawn round:
-//! pixel column `i` covers `x_p ∈ [(i − 120)/120, (i − 119)/120)` and row `j`
-//! covers `y_p ∈ [(119 − j)/120, (120 − j)/120)` (the map's right and top
-//! edges fold onto the last column and row); a touch on pixel `(i, j)`
-//! means its centre, `x_p = (2i + 1 − 240)/240`, `y_p = (239 − 2j)/240`. The
-//! base of the arm is the middle of the map's bottom edge.
+//! that the arm math takes. They live in the 2s×s map at the top left, `s`
+//! pixels per unit on both axes, so the reach circle is drawn round: pixel
+//! column `i` covers `x_p ∈ [(i − s)/s, (i − s + 1)/s)` and row `j` covers
+//! `y_p ∈ [(s − 1 − j)/s, (s − j)/s)` (the map's right and top edges fold onto
+//! the last column and row); a touch on pixel `(i, j)` means its centre,
+//! `x_p = (2i + 1 − 2s)/2s`, `y_p = (2s − 1 − 2j)/2s`. The base of the arm is
+//! the middle of the map's bottom edge.
 //!
 //! Why a sub-rectangle and not the paper's whole-panel map with buttons on
 //! top: for a user with limited hand use, a touch meant for STOP that lands a
@@ -43,98 +51,261 @@
 
 use super::draw::Area;
 
-pub const SCREEN_W: u16 = 320;
-pub const SCREEN_H: u16 = 240;
+/// The guard band between the map and everything else, and between
+/// buttons, pixels (both sizes).
+pub const GUARD: u16 = 8;
 
-/// The workspace map. `WS_SCALE` pixels per workspace unit; the origin (arm
-/// base) is at pixel edge (`WS_ORIGIN_X`, `WS.bottom()`).
-pub const WS: Area = Area::new(0, 0, 240, 120);
-pub const WS_SCALE: u16 = 120;
-pub const WS_ORIGIN_X: i16 = 120;
+/// The screen's arrangement for one panel size (14 bytes; every region is
+/// computed from these numbers by the methods below).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    w: u16,
+    h: u16,
+    s: u16,
+    text: u8,
+    row: u16,
+    small_row: u16,
+    button_h: u16,
+}
 
-pub const STOP: Area = Area::new(248, 0, 72, 120);
-/// Where a touch counts as STOP while STOP is shown: its box plus the guard
-/// band beside and below it.
-pub const STOP_HIT: Area = Area::new(240, 0, 80, 128);
+impl Layout {
+    /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 240×120.
+    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40 };
+    /// 480×320 (ILI9486 in landscape): map 320×160, STOP 152×160, buttons
+    /// 52 px tall, headline and buttons in 3× text.
+    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52 };
 
-pub const HEADLINE: Area = Area::new(0, 128, 320, 20);
-pub const DETAIL: Area = Area::new(0, 148, 320, 20);
-pub const INFO: Area = Area::new(0, 168, 160, 14);
-pub const WARN: Area = Area::new(160, 168, 160, 14);
-pub const JOINTS: Area = Area::new(0, 182, 320, 14);
-
-/// Progress bar inside DETAIL: a 1-pixel frame around the fill.
-pub const BAR: Area = Area::new(4, 151, 232, 14);
-pub const BAR_FILL: Area = Area::new(5, 152, 230, 12);
-/// The percentage next to the bar.
-pub const BAR_TEXT: Area = Area::new(244, 150, 72, 16);
-
-pub const SLOW: Area = Area::new(0, 200, 72, 40);
-pub const NORMAL: Area = Area::new(80, 200, 80, 40);
-pub const FAST: Area = Area::new(168, 200, 72, 40);
-pub const CALIBRATE: Area = Area::new(248, 200, 72, 40);
-
-/// Pixels no region paints: the guard bands and button gaps (a full redraw
-/// fills them with the background).
-pub const GAPS: [Area; 6] = [
-    Area::new(240, 0, 8, 120),
-    Area::new(0, 120, 320, 8),
-    Area::new(0, 196, 320, 4),
-    Area::new(72, 200, 8, 40),
-    Area::new(160, 200, 8, 40),
-    Area::new(240, 200, 8, 40),
-];
-
-/// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]` or
-/// not finite. `x = ⌊(x_p + 1)·160⌋`, `y = ⌊(1 − y_p)·240⌋`, the far edges
-/// folded onto the last pixel.
-pub fn panel_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
-    if !inside {
-        return None;
+    /// The layout for a `w`×`h` landscape screen, if there is one.
+    pub const fn for_size(w: u16, h: u16) -> Option<Layout> {
+        match (w, h) {
+            (320, 240) => Some(Layout::QVGA),
+            (480, 320) => Some(Layout::HVGA),
+            _ => None,
+        }
     }
-    let x = ((x_p + 1.0) * (SCREEN_W / 2) as f32) as i16;
-    let y = ((1.0 - y_p) * SCREEN_H as f32) as i16;
-    Some((x.min(SCREEN_W as i16 - 1), y.min(SCREEN_H as i16 - 1)))
-}
 
-/// The panel coordinates of a pixel's centre (inverse of [`panel_to_pixel`]).
-pub fn pixel_center_to_panel(x: i16, y: i16) -> (f32, f32) {
-    let x_p = (2.0 * f32::from(x) + 1.0) / SCREEN_W as f32 - 1.0;
-    let y_p = 1.0 - (2.0 * f32::from(y) + 1.0) / (2.0 * SCREEN_H as f32);
-    (x_p, y_p)
-}
-
-/// Workspace point of a map pixel's centre; `None` outside the map.
-pub fn ws_pixel_to_point(x: i16, y: i16) -> Option<(f32, f32)> {
-    if !WS.contains(x, y) {
-        return None;
+    /// Screen width, pixels.
+    pub const fn width(&self) -> u16 {
+        self.w
     }
-    let (dx, dy) = ws_half_units(x, y);
-    let two_scale = (2 * WS_SCALE) as f32;
-    Some((f32::from(dx) / two_scale, f32::from(dy) / two_scale))
-}
 
-/// Pixel centre relative to the arm base in half-pixel units (both odd):
-/// `x_p = dx/240`, `y_p = dy/240` exactly.
-pub const fn ws_half_units(x: i16, y: i16) -> (i16, i16) {
-    let dx = 2 * (x - WS.x) + 1 - 2 * (WS_ORIGIN_X - WS.x);
-    let dy = 2 * (WS.bottom() - y) - 1;
-    (dx, dy)
-}
-
-/// The map pixel a workspace point falls on, `None` outside `[−1,1]×[0,1]`
-/// or not finite; the top and right edges fold onto the last pixel.
-pub fn ws_point_to_pixel(x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-    let inside = x_p >= -1.0 && x_p <= 1.0 && y_p >= 0.0 && y_p <= 1.0;
-    if !inside {
-        return None;
+    /// Screen height, pixels.
+    pub const fn height(&self) -> u16 {
+        self.h
     }
-    let s = WS_SCALE as f32;
-    // Both products are ≥ 0, so `as` truncation is the floor.
-    let i = ((x_p + 1.0) * s) as i16;
-    let j_up = (y_p * s) as i16;
-    let x = (WS.x + i).min(WS.right() - 1);
-    let y = (WS.bottom() - 1 - j_up).max(WS.y);
-    Some((x, y))
+
+    /// The whole screen.
+    pub const fn screen(&self) -> Area {
+        Area::new(0, 0, self.w, self.h)
+    }
+
+    /// Pixels per workspace unit on the map (the map is 2 × 1 units).
+    pub const fn scale(&self) -> u16 {
+        self.s
+    }
+
+    /// Text scale of the headline, the hint, the percentage and the button
+    /// labels; STOP and the zone numbers are one larger, the status lines 1×.
+    pub const fn text_scale(&self) -> u8 {
+        self.text
+    }
+
+    /// The workspace map at the top left, 2s × s.
+    pub const fn ws(&self) -> Area {
+        Area::new(0, 0, 2 * self.s, self.s)
+    }
+
+    /// Column of the arm base, the workspace's x = 0 (a pixel edge).
+    pub const fn ws_origin_x(&self) -> i16 {
+        self.s as i16
+    }
+
+    /// Left edge of STOP's column (right of the map and its guard band).
+    const fn right_x(&self) -> i16 {
+        (2 * self.s + GUARD) as i16
+    }
+
+    /// Width of STOP's column.
+    const fn right_w(&self) -> u16 {
+        self.w - 2 * self.s - GUARD
+    }
+
+    /// The STOP (or RESUME) button, right of the map.
+    pub const fn stop(&self) -> Area {
+        Area::new(self.right_x(), 0, self.right_w(), self.s)
+    }
+
+    /// Where a touch counts as STOP while STOP is shown: its box plus the
+    /// guard band beside and below it.
+    pub const fn stop_hit(&self) -> Area {
+        Area::new((2 * self.s) as i16, 0, self.w - 2 * self.s, self.s + GUARD)
+    }
+
+    /// What the arm is doing, in words, at the text scale.
+    pub const fn headline(&self) -> Area {
+        Area::new(0, (self.s + GUARD) as i16, self.w, self.row)
+    }
+
+    /// The second line: a hint in words, or the progress bar while moving.
+    pub const fn detail(&self) -> Area {
+        Area::new(0, self.headline().bottom(), self.w, self.row)
+    }
+
+    /// Zone and direction α of the touched point (left half).
+    pub const fn info(&self) -> Area {
+        Area::new(0, self.detail().bottom(), self.w / 2, self.small_row)
+    }
+
+    /// The most important warning (right half).
+    pub const fn warn(&self) -> Area {
+        Area::new((self.w / 2) as i16, self.detail().bottom(), self.w - self.w / 2, self.small_row)
+    }
+
+    /// The three joint angles, whole degrees.
+    pub const fn joints(&self) -> Area {
+        Area::new(0, self.info().bottom(), self.w, self.small_row)
+    }
+
+    /// Progress bar inside DETAIL, under the map's columns: a 1-pixel frame
+    /// around the fill.
+    pub const fn bar(&self) -> Area {
+        Area::new(4, self.detail().y + 3, 2 * self.s - 8, self.row - 6)
+    }
+
+    /// The bar's fill: filled from the left by the move's progress.
+    pub const fn bar_fill(&self) -> Area {
+        let b = self.bar();
+        Area::new(b.x + 1, b.y + 1, b.w - 2, b.h - 2)
+    }
+
+    /// The percentage next to the bar, in STOP's column.
+    pub const fn bar_text(&self) -> Area {
+        Area::new(self.right_x() - 4, self.detail().y + 2, self.right_w(), self.row - 4)
+    }
+
+    const fn buttons_y(&self) -> i16 {
+        (self.h - self.button_h) as i16
+    }
+
+    /// Width of Slow and Fast; Normal (the longer word) gets what is left of
+    /// the map's width: 8 px more at 320×240 (2× labels), 16 at 480×320.
+    const fn side_w(&self) -> u16 {
+        (2 * self.s - 2 * GUARD - 8 * (self.text as u16 - 1)) / 3
+    }
+
+    const fn normal_w(&self) -> u16 {
+        2 * self.s - 2 * GUARD - 2 * self.side_w()
+    }
+
+    /// Speed preset button Slow.
+    pub const fn slow(&self) -> Area {
+        Area::new(0, self.buttons_y(), self.side_w(), self.button_h)
+    }
+
+    /// Speed preset button Normal.
+    pub const fn normal(&self) -> Area {
+        Area::new((self.side_w() + GUARD) as i16, self.buttons_y(), self.normal_w(), self.button_h)
+    }
+
+    /// Speed preset button Fast.
+    pub const fn fast(&self) -> Area {
+        let x = self.side_w() + GUARD + self.normal_w() + GUARD;
+        Area::new(x as i16, self.buttons_y(), self.side_w(), self.button_h)
+    }
+
+    /// Opens the touch calibration (in STOP's column).
+    pub const fn calibrate(&self) -> Area {
+        Area::new(self.right_x(), self.buttons_y(), self.right_w(), self.button_h)
+    }
+
+    /// Pixels no region paints: the guard bands and button gaps (a full
+    /// redraw fills them with the background).
+    pub const fn gaps(&self) -> [Area; 6] {
+        let joints_end = self.joints().bottom();
+        let by = self.buttons_y();
+        let bh = self.button_h;
+        [
+            Area::new((2 * self.s) as i16, 0, GUARD, self.s),
+            Area::new(0, self.s as i16, self.w, GUARD),
+            Area::new(0, joints_end, self.w, (by - joints_end) as u16),
+            Area::new(self.side_w() as i16, by, GUARD, bh),
+            Area::new(self.fast().x - GUARD as i16, by, GUARD, bh),
+            Area::new((2 * self.s) as i16, by, GUARD, bh),
+        ]
+    }
+
+    /// `v` (a length or position on the 320-wide reference screen) scaled to
+    /// this width: the calibration screen's positions.
+    pub const fn sx(&self, v: i16) -> i16 {
+        (v as i32 * self.w as i32 / 320) as i16
+    }
+
+    /// `v` (on the 240-high reference screen) scaled to this height.
+    pub const fn sy(&self, v: i16) -> i16 {
+        (v as i32 * self.h as i32 / 240) as i16
+    }
+
+    /// `v` (a size on the 120-px-per-unit reference map) scaled to this map:
+    /// markers, the arm base, the crosshairs.
+    pub const fn sm(&self, v: u16) -> u16 {
+        (v as u32 * self.s as u32 / 120) as u16
+    }
+
+    /// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]`
+    /// or not finite. `x = ⌊(x_p + 1)·w/2⌋`, `y = ⌊(1 − y_p)·h⌋`, the far
+    /// edges folded onto the last pixel.
+    pub fn panel_to_pixel(&self, x_p: f32, y_p: f32) -> Option<(i16, i16)> {
+        let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
+        if !inside {
+            return None;
+        }
+        let x = ((x_p + 1.0) * (self.w / 2) as f32) as i16;
+        let y = ((1.0 - y_p) * self.h as f32) as i16;
+        Some((x.min(self.w as i16 - 1), y.min(self.h as i16 - 1)))
+    }
+
+    /// The panel coordinates of a pixel's centre (inverse of
+    /// [`Layout::panel_to_pixel`]).
+    pub fn pixel_center_to_panel(&self, x: i16, y: i16) -> (f32, f32) {
+        let x_p = (2.0 * f32::from(x) + 1.0) / self.w as f32 - 1.0;
+        let y_p = 1.0 - (2.0 * f32::from(y) + 1.0) / (2.0 * self.h as f32);
+        (x_p, y_p)
+    }
+
+    /// Workspace point of a map pixel's centre; `None` outside the map.
+    pub fn ws_pixel_to_point(&self, x: i16, y: i16) -> Option<(f32, f32)> {
+        if !self.ws().contains(x, y) {
+            return None;
+        }
+        let (dx, dy) = self.ws_half_units(x, y);
+        let two_scale = (2 * self.s) as f32;
+        Some((f32::from(dx) / two_scale, f32::from(dy) / two_scale))
+    }
+
+    /// Pixel centre relative to the arm base in half-pixel units (both odd):
+    /// `x_p = dx/2s`, `y_p = dy/2s` exactly.
+    pub const fn ws_half_units(&self, x: i16, y: i16) -> (i16, i16) {
+        let ws = self.ws();
+        let dx = 2 * (x - ws.x) + 1 - 2 * (self.ws_origin_x() - ws.x);
+        let dy = 2 * (ws.bottom() - y) - 1;
+        (dx, dy)
+    }
+
+    /// The map pixel a workspace point falls on, `None` outside
+    /// `[−1,1]×[0,1]` or not finite; the top and right edges fold onto the
+    /// last pixel.
+    pub fn ws_point_to_pixel(&self, x_p: f32, y_p: f32) -> Option<(i16, i16)> {
+        let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
+        if !inside {
+            return None;
+        }
+        let ws = self.ws();
+        let s = self.s as f32;
+        // Both products are ≥ 0, so `as` truncation is the floor.
+        let i = ((x_p + 1.0) * s) as i16;
+        let j_up = (y_p * s) as i16;
+        let x = (ws.x + i).min(ws.right() - 1);
+        let y = (ws.bottom() - 1 - j_up).max(ws.y);
+        Some((x, y))
+    }
 }

@@ -25,8 +25,11 @@ pub enum UiState {
     PowerUp,
     /// Ready, waiting for a touch.
     Idle,
-    /// On the way; `progress` runs 0..=1 over the planned duration.
-    Moving { progress: f32 },
+    /// On the way.
+    Moving {
+        /// Share of the planned duration elapsed, 0..=1.
+        progress: f32,
+    },
     /// Arrived; the servos hold the pose.
     Holding,
     /// The user pressed STOP: motion halted where it was.
@@ -35,26 +38,23 @@ pub enum UiState {
     Refused(Refusal),
 }
 
-/// Problems worth a line on the screen; a bit set (highest bit wins when
-/// several are set, so put the most important highest).
+/// Problems worth a line on the screen, each a bit the app sets; the highest
+/// set bit is shown, so the most important is highest.
 pub mod warn {
-    /// The last touch lay outside the calibrated span and was pulled onto
-    /// its edge (`touch::map::MappedPoint::clamped`).
-    pub const TOUCH_CLAMPED: u8 = 1 << 0;
+    /// One stored copy of the settings is damaged; the other is in use (the
+    /// next save repairs it).
+    pub const COPY_DAMAGED: u8 = 1 << 0;
     /// EEPROM settings were invalid; defaults are in use.
     pub const DEFAULT_SETTINGS: u8 = 1 << 1;
-    /// A plan exceeded its speed budget and was slowed down.
-    pub const SLOWED: u8 = 1 << 2;
-    /// Touch panel readings are unstable (noise, spread rejects).
-    pub const TOUCH_NOISY: u8 = 1 << 3;
     /// Servo outputs are off (limp arm).
-    pub const SERVOS_OFF: u8 = 1 << 4;
+    pub const SERVOS_OFF: u8 = 1 << 2;
 }
 
 /// Everything the main screen shows. Angles are radians (as the pose and
 /// plan produce them); points are workspace coordinates `(x_p, y_p)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UiModel {
+    /// What the arm is doing, as the headline says it.
     pub state: UiState,
     /// The last touched point on the map.
     pub touch: Option<(f32, f32)>,
@@ -62,9 +62,11 @@ pub struct UiModel {
     pub target: Option<(f32, f32)>,
     /// Condition (zone) and base direction α of the touched point.
     pub condition: Option<Condition>,
+    /// Base direction α of that point, radians (shown when `condition` is set).
     pub alpha: f32,
     /// Base, shoulder, elbow angles now (radians); non-finite shows `--`.
     pub joints: [f32; 3],
+    /// The preset button shown pressed.
     pub speed: SpeedPreset,
     /// [`warn`] bits.
     pub warnings: u8,

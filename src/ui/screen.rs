@@ -9,14 +9,16 @@
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::calibration::{self, CalView, CalibrationFlow};
+use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
-use super::layout::{self as lay, panel_to_pixel, ws_pixel_to_point, ws_point_to_pixel};
+use super::layout::Layout;
 use super::model::{warn, Refusal, UiModel, UiState};
-use super::text_buf::{rad_to_deg, Line};
+use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
 use crate::config::settings::SpeedPreset;
+use crate::text::line::Line;
 use crate::text::Text;
 
 /// Which regions a draw call repainted (bit set).
@@ -28,24 +30,35 @@ impl Redrawn {
     pub const MAP: u16 = 1 << 0;
     /// Only the boxes around markers that moved, appeared or vanished.
     pub const MARKERS: u16 = 1 << 1;
+    /// The STOP / RESUME button.
     pub const STOP: u16 = 1 << 2;
+    /// [`Layout::headline`].
     pub const HEADLINE: u16 = 1 << 3;
+    /// [`Layout::detail`] (text or progress bar).
     pub const DETAIL: u16 = 1 << 4;
+    /// [`Layout::info`].
     pub const INFO: u16 = 1 << 5;
+    /// [`Layout::warn`].
     pub const WARN: u16 = 1 << 6;
+    /// [`Layout::joints`].
     pub const JOINTS: u16 = 1 << 7;
+    /// The three speed preset buttons.
     pub const SPEED: u16 = 1 << 8;
+    /// The Calib button.
     pub const CALIBRATE: u16 = 1 << 9;
     /// Guard bands and gaps (full redraws only).
     pub const GAPS: u16 = 1 << 10;
     /// The calibration screen (all of it, or the parts that changed).
     pub const CALIBRATION: u16 = 1 << 11;
+    /// A full redraw of the main screen (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
 
+    /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
         self.0 & bits == bits
     }
 
+    /// Nothing was repainted.
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
@@ -54,13 +67,19 @@ impl Redrawn {
 /// What a touch on the main screen means.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Hit {
+    /// The STOP button (or beside it, in the guard band).
     Stop,
+    /// The RESUME button, shown after a stop.
     Resume,
+    /// A speed preset button.
     Speed(SpeedPreset),
+    /// The Calib button.
     Calibrate,
     /// A point of the map, in workspace coordinates.
     Map {
+        /// −1..=1, left → right.
         x_p: f32,
+        /// 0..=1, bottom → top.
         y_p: f32,
     },
 }
@@ -70,7 +89,9 @@ pub enum Hit {
 /// `reach_max = (l2 + l3)/k`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UiConfig {
+    /// Inner radius of the reachable ring, workspace units.
     pub reach_min: f32,
+    /// Outer radius of the reachable ring, workspace units.
     pub reach_max: f32,
 }
 
@@ -134,12 +155,13 @@ struct View {
     speed: SpeedPreset,
 }
 
-fn progress_of(p: f32) -> (u16, u8) {
+/// Filled pixels of a `bar_w`-pixel bar and the percentage shown.
+fn progress_of(p: f32, bar_w: u16) -> (u16, u8) {
     // NaN → 0 through the failed comparison.
     let p = if p > 0.0 { p.min(1.0) } else { 0.0 };
-    let px = (p * lay::BAR_FILL.w as f32 + 0.5) as u16;
+    let px = (p * bar_w as f32 + 0.5) as u16;
     let percent = (p * 100.0 + 0.5) as u8;
-    (px.min(lay::BAR_FILL.w), percent.min(100))
+    (px.min(bar_w), percent.min(100))
 }
 
 /// The highest set warning bit.
@@ -151,12 +173,16 @@ fn top_warning(bits: u8) -> u8 {
     }
 }
 
+/// The warning line the screen shows for [`warn`] bits (the most important
+/// set bit; empty for none).
+pub fn warning_line(bits: u8) -> Text {
+    warning_text(top_warning(bits))
+}
+
 fn warning_text(bit: u8) -> Text {
     match bit {
-        warn::TOUCH_CLAMPED => t!("! touch at panel edge"),
+        warn::COPY_DAMAGED => t!("! a settings copy damaged"),
         warn::DEFAULT_SETTINGS => t!("! default settings in use"),
-        warn::SLOWED => t!("! move slowed for safety"),
-        warn::TOUCH_NOISY => t!("! touch readings unsteady"),
         warn::SERVOS_OFF => t!("! servos are off"),
         0 => t!(""),
         _ => t!("! check the serial log"),
@@ -164,12 +190,12 @@ fn warning_text(bit: u8) -> Text {
 }
 
 impl View {
-    fn of(m: &UiModel) -> Self {
+    fn of(m: &UiModel, lay: &Layout) -> Self {
         let (headline, detail) = match m.state {
             UiState::PowerUp => (Headline::Starting, Detail::Hint(t!("Please wait"))),
             UiState::Idle => (Headline::Ready, Detail::Hint(t!("Touch the map to move"))),
             UiState::Moving { progress } => {
-                let (px, percent) = progress_of(progress);
+                let (px, percent) = progress_of(progress, lay.bar_fill().w);
                 (Headline::Moving, Detail::Progress { px, percent })
             }
             UiState::Holding => (Headline::Holding, Detail::Hint(t!("Touch the map to move"))),
@@ -184,15 +210,15 @@ impl View {
         };
         let refused = matches!(m.state, UiState::Refused(_));
         let mark = |p: Option<(f32, f32)>, kind: MarkKind| {
-            p.and_then(|(x, y)| ws_point_to_pixel(x, y)).map(|(x, y)| Mark { x, y, kind })
+            p.and_then(|(x, y)| lay.ws_point_to_pixel(x, y)).map(|(x, y)| Mark { x, y, kind })
         };
         View {
             stop_shown: m.state != UiState::Stopped,
             headline,
             detail,
-            zone: m.condition.map(|c| (c.number(), rad_to_deg(m.alpha))),
+            zone: m.condition.map(|c| (c.number(), whole_deg(m.alpha))),
             warning: top_warning(m.warnings),
-            joints: [rad_to_deg(m.joints[0]), rad_to_deg(m.joints[1]), rad_to_deg(m.joints[2])],
+            joints: [whole_deg(m.joints[0]), whole_deg(m.joints[1]), whole_deg(m.joints[2])],
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
             speed: m.speed,
@@ -220,13 +246,72 @@ enum Shown {
     Calibration(CalView),
 }
 
-/// The renderer. Holds only what it last drew (a few dozen bytes).
-pub struct Ui {
-    reach: Reach,
-    shown: Shown,
+/// A redraw under way: the picture it draws and how far it got (the step,
+/// and the drawing operations of that step already done; see `slice`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Pass {
+    target: Shown,
+    step: u8,
+    op: u32,
+    /// Bit k: step k has something to draw (worked out once per pass, so
+    /// the others cost nothing).
+    steps: u64,
 }
 
-const HEAD_STYLE: TextStyle = TextStyle::opaque(2, theme::TEXT, theme::BG);
+/// The renderer. Holds its layout, what it last drew and the redraw under
+/// way (a few dozen bytes).
+pub struct Ui {
+    layout: Layout,
+    reach: Reach,
+    /// What the glass showed when the redraw under way started (all of it
+    /// when none is).
+    shown: Shown,
+    pass: Option<Pass>,
+}
+
+/// What a sliced draw did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Drawn {
+    /// Regions whose repaint completed in this call.
+    pub redrawn: Redrawn,
+    /// The glass shows the requested picture (false: the budget ran out;
+    /// call again in the next frame).
+    pub finished: bool,
+}
+
+/// Map rows per redraw step (the map's background is computed row by row,
+/// so a step resumed in the middle recomputes at most this many rows).
+const BAND_ROWS: u16 = 8;
+/// Map bands of the largest layout; a smaller map leaves the last band
+/// steps empty.
+const BANDS: u8 = (Layout::HVGA.ws().h / BAND_ROWS) as u8;
+const _: () = assert!(Layout::HVGA.ws().h.is_multiple_of(BAND_ROWS) && Layout::QVGA.ws().h.is_multiple_of(BAND_ROWS));
+const _: () = assert!(Layout::QVGA.ws().h <= Layout::HVGA.ws().h);
+const S_OVERLAYS: u8 = BANDS;
+const S_GAPS: u8 = BANDS + 1;
+const S_STOP: u8 = BANDS + 2;
+const S_HEADLINE: u8 = BANDS + 3;
+const S_DETAIL: u8 = BANDS + 4;
+const S_INFO: u8 = BANDS + 5;
+const S_WARN: u8 = BANDS + 6;
+const S_JOINTS: u8 = BANDS + 7;
+const S_SPEED: u8 = BANDS + 8;
+const S_CALIBRATE: u8 = BANDS + 9;
+/// Up to four marker boxes (old and new touch and target).
+const S_MARKERS: u8 = BANDS + 10;
+const S_END: u8 = S_MARKERS + 4;
+const _: () = assert!(S_END <= 64);
+
+/// The headline, hints and percentage: the layout's text scale.
+fn head_style(lay: &Layout, fg: Rgb565) -> TextStyle {
+    TextStyle::opaque(lay.text_scale(), fg, theme::BG)
+}
+
+/// A button label in the layout's text scale.
+fn label_style(lay: &Layout, fg: Rgb565, bg: Rgb565) -> TextStyle {
+    TextStyle::opaque(lay.text_scale(), fg, bg)
+}
+
 const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
@@ -285,15 +370,28 @@ fn button<D: Canvas>(d: &mut D, a: Area, label: Text, style: &TextStyle) -> Resu
 }
 
 impl Ui {
+    /// A 320×240 UI ([`Layout::QVGA`]) with `config`'s reach; nothing is
+    /// drawn until [`Ui::draw`].
     pub fn new(config: &UiConfig) -> Self {
-        Self { reach: Reach::new(config.reach_min, config.reach_max), shown: Shown::Nothing }
+        Self::with_layout(config, Layout::QVGA)
+    }
+
+    /// A UI laid out as `layout` (the panel's size) with `config`'s reach.
+    pub fn with_layout(config: &UiConfig, layout: Layout) -> Self {
+        let reach = Reach::new(config.reach_min, config.reach_max, layout.scale());
+        Self { layout, reach, shown: Shown::Nothing, pass: None }
+    }
+
+    /// Where everything sits.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
     }
 
     /// Changes the reach shading; the next [`Ui::draw`] repaints the map.
     pub fn set_reach(&mut self, config: &UiConfig) {
-        self.reach = Reach::new(config.reach_min, config.reach_max);
+        self.reach = Reach::new(config.reach_min, config.reach_max, self.layout.scale());
         if let Shown::Main(_) = self.shown {
-            self.shown = Shown::Nothing;
+            self.invalidate();
         }
     }
 
@@ -301,111 +399,219 @@ impl Ui {
     /// full.
     pub fn invalidate(&mut self) {
         self.shown = Shown::Nothing;
+        self.pass = None;
     }
 
     /// Draws the main screen, repainting only what differs from the last
     /// draw (everything after a calibration screen, a reach change or an
     /// error).
     pub fn draw<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        let v = View::of(model);
-        let old = match self.shown {
-            Shown::Main(old) => old,
-            _ => return self.draw_view_full(&v, d),
-        };
-        // Until this draw completes, the glass is unknown.
-        self.shown = Shown::Nothing;
-        let r = self.draw_changes(&old, &v, d)?;
-        self.shown = Shown::Main(v);
-        Ok(r)
+        self.draw_sliced(model, d, &mut Unlimited).map(|r| r.redrawn)
+    }
+
+    /// [`Ui::draw`] within `budget`: what does not fit is drawn by the next
+    /// calls (a redraw under way is finished before a newer picture starts,
+    /// so the glass always converges on the latest model).
+    pub fn draw_sliced<D: Canvas, B: DrawBudget>(
+        &mut self,
+        model: &UiModel,
+        d: &mut D,
+        budget: &mut B,
+    ) -> Result<Drawn, D::Error> {
+        self.run(Shown::Main(View::of(model, &self.layout)), d, budget)
     }
 
     /// Draws the whole main screen.
     pub fn draw_full<D: Canvas>(&mut self, model: &UiModel, d: &mut D) -> Result<Redrawn, D::Error> {
-        self.draw_view_full(&View::of(model), d)
+        self.invalidate();
+        self.draw(model, d)
     }
 
-    fn draw_view_full<D: Canvas>(&mut self, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
-        self.shown = Shown::Nothing;
-        let (marks, n) = v.marks();
-        ws_view::draw_map(d, &self.reach, marks.get(..n).unwrap_or(&[]))?;
-        for g in lay::GAPS {
-            fill(d, g, theme::BG)?;
-        }
-        draw_stop(d, v.stop_shown)?;
-        draw_headline(d, v.headline)?;
-        draw_detail(d, &v.detail)?;
-        draw_info(d, v.zone)?;
-        draw_warning(d, v.warning)?;
-        draw_joints(d, &v.joints)?;
-        draw_speed(d, v.speed)?;
-        button(d, lay::CALIBRATE, t!("Calib"), &TextStyle::opaque(2, theme::TEXT, theme::BUTTON))?;
-        self.shown = Shown::Main(*v);
-        Ok(Redrawn(Redrawn::ALL_MAIN))
-    }
-
-    fn draw_changes<D: Canvas>(&self, old: &View, v: &View, d: &mut D) -> Result<Redrawn, D::Error> {
-        let mut r = 0u16;
-        if old.stop_shown != v.stop_shown {
-            draw_stop(d, v.stop_shown)?;
-            r |= Redrawn::STOP;
-        }
-        if old.headline != v.headline {
-            draw_headline(d, v.headline)?;
-            r |= Redrawn::HEADLINE;
-        }
-        if old.detail != v.detail {
-            match (old.detail, v.detail) {
-                (Detail::Progress { px: a, percent: pa }, Detail::Progress { px: b, percent: pb }) => {
-                    update_progress(d, a, b)?;
-                    if pa != pb {
-                        draw_percent(d, pb)?;
-                    }
-                }
-                _ => draw_detail(d, &v.detail)?,
-            }
-            r |= Redrawn::DETAIL;
-        }
-        if old.zone != v.zone {
-            draw_info(d, v.zone)?;
-            r |= Redrawn::INFO;
-        }
-        if old.warning != v.warning {
-            draw_warning(d, v.warning)?;
-            r |= Redrawn::WARN;
-        }
-        if old.joints != v.joints {
-            draw_joints(d, &v.joints)?;
-            r |= Redrawn::JOINTS;
-        }
-        if old.speed != v.speed {
-            draw_speed(d, v.speed)?;
-            r |= Redrawn::SPEED;
-        }
-        if old.touch != v.touch || old.target != v.target {
-            let mut dirty = [Area::new(0, 0, 0, 0); 4];
-            let mut n = 0;
-            for (a, b) in [(old.touch, v.touch), (old.target, v.target)] {
-                if a != b {
-                    for m in [a, b].into_iter().flatten() {
-                        if let Some(slot) = dirty.get_mut(n) {
-                            *slot = m.area();
-                            n += 1;
-                        }
-                    }
-                }
-            }
-            let (marks, k) = v.marks();
-            let marks = marks.get(..k).unwrap_or(&[]);
-            for (i, box_) in dirty.iter().enumerate().take(n) {
-                // A box already repainted (same place) needs no second pass.
-                if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
+    /// Redraws towards `target` until it is on the glass or the budget ends.
+    fn run<D: Canvas, B: DrawBudget>(&mut self, target: Shown, d: &mut D, budget: &mut B) -> Result<Drawn, D::Error> {
+        let mut redrawn = 0u16;
+        loop {
+            let mut pass = match self.pass {
+                Some(p) => p,
+                None if self.shown == target => return Ok(Drawn { redrawn: Redrawn(redrawn), finished: true }),
+                None => Pass { target, step: 0, op: 0, steps: self.steps_to(&target) },
+            };
+            // The steps still to do, lowest first (one shift here: a shift by
+            // a variable amount is a loop on the AVR).
+            let mut todo = pass.steps >> pass.step;
+            while todo != 0 {
+                if todo & 1 == 0 {
+                    pass.step += 1;
+                    todo >>= 1;
                     continue;
                 }
-                ws_view::repaint(d, &self.reach, *box_, marks)?;
+                let mut s = Slicer::new(d, budget, pass.op);
+                let r = self.step(&pass.target, pass.step, &mut s);
+                let (ops, paused) = (s.ops, s.paused);
+                match r {
+                    Ok(_) if paused => {
+                        pass.op = ops;
+                        self.pass = Some(pass);
+                        return Ok(Drawn { redrawn: Redrawn(redrawn), finished: false });
+                    }
+                    Ok(bits) => {
+                        redrawn |= bits;
+                        pass.step += 1;
+                        pass.op = 0;
+                        todo >>= 1;
+                    }
+                    Err(e) => {
+                        self.invalidate();
+                        return Err(e);
+                    }
+                }
             }
-            r |= Redrawn::MARKERS;
+            self.shown = pass.target;
+            self.pass = None;
         }
-        Ok(Redrawn(r))
+    }
+
+    /// The steps of a redraw from `self.shown` to `target` (see [`Pass`]).
+    fn steps_to(&self, target: &Shown) -> u64 {
+        let (old, v) = match (&self.shown, target) {
+            (Shown::Main(o), Shown::Main(v)) => (o, v),
+            (_, Shown::Main(_)) => return (1 << (S_CALIBRATE + 1)) - 1,
+            _ => return 1,
+        };
+        let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
+        bit(old.stop_shown != v.stop_shown, S_STOP)
+            | bit(old.headline != v.headline, S_HEADLINE)
+            | bit(old.detail != v.detail, S_DETAIL)
+            | bit(old.zone != v.zone, S_INFO)
+            | bit(old.warning != v.warning, S_WARN)
+            | bit(old.joints != v.joints, S_JOINTS)
+            | bit(old.speed != v.speed, S_SPEED)
+            | if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 }
+    }
+
+    /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
+    /// step does not apply); the [`Redrawn`] bits it painted.
+    #[inline(never)]
+    fn step<D: Canvas>(&self, target: &Shown, k: u8, d: &mut D) -> Result<u16, D::Error> {
+        match (target, &self.shown) {
+            (Shown::Main(v), Shown::Main(o)) => self.main_step(Some(o), v, k, d),
+            (Shown::Main(v), _) => self.main_step(None, v, k, d),
+            (Shown::Calibration(v), old) if k == 0 => {
+                let old = match old {
+                    Shown::Calibration(o) => Some(o),
+                    _ => None,
+                };
+                calibration::draw(&self.layout, v, old, d)?;
+                Ok(Redrawn::CALIBRATION)
+            }
+            _ => Ok(0),
+        }
+    }
+
+    /// The main screen's steps: in a full redraw (`old` = `None`) the map in
+    /// bands, its overlays, the gaps and every region; otherwise the regions
+    /// whose visible content changed and the boxes around markers that moved.
+    #[inline(never)]
+    fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
+        let lay = &self.layout;
+        let ws = lay.ws();
+        match k {
+            _ if k < BANDS && old.is_none() => {
+                let top = u16::from(k) * BAND_ROWS;
+                if top < ws.h {
+                    let band = Area::new(ws.x, ws.y + top as i16, ws.w, BAND_ROWS);
+                    ws_view::draw_background(d, lay, &self.reach, band)?;
+                }
+                return Ok(Redrawn::MAP);
+            }
+            S_OVERLAYS if old.is_none() => {
+                let (marks, n) = v.marks();
+                ws_view::draw_overlays(d, lay, ws, marks.get(..n).unwrap_or(&[]))?;
+                return Ok(Redrawn::MAP);
+            }
+            S_GAPS if old.is_none() => {
+                for g in lay.gaps() {
+                    fill(d, g, theme::BG)?;
+                }
+                return Ok(Redrawn::GAPS);
+            }
+            S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown) => {
+                draw_stop(d, lay, v.stop_shown)?;
+                return Ok(Redrawn::STOP);
+            }
+            S_HEADLINE if old.is_none_or(|o| o.headline != v.headline) => {
+                draw_headline(d, lay, v.headline)?;
+                return Ok(Redrawn::HEADLINE);
+            }
+            S_DETAIL if old.is_none_or(|o| o.detail != v.detail) => {
+                match (old.map(|o| o.detail), v.detail) {
+                    (Some(Detail::Progress { px: a, percent: pa }), Detail::Progress { px: b, percent: pb }) => {
+                        update_progress(d, lay, a, b)?;
+                        if pa != pb {
+                            draw_percent(d, lay, pb)?;
+                        }
+                    }
+                    _ => draw_detail(d, lay, &v.detail)?,
+                }
+                return Ok(Redrawn::DETAIL);
+            }
+            S_INFO if old.is_none_or(|o| o.zone != v.zone) => {
+                draw_info(d, lay, v.zone)?;
+                return Ok(Redrawn::INFO);
+            }
+            S_WARN if old.is_none_or(|o| o.warning != v.warning) => {
+                draw_warning(d, lay, v.warning)?;
+                return Ok(Redrawn::WARN);
+            }
+            S_JOINTS if old.is_none_or(|o| o.joints != v.joints) => {
+                draw_joints(d, lay, &v.joints)?;
+                return Ok(Redrawn::JOINTS);
+            }
+            S_SPEED if old.is_none_or(|o| o.speed != v.speed) => {
+                draw_speed(d, lay, v.speed)?;
+                return Ok(Redrawn::SPEED);
+            }
+            S_CALIBRATE if old.is_none() => {
+                button(d, lay.calibrate(), t!("Calib"), &label_style(lay, theme::TEXT, theme::BUTTON))?;
+                return Ok(Redrawn::CALIBRATE);
+            }
+            _ if k >= S_MARKERS => {
+                if let Some(o) = old {
+                    return self.marker_step(o, v, usize::from(k - S_MARKERS), d);
+                }
+            }
+            _ => {}
+        }
+        Ok(0)
+    }
+
+    /// Repaints box `i` of the markers that changed (old and new places of
+    /// the touch and the target), unless an earlier box covers it.
+    #[inline(never)]
+    fn marker_step<D: Canvas>(&self, old: &View, v: &View, i: usize, d: &mut D) -> Result<u16, D::Error> {
+        let lay = &self.layout;
+        let mut dirty = [Area::new(0, 0, 0, 0); 4];
+        let mut n = 0;
+        for (a, b) in [(old.touch, v.touch), (old.target, v.target)] {
+            if a != b {
+                for m in [a, b].into_iter().flatten() {
+                    if let Some(slot) = dirty.get_mut(n) {
+                        *slot = m.area(lay);
+                        n += 1;
+                    }
+                }
+            }
+        }
+        let Some(box_) = dirty.get(..n).and_then(|b| b.get(i)) else {
+            return Ok(0);
+        };
+        // A box already repainted (same place) needs no second pass.
+        if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
+            return Ok(0);
+        }
+        let (marks, k) = v.marks();
+        ws_view::repaint(d, lay, &self.reach, *box_, marks.get(..k).unwrap_or(&[]))?;
+        Ok(Redrawn::MARKERS)
     }
 
     /// What a touch at screen pixel `(x, y)` means on the main screen as last
@@ -417,23 +623,27 @@ impl Ui {
             Shown::Calibration(_) => return None,
             Shown::Nothing => None,
         };
-        let resume_shown = view.is_some_and(|v| !v.stop_shown);
+        let lay = &self.layout;
+        // While a redraw is under way the button may be half STOP, half
+        // RESUME: it is STOP unless both pictures say RESUME.
+        let stop_coming = matches!(self.pass, Some(Pass { target: Shown::Main(t), .. }) if t.stop_shown);
+        let resume_shown = view.is_some_and(|v| !v.stop_shown) && !stop_coming;
         if resume_shown {
-            if lay::STOP.contains(x, y) {
+            if lay.stop().contains(x, y) {
                 return Some(Hit::Resume);
             }
-        } else if lay::STOP_HIT.contains(x, y) {
+        } else if lay.stop_hit().contains(x, y) {
             return Some(Hit::Stop);
         }
         view?;
-        if let Some((x_p, y_p)) = ws_pixel_to_point(x, y) {
+        if let Some((x_p, y_p)) = lay.ws_pixel_to_point(x, y) {
             return Some(Hit::Map { x_p, y_p });
         }
         let buttons = [
-            (lay::SLOW, Hit::Speed(SpeedPreset::Slow)),
-            (lay::NORMAL, Hit::Speed(SpeedPreset::Normal)),
-            (lay::FAST, Hit::Speed(SpeedPreset::Fast)),
-            (lay::CALIBRATE, Hit::Calibrate),
+            (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
+            (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
+            (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
+            (lay.calibrate(), Hit::Calibrate),
         ];
         buttons.iter().find(|(a, _)| a.contains(x, y)).map(|&(_, h)| h)
     }
@@ -441,109 +651,110 @@ impl Ui {
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
     /// gives).
     pub fn hit_panel(&self, x_p: f32, y_p: f32) -> Option<Hit> {
-        let (x, y) = panel_to_pixel(x_p, y_p)?;
+        let (x, y) = self.layout.panel_to_pixel(x_p, y_p)?;
         self.hit(x, y)
     }
 
     /// Draws the calibration screen for `flow`'s current step, repainting
     /// only what changed since the last calibration draw.
     pub fn draw_calibration<D: Canvas>(&mut self, flow: &CalibrationFlow, d: &mut D) -> Result<Redrawn, D::Error> {
-        let old = match self.shown {
-            Shown::Calibration(v) => Some(v),
-            _ => None,
-        };
-        self.shown = Shown::Nothing;
-        let v = calibration::draw(flow, old, d)?;
-        self.shown = Shown::Calibration(v);
-        Ok(Redrawn(Redrawn::CALIBRATION))
+        self.draw_calibration_sliced(flow, d, &mut Unlimited).map(|r| r.redrawn)
+    }
+
+    /// [`Ui::draw_calibration`] within `budget` (see [`Ui::draw_sliced`]).
+    pub fn draw_calibration_sliced<D: Canvas, B: DrawBudget>(
+        &mut self,
+        flow: &CalibrationFlow,
+        d: &mut D,
+        budget: &mut B,
+    ) -> Result<Drawn, D::Error> {
+        self.run(Shown::Calibration(calibration::view(flow)), d, budget)
     }
 }
 
-fn draw_stop<D: Canvas>(d: &mut D, stop: bool) -> Result<(), D::Error> {
+fn draw_stop<D: Canvas>(d: &mut D, lay: &Layout, stop: bool) -> Result<(), D::Error> {
+    let t = lay.text_scale();
     if stop {
-        button(d, lay::STOP, t!("STOP"), &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight())
+        button(d, lay.stop(), t!("STOP"), &TextStyle::opaque(t + 1, theme::WHITE, theme::STOP_RED).tight())
     } else {
-        button(d, lay::STOP, t!("RESUME"), &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight())
+        button(d, lay.stop(), t!("RESUME"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN).tight())
     }
 }
 
-fn draw_headline<D: Canvas>(d: &mut D, h: Headline) -> Result<(), D::Error> {
-    text_box(d, lay::HEADLINE, &h.text(), &TextStyle::opaque(2, h.color(), theme::BG))
+fn draw_headline<D: Canvas>(d: &mut D, lay: &Layout, h: Headline) -> Result<(), D::Error> {
+    text_box(d, lay.headline(), &h.text(), &head_style(lay, h.color()))
 }
 
-fn draw_detail<D: Canvas>(d: &mut D, detail: &Detail) -> Result<(), D::Error> {
+fn draw_detail<D: Canvas>(d: &mut D, lay: &Layout, detail: &Detail) -> Result<(), D::Error> {
+    let a = lay.detail();
     match *detail {
-        Detail::Hint(s) => text_box(d, lay::DETAIL, &s, &HEAD_STYLE),
+        Detail::Hint(s) => text_box(d, a, &s, &head_style(lay, theme::TEXT)),
         Detail::Progress { px, percent } => {
-            let left = Area::new(lay::DETAIL.x, lay::DETAIL.y, (lay::BAR_TEXT.x - lay::DETAIL.x) as u16, lay::DETAIL.h);
-            let right = Area::new(
-                lay::BAR_TEXT.x,
-                lay::DETAIL.y,
-                (lay::DETAIL.right() - lay::BAR_TEXT.x) as u16,
-                lay::DETAIL.h,
-            );
-            fill_around(d, left, lay::BAR, theme::BG)?;
-            fill_around(d, right, lay::BAR_TEXT, theme::BG)?;
-            frame(d, lay::BAR, 1, theme::FRAME)?;
-            let f = lay::BAR_FILL;
+            let (bar, bar_text) = (lay.bar(), lay.bar_text());
+            let left = Area::new(a.x, a.y, (bar_text.x - a.x) as u16, a.h);
+            let right = Area::new(bar_text.x, a.y, (a.right() - bar_text.x) as u16, a.h);
+            fill_around(d, left, bar, theme::BG)?;
+            fill_around(d, right, bar_text, theme::BG)?;
+            frame(d, bar, 1, theme::FRAME)?;
+            let f = lay.bar_fill();
             fill(d, Area::new(f.x, f.y, px, f.h), theme::PROGRESS)?;
             fill(d, Area::new(f.x + px as i16, f.y, f.w - px, f.h), theme::PROGRESS_BG)?;
-            draw_percent(d, percent)
+            draw_percent(d, lay, percent)
         }
     }
 }
 
 /// Repaints only the bar columns between the old and the new fill.
-fn update_progress<D: Canvas>(d: &mut D, old_px: u16, new_px: u16) -> Result<(), D::Error> {
-    let f = lay::BAR_FILL;
+fn update_progress<D: Canvas>(d: &mut D, lay: &Layout, old_px: u16, new_px: u16) -> Result<(), D::Error> {
+    let f = lay.bar_fill();
     let (lo, hi, c) =
         if new_px >= old_px { (old_px, new_px, theme::PROGRESS) } else { (new_px, old_px, theme::PROGRESS_BG) };
     fill(d, Area::new(f.x + lo as i16, f.y, hi - lo, f.h), c)
 }
 
-fn draw_percent<D: Canvas>(d: &mut D, percent: u8) -> Result<(), D::Error> {
+fn draw_percent<D: Canvas>(d: &mut D, lay: &Layout, percent: u8) -> Result<(), D::Error> {
     let mut line: Line<5> = Line::new();
-    line.push_int(i32::from(percent)).push_byte(b'%');
+    line.i32(i32::from(percent)).bytes(b"%");
     // Right-aligned in a 4-character field so the digits do not jump.
     let mut padded: Line<5> = Line::new();
     for _ in line.as_bytes().len()..4 {
-        padded.push_byte(b' ');
+        padded.bytes(b" ");
     }
-    padded.push(line.as_bytes());
-    text_box(d, lay::BAR_TEXT, padded.as_bytes(), &HEAD_STYLE)
+    padded.bytes(line.as_bytes());
+    text_box(d, lay.bar_text(), padded.as_bytes(), &head_style(lay, theme::TEXT))
 }
 
-fn draw_info<D: Canvas>(d: &mut D, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
+fn draw_info<D: Canvas>(d: &mut D, lay: &Layout, zone: Option<(u8, Option<i16>)>) -> Result<(), D::Error> {
     let mut line: Line<26> = Line::new();
     if let Some((z, alpha)) = zone {
-        line.push(&t!("Zone ")).push_int(i32::from(z)).push(&t!("  Direction ")).push_deg(alpha);
+        line.str(t!("Zone ")).i32(i32::from(z)).str(t!("  Direction ")).deg(alpha);
     }
-    text_box(d, lay::INFO, line.as_bytes(), &SMALL_STYLE)
+    text_box(d, lay.info(), line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_warning<D: Canvas>(d: &mut D, bit: u8) -> Result<(), D::Error> {
-    text_box(d, lay::WARN, &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
+fn draw_warning<D: Canvas>(d: &mut D, lay: &Layout, bit: u8) -> Result<(), D::Error> {
+    text_box(d, lay.warn(), &warning_text(bit), &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG))
 }
 
-fn draw_joints<D: Canvas>(d: &mut D, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
+fn draw_joints<D: Canvas>(d: &mut D, lay: &Layout, joints: &[Option<i16>; 3]) -> Result<(), D::Error> {
     let mut line: Line<52> = Line::new();
-    line.push(&t!("Base ")).push_deg(joints[0]);
-    line.push(&t!("   Shoulder ")).push_deg(joints[1]);
-    line.push(&t!("   Elbow ")).push_deg(joints[2]);
-    text_box(d, lay::JOINTS, line.as_bytes(), &SMALL_STYLE)
+    line.str(t!("Base ")).deg(joints[0]);
+    line.str(t!("   Shoulder ")).deg(joints[1]);
+    line.str(t!("   Elbow ")).deg(joints[2]);
+    text_box(d, lay.joints(), line.as_bytes(), &SMALL_STYLE)
 }
 
-fn draw_speed<D: Canvas>(d: &mut D, speed: SpeedPreset) -> Result<(), D::Error> {
+fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {
     let items: [(Area, SpeedPreset, Text); 3] = [
-        (lay::SLOW, SpeedPreset::Slow, t!("Slow")),
-        (lay::NORMAL, SpeedPreset::Normal, t!("Normal")),
-        (lay::FAST, SpeedPreset::Fast, t!("Fast")),
+        (lay.slow(), SpeedPreset::Slow, t!("Slow")),
+        (lay.normal(), SpeedPreset::Normal, t!("Normal")),
+        (lay.fast(), SpeedPreset::Fast, t!("Fast")),
     ];
     for (a, p, label) in items {
         let style = if p == speed {
-            TextStyle::opaque(2, theme::WHITE, theme::BUTTON_ON)
+            label_style(lay, theme::WHITE, theme::BUTTON_ON)
         } else {
-            TextStyle::opaque(2, theme::TEXT, theme::BUTTON)
+            label_style(lay, theme::TEXT, theme::BUTTON)
         };
         button(d, a, label, &style)?;
     }

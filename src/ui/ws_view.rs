@@ -5,36 +5,53 @@
 //! The background is computed per pixel row as a handful of runs whose ends
 //! are known in closed form (the diagonals and the reach circles), so any
 //! sub-rectangle can be repainted exactly as a full draw would paint it, with
-//! integer arithmetic only: pixel centres are `(dx, dy)/240` with odd
+//! integer arithmetic only: pixel centres are `(dx, dy)/2s` with odd
 //! integers `dx, dy` (see `layout`), and the condition and reach tests on
-//! them are exact.
+//! them are exact. Sizes are the 320×240 screen's, scaled with the map
+//! ([`Layout::sm`]).
 
 use embedded_graphics::pixelcolor::Rgb565;
 
 use super::draw::{fill, frame, text, Area, Canvas, Clip, Run, TextStyle};
 use super::font::{CELL_H, CELL_W};
-use super::layout::{ws_half_units, WS, WS_ORIGIN_X, WS_SCALE};
+use super::layout::Layout;
 use super::theme;
 
-/// Half side of a marker's box: markers are 17×17.
-pub const MARKER_R: u16 = 8;
+/// Half side of a marker's box: markers are 17×17 at 320×240.
+pub const fn marker_r(lay: &Layout) -> u16 {
+    lay.sm(8)
+}
 
-/// Map pixel of the arm base (the middle of the bottom edge).
-pub const BASE_AREA: Area = Area::new(WS_ORIGIN_X - 7, WS.y + WS.h as i16 - 5, 14, 5);
+/// Map pixels of the arm base (the middle of the bottom edge): 14×5 at
+/// 320×240.
+pub const fn base_area(lay: &Layout) -> Area {
+    let half = lay.sm(7);
+    let h = lay.sm(5);
+    let ws = lay.ws();
+    Area::new(lay.ws_origin_x() - half as i16, ws.bottom() - h as i16, 2 * half, h)
+}
 
-const LABEL_STYLE: TextStyle = TextStyle::ink(3, theme::TEXT);
+/// The zone numbers: ink one scale above the layout's text.
+fn label_style(lay: &Layout) -> TextStyle {
+    TextStyle::ink(lay.text_scale() + 1, theme::TEXT)
+}
 
 /// Zone labels "1".."4" at the triangles' centroids (2/3, 1/3), (1/3, 2/3),
 /// (−1/3, 2/3), (−2/3, 1/3).
-const LABELS: [(u8, i16, i16); 4] = [
-    (b'1', WS_ORIGIN_X + 80, WS.y + 80),
-    (b'2', WS_ORIGIN_X + 40, WS.y + 40),
-    (b'3', WS_ORIGIN_X - 40, WS.y + 40),
-    (b'4', WS_ORIGIN_X - 80, WS.y + 80),
-];
+fn labels(lay: &Layout) -> [(u8, i16, i16); 4] {
+    let (ox, top) = (lay.ws_origin_x(), lay.ws().y);
+    let third = (lay.scale() / 3) as i16;
+    let two = (2 * lay.scale() / 3) as i16;
+    [
+        (b'1', ox + two, top + two),
+        (b'2', ox + third, top + third),
+        (b'3', ox - third, top + third),
+        (b'4', ox - two, top + two),
+    ]
+}
 
-fn label_area(cx: i16, cy: i16) -> Area {
-    let s = u16::from(LABEL_STYLE.scale);
+fn label_area(style: &TextStyle, cx: i16, cy: i16) -> Area {
+    let s = u16::from(style.scale);
     let (w, h) = (CELL_W * s, CELL_H * s);
     // The cell's last column and row are blank: centre the 5×7 ink.
     Area::new(cx - (5 * s / 2) as i16, cy - (7 * s / 2) as i16, w, h)
@@ -54,18 +71,23 @@ pub enum MarkKind {
 /// A marker at a map pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mark {
+    /// Centre column, screen pixels.
     pub x: i16,
+    /// Centre row, screen pixels.
     pub y: i16,
+    /// Which marker.
     pub kind: MarkKind,
 }
 
 impl Mark {
-    pub fn area(&self) -> Area {
-        Area::around(self.x, self.y, MARKER_R)
+    /// The box the marker paints (to repaint when it moves).
+    pub fn area(&self, lay: &Layout) -> Area {
+        Area::around(self.x, self.y, marker_r(lay))
     }
 }
 
-/// Reach limits precomputed as squared radii in half-pixel units.
+/// Reach limits precomputed as squared radii in half-pixel units of one
+/// map scale.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Reach {
     inner2: u32,
@@ -74,13 +96,14 @@ pub struct Reach {
 
 impl Reach {
     /// `min`, `max`: the annulus the arm reaches, in workspace units
-    /// (`|l2 − l3|/k` and `(l2 + l3)/k`). Non-finite or negative values count
-    /// as 0; everything is reachable with `max ≥ √2`.
-    pub fn new(min: f32, max: f32) -> Self {
-        Self { inner2: half_units_sq(min), outer2: half_units_sq(max) }
+    /// (`|l2 − l3|/k` and `(l2 + l3)/k`), on a map of `scale` pixels per unit.
+    /// Non-finite or negative values count as 0; everything is reachable
+    /// with `max ≥ √2`.
+    pub fn new(min: f32, max: f32, scale: u16) -> Self {
+        Self { inner2: half_units_sq(min, scale), outer2: half_units_sq(max, scale) }
     }
 
-    /// Whether the centre `(dx, dy)/240` lies in the annulus.
+    /// Whether the centre `(dx, dy)/2s` lies in the annulus.
     pub fn contains(&self, dx: i16, dy: i16) -> bool {
         let r2 = sq(dx) + sq(dy);
         r2 >= self.inner2 && r2 <= self.outer2
@@ -92,13 +115,13 @@ fn sq(v: i16) -> u32 {
     a * a
 }
 
-fn half_units_sq(r: f32) -> u32 {
-    // Beyond every pixel centre of the map: (2·240)² / 2 ≥ max dx² + dy².
-    let limit = 2.0 * (2 * WS_SCALE) as f32 * (2 * WS_SCALE) as f32;
-    if !(r > 0.0) {
+fn half_units_sq(r: f32, scale: u16) -> u32 {
+    // Beyond every pixel centre of the map: 2·(2s)² ≥ max dx² + dy².
+    let limit = 2.0 * (2 * scale) as f32 * (2 * scale) as f32;
+    if !crate::math::real::Real::is_positive(r) {
         return 0;
     }
-    let v = r * (2 * WS_SCALE) as f32;
+    let v = r * (2 * scale) as f32;
     let v2 = v * v;
     if v2 >= limit {
         limit as u32
@@ -113,7 +136,7 @@ fn largest_odd_root(t: i32) -> Option<i16> {
         return None;
     }
     let mut r = isqrt(t as u32);
-    if r % 2 == 0 {
+    if r.is_multiple_of(2) {
         r -= 1;
     }
     Some(r as i16)
@@ -152,18 +175,19 @@ pub fn zone_index(dx: i16, dy: i16) -> usize {
     }
 }
 
-/// Colour of map pixel `(x, y)` (screen coordinates inside [`WS`]).
-pub fn background_at(reach: &Reach, x: i16, y: i16) -> Rgb565 {
-    let col = x - WS.x;
-    let row = y - WS.y;
-    let last = WS.w as i16 - 1;
+/// Colour of map pixel `(x, y)` (screen coordinates inside the map).
+pub fn background_at(lay: &Layout, reach: &Reach, x: i16, y: i16) -> Rgb565 {
+    let ws = lay.ws();
+    let col = x - ws.x;
+    let row = y - ws.y;
+    let last = ws.w as i16 - 1;
     // The 45° diagonals pass through columns `row` and `last − row`; the
     // vertical is the two middle columns.
-    let mid = WS_ORIGIN_X - WS.x;
+    let mid = lay.ws_origin_x() - ws.x;
     if col == row || col == last - row || col == mid - 1 || col == mid {
         return theme::ZONE_LINE;
     }
-    let (dx, dy) = ws_half_units(x, y);
+    let (dx, dy) = lay.ws_half_units(x, y);
     let z = zone_index(dx, dy);
     if reach.contains(dx, dy) {
         theme::ZONE[z]
@@ -174,16 +198,17 @@ pub fn background_at(reach: &Reach, x: i16, y: i16) -> Rgb565 {
 
 /// Column breakpoints of one map row (screen x), sorted, where the colour
 /// may change. At most 12.
-fn row_breaks(reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize {
-    let row = y - WS.y;
-    let last = WS.w as i16 - 1;
-    let mid = WS_ORIGIN_X - WS.x;
-    let (_, dy) = ws_half_units(WS.x, y);
+fn row_breaks(lay: &Layout, reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize {
+    let ws = lay.ws();
+    let row = y - ws.y;
+    let last = ws.w as i16 - 1;
+    let mid = lay.ws_origin_x() - ws.x;
+    let (_, dy) = lay.ws_half_units(ws.x, y);
     let dy2 = sq(dy) as i32;
     let mut n = 0;
     let mut push = |v: i16, n: &mut usize| {
         if *n < out.len() {
-            out[*n] = v.clamp(0, WS.w as i16) + WS.x;
+            out[*n] = v.clamp(0, ws.w as i16) + ws.x;
             *n += 1;
         }
     };
@@ -217,15 +242,22 @@ fn row_breaks(reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize {
     n
 }
 
-/// Paints the map background over `area ∩ WS`: one [`Canvas::fill_runs`]
+/// Paints the map background over `area ∩` the map: one [`Canvas::fill_runs`]
 /// per row (a dozen runs each).
-pub fn draw_background<D: Canvas>(d: &mut D, reach: &Reach, area: Area) -> Result<(), D::Error> {
-    let Some(a) = area.intersect(&WS) else {
+pub fn draw_background<D: Canvas>(d: &mut D, lay: &Layout, reach: &Reach, area: Area) -> Result<(), D::Error> {
+    let Some(a) = area.intersect(&lay.ws()) else {
         return Ok(());
     };
     let mut breaks = [0i16; 14];
     for y in a.y..a.bottom() {
-        let n = row_breaks(reach, y, &mut breaks);
+        if d.paused() {
+            break;
+        }
+        // One operation per row.
+        if d.skip_op() {
+            continue;
+        }
+        let n = row_breaks(lay, reach, y, &mut breaks);
         let mut runs = [Run { len: 0, color: theme::ZONE_LINE }; 14];
         let mut count = 0usize;
         let mut start = a.x;
@@ -237,7 +269,7 @@ pub fn draw_background<D: Canvas>(d: &mut D, reach: &Reach, area: Area) -> Resul
             }
             let end = if k < n { breaks[k].min(a.right()) } else { a.right() };
             if let Some(slot) = runs.get_mut(count) {
-                *slot = Run { len: (end - start) as u16, color: background_at(reach, start, y) };
+                *slot = Run { len: (end - start) as u16, color: background_at(lay, reach, start, y) };
                 count += 1;
             }
             start = end;
@@ -249,41 +281,43 @@ pub fn draw_background<D: Canvas>(d: &mut D, reach: &Reach, area: Area) -> Resul
 
 /// Base, zone numbers and markers (`marks` in drawing order), clipped to
 /// `clip`: the layers above the background.
-pub fn draw_overlays<D: Canvas>(d: &mut D, clip: Area, marks: &[Mark]) -> Result<(), D::Error> {
-    let Some(clip) = clip.intersect(&WS) else {
+pub fn draw_overlays<D: Canvas>(d: &mut D, lay: &Layout, clip: Area, marks: &[Mark]) -> Result<(), D::Error> {
+    let Some(clip) = clip.intersect(&lay.ws()) else {
         return Ok(());
     };
     let mut c = Clip { inner: d, clip };
-    if let Some(b) = BASE_AREA.intersect(&clip) {
+    if let Some(b) = base_area(lay).intersect(&clip) {
         fill(&mut *c.inner, b, theme::BASE)?;
     }
-    for &(ch, cx, cy) in LABELS.iter() {
-        let la = label_area(cx, cy);
+    let style = label_style(lay);
+    for &(ch, cx, cy) in labels(lay).iter() {
+        let la = label_area(&style, cx, cy);
         if la.intersect(&clip).is_some() {
-            text(&mut c, la.x, la.y, &[ch][..], &LABEL_STYLE)?;
+            text(&mut c, la.x, la.y, &[ch][..], &style)?;
         }
     }
     for m in marks {
-        if m.area().intersect(&clip).is_some() {
-            draw_mark(&mut c, m)?;
+        if m.area(lay).intersect(&clip).is_some() {
+            draw_mark(&mut c, lay, m)?;
         }
     }
     Ok(())
 }
 
-fn draw_mark<D: Canvas>(d: &mut D, m: &Mark) -> Result<(), D::Error> {
-    let r = MARKER_R as i16;
+fn draw_mark<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark) -> Result<(), D::Error> {
+    let big_r = marker_r(lay);
+    let r = big_r as i16;
     match m.kind {
         MarkKind::Touch | MarkKind::TouchRefused => {
             let ink = if m.kind == MarkKind::Touch { theme::TOUCH_MARK } else { theme::REFUSED };
             // A white halo keeps the plus visible on every zone colour.
-            fill(d, Area::new(m.x - r, m.y - 2, 2 * MARKER_R + 1, 5), theme::WHITE)?;
-            fill(d, Area::new(m.x - 2, m.y - r, 5, 2 * MARKER_R + 1), theme::WHITE)?;
-            fill(d, Area::new(m.x - r + 1, m.y - 1, 2 * MARKER_R - 1, 3), ink)?;
-            fill(d, Area::new(m.x - 1, m.y - r + 1, 3, 2 * MARKER_R - 1), ink)
+            fill(d, Area::new(m.x - r, m.y - 2, 2 * big_r + 1, 5), theme::WHITE)?;
+            fill(d, Area::new(m.x - 2, m.y - r, 5, 2 * big_r + 1), theme::WHITE)?;
+            fill(d, Area::new(m.x - r + 1, m.y - 1, 2 * big_r - 1, 3), ink)?;
+            fill(d, Area::new(m.x - 1, m.y - r + 1, 3, 2 * big_r - 1), ink)
         }
         MarkKind::Target => {
-            let outer = Area::around(m.x, m.y, MARKER_R);
+            let outer = Area::around(m.x, m.y, big_r);
             frame(d, outer, 1, theme::WHITE)?;
             frame(d, outer.shrink(1), 3, theme::TARGET_MARK)?;
             frame(d, outer.shrink(4), 1, theme::WHITE)
@@ -292,13 +326,13 @@ fn draw_mark<D: Canvas>(d: &mut D, m: &Mark) -> Result<(), D::Error> {
 }
 
 /// The whole map: background, base, labels, markers.
-pub fn draw_map<D: Canvas>(d: &mut D, reach: &Reach, marks: &[Mark]) -> Result<(), D::Error> {
-    draw_background(d, reach, WS)?;
-    draw_overlays(d, WS, marks)
+pub fn draw_map<D: Canvas>(d: &mut D, lay: &Layout, reach: &Reach, marks: &[Mark]) -> Result<(), D::Error> {
+    draw_background(d, lay, reach, lay.ws())?;
+    draw_overlays(d, lay, lay.ws(), marks)
 }
 
-/// Repaints exactly `area ∩ WS` with every layer.
-pub fn repaint<D: Canvas>(d: &mut D, reach: &Reach, area: Area, marks: &[Mark]) -> Result<(), D::Error> {
-    draw_background(d, reach, area)?;
-    draw_overlays(d, area, marks)
+/// Repaints exactly `area ∩` the map with every layer.
+pub fn repaint<D: Canvas>(d: &mut D, lay: &Layout, reach: &Reach, area: Area, marks: &[Mark]) -> Result<(), D::Error> {
+    draw_background(d, lay, reach, area)?;
+    draw_overlays(d, lay, area, marks)
 }

@@ -34,6 +34,8 @@
 //!   and re-arms its own timers (see [`Avr::resets`]).
 
 mod adc;
+mod eeprom;
+mod history;
 mod oc_release;
 mod ocr_buffer;
 mod pins;
@@ -51,7 +53,7 @@ use simavr_ffi as ffi;
 
 pub use adc::{raw_to_millivolts, AdcConversion, AdcHandler, AdcInput, AdcMux, AdcRequest, PortsSnapshot};
 pub use pins::{Edge, Pin, PortState, Pulse};
-pub use port_hook::{PortLevels, PortListener};
+pub use port_hook::{BusDevice, PinDrive, PortLevels, PortListener};
 pub use uart::RxPacing;
 
 /// simavr's ELF loader and core constructors touch process-wide state
@@ -690,7 +692,19 @@ impl Avr {
     pub fn add_port_listener(
         &mut self,
         ports: &[char],
-        f: impl FnMut(char, u64, &PortLevels) + 'static,
+        mut f: impl FnMut(char, u64, &PortLevels) + 'static,
+    ) -> Result<(), Error> {
+        self.add_bus_device(ports, move |port, cycle, levels, _| f(port, cycle, levels))
+    }
+
+    /// [`Avr::add_port_listener`] for a device that also answers on the
+    /// wire: `f` may drive input pins through its [`PinDrive`] (a display
+    /// controller putting a byte on the data lines while RD is low); the
+    /// firmware's next instruction reads them.
+    pub fn add_bus_device(
+        &mut self,
+        ports: &[char],
+        f: impl FnMut(char, u64, &PortLevels, &mut PinDrive<'_>) + 'static,
     ) -> Result<(), Error> {
         let mut mask = 0u32;
         for &p in ports {
@@ -813,7 +827,7 @@ impl Avr {
     /// peripheral callbacks run, unlike [`Avr::write_sram`]. Lets a test
     /// disturb the hardware under the firmware (e.g. stop a timer).
     pub fn write_io(&mut self, addr: u16, value: u8) -> Result<(), Error> {
-        if addr < 0x20 || addr > 0x1FF {
+        if !(0x20..=0x1FF).contains(&addr) {
             return Err(Error::OutOfRange { addr: u32::from(addr), len: 1 });
         }
         let slot = usize::from(addr - 0x20);

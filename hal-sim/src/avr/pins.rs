@@ -27,6 +27,11 @@ impl Pin {
     pub const fn new(port: char, bit: u8) -> Self {
         Self { port, bit }
     }
+
+    /// A pin of the firmware's pin map (`touch_arm::seam::pins`).
+    pub const fn of(p: touch_arm::seam::pins::Pin) -> Self {
+        Self::new(p.port().letter(), p.bit())
+    }
 }
 
 /// Register view of one port.

@@ -1,7 +1,9 @@
 //! Port listeners: a user callback run after every PORT or DDR write of
 //! chosen ports (including `sbi`/`cbi` and PINx toggles), with the levels of
 //! all ports at that instant. Bus decoders (e.g. the LCD's 8-bit parallel
-//! bus, `crate::lcd_bus`) latch their data here on a strobe edge.
+//! bus, `crate::lcd_bus`) latch their data here on a strobe edge, and a bus
+//! device answers a read strobe by driving input pins ([`PinDrive`]) before
+//! the firmware's next instruction samples them.
 //!
 //! The hook is simavr's `IOPORT_IRQ_PIN_ALL`, raised after each such write
 //! once the port registers hold the new value; data written to other ports
@@ -63,15 +65,47 @@ impl PortLevels {
     pub fn is_output(&self, pin: Pin) -> bool {
         self.ddr(pin.port).is_some_and(|v| v >> (pin.bit & 7) & 1 == 1)
     }
+
+    /// An input with its internal pull-up on (DDR 0, PORT 1).
+    pub fn is_pulled_up(&self, pin: Pin) -> bool {
+        self.index(pin.port).is_some_and(|i| (self.port[i] & !self.ddr[i]) >> (pin.bit & 7) & 1 == 1)
+    }
+}
+
+/// Drives pins from inside a port listener, as a device on the wire would:
+/// an input's PINx bit takes the level (what the firmware reads next); an
+/// output keeps the firmware's level (simavr ignores the drive), so a bus
+/// fight shows up as the firmware's value, not the device's. Unlike
+/// [`Avr::drive_pin`](super::Avr::drive_pin), watched-pin edges are not
+/// recorded.
+pub struct PinDrive<'a> {
+    ports: &'a [PortInfo],
+}
+
+impl PinDrive<'_> {
+    /// Drives `pin` to `high` (no effect on a pin of a missing port).
+    pub fn drive(&mut self, pin: Pin, high: bool) {
+        let Some(info) = self.ports.iter().find(|p| p.name == pin.port) else {
+            return;
+        };
+        // SAFETY: the listener runs inside avr_run on the live core that owns
+        // these IRQs; a pin IRQ only updates PINx (no PIN_ALL, so no listener
+        // is re-entered).
+        unsafe { ffi::avr_raise_irq(info.irq.add(usize::from(pin.bit & 7)), u32::from(high)) };
+    }
 }
 
 /// Called as `(port written, cycle, all port levels)`.
 pub type PortListener = Box<dyn FnMut(char, u64, &PortLevels)>;
 
+/// A listener that may also drive pins: `(port written, cycle, all port
+/// levels, drive)`.
+pub type BusDevice = Box<dyn FnMut(char, u64, &PortLevels, &mut PinDrive<'_>)>;
+
 pub(crate) struct Listener {
     /// Bit `i` = port `shared.ports[i]`.
     pub(crate) mask: u32,
-    pub(crate) f: PortListener,
+    pub(crate) f: BusDevice,
 }
 
 /// The per-port notify parameter; boxed so simavr can hold its address.
@@ -93,6 +127,7 @@ pub(crate) unsafe extern "C" fn on_port_write(_irq: *mut ffi::avr_irq_t, _value:
     let levels = PortLevels::read(&shared.ports, shared.avr);
     let bit = 1u32 << hook.port;
     let mut panicked = None;
+    let mut drive = PinDrive { ports: &shared.ports };
     for l in shared.port_listeners.iter_mut() {
         if l.mask & bit == 0 {
             continue;
@@ -100,7 +135,8 @@ pub(crate) unsafe extern "C" fn on_port_write(_irq: *mut ffi::avr_irq_t, _value:
         // A panic must not unwind through simavr's C frames: park it and
         // re-raise it once avr_run has returned.
         let f = &mut l.f;
-        if let Err(payload) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(name, cycle, &levels))) {
+        let call = std::panic::AssertUnwindSafe(|| f(name, cycle, &levels, &mut drive));
+        if let Err(payload) = std::panic::catch_unwind(call) {
             panicked.get_or_insert(payload);
         }
     }

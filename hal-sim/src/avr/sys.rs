@@ -37,7 +37,7 @@ pub(crate) fn install_logger() {
         let f: Logger = logger;
         // SAFETY: same C signature; the `va_list` parameter is passed as a
         // pointer either way (see `vsnprintf` above).
-        unsafe { ffi::avr_global_logger_set(Some(std::mem::transmute::<Logger, _>(f))) };
+        unsafe { ffi::avr_global_logger_set(std::mem::transmute::<Logger, ffi::avr_logger_p>(f)) };
     });
 }
 

@@ -11,7 +11,11 @@
 //!   `then_ts_s`, `then_reply`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
-//! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes.
+//! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes,
+//!   at the panel's size.
+//!
+//! `--lcd` chooses the display controller simulated around the same ELF
+//! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot).
 //!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
@@ -22,13 +26,10 @@ use std::process::ExitCode;
 use clap::Parser;
 use hal_sim::cli::{parse_pair, parse_raw};
 use hal_sim::firmware::{self, Session};
+use hal_sim::lcd_bus::Chip;
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
-use touch_arm::config::settings::Config;
-use touch_arm::geometry::ik::Links;
-use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
-use touch_arm::servo::map::{ServoMap, ELBOW_BRANCH};
 
 /// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
 /// DIR/summary.json, DIR/angles.png and DIR/screen.png. A press that lands on a
@@ -40,6 +41,9 @@ struct Args {
     /// A workspace point picked on the screen's map, in [-1,1]x[0,1] [default: 0.4,0.6]
     #[arg(long, value_name = "X,Y", value_parser = map_point, allow_hyphen_values = true)]
     xy: Option<(f64, f64)>,
+    /// The display controller on the simulated shield: ili9341, st7789, ili9486 or ili9325
+    #[arg(long, value_name = "CONTROLLER", value_parser = lcd_chip, default_value = "ili9341")]
+    lcd: Chip,
     /// A raw panel reading (ADC counts 0..=1023), wherever it lands: map, button or nothing
     #[arg(long, value_name = "X,Y", value_parser = parse_raw, conflicts_with = "xy")]
     raw: Option<(u16, u16)>,
@@ -80,12 +84,19 @@ fn then_touch(s: &str) -> Result<Then, String> {
     Ok(Then { raw: map_point(xy)?, ms })
 }
 
-/// `--xy`: the raw reading that presses the map pixel showing (x, y).
+/// `--xy`: a point of the map (the workspace [-1,1]x[0,1]).
 fn map_point(s: &str) -> Result<(f64, f64), String> {
     let (x, y) = parse_pair(s)?;
-    firmware::map_touch(x as f32, y as f32)
-        .map(|(raw, _)| raw)
-        .ok_or_else(|| format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
+    if (-1.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y) {
+        Ok((x, y))
+    } else {
+        Err(format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
+    }
+}
+
+/// `--lcd`: a supported controller by name.
+fn lcd_chip(s: &str) -> Result<Chip, String> {
+    Chip::from_name(s).ok_or_else(|| format!("unknown controller {s:?} (ili9341, st7789, ili9486 or ili9325)"))
 }
 
 fn main() -> ExitCode {
@@ -140,14 +151,19 @@ const TOUCH_REPLIES: [&str; 4] = ["info touch ", "err touch ", "info screen ", "
 fn run(args: Args) -> Result<(), String> {
     let elf = args.elf.unwrap_or_else(firmware::default_elf);
     let out = args.out;
+    let lay = args.lcd.layout();
+    let on_map = |(x, y): (f64, f64)| {
+        firmware::map_touch_on(&lay, x as f32, y as f32).map(|(raw, _)| raw).ok_or("point off the map")
+    };
     let raw = match (args.raw, args.xy) {
         (Some((x, y)), _) => (f64::from(x), f64::from(y)),
-        (None, Some(raw)) => raw,
-        (None, None) => firmware::map_touch(0.4, 0.6).ok_or("default point off the map")?.0,
+        (None, Some(xy)) => on_map(xy)?,
+        (None, None) => on_map((0.4, 0.6))?,
     };
 
-    let mut s = Session::start(&elf, PanelWiring::A, 1)?;
+    let mut s = Session::start_with_lcd(&elf, PanelWiring::A, args.lcd, 1)?;
     s.run_for(1.5)?;
+    s.run_until_ready(2.0)?;
     let law = match &args.law {
         Some(l) => {
             let reply = s.command(&format!("law {l}"))?;
@@ -174,14 +190,14 @@ fn run(args: Args) -> Result<(), String> {
     let text = s.avr.uart_output_string();
     let line = first.as_ref().map(|(l, _)| l.clone());
     // No reply is right only off the map (a guard band or gap); on it, a fault.
-    let on_map = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16).is_some();
+    let on_map = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16).is_some();
     if let Some(what) = off_map(line.as_deref()).filter(|_| line.is_some() || !on_map) {
         // Let the screen finish redrawing before it is saved.
         s.run_for(0.2)?;
         std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
         let screen = out.join("screen.png");
         s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
-        println!("{}", text.lines().next().unwrap_or(""));
+        print_boot(&text);
         println!("touch at raw ({}, {}): {what}", raw.0, raw.1);
         if let Some(line) = &line {
             println!("firmware: {line}");
@@ -217,18 +233,11 @@ fn run(args: Args) -> Result<(), String> {
     let raw = end_raw;
 
     // Host f64 reference of the same chain (SPEC §2–4) for the summary.
-    let (x_p, y_p) = firmware::raw_to_map_point(raw.0 as u16, raw.1 as u16)
+    let (x_p, y_p) = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16)
         .ok_or_else(|| format!("raw ({}, {}) is not on the screen's map", raw.0, raw.1))?;
-    let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?, branch: ELBOW_BRANCH };
-    let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
-    let q = [pose.alpha, pose.q2, pose.q3];
-    let maps: Vec<ServoMap> = Config::DEFAULT
-        .joints
-        .iter()
-        .map(|j| ServoMap::new(j).map_err(|e| format!("{e:?}")))
-        .collect::<Result<_, _>>()?;
-    let target: Vec<f64> =
-        (0..3).map(|j| maps[j].angle_to_pulse(q[j]).map(|p| f64::from(p.us())).unwrap_or(f64::NAN)).collect();
+    let host = firmware::host_target(x_p, y_p)?;
+    let (pose, q, target) = (host.pose, host.q, host.pulses_us);
+    let maps = firmware::default_servo_maps()?;
 
     let trains = s.pulses();
     let n = trains.iter().map(Vec::len).min().unwrap_or(0);
@@ -243,8 +252,8 @@ fn run(args: Args) -> Result<(), String> {
 
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut csv = String::from("t_s,base_us,shoulder_us,elbow_us\n");
-    for i in 0..n {
-        csv += &format!("{:.6},{:.1},{:.1},{:.1}\n", trains[0][i].0, trains[0][i].1, trains[1][i].1, trains[2][i].1);
+    for ((b, s), e) in trains[0].iter().zip(&trains[1]).zip(&trains[2]).take(n) {
+        csv += &format!("{:.6},{:.1},{:.1},{:.1}\n", b.0, b.1, s.1, e.1);
     }
     let csv_path = out.join("pulses.csv");
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
@@ -300,7 +309,7 @@ fn run(args: Args) -> Result<(), String> {
     let screen = out.join("screen.png");
     s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
 
-    println!("{}", text.lines().next().unwrap_or(""));
+    print_boot(&text);
     println!(
         "touch at raw ({}, {}) -> map point x_p {:.4}, y_p {:.4}, condition {}, alpha {:.2} deg",
         raw.0,
@@ -326,6 +335,14 @@ fn run(args: Args) -> Result<(), String> {
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
     println!("wrote {}, {}, {}, {}", csv_path.display(), json_path.display(), png.display(), screen.display());
     Ok(())
+}
+
+/// The firmware's first line and what it said about the display.
+fn print_boot(text: &str) {
+    println!("{}", text.lines().next().unwrap_or(""));
+    if let Some(l) = text.lines().find(|l| l.starts_with("info lcd ") || l.starts_with("warn lcd ")) {
+        println!("{l}");
+    }
 }
 
 fn curves<'a>(names: &[&'a str; 3], data: &'a [Vec<f64>]) -> Vec<Curve<'a>> {

@@ -2,8 +2,10 @@
 
 use std::collections::VecDeque;
 
+use embedded_storage::{ReadStorage, Storage};
 use touch_arm::config::store::EEPROM_SIZE;
-use touch_arm::seam::{Clock, SerialPort, Storage, StorageError};
+use touch_arm::protocol::rx_loss::{LossCounter, BYTES_PER_FRAME, RX_BUFFER, TX_BUFFER};
+use touch_arm::seam::{Clock, RxLoss, SerialPort, StorageError};
 
 /// Millisecond clock set by the runner.
 #[derive(Debug, Clone, Default)]
@@ -71,16 +73,24 @@ impl SimEeprom {
     }
 }
 
-impl Storage for SimEeprom {
-    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+impl ReadStorage for SimEeprom {
+    type Error = StorageError;
+
+    fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         let src = self.mem.get(a..a + buf.len()).ok_or(StorageError::OutOfRange)?;
         buf.copy_from_slice(src);
         Ok(())
     }
 
-    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), StorageError> {
-        let a = addr as usize;
+    fn capacity(&self) -> usize {
+        self.mem.len()
+    }
+}
+
+impl Storage for SimEeprom {
+    fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError> {
+        let a = offset as usize;
         if a + data.len() > self.mem.len() {
             return Err(StorageError::OutOfRange);
         }
@@ -104,16 +114,75 @@ impl Storage for SimEeprom {
     }
 }
 
-/// USART0: bytes queued for the app, bytes the app wrote.
-#[derive(Debug, Clone, Default)]
+/// USART0's twin: the wire and the chip's bounded receive and transmit
+/// buffers (`protocol::rx_loss` sizes), filled and drained at 115200 baud,
+/// one frame's worth per [`SimSerial::advance_frame`]. A full receive buffer
+/// drops bytes exactly as the chip's interrupt does (through the same
+/// `LossCounter`); `write` past the room drops bytes and counts them.
+#[derive(Debug, Clone)]
 pub struct SimSerial {
+    /// Bytes sent to the app, still on the wire.
     pub input: VecDeque<u8>,
+    /// Everything the app wrote, in order.
     pub output: Vec<u8>,
+    /// Model the buffers (the default). Off: an unbounded port that hands
+    /// every sent byte to the app at once and never runs out of room.
+    pub bounded: bool,
+    ring: VecDeque<u8>,
+    loss: LossCounter,
+    /// Written bytes not yet sent.
+    tx_pending: usize,
+    /// Bytes dropped by the receive buffer.
+    pub rx_dropped: u64,
+    /// Bytes `write` could not queue (a caller that ignored `tx_room`).
+    pub tx_overflow: u64,
+}
+
+impl Default for SimSerial {
+    fn default() -> Self {
+        SimSerial {
+            input: VecDeque::new(),
+            output: Vec::new(),
+            bounded: true,
+            ring: VecDeque::new(),
+            loss: LossCounter::new(),
+            tx_pending: 0,
+            rx_dropped: 0,
+            tx_overflow: 0,
+        }
+    }
 }
 
 impl SimSerial {
     pub fn send(&mut self, bytes: &[u8]) {
         self.input.extend(bytes.iter().copied());
+    }
+
+    /// One 20 ms frame of the line: up to a frame's worth of bytes arrive
+    /// into the receive buffer and as many leave the transmit buffer.
+    pub fn advance_frame(&mut self) {
+        if !self.bounded {
+            return;
+        }
+        for _ in 0..BYTES_PER_FRAME {
+            let Some(b) = self.input.pop_front() else { break };
+            let kept = !self.loss.is_open() && self.ring.len() < RX_BUFFER;
+            if kept {
+                self.ring.push_back(b);
+            } else {
+                self.rx_dropped += 1;
+            }
+            self.loss.byte(b, kept);
+        }
+        self.tx_pending = self.tx_pending.saturating_sub(BYTES_PER_FRAME);
+    }
+
+    /// Power cycle: the buffers empty, the wire keeps nothing.
+    pub fn reset(&mut self) {
+        self.input.clear();
+        self.ring.clear();
+        self.loss = LossCounter::new();
+        self.tx_pending = 0;
     }
 
     /// Output split into lines (terminators removed; a trailing partial line
@@ -129,11 +198,36 @@ impl SimSerial {
 
 impl SerialPort for SimSerial {
     fn read_byte(&mut self) -> Option<u8> {
-        self.input.pop_front()
+        if self.bounded {
+            self.ring.pop_front()
+        } else {
+            self.input.pop_front()
+        }
+    }
+
+    fn take_rx_loss(&mut self) -> Option<RxLoss> {
+        if self.ring.is_empty() {
+            self.loss.take()
+        } else {
+            None
+        }
+    }
+
+    fn tx_room(&self) -> usize {
+        if self.bounded {
+            TX_BUFFER - self.tx_pending
+        } else {
+            usize::MAX
+        }
     }
 
     fn write(&mut self, bytes: &[u8]) {
-        self.output.extend_from_slice(bytes);
+        let n = bytes.len().min(self.tx_room());
+        self.output.extend_from_slice(&bytes[..n]);
+        self.tx_overflow += (bytes.len() - n) as u64;
+        if self.bounded {
+            self.tx_pending += n;
+        }
     }
 }
 
@@ -155,6 +249,8 @@ mod tests {
         assert_eq!(e.mem[0], 7);
         let mut buf = [0u8; 2];
         assert_eq!(e.read(4095, &mut buf), Err(StorageError::OutOfRange));
+        assert_eq!(e.read(4094, &mut buf), Ok(()));
+        assert_eq!(e.capacity(), 4096);
         assert!(e.corrupt(4096, 0).is_err());
     }
 }

@@ -19,7 +19,7 @@
 //!   z2 = 1023: pressure 0.
 
 use touch_arm::seam::RawSample;
-use touch_arm::seam::TouchPanel;
+use touch_arm::seam::{TouchError, TouchPanel};
 use touch_arm::touch::filter::{pressure, ADC_MAX};
 use touch_arm::touch::map::Calibration;
 
@@ -32,6 +32,8 @@ pub enum Drive {
     Low,
     /// Input, high impedance (the ADC input draws no current).
     Float,
+    /// Input with the internal pull-up: [`R_PULLUP`] to Vcc.
+    PullUp,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,14 +86,18 @@ pub struct PanelModel {
 pub const R_TOUCH_FIRM: f64 = 100.0;
 /// Keeps a contact at an electrode from making a zero resistor.
 const R_MIN: f64 = 1e-3;
+/// The ATmega2560's I/O pull-up (datasheet: 20–50 kΩ).
+pub const R_PULLUP: f64 = 35_000.0;
 
-const NODES: usize = 6;
+const NODES: usize = 7;
 const XP: usize = 0;
 const XM: usize = 1;
 const YP: usize = 2;
 const YM: usize = 3;
 const CX: usize = 4;
 const CY: usize = 5;
+/// Vcc, the far end of the pull-ups.
+const VCC: usize = 6;
 
 impl Default for PanelModel {
     fn default() -> Self {
@@ -100,8 +106,19 @@ impl Default for PanelModel {
 }
 
 impl PanelModel {
-    /// Resistors of the network as (node, node, Ω).
-    fn resistors(&self) -> Vec<(usize, usize, f64)> {
+    /// Resistors of the network as (node, node, Ω): the plates, the contact
+    /// and the pull-ups that `pins` enables.
+    fn resistors(&self, pins: &PanelPins) -> Vec<(usize, usize, f64)> {
+        let mut res = self.plates();
+        for (node, d) in [(XP, pins.xp), (XM, pins.xm), (YP, pins.yp), (YM, pins.ym)] {
+            if d == Drive::PullUp {
+                res.push((node, VCC, R_PULLUP));
+            }
+        }
+        res
+    }
+
+    fn plates(&self) -> Vec<(usize, usize, f64)> {
         match self.contact {
             None => vec![(XM, XP, self.rx), (YM, YP, self.ry)],
             Some(c) => vec![
@@ -118,14 +135,15 @@ impl PanelModel {
     /// resistive path to a driven pin).
     pub fn voltage(&self, pins: &PanelPins, pin: Pin) -> Option<f64> {
         let mut fixed: [Option<f64>; NODES] = [None; NODES];
+        fixed[VCC] = Some(1.0);
         for (node, d) in [(XP, pins.xp), (XM, pins.xm), (YP, pins.yp), (YM, pins.ym)] {
             fixed[node] = match d {
                 Drive::High => Some(1.0),
                 Drive::Low => Some(0.0),
-                Drive::Float => None,
+                Drive::Float | Drive::PullUp => None,
             };
         }
-        let res = self.resistors();
+        let res = self.resistors(pins);
         // Nodes connected to a driven node (union over the resistors).
         let mut reach: [bool; NODES] = [false; NODES];
         for (i, f) in fixed.iter().enumerate() {
@@ -183,11 +201,12 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
             return None;
         }
         a.swap(col, piv);
-        for row in 0..m {
+        let pivot = a[col].clone();
+        for (row, r) in a.iter_mut().enumerate() {
             if row != col {
-                let f = a[row][col] / a[col][col];
-                for k in col..=m {
-                    a[row][k] -= f * a[col][k];
+                let f = r[col] / pivot[col];
+                for (x, p) in r[col..=m].iter_mut().zip(&pivot[col..=m]) {
+                    *x -= f * p;
                 }
             }
         }
@@ -276,11 +295,11 @@ impl SimPanel {
 }
 
 impl TouchPanel for SimPanel {
-    fn read(&mut self, out: &mut [RawSample]) -> usize {
+    fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
         for s in out.iter_mut() {
             *s = self.sample();
         }
-        out.len()
+        Ok(())
     }
 }
 
@@ -327,6 +346,18 @@ mod tests {
         let pins = PanelPins { xp: Drive::High, xm: Drive::Float, yp: Drive::Float, ym: Drive::Float };
         assert_eq!(m.voltage(&pins, Pin::Xm), Some(1.0));
         assert_eq!(m.voltage(&pins, Pin::Yp), None);
+    }
+
+    #[test]
+    fn a_pull_up_reads_high_unless_its_plate_is_driven_low() {
+        let m = PanelModel::default();
+        let pins = PanelPins { xp: Drive::Low, xm: Drive::PullUp, yp: Drive::PullUp, ym: Drive::Float };
+        // X plate: divider Rx / (Rx + R_PULLUP); the Y plate has no other end driven.
+        let xm = m.voltage(&pins, Pin::Xm).unwrap();
+        assert!((xm - 300.0 / (300.0 + R_PULLUP)).abs() < 1e-12, "{xm}");
+        for pin in [Pin::Yp, Pin::Ym] {
+            assert!((m.voltage(&pins, pin).unwrap() - 1.0).abs() < 1e-12);
+        }
     }
 
     #[test]

@@ -1,5 +1,7 @@
 //! A small seeded PRNG (xorshift64*) so every simulated noise sample is
-//! reproducible from the scenario's seed.
+//! reproducible from the scenario's seed. The one seeded generator of the
+//! workspace: hal-sim's tests draw their random sequences from it too (the
+//! core crate's tests use proptest's).
 
 #[derive(Debug, Clone)]
 pub struct Rng {

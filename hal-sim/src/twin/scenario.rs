@@ -12,6 +12,8 @@
 //! - `servo_init_deg <b> <s> <e>`: shaft angles at power-up (unknown to the app).
 //! - `servo_model speed <rad/s> deadband <µs>`
 //! - `seed <n>`: noise seed.
+//! - `screen on`: the app runs the touch screen (map and buttons, as the
+//!   firmware does), drawn after every frame.
 //!
 //! Actions:
 //! - `panel noise <σ counts>` / `panel spikes <probability>`
@@ -53,6 +55,8 @@
 //! - `expect move_ms <ms> tol <ms> since <mark>`: the commanded pose stops
 //!   changing for good this long after the mark
 //! - `expect refusal "<reason>"` / `expect no_refusal`
+//! - `expect screen_warning "<text>"`: the warning line the screen shows
+//!   (`""` for none)
 //!
 //! Every scenario also checks at its end that no pulse outside a servo's
 //! configured range was ever written.
@@ -101,6 +105,7 @@ enum Expect {
     MoveMs(f64, f64, String),
     Refusal(String),
     NoRefusal,
+    ScreenWarning(String),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -109,6 +114,7 @@ enum Step {
     ServoInit([f64; 3]),
     ServoModel { speed: f64, deadband: f64 },
     Seed(u64),
+    Screen,
     PanelNoise(f64),
     PanelSpikes(f64),
     TouchXy(f64, f64, f64),
@@ -126,7 +132,10 @@ enum Step {
 
 impl Step {
     fn is_setup(&self) -> bool {
-        matches!(self, Step::Geometry { .. } | Step::ServoInit(_) | Step::ServoModel { .. } | Step::Seed(_))
+        matches!(
+            self,
+            Step::Geometry { .. } | Step::ServoInit(_) | Step::ServoModel { .. } | Step::Seed(_) | Step::Screen
+        )
     }
 }
 
@@ -367,6 +376,7 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         }
         "refusal" => Expect::Refusal(a.text()?),
         "no_refusal" => Expect::NoRefusal,
+        "screen_warning" => Expect::ScreenWarning(a.text()?),
         _ => return Err(format!("unknown expectation {what:?}")),
     })
 }
@@ -390,6 +400,10 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
             Step::ServoModel { speed, deadband: a.num()? }
         }
         "seed" => Step::Seed(a.int()?),
+        "screen" => {
+            a.keyword("on")?;
+            Step::Screen
+        }
         "panel" => match a.word()?.as_str() {
             "noise" => Step::PanelNoise(a.num()?),
             "spikes" => Step::PanelSpikes(a.num()?),
@@ -494,6 +508,7 @@ fn apply_setup(setup: &mut SimSetup, step: &Step) -> Result<(), String> {
             setup.servo_model.deadband_us = *deadband;
         }
         Step::Seed(s) => setup.seed = *s,
+        Step::Screen => setup.params.screen = true,
         _ => return Err("not a set-up directive".into()),
     }
     Ok(())
@@ -510,7 +525,7 @@ fn deg3(v: &[f32; 3]) -> [f64; 3] {
 }
 
 fn close3(name: &str, got: &[f64; 3], want: &[f64; 3], tol: f64) -> Result<(), String> {
-    let bad = got.iter().zip(want.iter()).any(|(g, w)| !((g - w).abs() <= tol));
+    let bad = got.iter().zip(want.iter()).any(|(g, w)| !(g - w).abs().le(&tol));
     if bad {
         Err(format!("{name}: got {got:?}, want {want:?} ± {tol}"))
     } else {
@@ -539,7 +554,7 @@ impl Runner {
     fn step(&mut self, step: &Step) -> Result<(), String> {
         let sim = &mut self.sim;
         match step {
-            Step::Geometry { .. } | Step::ServoInit(_) | Step::ServoModel { .. } | Step::Seed(_) => {
+            Step::Geometry { .. } | Step::ServoInit(_) | Step::ServoModel { .. } | Step::Seed(_) | Step::Screen => {
                 return Err("set-up directive after the simulation started".into())
             }
             Step::PanelNoise(s) => sim.panel.noise_counts = *s,
@@ -727,7 +742,7 @@ impl Runner {
                     return Err("the pose did not change after the mark".into());
                 }
                 let got = (arrive - from) as f64 * FRAME_MS as f64;
-                if !((got - ms).abs() <= *tol) {
+                if !(got - ms).abs().le(tol) {
                     return Err(format!("move took {got} ms, want {ms} ± {tol}"));
                 }
             }
@@ -740,6 +755,12 @@ impl Runner {
             Expect::NoRefusal => {
                 if let Some(r) = st.last_refusal {
                     return Err(format!("unexpected refusal {:?}", r.reason()));
+                }
+            }
+            Expect::ScreenWarning(text) => {
+                let shown = touch_arm::ui::warning_line(sim.app.ui_model().warnings);
+                if shown.as_str() != text {
+                    return Err(format!("screen warning {:?}, want {text:?}", shown.as_str()));
                 }
             }
         }

@@ -8,6 +8,7 @@ use super::arm::{effector, Effector};
 use super::devices::{SimClock, SimEeprom, SimSerial};
 use super::panel::SimPanel;
 use super::servos::{ServoModel, SimServos};
+use crate::display::Framebuffer;
 
 /// Everything a simulation starts from.
 #[derive(Debug, Clone)]
@@ -59,6 +60,9 @@ pub struct Sim {
     pub eeprom: SimEeprom,
     pub serial: SimSerial,
     pub history: Vec<FrameRecord>,
+    /// The screen, redrawn after every frame when the app runs one
+    /// (`AppParams::screen`), as the firmware does.
+    pub display: Option<Framebuffer>,
     frames: u64,
     boot_frames: u64,
 }
@@ -75,6 +79,7 @@ impl Sim {
             eeprom: SimEeprom::new(),
             serial: SimSerial::default(),
             history: Vec::new(),
+            display: setup.params.screen.then(Framebuffer::landscape),
             frames: 0,
             boot_frames: 0,
         })
@@ -87,6 +92,7 @@ impl Sim {
 
     /// One PWM period: the app's frame, then 20 ms of servo motion.
     pub fn step(&mut self) {
+        self.serial.advance_frame();
         let mut io = Io {
             panel: &mut self.panel,
             servos: &mut self.servos,
@@ -95,6 +101,9 @@ impl Sim {
             serial: &mut self.serial,
         };
         self.app.frame(&mut io);
+        if let Some(fb) = &mut self.display {
+            let _ = self.app.draw_screen(fb);
+        }
         self.servos.advance(FRAME_MS as f64 * 1e-3);
         let st = self.app.status();
         self.history.push(FrameRecord {
@@ -132,7 +141,7 @@ impl Sim {
         self.app = App::new(&self.setup.params).map_err(|e| format!("app parameters: {e:?}"))?;
         self.eeprom.restore_power();
         self.servos.power_cycle();
-        self.serial.input.clear();
+        self.serial.reset();
         self.clock.ms = 0;
         self.boot_frames = 0;
         Ok(())

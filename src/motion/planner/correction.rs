@@ -46,9 +46,11 @@ const REFINE: u8 = 3;
 /// The term that runs beside a correction, as the correction starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Running<R> {
+    /// The running term's law.
     pub law: LawKind,
     /// Per joint: how far it moves in all.
     pub delta: [R; JOINTS],
+    /// Its duration, s.
     pub duration: R,
     /// Its local time when the correction starts.
     pub elapsed: R,
@@ -61,6 +63,7 @@ pub struct Correction<R> {
     pub delta: [R; JOINTS],
     /// The new target.
     pub target: [R; JOINTS],
+    /// The correction's law.
     pub law: LawKind,
     /// Per joint, the angles (rad) the motion must stay within.
     pub range: [[R; 2]; JOINTS],
@@ -102,7 +105,7 @@ pub fn correction_duration<R: Real>(
     let (Some(tab_r), Some(tab_c)) = (cell_table(run.law), cell_table(c.law)) else {
         return Err(PlanError::Trajectory);
     };
-    if !(run.elapsed < run.duration) {
+    if !run.elapsed.lt(&run.duration) {
         return Ok(t0);
     }
     let mut joints = [Joint {
@@ -149,7 +152,7 @@ pub fn correction_duration<R: Real>(
     let grow = R::lit(GROW);
     let mut t = t0;
     while !check(t) {
-        if !(t < lim.ts_max) {
+        if !t.lt(&lim.ts_max) {
             return Err(PlanError::SpeedLimit);
         }
         t = (t * grow).min(lim.ts_max);
@@ -216,7 +219,7 @@ fn fits<R: Real>(t: R, joints: &[Joint<R>; JOINTS], run: &Running<R>, tab_r: &Ce
 /// ⌊x⌋ as a cell index (0 for x ≤ 0, past the last for large x).
 #[inline]
 fn cell_index<R: Real>(x: R) -> usize {
-    if !(x > R::ZERO) {
+    if !x.gt(&R::ZERO) {
         0
     } else if x < R::from_u16(CELLS as u16) {
         x.to_f32() as usize

@@ -144,7 +144,7 @@ fn estimate<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) {
 #[inline(never)]
 fn creep<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>, tol: R) {
     let t_star = c.z.t_star;
-    if !(t_star > R::ZERO) || c.over {
+    if !t_star.is_positive() || c.over {
         return;
     }
     let shape = &c.z.shape;
@@ -256,7 +256,7 @@ pub(super) fn zat_duration<R: Real>(ratio: R, lim: &PlanLimits<R>) -> Result<(Za
                     break Pick::Last;
                 }
             }
-            if !(lim.ts_max > lim.zat_ts_min) {
+            if !lim.ts_max.gt(&lim.zat_ts_min) {
                 break Pick::Refuse;
             }
         } else {
@@ -341,11 +341,11 @@ pub(super) fn zat_duration<R: Real>(ratio: R, lim: &PlanLimits<R>) -> Result<(Za
         zn = if c.slope < R::ZERO { z - f / c.slope + aim } else { z_best };
         let mid = R::HALF * (z_lo + z_best);
         let wild = best.is_some() && if z <= z_lo { zn > mid } else { zn < mid };
-        if !(zn > z_lo) || wild {
+        if !zn.gt(&z_lo) || wild {
             zn = mid;
         }
         at_max = false;
-        if !(zn < z_best) {
+        if !zn.lt(&z_best) {
             if best.is_none() {
                 at_max = true;
                 zn = z_max;

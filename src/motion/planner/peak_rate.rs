@@ -46,8 +46,11 @@ pub fn classic_peak_factor(law: Law) -> f64 {
 /// ends, so no acceleration limit can hold; trapezoid: the acceleration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ratios {
+    /// Peak velocity ratio.
     pub vel: f64,
+    /// Peak acceleration ratio, if the acceleration is bounded.
     pub acc: Option<f64>,
+    /// Peak jerk ratio, if the jerk is bounded.
     pub jerk: Option<f64>,
 }
 
@@ -168,7 +171,7 @@ pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
             let rate = r.g * r.h1;
             let c2 = r.h1 * r.h1 + r.h2;
             best = Hump { rate, t: hi, q: r.q, h1: r.h1, next: hi, at_end: true, over: rate > pc.limit, exact: true };
-            if !(c2 < R::ZERO) {
+            if !c2.is_negative() {
                 return best;
             }
             best.exact = false;
@@ -246,7 +249,7 @@ pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
         }
         let t_next = next.unwrap_or(R::HALF * (lo + hi));
         best.next = t_next;
-        if !(hi - lo > R::lit(8.0) * R::EPSILON * hi) {
+        if !(hi - lo).gt(&(R::lit(8.0) * R::EPSILON * hi)) {
             // Bracket collapsed onto the maximum.
             best.exact = true;
             break;
@@ -387,11 +390,11 @@ fn hump_top<R: Real>(at: &impl Fn(R) -> Option<(R, R)>, a: (R, R), b: (R, R)) ->
             ta = tb;
             fa = fb;
         } else {
-            fa = fa * R::HALF;
+            fa *= R::HALF;
         }
         tb = t;
         fb = g3;
-        if !((tb - ta).abs() > R::lit(1e-6) * tb) {
+        if !(tb - ta).abs().gt(&(R::lit(1e-6) * tb)) {
             break;
         }
     }

@@ -150,7 +150,7 @@ fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(Za
                 continue;
             }
         }
-        if !(x < ln_max) {
+        if !x.lt(&ln_max) {
             break;
         }
         let s = (f - f_lo) / (x - lo);

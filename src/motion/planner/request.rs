@@ -43,14 +43,18 @@ pub struct PlanLimits<R> {
 /// One move to plan.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MoveRequest<R> {
+    /// Joint angles now, rad (base, shoulder, elbow).
     pub start: [R; JOINTS],
+    /// Joint angles to reach, rad.
     pub target: [R; JOINTS],
+    /// The law to move by.
     pub law: LawKind,
 }
 
 /// A planned move and what the app reports about it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlannedMove<R> {
+    /// The synchronized move itself.
     pub plan: MultiPlan<R>,
     /// Duration, s.
     pub ts: R,
@@ -74,7 +78,7 @@ pub fn time_ratio<R: Real>(req: &MoveRequest<R>, limit: &[R; JOINTS]) -> Result<
         if !(d.is_finite() && w.is_finite()) {
             return Err(PlanError::NotFinite);
         }
-        if !(*w > R::ZERO) {
+        if *w <= R::ZERO {
             return Err(PlanError::SpeedLimit);
         }
         r = r.max(d / *w);

@@ -29,9 +29,12 @@ pub enum AKind {
     Floor,
 }
 
+/// The shape parameter a the planner chose, and why.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AChoice<R> {
+    /// The ζ-a-tₛ shape parameter.
     pub a: R,
+    /// Which rule gave it.
     pub kind: AKind,
 }
 

@@ -1,0 +1,198 @@
+//! The JSON bodies the API accepts, checked field by field. Every refusal
+//! is one line that says what is wrong, sent back with a 4xx status; nothing
+//! a client sends reaches the simulator unchecked.
+
+use super::LAYOUT;
+use serde_json::{Map, Value};
+
+/// Largest request body read, bytes.
+pub const MAX_BODY: usize = 16 * 1024;
+/// Longest command line passed to the firmware, bytes. The firmware itself
+/// refuses lines over 64 bytes (`err line too long`); a tester may want to
+/// see that, so the bench allows more, but not without bound.
+pub const MAX_LINE: usize = 256;
+/// Longest press of `/api/touch`, ms.
+pub const MAX_PRESS_MS: u64 = 60_000;
+
+/// A press at a screen pixel; `ms: None` holds it until released.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Press {
+    pub x_px: i16,
+    pub y_px: i16,
+    pub ms: Option<u64>,
+}
+
+/// A tester's fault or power action (`POST /api/control`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    PowerCycle,
+    /// Invert the bits of one EEPROM byte.
+    CorruptEeprom {
+        addr: u16,
+    },
+    Noise(bool),
+    Stall,
+}
+
+/// A refusal: HTTP status and the one-line reason.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    pub status: u16,
+    pub reason: String,
+}
+
+pub fn refuse(status: u16, reason: impl Into<String>) -> Refusal {
+    Refusal { status, reason: reason.into() }
+}
+
+fn bad(reason: impl Into<String>) -> Refusal {
+    refuse(400, reason)
+}
+
+/// The body as a JSON object with no keys but `allowed`.
+fn object(body: &[u8], allowed: &[&str]) -> Result<Map<String, Value>, Refusal> {
+    let v: Value = serde_json::from_slice(body).map_err(|e| bad(format!("body is not JSON: {e}")))?;
+    let Value::Object(m) = v else { return Err(bad("body must be a JSON object")) };
+    if let Some(k) = m.keys().find(|k| !allowed.contains(&k.as_str())) {
+        return Err(bad(format!("unknown field {k:?} (expected {})", allowed.join(", "))));
+    }
+    Ok(m)
+}
+
+/// An integer field within `lo..=hi`.
+fn int(m: &Map<String, Value>, key: &str, lo: u64, hi: u64) -> Result<Option<u64>, Refusal> {
+    let Some(v) = m.get(key) else { return Ok(None) };
+    let n = v.as_u64().filter(|n| (lo..=hi).contains(n));
+    n.map(Some).ok_or_else(|| bad(format!("{key} must be an integer {lo}..={hi}, got {v}")))
+}
+
+fn required(m: &Map<String, Value>, key: &str, lo: u64, hi: u64) -> Result<u64, Refusal> {
+    int(m, key, lo, hi)?.ok_or_else(|| bad(format!("missing field {key}")))
+}
+
+fn pixel(m: &Map<String, Value>) -> Result<(i16, i16), Refusal> {
+    let x = required(m, "x_px", 0, u64::from(LAYOUT.width()) - 1)?;
+    let y = required(m, "y_px", 0, u64::from(LAYOUT.height()) - 1)?;
+    Ok((x as i16, y as i16))
+}
+
+/// `POST /api/touch`: `{"x_px": X, "y_px": Y, "ms": M}`.
+pub fn touch(body: &[u8]) -> Result<Press, Refusal> {
+    let m = object(body, &["x_px", "y_px", "ms"])?;
+    let (x_px, y_px) = pixel(&m)?;
+    let ms = required(&m, "ms", 1, MAX_PRESS_MS)?;
+    Ok(Press { x_px, y_px, ms: Some(ms) })
+}
+
+/// `POST /api/press`: `{"x_px": X, "y_px": Y}`, held until `/api/release`
+/// (the page's press and drag).
+pub fn press(body: &[u8]) -> Result<Press, Refusal> {
+    let m = object(body, &["x_px", "y_px"])?;
+    let (x_px, y_px) = pixel(&m)?;
+    Ok(Press { x_px, y_px, ms: None })
+}
+
+/// `POST /api/release`: an empty object (or no body).
+pub fn release(body: &[u8]) -> Result<(), Refusal> {
+    if body.iter().all(u8::is_ascii_whitespace) {
+        return Ok(());
+    }
+    object(body, &[]).map(|_| ())
+}
+
+/// `POST /api/serial`: `{"line": "..."}`, one command line.
+pub fn serial(body: &[u8]) -> Result<String, Refusal> {
+    let m = object(body, &["line"])?;
+    let v = m.get("line").ok_or_else(|| bad("missing field line"))?;
+    let line = v.as_str().ok_or_else(|| bad(format!("line must be a string, got {v}")))?;
+    if line.contains(['\n', '\r']) {
+        return Err(bad("line must be a single line (no CR or LF)"));
+    }
+    if line.trim().is_empty() {
+        // The firmware answers no empty line, so there would be nothing to wait for.
+        return Err(bad("line is empty"));
+    }
+    if line.len() > MAX_LINE {
+        return Err(bad(format!("line is {} bytes, at most {MAX_LINE}", line.len())));
+    }
+    Ok(line.to_string())
+}
+
+/// `POST /api/control`: `{"action": "power_cycle" | "corrupt_eeprom" |
+/// "noise_on" | "noise_off" | "stall", "addr": A}` (`addr` only with
+/// `corrupt_eeprom`, default [`DEFAULT_CORRUPT_ADDR`]).
+pub fn control(body: &[u8], eeprom_size: u64) -> Result<Control, Refusal> {
+    let m = object(body, &["action", "addr"])?;
+    let v = m.get("action").ok_or_else(|| bad("missing field action"))?;
+    let action = v.as_str().ok_or_else(|| bad(format!("action must be a string, got {v}")))?;
+    let c = match action {
+        "power_cycle" => Control::PowerCycle,
+        "corrupt_eeprom" => {
+            let addr = int(&m, "addr", 0, eeprom_size - 1)?.unwrap_or(u64::from(DEFAULT_CORRUPT_ADDR));
+            return Ok(Control::CorruptEeprom { addr: addr as u16 });
+        }
+        "noise_on" => Control::Noise(true),
+        "noise_off" => Control::Noise(false),
+        "stall" => Control::Stall,
+        other => {
+            return Err(bad(format!(
+                "unknown action {other:?} (expected power_cycle, corrupt_eeprom, noise_on, noise_off, stall)"
+            )))
+        }
+    };
+    if m.contains_key("addr") {
+        return Err(bad("addr goes only with corrupt_eeprom"));
+    }
+    Ok(c)
+}
+
+/// A byte of configuration copy A's joint data (the record starts with the
+/// magic, version and sequence: 5 bytes), so corrupting it damages copy A's
+/// CRC and the next power-up falls back on copy B.
+pub const DEFAULT_CORRUPT_ADDR: u16 = touch_arm::config::store::SLOT_A_ADDR + 5;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn touch_bodies() {
+        assert_eq!(touch(br#"{"x_px": 10, "y_px": 239, "ms": 300}"#), Ok(Press { x_px: 10, y_px: 239, ms: Some(300) }));
+        for (body, why) in [
+            (&br#"{"x_px": 320, "y_px": 0, "ms": 1}"#[..], "x_px must be an integer 0..=319"),
+            (br#"{"x_px": -1, "y_px": 0, "ms": 1}"#, "x_px must be"),
+            (br#"{"x_px": 1.5, "y_px": 0, "ms": 1}"#, "x_px must be"),
+            (br#"{"x_px": 1, "y_px": 0}"#, "missing field ms"),
+            (br#"{"x_px": 1, "y_px": 0, "ms": 0}"#, "ms must be an integer 1..=60000"),
+            (br#"{"x_px": 1, "y_px": 0, "ms": 5, "force": 1}"#, "unknown field \"force\""),
+            (br#"[1, 2]"#, "body must be a JSON object"),
+            (b"x_px=1", "body is not JSON"),
+        ] {
+            let r = touch(body).unwrap_err();
+            assert_eq!(r.status, 400);
+            assert!(r.reason.starts_with(why), "{} vs {why}", r.reason);
+            assert!(!r.reason.contains('\n'));
+        }
+        assert_eq!(press(br#"{"x_px": 5, "y_px": 6}"#), Ok(Press { x_px: 5, y_px: 6, ms: None }));
+        assert!(release(b"").is_ok() && release(b"{}").is_ok() && release(b"{\"a\":1}").is_err());
+    }
+
+    #[test]
+    fn serial_and_control_bodies() {
+        assert_eq!(serial(br#"{"line": "status"}"#), Ok("status".to_string()));
+        assert!(serial(br#"{"line": "stop\nresume"}"#).unwrap_err().reason.contains("single line"));
+        assert!(serial(br#"{"line": "   "}"#).unwrap_err().reason.contains("empty"));
+        assert!(serial(br#"{"line": 5}"#).unwrap_err().reason.contains("string"));
+        let long = format!(r#"{{"line": "{}"}}"#, "a".repeat(MAX_LINE + 1));
+        assert!(serial(long.as_bytes()).is_err());
+        assert_eq!(control(br#"{"action": "stall"}"#, 4096), Ok(Control::Stall));
+        assert_eq!(control(br#"{"action": "corrupt_eeprom"}"#, 4096), Ok(Control::CorruptEeprom { addr: 5 }));
+        assert_eq!(
+            control(br#"{"action": "corrupt_eeprom", "addr": 4095}"#, 4096),
+            Ok(Control::CorruptEeprom { addr: 4095 })
+        );
+        assert!(control(br#"{"action": "corrupt_eeprom", "addr": 4096}"#, 4096).is_err());
+        assert!(control(br#"{"action": "stall", "addr": 1}"#, 4096).is_err());
+        assert!(control(br#"{"action": "explode"}"#, 4096).unwrap_err().reason.contains("unknown action"));
+    }
+}

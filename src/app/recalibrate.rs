@@ -1,0 +1,73 @@
+//! A calibration change while the arm holds a pose.
+//!
+//! The held pose is a set of joint angles; a new calibration can give the same
+//! angles other pulses (offset, scale, `cal reset`). The servo must not jump
+//! to them at its own speed: the change **slews** the pulses instead, as a
+//! planned move from the pulse each servo gets now (re-read as an angle of the
+//! new calibration) to the held pose, at the slow preset within every joint's
+//! speed limit (state `moving`; STOP freezes it like any move). A change that
+//! moves no pulse (speed limits, the touch panel, limits that still hold the
+//! pose) takes effect at once. Refused: while moving or homing; while STOP is
+//! latched if a pulse would move; and when the held pose or a servo's present
+//! pulse lies outside the new limits (the servo would be driven to a limit).
+
+use super::refusal::Refusal;
+use super::{build_maps, App, Mode};
+use crate::config::settings::{Config, SpeedPreset};
+use crate::motion::plan::JOINTS;
+use crate::servo::map::ServoMap;
+
+impl App {
+    /// Installs a valid configuration (see the module doc); returns the
+    /// slew's duration in s when pulses move.
+    pub(super) fn replace_config(&mut self, next: &Config, touch_changed: bool) -> Result<Option<f32>, Refusal> {
+        if self.is_moving() {
+            return Err(Refusal::Busy);
+        }
+        if matches!(self.mode, Mode::Homing { .. }) {
+            return Err(Refusal::Homing);
+        }
+        let maps = build_maps(next).ok_or(Refusal::Fault)?;
+        // `plan_motion` starts the slew; the configuration it was planned
+        // under is installed right after, in the same frame.
+        let slew = match self.slew_start(&maps)? {
+            Some(_) if self.stopped => return Err(Refusal::Stopped),
+            Some(start) => {
+                let held = self.commanded;
+                Some(self.plan_motion(&start, &held, Some(&maps), SpeedPreset::Slow.percent())?.ts)
+            }
+            None => None,
+        };
+        if touch_changed || next.touch != self.config.touch {
+            self.filter.reset();
+        }
+        self.config = *next;
+        self.maps = maps;
+        Ok(slew)
+    }
+
+    /// Where a slew to the held pose under `maps` starts (each servo's present
+    /// pulse as an angle of `maps`), or `None` if no pulse would change.
+    fn slew_start(&self, maps: &[ServoMap; JOINTS]) -> Result<Option<[f32; JOINTS]>, Refusal> {
+        let mut start = [0.0f32; JOINTS];
+        let mut moves = false;
+        for (j, ((s, m), q)) in start.iter_mut().zip(maps.iter()).zip(self.commanded.iter()).enumerate() {
+            let held = match m.angle_to_pulse(*q) {
+                Ok(p) if p.clamped.is_none() => p.ticks,
+                _ => return Err(Refusal::HeldPoseOutside),
+            };
+            let now = match (self.pulses.as_ref().and_then(|p| p.get(j)), self.maps.get(j)) {
+                (Some(ticks), _) => *ticks,
+                (None, Some(old)) => old.angle_to_pulse(*q).map_err(|_| Refusal::NotFinite)?.ticks,
+                (None, None) => held,
+            };
+            *s = m.pulse_to_angle(now);
+            match m.angle_to_pulse(*s) {
+                Ok(p) if p.clamped.is_none() => {}
+                _ => return Err(Refusal::HeldPoseOutside),
+            }
+            moves |= held != now;
+        }
+        Ok(moves.then_some(start))
+    }
+}
