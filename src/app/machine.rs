@@ -100,6 +100,11 @@ impl App {
     /// heavy thing (a plan can take most of it; a reply is formatted in it):
     /// after a serial line or a plan the panel is not read, a touch that would
     /// plan waits for the next frame, and that frame takes no serial line.
+    // Not inlined (nor are `step_motion`, `finish_plan` and `plan_target`):
+    // inlined into the firmware's frame they made it reserve 603 bytes of
+    // stack, and LLVM then miscompiled the touch read's loop on the chip (the
+    // frame never ended; the watchdog reset it). Out of line it is 168.
+    #[inline(never)]
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
             if self.busy {
@@ -275,6 +280,7 @@ impl App {
     /// Plans this frame's accepted target (the move starts in the next frame)
     /// and answers whoever asked: while moving, a correction superposed on
     /// the running move; at rest, a move from the pose just commanded.
+    #[inline(never)]
     fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(due) = self.plan_due.take() else { return };
         let r = self.plan_target(&due.target, due.touch.as_ref());
@@ -293,6 +299,7 @@ impl App {
     }
 
     /// The plan of an accepted target under this move's limits.
+    #[inline(never)]
     fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         let lim = self.plan_limits(&self.maps, self.move_percent());
         // A new target while moving: a correction superposed on the move.
@@ -397,6 +404,7 @@ impl App {
         }
     }
 
+    #[inline(never)]
     fn step_motion(&mut self) {
         if let Mode::Homing { frames_left } = self.mode {
             self.mode = match frames_left {
