@@ -35,7 +35,8 @@ impl App {
             return;
         }
         let now = io.clock.now_ms();
-        self.busy = false;
+        // A late frame starts busy: the catch-up (module doc of `app`, step 0).
+        self.busy = core::mem::take(&mut self.late);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -48,6 +49,14 @@ impl App {
         }
         self.flush_pending(io.serial);
         self.report_dropped(io.serial);
+    }
+
+    /// The frame that just ran ended after the next period had started, so
+    /// the next one starts late: it only steps the motion and writes the
+    /// pulses (the module doc of `app`, step 0). Called by the firmware's
+    /// loop, which sees the period's timer.
+    pub fn frame_was_late(&mut self) {
+        self.late = true;
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).

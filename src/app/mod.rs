@@ -15,6 +15,12 @@
 //! the read-only [`Status`] snapshot.
 //!
 //! # One frame, in order
+//! 0. Catch-up: a frame that starts late, because the one before ran past
+//!    the period end ([`App::frame_was_late`]), does no heavy thing: no serial
+//!    line, no panel read, no plan. It steps the motion and writes the pulses
+//!    early, so a long plan (a re-plan takes up to about two thirds of a
+//!    frame; BENCHMARKS.md) never pushes the next pulses past their period,
+//!    however the following frames are loaded.
 //! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
 //!    line, only while the port has room for the longest reply; one `ok …`/
 //!    `err …` line (see `serial.rs`). A partial line idle for
@@ -391,6 +397,8 @@ pub struct App {
     /// This frame has done its one heavy thing: answered a serial line or
     /// planned a move (see `poll_touch`).
     busy: bool,
+    /// The next frame starts late (see [`App::frame_was_late`]).
+    late: bool,
     /// A touch target that waits for a frame with no plan yet.
     deferred_touch: Option<TouchPoint>,
     /// The target of this frame, planned after the pulses.
@@ -445,6 +453,7 @@ impl App {
             pending: None,
             tx_dropped: 0,
             busy: false,
+            late: false,
             deferred_touch: None,
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),

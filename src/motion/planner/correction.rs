@@ -25,10 +25,13 @@
 //! little to that peak on its fastest joint, however slowly it starts.
 //!
 //! # Search
-//! From the correction's own shortest T, ×1.25 until a T passes (a
-//! longer correction is slower while the running term is fast), then three
-//! bisections on ln T: the result is at most 1.25^(1/8) ≈ 2.8 %
-//! above the shortest passing T on the table's bounds. A T beyond ts_max is
+//! From the correction's own shortest T, doubling until a T passes (a
+//! longer correction is slower while the running term is fast), then
+//! bisections on ln T, with at most [`MAX_CHECKS`] checks in all: a re-plan
+//! runs inside one 50 Hz frame on the chip, after its pulses (BENCHMARKS.md,
+//! `app_replan`). The result passes, and is at most 2^(1/16) ≈ 4.4 % above
+//! the shortest passing T on the table's bounds (2^(1/8) when the doubling
+//! took six steps, from the 0.5 s floor to 30 s). A T beyond ts_max is
 //! refused (`SpeedLimit`).
 
 use super::cells::{cell_table, CellTable, CELLS};
@@ -38,10 +41,11 @@ use super::request::{time_ratio, MoveRequest, PlanError, PlanLimits};
 use crate::math::real::Real;
 use crate::motion::plan::{LawKind, JOINTS};
 
-/// Growth of the candidate T until one passes.
-const GROW: f64 = 1.25;
-/// Bisections on ln T after the first pass.
-const REFINE: u8 = 3;
+/// Checks of a candidate T per re-plan, at most: the first, the doublings
+/// (six cover a 64× span) and the bisections after the first pass.
+pub const MAX_CHECKS: u8 = 10;
+/// Bisections on ln T after the first pass, when the budget leaves room.
+const REFINE: u8 = 4;
 
 /// The term that runs beside a correction, as the correction starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +93,20 @@ struct Joint<R> {
     /// 1/(slack·ω) and 1/(slack·α).
     inv_w: R,
     inv_a: R,
+}
+
+/// The running term's largest shares over the joints, for a first check of
+/// a piece that passes for every joint at once (most pieces, far from the
+/// binding one); only a piece that fails it is checked joint by joint.
+#[derive(Clone, Copy)]
+struct Coarse<R> {
+    /// Largest `ka` of any joint and `kv` of the joints both terms move the
+    /// same way.
+    ka: R,
+    kv: R,
+    /// Largest run_d/room of the joints they move oppositely (huge where the
+    /// new target is at the limit: those are checked joint by joint).
+    swing: R,
 }
 
 /// The shortest T found for `c` (see the module doc); `run`: the term that
@@ -148,50 +166,89 @@ pub fn correction_duration<R: Real>(
         // target when it rises.
         j.room = if *dr > R::ZERO { *target - lo } else { hi - *target };
     }
-    let check = |t: R| fits(t, &joints, run, tab_r, tab_c);
-    let grow = R::lit(GROW);
-    let mut t = t0;
-    while !check(t) {
-        if !t.lt(&lim.ts_max) {
+    let mut coarse = Coarse { ka: R::ZERO, kv: R::ZERO, swing: R::ZERO };
+    for j in joints.iter() {
+        coarse.ka = coarse.ka.max(j.ka);
+        if j.same {
+            coarse.kv = coarse.kv.max(j.kv);
+        } else {
+            let s = if j.room > R::ZERO { j.run_d / j.room } else { R::lit(1e30) };
+            coarse.swing = coarse.swing.max(s);
+        }
+    }
+    let check = |t: R| fits(t, &joints, &coarse, run, tab_r, tab_c);
+    if check(t0) {
+        return Ok(t0);
+    }
+    let mut checks = 1u8;
+    let mut hi = t0;
+    let mut lo;
+    loop {
+        if !hi.lt(&lim.ts_max) {
             return Err(PlanError::SpeedLimit);
         }
-        t = (t * grow).min(lim.ts_max);
-    }
-    if t > t0 {
-        let (mut lo, mut hi) = ((t / grow).max(t0), t);
-        let mut n = 0;
-        while n < REFINE {
-            n += 1;
-            let mid = (lo * hi).sqrt();
-            if check(mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
+        lo = hi;
+        hi = (hi + hi).min(lim.ts_max);
+        checks += 1;
+        if check(hi) {
+            break;
         }
-        t = hi;
     }
-    Ok(t)
+    let mut n = 0;
+    while n < REFINE && checks < MAX_CHECKS {
+        n += 1;
+        checks += 1;
+        let mid = (lo * hi).sqrt();
+        if check(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(hi)
 }
 
 /// Whether a correction of duration `t` keeps the sum within the limits
-/// while the running term runs (see the module doc).
+/// while the running term runs (see the module doc). Float work per piece
+/// and joint is a multiply-add per condition: what does not depend on the
+/// piece is taken out of the loops.
 #[inline(never)]
-fn fits<R: Real>(t: R, joints: &[Joint<R>; JOINTS], run: &Running<R>, tab_r: &CellTable, tab_c: &CellTable) -> bool {
+fn fits<R: Real>(
+    t: R,
+    joints: &[Joint<R>; JOINTS],
+    coarse: &Coarse<R>,
+    run: &Running<R>,
+    tab_r: &CellTable,
+    tab_c: &CellTable,
+) -> bool {
     let n = R::from_u16(CELLS as u16);
+    let cell = n.recip();
     let it = t.recip();
-    // The correction's time per second of the running term's cells, in cells.
+    // Per joint, the correction's speed and acceleration per unit of its
+    // cell bound, over the (slack) limits.
+    let mut cw = [R::ZERO; JOINTS];
+    let mut ca = [R::ZERO; JOINTS];
+    let (mut cw_max, mut ca_max) = (R::ZERO, R::ZERO);
+    for ((w, a), j) in cw.iter_mut().zip(ca.iter_mut()).zip(joints.iter()) {
+        *w = j.cor_d * it * j.inv_w;
+        *a = j.cor_d * it * it * j.inv_a;
+        ca_max = ca_max.max(*a);
+        if j.same {
+            cw_max = cw_max.max(*w);
+        }
+    }
     let x_r = run.elapsed / run.duration;
-    let rc = run.duration * it;
+    // Cells of the correction per cell of the running term.
+    let rcn = run.duration * it * n;
     let mut k = cell_index(x_r * n);
     while k < CELLS {
         // The piece: from max(k/16, x_r) to (k + 1)/16 of the running term,
-        // s1..s2 of the correction (in cells, from its start).
-        let k_lo = R::from_u16(k as u16) / n;
+        // j1..j2 of the correction (in cells, from its start).
+        let k_lo = R::from_u16(k as u16) * cell;
         let w0 = if k_lo > x_r { k_lo - x_r } else { R::ZERO };
-        let w1 = R::from_u16(k as u16 + 1) / n - x_r;
-        let j1 = cell_index(w0 * rc * n);
-        let j2 = cell_index_up(w1 * rc * n);
+        let w1 = k_lo + cell - x_r;
+        let j1 = cell_index(w0 * rcn);
+        let j2 = cell_index_up(w1 * rcn);
         let (vc, ac) = tab_c.max_over::<R>(j1, j2);
         // Left on the correction at the piece's end, at least.
         let gc = R::ONE - tab_c.f_at::<R>(j2);
@@ -199,18 +256,25 @@ fn fits<R: Real>(t: R, joints: &[Joint<R>; JOINTS], run: &Running<R>, tab_r: &Ce
         // Left on the running term at the piece's start, at most.
         let gr = R::ONE - tab_r.f_at::<R>(k);
         k += 1;
-        for j in joints.iter() {
-            let cv = j.cor_d * it;
-            if j.ka * ar + cv * it * ac * j.inv_a > R::ONE {
+        let passes = coarse.ka * ar + ca_max * ac <= R::ONE
+            && coarse.kv * vr + cw_max * vc <= R::ONE
+            && coarse.swing * gr <= R::ONE;
+        for (j, (w, a)) in joints.iter().zip(cw.iter().zip(ca.iter())).filter(|_| !passes) {
+            if j.ka * ar + *a * ac > R::ONE {
                 return false;
             }
             if j.same {
-                if j.kv * vr + cv * vc * j.inv_w > R::ONE {
+                if j.kv * vr + *w * vc > R::ONE {
                     return false;
                 }
             } else if j.run_d * gr - j.cor_d * gc > j.room {
                 return false;
             }
+        }
+        // The correction has ended: the running term goes on alone, within
+        // its own limits, and its swing past the new target only shrinks.
+        if j1 >= CELLS {
+            break;
         }
     }
     true
