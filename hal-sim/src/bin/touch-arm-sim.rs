@@ -64,8 +64,9 @@ struct Args {
 /// `--then X2,Y2@MS`: where and when the second touch goes.
 #[derive(Debug, Clone, Copy)]
 struct Then {
-    /// The raw reading that presses the map pixel showing (X2, Y2).
-    raw: (f64, f64),
+    /// The map point (X2, Y2); the raw reading that presses its pixel is
+    /// found with the layout of the panel chosen (`--lcd`).
+    xy: (f64, f64),
     /// Delay after the first touch's confirmation, ms.
     ms: u32,
 }
@@ -81,7 +82,7 @@ fn then_touch(s: &str) -> Result<Then, String> {
     if ms < THEN_MIN_MS {
         return Err(format!("MS must be at least {THEN_MIN_MS} (the finger must lift between the touches), got {ms}"));
     }
-    Ok(Then { raw: map_point(xy)?, ms })
+    Ok(Then { xy: map_point(xy)?, ms })
 }
 
 /// `--xy`: a point of the map (the workspace [-1,1]x[0,1]).
@@ -155,6 +156,10 @@ fn run(args: Args) -> Result<(), String> {
     let on_map = |(x, y): (f64, f64)| {
         firmware::map_touch_on(&lay, x as f32, y as f32).map(|(raw, _)| raw).ok_or("point off the map")
     };
+    let then = match args.then {
+        Some(t) => Some((t, on_map(t.xy)?)),
+        None => None,
+    };
     let raw = match (args.raw, args.xy) {
         (Some((x, y)), _) => (f64::from(x), f64::from(y)),
         (None, Some(xy)) => on_map(xy)?,
@@ -180,11 +185,11 @@ fn run(args: Args) -> Result<(), String> {
     let first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
     // The second touch needs the finger lifted at once; otherwise it rests
     // as long as a tap does.
-    if args.then.is_none() {
+    if then.is_none() {
         s.run_for((t_touch + 0.3 - s.avr.time_s()).max(0.0))?;
     }
     s.release();
-    if args.then.is_none() {
+    if then.is_none() {
         s.run_for(0.2)?;
     }
     let text = s.avr.uart_output_string();
@@ -213,10 +218,10 @@ fn run(args: Args) -> Result<(), String> {
     // The last touch decides where the arm ends up.
     let (mut end_raw, mut end_ts, mut end_t) = (raw, ts, t_confirm);
     let mut second = None;
-    if let Some(then) = args.then {
+    if let Some((then, then_raw)) = then {
         s.run_for((t_confirm + f64::from(then.ms) / 1000.0 - s.avr.time_s()).max(0.0))?;
         let from = s.avr.uart_output().len();
-        s.press_raw(then.raw.0, then.raw.1)?;
+        s.press_raw(then_raw.0, then_raw.1)?;
         let reply = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
         s.release();
         let Some((line2, t2)) = reply else {
@@ -225,7 +230,7 @@ fn run(args: Args) -> Result<(), String> {
         if !line2.starts_with("info touch ") {
             return Err(format!("the firmware refused the second touch: {line2}"));
         }
-        (end_raw, end_ts, end_t) = (then.raw, reply_ts(&line2)?, t2);
+        (end_raw, end_ts, end_t) = (then_raw, reply_ts(&line2)?, t2);
         second = Some((then, line2, t2 - t_confirm));
     }
     s.run_for((end_t + end_ts + 1.0 - s.avr.time_s()).max(0.0))?;
@@ -323,7 +328,7 @@ fn run(args: Args) -> Result<(), String> {
     if let Some((then, line2, after)) = &second {
         println!(
             "second touch at raw ({}, {}), confirmed {:.3} s after the first ({} ms asked): {line2}",
-            then.raw.0, then.raw.1, after, then.ms
+            end_raw.0, end_raw.1, after, then.ms
         );
     }
     println!(

@@ -7,7 +7,7 @@
 //! form bounds T from below ([`super::plan_move::scaled_duration`]), and its
 //! positions go monotonically from the old target to the new one, both
 //! within the limits. Before that the two overlap. The overlap is cut at
-//! the running term's cells ([`super::cells`]); on each piece the running
+//! the running term's cells ([`super::cells`]), two per piece; on each piece the running
 //! term's speed, |acceleration| and remaining travel are bounded by its cell
 //! and the correction's by the cells its own time covers there, and per
 //! joint:
@@ -28,11 +28,12 @@
 //! From the correction's own shortest T, doubling until a T passes (a
 //! longer correction is slower while the running term is fast), then
 //! bisections on ln T, with at most [`MAX_CHECKS`] checks in all: a re-plan
-//! runs inside one 50 Hz frame on the chip, after its pulses (BENCHMARKS.md,
-//! `app_replan`). The result passes, and is at most 2^(1/16) ≈ 4.4 % above
-//! the shortest passing T on the table's bounds (2^(1/8) when the doubling
-//! took six steps, from the 0.5 s floor to 30 s). A T beyond ts_max is
-//! refused (`SpeedLimit`).
+//! runs after its frame's pulses on the chip (BENCHMARKS.md, `app_replan`).
+//! The result passes, and is at most 2^(1/16) ≈ 4.4 % above the shortest
+//! passing T on the table's bounds when the doubling took at most three
+//! steps (a correction up to 8× its own shortest duration; more steps leave
+//! fewer bisections: at six, one, 41 %). A T beyond ts_max is refused
+//! (`SpeedLimit`).
 
 use super::cells::{cell_table, CellTable, CELLS};
 use super::peak_rate::law_ratios;
@@ -42,8 +43,14 @@ use crate::math::real::Real;
 use crate::motion::plan::{LawKind, JOINTS};
 
 /// Checks of a candidate T per re-plan, at most: the first, the doublings
-/// (six cover a 64× span) and the bisections after the first pass.
-pub const MAX_CHECKS: u8 = 10;
+/// (six cover the 60× span from the 0.5 s floor to 30 s) and the bisections
+/// after the first pass. With the catch-up frame (module doc of `app`) this
+/// bounds a re-plan to well under two PWM periods on the chip.
+pub const MAX_CHECKS: u8 = 8;
+/// Cells of the running term per piece: a piece's bounds are the maxima
+/// over its cells (a little above each cell's own), and a check costs its
+/// pieces (BENCHMARKS.md, `app_replan`).
+const PIECE: usize = 2;
 /// Bisections on ln T after the first pass, when the budget leaves room.
 const REFINE: u8 = 4;
 
@@ -93,6 +100,17 @@ struct Joint<R> {
     /// 1/(slack·ω) and 1/(slack·α).
     inv_w: R,
     inv_a: R,
+}
+
+/// What every check of one correction reads, by reference: as six
+/// arguments LLVM passed one on the stack on the AVR, which it miscompiles
+/// there (the post-link lint in `hal-sim/tests/firmware_elf.rs`).
+struct Check<'a, R> {
+    joints: [Joint<R>; JOINTS],
+    coarse: Coarse<R>,
+    run: &'a Running<R>,
+    tab_r: &'a CellTable,
+    tab_c: &'a CellTable,
 }
 
 /// The running term's largest shares over the joints, for a first check of
@@ -176,7 +194,8 @@ pub fn correction_duration<R: Real>(
             coarse.swing = coarse.swing.max(s);
         }
     }
-    let check = |t: R| fits(t, &joints, &coarse, run, tab_r, tab_c);
+    let ctx = Check { joints, coarse, run, tab_r, tab_c };
+    let check = |t: R| fits(t, &ctx);
     if check(t0) {
         return Ok(t0);
     }
@@ -213,14 +232,8 @@ pub fn correction_duration<R: Real>(
 /// and joint is a multiply-add per condition: what does not depend on the
 /// piece is taken out of the loops.
 #[inline(never)]
-fn fits<R: Real>(
-    t: R,
-    joints: &[Joint<R>; JOINTS],
-    coarse: &Coarse<R>,
-    run: &Running<R>,
-    tab_r: &CellTable,
-    tab_c: &CellTable,
-) -> bool {
+fn fits<R: Real>(t: R, ctx: &Check<'_, R>) -> bool {
+    let Check { joints, coarse, run, tab_r, tab_c } = ctx;
     let n = R::from_u16(CELLS as u16);
     let cell = n.recip();
     let it = t.recip();
@@ -241,21 +254,22 @@ fn fits<R: Real>(
     // Cells of the correction per cell of the running term.
     let rcn = run.duration * it * n;
     let mut k = cell_index(x_r * n);
+    let piece = R::from_u16(PIECE as u16) * cell;
     while k < CELLS {
-        // The piece: from max(k/16, x_r) to (k + 1)/16 of the running term,
-        // j1..j2 of the correction (in cells, from its start).
+        // The piece: from max(k/16, x_r) to (k + PIECE)/16 of the running
+        // term, j1..j2 of the correction (in cells, from its start).
         let k_lo = R::from_u16(k as u16) * cell;
         let w0 = if k_lo > x_r { k_lo - x_r } else { R::ZERO };
-        let w1 = k_lo + cell - x_r;
+        let w1 = k_lo + piece - x_r;
         let j1 = cell_index(w0 * rcn);
         let j2 = cell_index_up(w1 * rcn);
         let (vc, ac) = tab_c.max_over::<R>(j1, j2);
         // Left on the correction at the piece's end, at least.
         let gc = R::ONE - tab_c.f_at::<R>(j2);
-        let (vr, ar) = tab_r.max_over::<R>(k, k + 1);
+        let (vr, ar) = tab_r.max_over::<R>(k, k + PIECE);
         // Left on the running term at the piece's start, at most.
         let gr = R::ONE - tab_r.f_at::<R>(k);
-        k += 1;
+        k += PIECE;
         let passes = coarse.ka * ar + ca_max * ac <= R::ONE
             && coarse.kv * vr + cw_max * vc <= R::ONE
             && coarse.swing * gr <= R::ONE;
