@@ -127,7 +127,9 @@ fn frame(app: &mut App, b: &mut Board) {
     // Only what changed is redrawn, and only as much as the period leaves;
     // the rest in the next frames.
     let _ = app.draw_screen_sliced(&mut Lcd::with_controller(&mut b.bus, b.lcd), &mut FrameBudget::new(&b.pwm));
-    frame::record(&b.pwm, app_ticks);
+    if frame::record(&b.pwm, app_ticks) {
+        app.frame_was_late();
+    }
 }
 
 /// `info lcd <name> id 0x… <w>x<h>`, or `warn lcd unknown id 0x…` with the

@@ -60,10 +60,11 @@ pub enum TouchError {
 
 /// The three servo signal outputs (base, shoulder, elbow).
 pub trait ServoOutputs {
-    /// Commands the pulse widths in µs for the next PWM period. The
-    /// implementation clamps to its own configured limits as well, so no caller
-    /// can drive a servo outside them.
-    fn set_pulses(&mut self, pulses_us: &[u16; 3]);
+    /// Commands the pulse widths for the next PWM period, in Timer5 ticks of
+    /// 0.5 µs (the timer's resolution: 3000 = 1500 µs). The implementation
+    /// clamps to its own configured limits as well, so no caller can drive a
+    /// servo outside them.
+    fn set_pulses(&mut self, ticks: &[u16; 3]);
     /// Stops the pulses (servos go limp) until the next `set_pulses`.
     fn disable(&mut self);
 }

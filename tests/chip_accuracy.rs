@@ -347,10 +347,11 @@ fn sample_is_one_profile_evaluation() {
 
 /// The pulse servo::map would command for `angle`, from an exact (f64) angle:
 /// (unrounded µs after both clamps, rounded µs).
+/// The exact pulse of `angle` in ticks (µs·2, unrounded) and rounded half up.
 fn exact_pulse(c: &JointCal, angle: f64) -> (f64, u16) {
     let a = angle.clamp(c.min_rad as f64, c.max_rad as f64);
     let us = (c.offset_us as f64 + c.us_per_rad as f64 * a).clamp(c.min_us as f64, c.max_us as f64);
-    (us, (us + 0.5).floor() as u16)
+    (2.0 * us, (2.0 * us + 0.5).floor() as u16)
 }
 
 #[test]
@@ -367,26 +368,26 @@ fn servo_track_matches_servo_mapping() {
                 Some(l) => JointLaw::classic(l, 1.5f32).unwrap(),
             };
             let plan = MultiPlan::with_law(&start, &target, &l).unwrap();
-            let track = ServoTrack::new(&plan, &maps).unwrap();
+            let track = ServoTrack::new(&plan, &maps, 0.02).unwrap();
             for k in -2..=80 {
                 let t = k as f32 * 0.02;
                 let f = track.frame(t);
                 let s = plan.sample(t);
                 let g = l.g(t) as f64;
                 for j in 0..JOINTS {
-                    assert_eq!(track.velocities(f.rate)[j], s[j].vel);
+                    assert_eq!(track.velocities(&f)[j], s[j].vel);
                     let c = maps[j].cal();
-                    let want = maps[j].angle_to_pulse(s[j].pos).unwrap().us;
+                    let want = maps[j].angle_to_pulse(s[j].pos).unwrap().ticks;
                     if t <= 0.0 || t >= 1.5 {
-                        assert_eq!(f.pulses_us[j], want, "endpoint t {t} joint {j}");
+                        assert_eq!(f.pulses[j], want, "endpoint t {t} joint {j}");
                         continue;
                     }
                     let exact = start[j] as f64 + (target[j] - start[j]) as f64 * g;
-                    let (us, rounded) = exact_pulse(c, exact);
-                    let near_half = ((us - us.floor()) - 0.5).abs() < 2e-3;
+                    let (ticks, rounded) = exact_pulse(c, exact);
+                    let near_half = ((ticks - ticks.floor()) - 0.5).abs() < 4e-3;
                     if !near_half {
-                        assert_eq!(f.pulses_us[j], rounded, "t {t} joint {j} exact {us}");
-                        assert_eq!(f.pulses_us[j], want, "t {t} joint {j}");
+                        assert_eq!(f.pulses[j], rounded, "t {t} joint {j} exact {ticks}");
+                        assert_eq!(f.pulses[j], want, "t {t} joint {j}");
                     }
                     checked += 1;
                 }
@@ -409,7 +410,7 @@ fn servo_track_matches_servo_mapping() {
 fn servo_track_rejects_angles_beyond_range() {
     let shape = ShapeParams { ts: 1.0f32, a: 0.5, n: 2.0 };
     let plan = MultiPlan::new(&[0.0, 0.0, 0.0], &[200.0, 0.0, 0.0], &shape).unwrap();
-    assert_eq!(ServoTrack::new(&plan, &maps()), Err(touch_arm::servo::track::TrackError::OutOfRange));
+    assert_eq!(ServoTrack::new(&plan, &maps(), 0.02), Err(touch_arm::servo::track::TrackError::OutOfRange));
 }
 
 // ------------------------------------------------------------ the plan path

@@ -927,7 +927,113 @@ fn multiplan_classic_laws() {
             assert!(close(ev[j], want, 1e-15));
         }
     }
-    let z = JointLaw::from_kind(LawKind::Zat, &sp).unwrap();
+    let z = JointLaw::from_kind(LawKind::ZatPaper, &sp).unwrap();
     assert_eq!(z, JointLaw::Zat(shape64(2.0, 0.5, 2.0)));
+    // The default law is the time-scaled reference shape, whatever (a, n).
+    let z = JointLaw::from_kind(LawKind::Zat, &sp).unwrap();
+    assert_eq!(z, JointLaw::Scaled(touch_arm::motion::scaled::ScaledZat::new(2.0).unwrap()));
     assert_eq!(JointLaw::<f64>::classic(Law::Cubic, 0.0), Err(TrajError::NonPositiveDuration));
+}
+
+// ------------------------------------------------- time-scaled ζ-a-tₛ (§10)
+
+use touch_arm::motion::scaled::{ScaledZat, ACC_RATIO, JERK_RATIO, REF_N, REF_T0, VEL_RATIO};
+
+/// The reference shape's a* = T₀ − log_n T₀, formed here.
+fn ref_a() -> f64 {
+    REF_T0 - REF_T0.ln() / REF_N.ln()
+}
+
+/// max over s ∈ [0, 1] of |d^k/ds^k G(s·T₀)| for k = 1, 2, 3, from a dense
+/// grid refined by golden section around the best point (f64 shape).
+fn ref_ratio(k: usize) -> f64 {
+    let s = shape64(REF_T0, ref_a(), REF_N);
+    let f = |x: f64| {
+        let d = s.g_derivs(x * REF_T0);
+        [d.v * REF_T0, d.acc * REF_T0 * REF_T0, d.jerk * REF_T0.powi(3)][k - 1].abs()
+    };
+    let n = 20_000;
+    let best = (1..=n).map(|i| i as f64 / n as f64).max_by(|a, b| f(*a).total_cmp(&f(*b))).unwrap();
+    let (mut lo, mut hi) = ((best - 1.0 / n as f64).max(0.0), (best + 1.0 / n as f64).min(1.0));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (a, b) = (hi - r * (hi - lo), lo + r * (hi - lo));
+        if f(a) > f(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    f(0.5 * (lo + hi)).max(f(best))
+}
+
+#[test]
+fn scaled_zat_ratios_are_the_reference_peaks() {
+    // Rounded up, and within 1e-6 of the peaks.
+    for (k, c) in [(1, VEL_RATIO), (2, ACC_RATIO), (3, JERK_RATIO)] {
+        let peak = ref_ratio(k);
+        assert!(c >= peak && c <= peak * (1.0 + 2e-6), "k={k}: constant {c} vs peak {peak}");
+    }
+    // The figures of docs/method.md §10 against the quintic (1.875, 10/√3, 60).
+    assert!((VEL_RATIO / 1.875 - 1.077).abs() < 1e-3);
+    assert!(((ACC_RATIO / (10.0 / 3f64.sqrt())).sqrt() - 1.072).abs() < 1e-3);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// g(t) is the SPEC's G of the reference shape at τ = t·T₀/tₛ (the
+    /// independent printed-form reference), and each derivative is the
+    /// reference's scaled by (T₀/tₛ)^k.
+    #[test]
+    fn scaled_zat_is_the_spec_shape_in_normalized_time(ts in 0.05f64..40.0, frac in -0.2f64..1.2) {
+        let z = ScaledZat::new(ts).unwrap();
+        let t = frac * ts;
+        let k = REF_T0 / ts;
+        let g = z.g(t);
+        let want = g_ref(t * k, REF_T0, ref_a(), REF_N);
+        prop_assert!((g - want).abs() <= 1e-13, "t={t} ts={ts}: {g} vs {want}");
+        let d = z.g_derivs(t);
+        prop_assert_eq!(d.s, g);
+        prop_assert_eq!(z.g_rate(t), (d.s, d.v));
+        if frac > 0.0 && frac < 1.0 {
+            let r = shape64(REF_T0, ref_a(), REF_N).g_derivs(t * k);
+            prop_assert!((d.v - r.v * k).abs() <= 1e-12 * (1.0 + d.v.abs()));
+            prop_assert!((d.acc - r.acc * k * k).abs() <= 1e-12 * (1.0 + d.acc.abs()));
+            prop_assert!((d.jerk - r.jerk * k * k * k).abs() <= 1e-12 * (1.0 + d.jerk.abs()));
+            // Every rate within the ratios.
+            prop_assert!(d.v >= 0.0 && d.v * ts <= VEL_RATIO);
+            prop_assert!(d.acc.abs() * ts * ts <= ACC_RATIO);
+            prop_assert!(d.jerk.abs() * ts.powi(3) <= JERK_RATIO);
+        } else if frac <= 0.0 {
+            prop_assert_eq!(d, Sample::at_rest(0.0));
+        } else if frac > 1.0 {
+            prop_assert_eq!(d, Sample::at_rest(1.0));
+        }
+    }
+
+    /// Every move ends exactly on 1 at rest, in f64 and in f32 as the chip
+    /// evaluates it, and starts flat.
+    #[test]
+    fn scaled_zat_ends_exactly_and_at_rest(ts in 0.05f64..40.0) {
+        let z = ScaledZat::new(ts).unwrap();
+        prop_assert_eq!(z.g(ts), 1.0);
+        prop_assert!(z.end_rate().abs() * ts < 1e-12, "end rate {}", z.end_rate());
+        prop_assert_eq!(z.g_rate(ts * 1.0001), (1.0, 0.0));
+        let z32 = ScaledZat::new(ts as f32).unwrap();
+        prop_assert_eq!(z32.g(ts as f32), 1.0f32);
+        prop_assert!((z32.end_rate() * ts as f32).abs() < 2e-6, "f32 end rate {}", z32.end_rate());
+        let near = z32.g_rate(ts as f32 * (1.0 - 1e-6));
+        prop_assert!(near.0 <= 1.0 && (near.1 * ts as f32).abs() < 1e-4);
+        let start = z.g_derivs(ts * 1e-3);
+        prop_assert!(start.s < 1e-200 && start.v.abs() < 1e-200 && start.acc.abs() < 1e-200);
+    }
+}
+
+#[test]
+fn scaled_zat_refuses_bad_durations() {
+    assert_eq!(ScaledZat::<f64>::new(0.0), Err(TrajError::NonPositiveDuration));
+    assert_eq!(ScaledZat::<f64>::new(-1.0), Err(TrajError::NonPositiveDuration));
+    assert_eq!(ScaledZat::<f64>::new(f64::NAN), Err(TrajError::NotFinite));
+    assert_eq!(ScaledZat::<f32>::new(f32::INFINITY), Err(TrajError::NotFinite));
 }

@@ -8,6 +8,7 @@ use touch_arm::geometry::ik::{base_angle, fk2, ik2, ik3, Branch, IkError, Links}
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
+use touch_arm::motion::scaled::ScaledZat;
 use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
@@ -148,15 +149,36 @@ pub enum LawKindArg {
     Cubic,
     Quintic,
     Trapezoid,
+    /// The firmware's default: ζ-a-tₛ time-scaled from its reference shape
+    /// (n = 2, T₀ = 1.5 s, a*) onto [t0, t_f]; `traj` is the papers' own form
+    Zat,
 }
 
-impl From<LawKindArg> for Law {
-    fn from(k: LawKindArg) -> Self {
-        match k {
-            LawKindArg::Linear => Law::Linear,
-            LawKindArg::Cubic => Law::Cubic,
-            LawKindArg::Quintic => Law::Quintic,
-            LawKindArg::Trapezoid => Law::Trapezoid,
+/// A law of `armsim law` planned over [t0, t_f]: a classic one, or the
+/// time-scaled ζ-a-tₛ.
+enum LawSampler {
+    Classic(LawPlan<f64>),
+    Scaled { z: ScaledZat<f64>, p: LawParams<f64> },
+}
+
+impl LawSampler {
+    /// Position and derivatives, with the classic laws' conventions: the
+    /// ends held outside [t0, t_f], exactly s_f from t_f on.
+    fn sample(&self, t: f64) -> Sample<f64> {
+        match self {
+            LawSampler::Classic(l) => l.sample(t),
+            LawSampler::Scaled { z, p } => {
+                if t < p.t0 {
+                    return Sample::at_rest(p.s0);
+                }
+                if t > p.tf {
+                    return Sample::at_rest(p.sf);
+                }
+                let d = z.g_derivs(t - p.t0);
+                let delta = p.sf - p.s0;
+                let s = if t >= p.tf { p.sf } else { p.s0 + delta * d.s };
+                Sample { s, v: delta * d.v, acc: delta * d.acc, jerk: delta * d.jerk }
+            }
         }
     }
 }
@@ -515,8 +537,21 @@ fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
     ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
 }
 
-fn law_plan(a: &LawCore) -> Result<LawPlan<f64>, String> {
-    LawPlan::new(a.kind.into(), &LawParams { t0: a.t0, tf: a.tf, s0: a.s0, sf: a.sf }).map_err(|e| traj_err(&e))
+fn law_plan(a: &LawCore) -> Result<LawSampler, String> {
+    let p = LawParams { t0: a.t0, tf: a.tf, s0: a.s0, sf: a.sf };
+    let law = match a.kind {
+        LawKindArg::Linear => Law::Linear,
+        LawKindArg::Cubic => Law::Cubic,
+        LawKindArg::Quintic => Law::Quintic,
+        LawKindArg::Trapezoid => Law::Trapezoid,
+        LawKindArg::Zat => {
+            // The classic laws' checks of the interval and the values first.
+            LawPlan::new(Law::Linear, &p).map_err(|e| traj_err(&e))?;
+            let z = ScaledZat::new(a.tf - a.t0).map_err(|e| traj_err(&e))?;
+            return Ok(LawSampler::Scaled { z, p });
+        }
+    };
+    LawPlan::new(law, &p).map(LawSampler::Classic).map_err(|e| traj_err(&e))
 }
 
 fn csv(header: &str, ts: &[f64], f: impl Fn(f64) -> Vec<f64>) -> String {

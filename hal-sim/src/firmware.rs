@@ -263,17 +263,97 @@ impl Session {
         self.avr.stack_high_water().map(|(used, _)| used)
     }
 
-    /// Every complete servo pulse measured so far, per joint: (rise time s, width µs).
-    pub fn pulses(&self) -> [Vec<(f64, f64)>; 3] {
+    /// Every complete servo pulse measured so far, per joint: (rise time s,
+    /// width in Timer5 ticks of 0.5 µs), see [`pulse_ticks`].
+    pub fn pulse_ticks(&self) -> [Vec<(f64, u16)>; 3] {
         SERVO_PINS.map(|pin| {
-            self.avr.pulses(pin).iter().map(|p| (p.rise_cycle as f64 / CPU_HZ as f64, p.width_us(CPU_HZ))).collect()
+            pulse_ticks(&self.avr.pulses(pin)).into_iter().map(|(c, t)| (c as f64 / CPU_HZ as f64, t)).collect()
         })
+    }
+
+    /// Every complete servo pulse measured so far, per joint: (rise time s,
+    /// width µs, a multiple of 0.5 µs: [`Session::pulse_ticks`] halved).
+    pub fn pulses(&self) -> [Vec<(f64, f64)>; 3] {
+        self.pulse_ticks().map(|p| p.into_iter().map(|(t, ticks)| (t, f64::from(ticks) / 2.0)).collect())
+    }
+
+    /// Runs until the firmware has written a complete line starting with one
+    /// of `prefixes` after byte `from` of its output, at most `max_s`
+    /// seconds; returns the line and the time (s) its first byte was sent,
+    /// or `None` on timeout.
+    pub fn await_line(&mut self, from: usize, prefixes: &[&str], max_s: f64) -> Result<Option<(String, f64)>, String> {
+        let find = |a: &crate::avr::Avr| -> Option<(usize, usize)> {
+            let out = a.uart_output().get(from..)?;
+            let mut start = 0;
+            for (i, b) in out.iter().enumerate() {
+                if *b == b'\n' {
+                    let line = &out[start..i];
+                    if prefixes.iter().any(|p| line.starts_with(p.as_bytes())) {
+                        return Some((from + start, from + i));
+                    }
+                    start = i + 1;
+                }
+            }
+            None
+        };
+        let max = (max_s * CPU_HZ as f64) as u64;
+        match self.avr.run_until(|a| find(a).is_some(), max) {
+            Ok(_) => {}
+            Err(crate::avr::Error::Timeout { .. }) => return Ok(None),
+            Err(e) => return Err(format!("{e:?}")),
+        }
+        let Some((a, b)) = find(&self.avr) else { return Ok(None) };
+        let line = String::from_utf8_lossy(&self.avr.uart_output()[a..b]).trim_end().to_string();
+        let t = self.avr.uart_output_cycles().get(a).map_or(self.avr.time_s(), |c| *c as f64 / CPU_HZ as f64);
+        Ok(Some((line, t)))
     }
 
     /// The most recent pulse width per joint (µs), if the joint has pulsed.
     pub fn last_pulses(&self) -> [Option<f64>; 3] {
         self.pulses().map(|p| p.last().map(|(_, w)| *w))
     }
+}
+
+/// Timer5's period in CPU cycles: 40 000 ticks of 8 cycles (0.5 µs).
+const PERIOD_CYCLES: u64 = 320_000;
+const CYCLES_PER_TICK: u64 = 8;
+
+/// Pulse widths in Timer5 ticks from cycle-stamped edges: (rise cycle,
+/// ticks). A stamp lags its edge by 0 to 4 cycles (see `avr::pins`), so a
+/// width read plainly is off by up to ±4 cycles, half a tick. Every rise
+/// happens at a period start (BOTTOM), on a grid of [`PERIOD_CYCLES`]:
+/// the smallest lag of the rises on one grid stands for the grid itself
+/// (a watchdog reset restarts the timer and starts a new grid), so the
+/// width measured from it errs by the fall's lag only, 0 to 4 cycles, and
+/// rounding it down to the tick is exact.
+pub fn pulse_ticks(pulses: &[crate::avr::Pulse]) -> Vec<(u64, u16)> {
+    // Offsets of every rise from its grid's first rise, modulo the period.
+    let off = |c: u64, r0: u64| -> i64 {
+        let d = ((c - r0) % PERIOD_CYCLES) as i64;
+        if d > (PERIOD_CYCLES / 2) as i64 {
+            d - PERIOD_CYCLES as i64
+        } else {
+            d
+        }
+    };
+    let mut out = Vec::with_capacity(pulses.len());
+    let mut i = 0;
+    while i < pulses.len() {
+        let r0 = pulses[i].rise_cycle;
+        let mut end = i + 1;
+        while end < pulses.len() && off(pulses[end].rise_cycle, r0).abs() <= 2 * CYCLES_PER_TICK as i64 {
+            end += 1;
+        }
+        let min_lag = pulses[i..end].iter().map(|p| off(p.rise_cycle, r0)).min().unwrap_or(0);
+        for p in &pulses[i..end] {
+            let fall = (p.rise_cycle + p.width_cycles) as i64;
+            let rise = p.rise_cycle as i64 - off(p.rise_cycle, r0) + min_lag;
+            let ticks = ((fall - rise).max(0) as u64 + CYCLES_PER_TICK / 2 - 1) / CYCLES_PER_TICK;
+            out.push((p.rise_cycle, ticks.min(u64::from(u16::MAX)) as u16));
+        }
+        i = end;
+    }
+    out
 }
 
 /// Where to press the panel to pick workspace point (x, y) on the screen's
@@ -363,11 +443,37 @@ pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
     for j in 0..3 {
         match maps[j].angle_to_pulse(q[j]) {
             Ok(p) => {
-                pulses_us[j] = f64::from(p.us);
+                pulses_us[j] = f64::from(p.us());
                 within_limits &= p.clamped.is_none();
             }
             Err(_) => within_limits = false,
         }
     }
     Ok(HostTarget { pose, q, pulses_us, within_limits })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::avr::Pulse;
+
+    /// Rises on the period grid and falls after whole ticks, each edge
+    /// stamped 0 to 4 cycles late: the widths come out in exact ticks, also
+    /// across a restart of the timer (a new grid).
+    #[test]
+    fn pulse_widths_are_whole_ticks_despite_late_stamps() {
+        let mut pulses = Vec::new();
+        let mut want = Vec::new();
+        for k in 0..40u64 {
+            let ticks = 2999 + k % 5;
+            // A second grid after a reset, 123 cycles off the first.
+            let bottom = if k < 20 { 1000 + k * PERIOD_CYCLES } else { 1123 + (k + 3) * PERIOD_CYCLES };
+            let (rise_lag, fall_lag) = ((k * 7) % 5, (k * 3) % 5);
+            let rise = bottom + rise_lag;
+            let fall = bottom + ticks * CYCLES_PER_TICK + fall_lag;
+            pulses.push(Pulse { rise_cycle: rise, width_cycles: fall - rise });
+            want.push((rise, ticks as u16));
+        }
+        assert_eq!(pulse_ticks(&pulses), want);
+    }
 }

@@ -29,7 +29,7 @@ fn ask(s: &mut Sim, line: &str) -> Vec<String> {
 fn refusals_keep_the_pose_and_say_why() {
     let mut r = homed(&AppParams::DEFAULT);
     let home = r.servos.pulses();
-    assert_eq!(home, Some([1500, 1500, 1500]));
+    assert_eq!(home, Some([3000, 3000, 3000]));
     let cases: &[(&str, &str)] = &[
         ("goto 200 90 -90", "err joint limit base"),
         ("goto 90 -10 -90", "err joint limit shoulder"),
@@ -56,7 +56,7 @@ fn unreachable_and_singular_points_are_refused() {
     let mut r = homed(&params);
     assert_eq!(ask(&mut r, "move 900 880"), ["err unreachable"]);
     assert_eq!(r.app.status().last_refusal, Some(Refusal::Unreachable));
-    assert_eq!(r.servos.pulses(), Some([1500, 1500, 1500]));
+    assert_eq!(r.servos.pulses(), Some([3000, 3000, 3000]));
     // The origin with l2 = l3: shoulder angle undefined. A span of 123..931
     // puts raw x = 527 exactly at x_p = 0.
     let mut r = homed(&AppParams::DEFAULT);
@@ -78,7 +78,7 @@ fn homing_stop_and_speed_limit_refusals() {
     // 0.5 °/s on the base: 90° would need ≫ 30 s.
     assert_eq!(ask(&mut r, "cal set base max_speed 0.5"), ["ok cal set"]);
     assert_eq!(ask(&mut r, "goto 0 90 -90"), ["err speed limit needs ts above max"]);
-    assert_eq!(r.servos.pulses(), Some([1500, 1500, 1500]));
+    assert_eq!(r.servos.pulses(), Some([3000, 3000, 3000]));
 }
 
 #[test]
@@ -89,16 +89,31 @@ fn first_move_is_slow_and_reports_its_plan() {
     // T = 1.875·(π/3)/0.735 = 2.6714 s.
     assert_eq!(ask(&mut r, "goto 30 90 -90"), ["ok goto ts_ms 2671 vend 0 0 0"]);
     r.run_frames(200);
-    assert_eq!(r.servos.pulses(), Some([900, 1500, 1500]));
+    // 30° on the base: 900 µs = 1800 Timer5 ticks of 0.5 µs.
+    assert_eq!(r.servos.pulses(), Some([1800, 3000, 3000]));
     // The second at the normal 50 %: T = 1.875·(π/3)/1.47 = 1.3357 s.
     assert_eq!(ask(&mut r, "goto 90 90 -90"), ["ok goto ts_ms 1336 vend 0 0 0"]);
-    // ζ-a-tₛ reports a and the smooth stop; 60° at 50 % → tₛ ≈ 1.444 s.
+    // The time-scaled ζ-a-tₛ in closed form: T = 2.020156·(π/3)/1.47 =
+    // 1.43912 s, ending at rest.
     r.run_frames(100);
     assert_eq!(ask(&mut r, "law zat"), ["ok law zat"]);
-    let reply = ask(&mut r, "goto 30 90 -90");
+    assert_eq!(ask(&mut r, "goto 30 90 -90"), ["ok goto ts_ms 1439 vend 0 0 0"]);
+    // The papers' form reports a and the smooth stop; 60° at 50 % → tₛ ≈ 1.444 s.
+    r.run_frames(100);
+    assert_eq!(ask(&mut r, "law zat-paper"), ["ok law zat-paper"]);
+    let reply = ask(&mut r, "goto 90 90 -90");
     let f: Vec<&str> = reply[0].split(' ').collect();
     assert_eq!(&f[..3], ["ok", "goto", "ts_ms"]);
     let ts: f64 = f[3].parse().unwrap();
     assert!((1444.0..1474.0).contains(&ts), "{reply:?}");
     assert_eq!(&f[4..], ["a_milli", f[5], "smooth", "vend", "0", "0", "0"]);
+    // A low acceleration limit lengthens a short move: 10° on the base at
+    // 100 °/s² less 2 %: T = √(6.636934·(π/18)/(1.7453·0.98)) = 0.8229 s,
+    // where the speed alone would take 0.24 s.
+    r.run_frames(100);
+    assert_eq!(ask(&mut r, "law zat"), ["ok law zat"]);
+    assert_eq!(ask(&mut r, "cal set base max_accel 100"), ["ok cal set"]);
+    assert_eq!(ask(&mut r, "goto 80 90 -90"), ["ok goto ts_ms 823 vend 0 0 0"]);
+    r.run_frames(50);
+    assert_eq!(ask(&mut r, "cal set base max_accel 0"), ["err base accel"]);
 }

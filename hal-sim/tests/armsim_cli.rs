@@ -532,6 +532,34 @@ fn law_values_match_the_corrected_formulas() {
     );
 }
 
+/// `law --kind zat`: the reference shape (n = 2, T₀ = 1.5 s, a* = T₀ −
+/// log₂ T₀) of the SPEC's normalized form at τ = (t − t0)·T₀/(t_f − t0),
+/// ending exactly on s_f at rest; `traj` stays the papers' own form.
+#[test]
+fn law_zat_is_the_time_scaled_reference_shape() {
+    let (h, rows) =
+        csv(&["law", "--kind", "zat", "--t0", "1", "--tf", "3", "--s0", "2", "--sf", "-1", "--t", "0,1.5,2.2,2.9,3,5"]);
+    assert_eq!(h, ["t", "s", "v", "acc"]);
+    let (t0, tf, s0, d, big_t0, l) = (1.0, 3.0, 2.0, -3.0, 1.5f64, std::f64::consts::LN_2);
+    let a = big_t0 - big_t0.log2();
+    // G(τ) = n^(1 − T₀/τ)·(1 + q(τ))/(1 + q(T₀)), q = 1/(n^(u − a) − 1), u = τ + T₀/τ − 1.
+    let q = |u: f64| 1.0 / (l * (u - a)).exp_m1();
+    let g = |tau: f64| (l * (1.0 - big_t0 / tau)).exp() * (1.0 + q(tau + big_t0 / tau - 1.0)) / (1.0 + q(big_t0));
+    for r in &rows[1..4] {
+        let tau = (r[0] - t0) * big_t0 / (tf - t0);
+        assert!((r[1] - (s0 + d * g(tau))).abs() < 1e-12, "{r:?}");
+        // The velocity is Δ·G′(τ)·T₀/(t_f − t0): a central difference of G.
+        let h = 1e-6;
+        let v = d * (g(tau + h) - g(tau - h)) / (2.0 * h) * big_t0 / (tf - t0);
+        assert!((r[2] - v).abs() < 1e-6, "{r:?} vs {v}");
+    }
+    assert_eq!(&rows[0][1..], &[2.0, 0.0, 0.0]);
+    assert_eq!(rows[4][1], -1.0);
+    assert!(rows[4][2].abs() < 1e-12, "smooth stop: {:?}", rows[4]);
+    assert_eq!(&rows[5][1..], &[-1.0, 0.0, 0.0]);
+    fails(&["law", "--kind", "zat", "--t0", "1", "--tf", "0", "--s0", "0", "--sf", "1", "--t", "1"], "tf must be > t0");
+}
+
 #[test]
 fn plot_writes_png_and_svg() {
     let dir = std::env::temp_dir().join(format!("armsim-plot-{}", std::process::id()));

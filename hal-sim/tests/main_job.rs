@@ -18,11 +18,23 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         .expect("run touch-arm-sim");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    for key in ["raw", "x_p", "y_p", "condition", "alpha_deg", "q", "target_pulses_us", "final_pulses_us", "arrival_s"]
-    {
+    for key in [
+        "raw",
+        "x_p",
+        "y_p",
+        "condition",
+        "alpha_deg",
+        "q",
+        "target_pulses_us",
+        "final_pulses_us",
+        "arrival_s",
+        "law",
+        "ts_s",
+    ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}: {summary}");
     }
     assert_eq!(summary["condition"], 3);
+    assert_eq!(summary["law"], "zat");
     let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
     assert!((x + 0.4).abs() < 0.01 && (y - 0.5).abs() < 0.01, "the map pixel holding (-0.4, 0.5): ({x}, {y})");
     let target: Vec<f64> =
@@ -98,4 +110,42 @@ fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
         assert!(!dir.join("summary.json").exists() && !dir.join("pulses.csv").exists());
         std::fs::remove_dir_all(&dir).ok();
     }
+}
+
+/// `--then X2,Y2@MS` touches the map a second time mid-move and `--law`
+/// picks the profile: the summary says which, with both durations, and the
+/// arm ends on the second target.
+#[test]
+fn main_job_re_plans_mid_move_under_the_law_asked() {
+    let dir = std::env::temp_dir().join(format!("touch-arm-main-job-then-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+        .args(["--xy", "-0.5,0.5", "--then", "0.5,0.5@400", "--law", "quintic", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run touch-arm-sim");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}{stdout}", String::from_utf8_lossy(&out.stderr));
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["law"], "quintic");
+    let (ts, then_ts) = (summary["ts_s"].as_f64().unwrap(), summary["then_ts_s"].as_f64().unwrap());
+    assert!(ts > 0.5 && then_ts > 0.5, "{summary}");
+    assert_eq!(summary["then_delay_ms"], 400);
+    let after = summary["then_confirmed_after_s"].as_f64().unwrap();
+    assert!((0.4..0.6).contains(&after), "{summary}");
+    assert!(summary["then_reply"].as_str().unwrap().contains(" replan "), "{summary}");
+    // The second touch is where the arm ends (condition 1, right of centre).
+    assert_eq!(summary["condition"], 1);
+    let target: Vec<f64> =
+        summary["target_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let last: Vec<f64> = summary["final_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(target, last);
+    // pulses.csv carries the timer's half-µs ticks.
+    let csv = std::fs::read_to_string(dir.join("pulses.csv")).unwrap();
+    for row in csv.lines().skip(1) {
+        for v in row.split(',').skip(1) {
+            let us: f64 = v.parse().unwrap();
+            assert_eq!((us * 2.0).fract(), 0.0, "{row}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

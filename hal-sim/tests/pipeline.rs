@@ -397,46 +397,46 @@ mod servo {
     fn defaults_are_valid_and_hit_expected_pulses() {
         let [base, shoulder, elbow] = maps();
         let us = |m: &ServoMap, a: f64| m.angle_to_pulse(a).unwrap();
-        assert_eq!(us(&base, 0.0), Pulse { us: 600, clamped: None });
-        assert_eq!(us(&base, PI / 2.0).us, 1500);
-        assert_eq!(us(&base, PI), Pulse { us: 2400, clamped: None });
-        assert_eq!(us(&shoulder, PI / 4.0).us, 1050);
-        assert_eq!(us(&elbow, 0.0), Pulse { us: 2400, clamped: None });
-        assert_eq!(us(&elbow, -PI / 2.0).us, 1500);
-        assert_eq!(us(&elbow, -PI), Pulse { us: 600, clamped: None });
+        assert_eq!(us(&base, 0.0), Pulse { ticks: 1200, clamped: None });
+        assert_eq!(us(&base, PI / 2.0).ticks, 3000);
+        assert_eq!(us(&base, PI), Pulse { ticks: 4800, clamped: None });
+        assert_eq!(us(&shoulder, PI / 4.0).ticks, 2100);
+        assert_eq!(us(&elbow, 0.0), Pulse { ticks: 4800, clamped: None });
+        assert_eq!(us(&elbow, -PI / 2.0).ticks, 3000);
+        assert_eq!(us(&elbow, -PI), Pulse { ticks: 1200, clamped: None });
         // f32 path agrees.
-        assert_eq!(base.angle_to_pulse(core::f32::consts::FRAC_PI_2).unwrap().us, 1500);
+        assert_eq!(base.angle_to_pulse(core::f32::consts::FRAC_PI_2).unwrap().ticks, 3000);
         // Float noise just past a limit is not reported as a clamp.
-        assert_eq!(shoulder.angle_to_pulse(-1e-7f32).unwrap(), Pulse { us: 600, clamped: None });
-        assert_eq!(elbow.angle_to_pulse(1e-6f64).unwrap(), Pulse { us: 2400, clamped: None });
+        assert_eq!(shoulder.angle_to_pulse(-1e-7f32).unwrap(), Pulse { ticks: 1200, clamped: None });
+        assert_eq!(elbow.angle_to_pulse(1e-6f64).unwrap(), Pulse { ticks: 4800, clamped: None });
     }
 
     #[test]
     fn clamps_and_reports() {
         let [base, _, elbow] = maps();
-        assert_eq!(base.angle_to_pulse(-0.1f64).unwrap(), Pulse { us: 600, clamped: Some(Limit::AngleMin) });
-        assert_eq!(base.angle_to_pulse(4.0f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
-        assert_eq!(elbow.angle_to_pulse(0.5f32).unwrap(), Pulse { us: 2400, clamped: Some(Limit::AngleMax) });
+        assert_eq!(base.angle_to_pulse(-0.1f64).unwrap(), Pulse { ticks: 1200, clamped: Some(Limit::AngleMin) });
+        assert_eq!(base.angle_to_pulse(4.0f32).unwrap(), Pulse { ticks: 4800, clamped: Some(Limit::AngleMax) });
+        assert_eq!(elbow.angle_to_pulse(0.5f32).unwrap(), Pulse { ticks: 4800, clamped: Some(Limit::AngleMax) });
         // Pulse limits narrower than the angle range: the pulse limit binds.
         let cal = JointCal { min_us: 1000, max_us: 2000, ..JointCal::BASE_DEFAULT };
         let m = ServoMap::new(&cal).unwrap();
-        assert_eq!(m.angle_to_pulse(0.0f64).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
-        assert_eq!(m.angle_to_pulse(3.0f64).unwrap(), Pulse { us: 2000, clamped: Some(Limit::PulseMax) });
+        assert_eq!(m.angle_to_pulse(0.0f64).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(3.0f64).unwrap(), Pulse { ticks: 4000, clamped: Some(Limit::PulseMax) });
         // Within half a µs of a pulse limit is rounding, not a clamp.
         let k = JointCal::BASE_DEFAULT.us_per_rad as f64;
         let at = |us: f64| (us - 600.0) / k;
-        assert_eq!(m.angle_to_pulse(at(999.7)).unwrap(), Pulse { us: 1000, clamped: None });
-        assert_eq!(m.angle_to_pulse(at(999.3)).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
-        assert_eq!(m.angle_to_pulse(at(2000.4)).unwrap(), Pulse { us: 2000, clamped: None });
-        assert_eq!(m.angle_to_pulse(at(2000.6)).unwrap(), Pulse { us: 2000, clamped: Some(Limit::PulseMax) });
+        assert_eq!(m.angle_to_pulse(at(999.7)).unwrap(), Pulse { ticks: 2000, clamped: None });
+        assert_eq!(m.angle_to_pulse(at(999.3)).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(at(2000.4)).unwrap(), Pulse { ticks: 4000, clamped: None });
+        assert_eq!(m.angle_to_pulse(at(2000.6)).unwrap(), Pulse { ticks: 4000, clamped: Some(Limit::PulseMax) });
         // Both act: the pulse limit (applied last) is reported.
-        assert_eq!(m.angle_to_pulse(-5.0f64).unwrap(), Pulse { us: 1000, clamped: Some(Limit::PulseMin) });
+        assert_eq!(m.angle_to_pulse(-5.0f64).unwrap(), Pulse { ticks: 2000, clamped: Some(Limit::PulseMin) });
         // Reversed direction: large angles give small pulses.
         let rev = JointCal { offset_us: 2400.0, us_per_rad: -1800.0 / core::f32::consts::PI, ..JointCal::BASE_DEFAULT };
         let m = ServoMap::new(&rev).unwrap();
-        assert_eq!(m.angle_to_pulse(PI).unwrap().us, 600);
-        assert_eq!(m.angle_to_pulse(0.0f64).unwrap().us, 2400);
-        assert_eq!(m.angle_to_pulse(9.0f64).unwrap(), Pulse { us: 600, clamped: Some(Limit::AngleMax) });
+        assert_eq!(m.angle_to_pulse(PI).unwrap().ticks, 1200);
+        assert_eq!(m.angle_to_pulse(0.0f64).unwrap().ticks, 4800);
+        assert_eq!(m.angle_to_pulse(9.0f64).unwrap(), Pulse { ticks: 1200, clamped: Some(Limit::AngleMax) });
     }
 
     #[test]
@@ -451,17 +451,23 @@ mod servo {
 
     #[test]
     fn ticks() {
-        assert_eq!(us_to_ticks(1500), 3000);
-        assert_eq!(us_to_ticks(500), 1000);
-        assert_eq!(us_to_ticks(2500), 5000);
+        assert_eq!(clamp_ticks(3001), 3001);
+        assert_eq!(clamp_ticks(1000), 1000);
+        assert_eq!(clamp_ticks(5000), 5000);
         // Never 0 (no pulse) nor ≥ TOP (output stuck high).
-        assert_eq!(us_to_ticks(0), 1000);
-        assert_eq!(us_to_ticks(u16::MAX), 5000);
-        for us in 0..=u16::MAX {
-            let t = us_to_ticks(us);
-            assert!((1000..=5000).contains(&t) && t < TIMER5_TOP);
+        assert_eq!(clamp_ticks(0), 1000);
+        assert_eq!(clamp_ticks(u16::MAX), 5000);
+        for t in 0..=u16::MAX {
+            let c = clamp_ticks(t);
+            assert!((1000..=5000).contains(&c) && c < TIMER5_TOP);
         }
-        assert_eq!(Pulse { us: 1234, clamped: None }.ticks(), 2468);
+        assert_eq!(Pulse { ticks: 2469, clamped: None }.us(), 1234.5);
+        // Half a µs is resolved: 1500.5 µs on the base.
+        let base = ServoMap::new(&JointCal::BASE_DEFAULT).unwrap();
+        let k = JointCal::BASE_DEFAULT.us_per_rad as f64;
+        assert_eq!(base.angle_to_pulse((1500.5 - 600.0) / k).unwrap().ticks, 3001);
+        assert_eq!(base.angle_to_pulse((1500.3 - 600.0) / k).unwrap().ticks, 3001);
+        assert_eq!(base.angle_to_pulse((1500.2 - 600.0) / k).unwrap().ticks, 3000);
         // 40000 ticks of 0.5 µs = 20 ms = 50 Hz.
         assert_eq!((TIMER5_TOP as u32 + 1) / TICKS_PER_US as u32, 20_000);
     }
@@ -522,6 +528,7 @@ mod servo {
                     min_rad,
                     max_rad,
                     max_speed_rad_s: v,
+                    max_accel_rad_s2: 10.0 * v,
                 }
             })
             .prop_filter("valid", |c| c.validate().is_ok())
@@ -547,13 +554,13 @@ mod servo {
             match m.angle_to_pulse(a) {
                 Ok(p) => {
                     prop_assert!(a.is_finite());
-                    prop_assert!(p.us >= cal.min_us && p.us <= cal.max_us, "{p:?}");
-                    prop_assert!(p.us >= ABS_MIN_US && p.us <= ABS_MAX_US);
+                    prop_assert!(p.ticks >= 2 * cal.min_us && p.ticks <= 2 * cal.max_us, "{p:?}");
+                    prop_assert!(p.ticks >= 2 * ABS_MIN_US && p.ticks <= 2 * ABS_MAX_US);
                     // The pulse is the formula at the clamped angle, clamped, rounded.
                     let ac = (a as f64).clamp(cal.min_rad as f64, cal.max_rad as f64);
                     let raw = cal.offset_us as f64 + cal.us_per_rad as f64 * ac;
                     let want = raw.clamp(cal.min_us as f64, cal.max_us as f64);
-                    prop_assert!((p.us as f64 - want).abs() <= 0.5 + 1e-2, "{} vs {}", p.us, want);
+                    prop_assert!((f64::from(p.us()) - want).abs() <= 0.25 + 1e-2, "{} vs {}", p.us(), want);
                     // No clamp reported iff the request was met to within 0.5 µs.
                     let unclamped = cal.offset_us as f64 + cal.us_per_rad as f64 * a as f64;
                     if (unclamped - want).abs() > 0.52 {
@@ -574,7 +581,7 @@ mod servo {
         fn never_exceeds_limits_f64(cal in any_cal(), a in prop::num::f64::ANY) {
             let m = ServoMap::new(&cal).unwrap();
             match m.angle_to_pulse(a) {
-                Ok(p) => prop_assert!(p.us >= cal.min_us && p.us <= cal.max_us),
+                Ok(p) => prop_assert!(p.ticks >= 2 * cal.min_us && p.ticks <= 2 * cal.max_us),
                 Err(_) => prop_assert!(!a.is_finite()),
             }
         }
@@ -586,14 +593,14 @@ mod servo {
             let a = lo + (hi - lo) * t;
             let p = m.angle_to_pulse(a).unwrap();
             prop_assert_eq!(p.clamped, None);
-            let back: f64 = m.pulse_to_angle(p.us);
-            // Rounding to whole µs costs at most 0.5 µs of angle.
-            let tol = 0.5 / m.cal().us_per_rad.abs() as f64 + 1e-6;
-            prop_assert!((back - a).abs() <= tol, "{a} -> {} -> {back}", p.us);
+            let back: f64 = m.pulse_to_angle(p.ticks);
+            // Rounding to the 0.5 µs tick costs at most 0.25 µs of angle.
+            let tol = 0.25 / m.cal().us_per_rad.abs() as f64 + 1e-6;
+            prop_assert!((back - a).abs() <= tol, "{a} -> {} -> {back}", p.ticks);
             // And the other way: every pulse in range maps back onto itself.
-            let us = 600 + ((t * 1800.0) as u16);
-            let ang: f32 = m.pulse_to_angle(us);
-            prop_assert_eq!(m.angle_to_pulse(ang).unwrap().us, us);
+            let ticks = 1200 + ((t * 3600.0) as u16);
+            let ang: f32 = m.pulse_to_angle(ticks);
+            prop_assert_eq!(m.angle_to_pulse(ang).unwrap().ticks, ticks);
         }
     }
 }
@@ -692,9 +699,51 @@ mod config {
         assert_eq!(r[85], 0b101); // swap | invert_y
         assert_eq!(r[86], SpeedPreset::Fast.id());
         assert_eq!(r[87], LawKind::Quintic.id());
-        assert_eq!(&r[88..90], &crc16(&r[..88]).to_le_bytes());
+        // Version 2 appends the acceleration limits before the CRC.
+        assert_eq!(&r[88..92], &c.joints[0].max_accel_rad_s2.to_le_bytes());
+        assert_eq!(&r[96..100], &c.joints[2].max_accel_rad_s2.to_le_bytes());
+        assert_eq!(&r[100..102], &crc16(&r[..100]).to_le_bytes());
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
+    }
+
+    /// A version-1 record (90 bytes, CRC of 0..88 at 88, written before the
+    /// acceleration limits) still loads, with the default limits; the
+    /// slot's bytes past it are whatever the EEPROM held.
+    #[test]
+    fn version_1_records_migrate_with_default_accelerations() {
+        let c = sample_config();
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            let mut r = [tail; RECORD_LEN];
+            r[..88].copy_from_slice(&c.encode(41)[..88]);
+            r[2] = 1;
+            let crc = crc16(&r[..88]);
+            r[88..90].copy_from_slice(&crc.to_le_bytes());
+            let d = Config::decode(&r).unwrap();
+            let mut want = c;
+            for (w, d) in want.joints.iter_mut().zip(JointCal::DEFAULTS.iter()) {
+                w.max_accel_rad_s2 = d.max_accel_rad_s2;
+            }
+            assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
+            // A bad version-1 CRC is a CRC error, not a migration.
+            let mut bad = r;
+            bad[40] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        // Through load: one slot of each version, the newer sequence wins.
+        let mut ee = SimEeprom::new();
+        let mut v1 = [0xFFu8; RECORD_LEN];
+        v1[..88].copy_from_slice(&c.encode(5)[..88]);
+        v1[2] = 1;
+        let crc = crc16(&v1[..88]);
+        v1[88..90].copy_from_slice(&crc.to_le_bytes());
+        ee.write(u32::from(SLOT_A_ADDR), &v1[..90]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning), (Source::SlotA, 5, Some(Warning::CopyDamaged)));
+        assert_eq!(l.config.joints[1].max_accel_rad_s2, JointCal::DEFAULTS[1].max_accel_rad_s2);
+        assert_eq!(save(&mut ee, &l.config), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning), (6, None));
     }
 
     #[test]
@@ -705,8 +754,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 2;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(2)));
+        r[2] = 3;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(3)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -714,8 +763,8 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..88]);
-            r[88..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..100]);
+            r[100..].copy_from_slice(&crc.to_le_bytes());
             r
         };
         for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08)] {
@@ -725,6 +774,10 @@ mod config {
         }
         let mut r = good;
         r[9..13].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
+        // An acceleration limit that is not positive.
+        let mut r = good;
+        r[92..96].copy_from_slice(&0.0f32.to_le_bytes());
         assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
     }
 
@@ -737,8 +790,9 @@ mod config {
             -3.0f32..0.0,
             0.5f32..3.0,
             0.5f32..20.0,
+            0.5f32..1000.0,
         )
-            .prop_map(|(o, k, lo, hi, a, b, v)| JointCal {
+            .prop_map(|(o, k, lo, hi, a, b, v, acc)| JointCal {
                 offset_us: o,
                 us_per_rad: k,
                 min_us: lo,
@@ -746,6 +800,7 @@ mod config {
                 min_rad: a,
                 max_rad: b,
                 max_speed_rad_s: v,
+                max_accel_rad_s2: acc,
             });
         let touch = (0u16..400, 600u16..=1023, 0u16..400, 600u16..=1023, any::<[bool; 3]>()).prop_map(
             |(x_min, x_max, y_min, y_max, f)| Calibration {
@@ -758,7 +813,7 @@ mod config {
                 invert_y: f[2],
             },
         );
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..5)
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6)
             .prop_map(|(joints, touch, s, l)| Config {
                 joints,
                 touch,
@@ -796,7 +851,10 @@ mod config {
             assert_eq!(SpeedPreset::from_id(p.id()), Some(p));
             assert_eq!(SpeedPreset::from_name(p.name().as_str().as_bytes()), Some(p));
         }
-        assert_eq!(LawKind::from_id(5), None);
+        // Stable ids: the papers' ζ-a-tₛ came last.
+        assert_eq!(LawKind::ALL.map(|l| l.id()), [0, 5, 1, 2, 3, 4]);
+        assert_eq!(LawKind::from_id(6), None);
+        assert_eq!(LawKind::from_name(b"zat-paper"), Some(LawKind::ZatPaper));
         assert_eq!(SpeedPreset::from_id(3), None);
         assert_eq!(SpeedPreset::ALL.map(|p| p.percent()), [25, 50, 100]);
     }

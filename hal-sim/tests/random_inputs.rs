@@ -110,13 +110,14 @@ impl Run {
         if let Some(p) = pulses {
             for (j, &pulse) in p.iter().enumerate() {
                 let (lo, hi) = window(&cfg, j);
-                let us = f64::from(pulse);
+                // The servos get Timer5 ticks of 0.5 µs.
+                let us = f64::from(pulse) * 0.5;
                 assert!(us >= lo && us <= hi, "{}: joint {j} pulse {us} outside [{lo}, {hi}] ({cfg:?})", ctx());
             }
             if let Some(q) = self.prev_pulses {
                 for j in 0..3 {
                     let k = &cfg.joints[j];
-                    let step = (f64::from(p[j]) - f64::from(q[j])).abs();
+                    let step = (f64::from(p[j]) - f64::from(q[j])).abs() * 0.5;
                     let max = k.max_speed_rad_s as f64 * (k.us_per_rad as f64).abs() * FRAME_S as f64;
                     assert!(step <= max + 1.0, "{}: joint {j} pulse stepped {step} us > {max:.2} + 1", ctx());
                     self.t.max_step_share = self.t.max_step_share.max((step - 1.0).max(0.0) / max);

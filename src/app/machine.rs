@@ -4,7 +4,7 @@
 use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, Answer, App, Io, Mode, Motion, MoveInfo, PlanDue, TouchTarget, FRAME_S};
+use super::{build_maps, Answer, App, Io, Mode, MoveInfo, PlanDue, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
@@ -16,7 +16,7 @@ use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
 use crate::servo::map::{Joint, ServoMap};
-use crate::servo::track::ServoTrack;
+use crate::servo::track::Replan;
 use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
 
 impl App {
@@ -35,7 +35,8 @@ impl App {
             return;
         }
         let now = io.clock.now_ms();
-        self.busy = false;
+        // A late frame starts busy: the catch-up (module doc of `app`, step 0).
+        self.busy = core::mem::take(&mut self.late);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -48,6 +49,14 @@ impl App {
         }
         self.flush_pending(io.serial);
         self.report_dropped(io.serial);
+    }
+
+    /// The frame that just ran ended after the next period had started, so
+    /// the next one starts late: it only steps the motion and writes the
+    /// pulses (the module doc of `app`, step 0). Called by the firmware's
+    /// loop, which sees the period's timer.
+    pub fn frame_was_late(&mut self) {
+        self.late = true;
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
@@ -100,6 +109,11 @@ impl App {
     /// heavy thing (a plan can take most of it; a reply is formatted in it):
     /// after a serial line or a plan the panel is not read, a touch that would
     /// plan waits for the next frame, and that frame takes no serial line.
+    // Not inlined (nor are `step_motion`, `finish_plan` and `plan_target`):
+    // inlined into the firmware's frame they made it reserve 603 bytes of
+    // stack, and LLVM then miscompiled the touch read's loop on the chip (the
+    // frame never ended; the watchdog reset it). Out of line it is 168.
+    #[inline(never)]
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
             if self.busy {
@@ -272,18 +286,13 @@ impl App {
         Ok(())
     }
 
-    /// Plans this frame's accepted target from the pose just commanded (the
-    /// move starts in the next frame) and answers whoever asked.
+    /// Plans this frame's accepted target (the move starts in the next frame)
+    /// and answers whoever asked: while moving, a correction superposed on
+    /// the running move; at rest, a move from the pose just commanded.
+    #[inline(never)]
     fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(due) = self.plan_due.take() else { return };
-        let mut pct = self.config.speed.percent();
-        if self.first_move {
-            pct = pct.min(SpeedPreset::Slow.percent());
-        }
-        let start = self.commanded;
-        let r = self.plan_motion(&start, &due.target, None, pct).map(|info| {
-            self.last_move = MoveInfo { touch: due.touch, ..info };
-        });
+        let r = self.plan_target(&due.target, due.touch.as_ref());
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
@@ -298,10 +307,31 @@ impl App {
         }
     }
 
+    /// The plan of an accepted target under this move's limits.
+    #[inline(never)]
+    fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+        let lim = self.plan_limits(&self.maps, self.move_percent());
+        // A new target while moving: a correction superposed on the move.
+        if !self.track.is_done() {
+            let slack = 1.0 / (1.0 - self.params.speed_margin);
+            let r = Replan { target, law: self.config.law, lim: &lim, slack };
+            if let Some((ts, wait)) = self.track.replan(&r, &self.maps)? {
+                let end_velocity = [0.0; JOINTS];
+                let replan = Some(wait);
+                self.last_move = MoveInfo { target: *target, ts, replan, a: None, end_velocity, touch: touch.copied() };
+                return Ok(());
+            }
+        }
+        let start = self.commanded;
+        let info = self.start_fresh(&start, target, None, &lim)?;
+        self.last_move = MoveInfo { touch: touch.copied(), ..info };
+        Ok(())
+    }
+
     /// Plans a synchronized move from `start` to `target` under `new_maps`
     /// (the running calibration's if `None`) at `pct` % of every joint's max
-    /// speed, less the safety margin, and starts it (one plan per frame: see
-    /// `poll_touch`). Returns what to report.
+    /// speed and within its max acceleration, less the safety margin, and
+    /// starts it from rest (a calibration slew). Returns what to report.
     pub(super) fn plan_motion(
         &mut self,
         start: &[f32; JOINTS],
@@ -309,20 +339,44 @@ impl App {
         new_maps: Option<&[ServoMap; JOINTS]>,
         pct: u8,
     ) -> Result<MoveInfo, Refusal> {
+        let lim = self.plan_limits(new_maps.unwrap_or(&self.maps), pct);
+        self.start_fresh(start, target, new_maps, &lim)
+    }
+
+    /// A move from `start` at rest (not inlined: its plan and track would
+    /// otherwise share the caller's stack frame with the re-plan's).
+    #[inline(never)]
+    fn start_fresh(
+        &mut self,
+        start: &[f32; JOINTS],
+        target: &[f32; JOINTS],
+        new_maps: Option<&[ServoMap; JOINTS]>,
+        lim: &PlanLimits<f32>,
+    ) -> Result<MoveInfo, Refusal> {
         self.busy = true;
-        let maps = new_maps.unwrap_or(&self.maps);
-        let share = f32::from(pct) * 0.01 * (1.0 - self.params.speed_margin);
-        let mut speed = [0.0f32; JOINTS];
-        for (s, m) in speed.iter_mut().zip(maps.iter()) {
-            *s = m.max_speed::<f32>() * share;
-        }
-        let p = &self.params;
-        let lim = PlanLimits { speed, ts_min: p.ts_min, zat_ts_min: p.zat_ts_min, ts_max: p.ts_max, n: p.n };
         let req = MoveRequest { start: *start, target: *target, law: self.config.law };
-        let planned = plan_move(&req, &lim)?;
-        let track = ServoTrack::new(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
-        self.motion = Some(Motion { track, frame: 0 });
-        Ok(MoveInfo { target: *target, ts: planned.ts, a: planned.a, end_velocity: planned.end_velocity, touch: None })
+        let planned = plan_move(&req, lim)?;
+        let maps = new_maps.unwrap_or(&self.maps);
+        self.track.start(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
+        Ok(MoveInfo {
+            target: *target,
+            ts: planned.ts,
+            replan: None,
+            a: planned.a,
+            end_velocity: planned.end_velocity,
+            touch: None,
+        })
+    }
+
+    /// The speed preset's percentage for the next move: the slow preset at
+    /// most before the first move has completed.
+    fn move_percent(&self) -> u8 {
+        let pct = self.config.speed.percent();
+        if self.first_move {
+            pct.min(SpeedPreset::Slow.percent())
+        } else {
+            pct
+        }
     }
 
     /// A target angle the servo layer would have to clamp (angle or pulse
@@ -338,6 +392,28 @@ impl App {
         Ok(())
     }
 
+    /// Limits for a move under `maps`: `pct` % of every joint's max speed
+    /// and its max acceleration, both less the safety margin.
+    fn plan_limits(&self, maps: &[ServoMap; JOINTS], pct: u8) -> PlanLimits<f32> {
+        let keep = 1.0 - self.params.speed_margin;
+        let share = f32::from(pct) * 0.01 * keep;
+        let mut speed = [0.0f32; JOINTS];
+        let mut accel = [0.0f32; JOINTS];
+        for ((s, a), m) in speed.iter_mut().zip(accel.iter_mut()).zip(maps.iter()) {
+            *s = m.max_speed::<f32>() * share;
+            *a = m.max_accel::<f32>() * keep;
+        }
+        PlanLimits {
+            speed,
+            accel,
+            ts_min: self.params.ts_min,
+            zat_ts_min: self.params.zat_ts_min,
+            ts_max: self.params.ts_max,
+            n: self.params.n,
+        }
+    }
+
+    #[inline(never)]
     fn step_motion(&mut self) {
         if let Mode::Homing { frames_left } = self.mode {
             self.mode = match frames_left {
@@ -346,16 +422,13 @@ impl App {
             };
         }
         self.frame_pulses = None;
-        if let Some(m) = &mut self.motion {
-            let t = f32::from(m.frame) * FRAME_S;
-            let f = m.track.frame(t);
-            self.commanded = m.track.plan().positions_with(t, f.g);
-            self.frame_pulses = Some(f.pulses_us);
-            if m.track.plan().is_finished(t) {
-                self.motion = None;
+        if !self.track.is_done() {
+            let f = self.track.frame_now();
+            self.commanded = self.track.positions(&f);
+            self.frame_pulses = Some(f.pulses);
+            self.track.advance();
+            if self.track.is_done() {
                 self.first_move = false;
-            } else {
-                m.frame = m.frame.saturating_add(1);
             }
         }
     }
@@ -375,7 +448,7 @@ impl App {
         let prev = self.pulses;
         for (j, ((o, m), q)) in out.iter_mut().zip(self.maps.iter()).zip(self.commanded.iter()).enumerate() {
             match m.angle_to_pulse(*q) {
-                Ok(p) => *o = p.us,
+                Ok(p) => *o = p.ticks,
                 Err(_) => {
                     fault = true;
                     match prev.as_ref().and_then(|p| p.get(j)) {
@@ -402,14 +475,14 @@ impl App {
 
     fn latch_fault(&mut self) {
         self.stopped = true;
-        self.motion = None;
+        self.track.halt();
         self.last_refusal = Some(Refusal::Fault);
     }
 
     /// STOP: hold the pose commanded in the previous frame.
     pub(super) fn stop(&mut self) {
         self.stopped = true;
-        self.motion = None;
+        self.track.halt();
     }
 
     pub(super) fn resume(&mut self) {
@@ -417,6 +490,6 @@ impl App {
     }
 
     pub(super) fn is_moving(&self) -> bool {
-        self.motion.is_some()
+        !self.track.is_done()
     }
 }

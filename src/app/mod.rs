@@ -15,6 +15,12 @@
 //! the read-only [`Status`] snapshot.
 //!
 //! # One frame, in order
+//! 0. Catch-up: a frame that starts late, because the one before ran past
+//!    the period end ([`App::frame_was_late`]), does no heavy thing: no serial
+//!    line, no panel read, no plan. It steps the motion and writes the pulses
+//!    early, so a long plan (a re-plan takes up to about two thirds of a
+//!    frame; BENCHMARKS.md) never pushes the next pulses past their period,
+//!    however the following frames are loaded.
 //! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
 //!    line, only while the port has room for the longest reply; one `ok …`/
 //!    `err …` line (see `serial.rs`). A partial line idle for
@@ -48,8 +54,12 @@
 //!   the first move after power-up never runs faster than the slow preset.
 //! - **holding** / **moving**: a target (touch, `move`, `goto`) is mapped,
 //!   solved, checked against the joint limits and planned from the pose
-//!   commanded in the previous frame, so a new target while moving re-plans
-//!   without a position jump (the new profile starts at rest).
+//!   commanded in the previous frame. A new target while moving keeps the
+//!   running move and superposes a correction that starts at rest
+//!   ([`crate::motion::superpose`]), so neither the position nor the velocity
+//!   steps; under the linear law or the papers' ζ-a-tₛ (whose profiles start
+//!   with a velocity or change shape with tₛ) it re-plans from the commanded
+//!   pose at rest.
 //! - **stopped**: `stop` latches; the pose of the previous frame is held
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
@@ -98,11 +108,13 @@ pub struct AppParams {
     /// Power-up pose (rad: base, shoulder, elbow), clamped into the joint
     /// limits of the loaded calibration.
     pub home: [f32; JOINTS],
-    /// ζ-a-tₛ base n.
+    /// The papers' ζ-a-tₛ base n (`law zat-paper`; the default law's
+    /// reference shape is fixed: [`crate::motion::scaled`]).
     pub n: f32,
-    /// Shortest classic move, s.
+    /// Shortest move of the laws that scale with their duration (the
+    /// classic ones and the time-scaled ζ-a-tₛ), s.
     pub ts_min: f32,
-    /// Shortest ζ-a-tₛ move, s, at least [`crate::motion::planner::request::ZAT_TS_FLOOR`]: above 1 so
+    /// Shortest move of the papers' ζ-a-tₛ, s, at least [`crate::motion::planner::request::ZAT_TS_FLOOR`]: above 1 so
     /// the smooth stop exists (for tₛ ≤ 1 a ζ-a-tₛ move ends with a velocity
     /// step of at least |Δ|·ln n / tₛ), and not just above 1, where the
     /// smooth-stop shape sits next to its pole.
@@ -278,7 +290,8 @@ pub struct Status {
     pub commanded: [f32; JOINTS],
     /// Target of the current or last move, rad.
     pub target: [f32; JOINTS],
-    /// Pulses written in the last frame (`None` before the first).
+    /// Pulses written in the last frame, Timer5 ticks of 0.5 µs (`None`
+    /// before the first).
     pub pulses: Option<[u16; JOINTS]>,
     /// Share of the current move's tₛ elapsed, 0..=100 (100 at rest).
     pub progress: u8,
@@ -311,20 +324,14 @@ enum Mode {
     Run,
 }
 
-/// A running move: the plan and the frames since it started.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Motion {
-    /// The plan with its pulse lines: one profile evaluation per frame gives
-    /// the pulses and the commanded angles.
-    track: ServoTrack,
-    frame: u16,
-}
-
 /// What the last accepted move was.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct MoveInfo {
     target: [f32; JOINTS],
     ts: f32,
+    /// Superposed on a running move, and the frames it waits for the
+    /// older of two running terms to end.
+    replan: Option<u16>,
     a: Option<AChoice<f32>>,
     end_velocity: [f32; JOINTS],
     touch: Option<TouchTarget>,
@@ -375,7 +382,10 @@ pub struct App {
     pulses: Option<[u16; JOINTS]>,
     /// This frame's pulses from the moving track (None when holding).
     frame_pulses: Option<[u16; JOINTS]>,
-    motion: Option<Motion>,
+    /// The running move (with any correction superposed on it), its pulse
+    /// lines and clock: one profile evaluation per running term and frame
+    /// gives the pulses and the commanded angles. Done when holding.
+    track: ServoTrack,
     last_move: MoveInfo,
     last_refusal: Option<Refusal>,
     source: Source,
@@ -387,6 +397,8 @@ pub struct App {
     /// This frame has done its one heavy thing: answered a serial line or
     /// planned a move (see `poll_touch`).
     busy: bool,
+    /// The next frame starts late (see [`App::frame_was_late`]).
+    late: bool,
     /// A touch target that waits for a frame with no plan yet.
     deferred_touch: Option<TouchPoint>,
     /// The target of this frame, planned after the pulses.
@@ -425,8 +437,15 @@ impl App {
             commanded: params.home,
             pulses: None,
             frame_pulses: None,
-            motion: None,
-            last_move: MoveInfo { target: params.home, ts: 0.0, a: None, end_velocity: [0.0; JOINTS], touch: None },
+            track: ServoTrack::idle(&params.home, FRAME_S),
+            last_move: MoveInfo {
+                target: params.home,
+                ts: 0.0,
+                replan: None,
+                a: None,
+                end_velocity: [0.0; JOINTS],
+                touch: None,
+            },
             last_refusal: None,
             source: Source::Defaults,
             warning: None,
@@ -434,6 +453,7 @@ impl App {
             pending: None,
             tx_dropped: 0,
             busy: false,
+            late: false,
             deferred_touch: None,
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
@@ -456,25 +476,14 @@ impl App {
             Mode::Boot => State::Off,
             _ if self.stopped => State::Stopped,
             Mode::Homing { .. } => State::Homing,
-            Mode::Run if self.motion.is_some() => State::Moving,
+            Mode::Run if !self.track.is_done() => State::Moving,
             Mode::Run => State::Holding,
         }
     }
 
     /// The snapshot a display draws from.
     pub fn status(&self) -> Status {
-        let progress = match &self.motion {
-            Some(m) => {
-                let ts = m.track.plan().duration();
-                let done = f32::from(m.frame) * FRAME_S;
-                if ts > 0.0 {
-                    ((done / ts).clamp(0.0, 1.0) * 100.0) as u8
-                } else {
-                    100
-                }
-            }
-            None => 100,
-        };
+        let progress = if self.track.is_done() { 100 } else { (self.track.progress() * 100.0) as u8 };
         Status {
             state: self.state(),
             law: self.config.law,

@@ -53,12 +53,12 @@ impl App {
         let mut moves = false;
         for (j, ((s, m), q)) in start.iter_mut().zip(maps.iter()).zip(self.commanded.iter()).enumerate() {
             let held = match m.angle_to_pulse(*q) {
-                Ok(p) if p.clamped.is_none() => p.us,
+                Ok(p) if p.clamped.is_none() => p.ticks,
                 _ => return Err(Refusal::HeldPoseOutside),
             };
             let now = match (self.pulses.as_ref().and_then(|p| p.get(j)), self.maps.get(j)) {
-                (Some(us), _) => *us,
-                (None, Some(old)) => old.angle_to_pulse(*q).map_err(|_| Refusal::NotFinite)?.us,
+                (Some(ticks), _) => *ticks,
+                (None, Some(old)) => old.angle_to_pulse(*q).map_err(|_| Refusal::NotFinite)?.ticks,
                 (None, None) => held,
             };
             *s = m.pulse_to_angle(now);

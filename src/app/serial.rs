@@ -63,8 +63,9 @@ impl App {
         E: Storage,
         U: SerialPort,
     {
-        // A touch waiting to plan has this frame (see `poll_touch`).
-        if self.pending.is_some() || self.deferred_touch.is_some() || io.serial.tx_room() < LINE_CAP {
+        // A late frame catches up; a touch waiting to plan has this frame
+        // (see `poll_touch`).
+        if self.busy || self.pending.is_some() || self.deferred_touch.is_some() || io.serial.tx_room() < LINE_CAP {
             return;
         }
         if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {

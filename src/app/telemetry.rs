@@ -13,8 +13,9 @@ use crate::servo::map::Joint;
 const CAL_SHOW_LINES: u8 = 4;
 
 impl App {
-    /// Appends ` [cond <c>] ts_ms <ms> [a_milli <a> smooth|limit|floor] vend <v> <v> <v>`
-    /// (end velocities in mrad/s) for the move just started.
+    /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
+    /// smooth|limit|floor] vend <v> <v> <v>` (end velocities in mrad/s) for
+    /// the move just started; `replan`: superposed on the running move.
     pub(super) fn describe_move(&self, line: &mut Line, with_condition: bool) {
         let m = &self.last_move;
         if with_condition {
@@ -23,6 +24,12 @@ impl App {
             }
         }
         line.word(t!("ts_ms")).num(milli(m.ts));
+        if let Some(wait) = m.replan {
+            line.word(t!("replan"));
+            if wait > 0 {
+                line.word(t!("wait_ms")).num(i32::from(wait) * super::FRAME_MS as i32);
+            }
+        }
         if let Some(a) = &m.a {
             line.word(t!("a_milli")).num(milli(a.a)).word(match a.kind {
                 AKind::SmoothStop => t!("smooth"),
@@ -37,7 +44,8 @@ impl App {
     }
 
     /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
-    /// commanded angles in centidegrees and the pulses written this frame.
+    /// commanded angles in centidegrees and the pulses written this frame
+    /// (µs, `.5` for a half: the timer's resolution).
     #[inline(never)]
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
@@ -46,8 +54,8 @@ impl App {
         for q in self.commanded.iter() {
             line.num(rad_to_centideg(*q));
         }
-        for us in pulses.iter() {
-            line.num(i32::from(*us));
+        for t in pulses.iter() {
+            line.bytes(b" ").ticks_us(*t);
         }
         self.emit(serial, &mut line);
     }
@@ -115,7 +123,7 @@ impl App {
 }
 
 /// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
-/// <3 us | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
+/// <3 us (.5 for a half) | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
 /// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
 pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
@@ -131,8 +139,8 @@ pub fn status_line(s: &Status, line: &mut Line) {
     line.word(t!("pulses"));
     match &s.pulses {
         Some(p) => {
-            for us in p.iter() {
-                line.num(i32::from(*us));
+            for t in p.iter() {
+                line.bytes(b" ").ticks_us(*t);
             }
         }
         None => {

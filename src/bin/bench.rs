@@ -31,19 +31,20 @@ use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::stack;
 use touch_arm::board::usart::Usart0;
-use touch_arm::geometry::ik::{ik2, Branch, Links};
+use touch_arm::geometry::ik::{Branch, Links};
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
 use touch_arm::motion::planner::{plan_move, request as app_policy};
+use touch_arm::motion::scaled::ScaledZat;
 use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
 use touch_arm::seam::RawSample;
 use touch_arm::seam::TouchPanel;
 use touch_arm::servo::map::{JointCal, ServoMap};
-use touch_arm::servo::track::ServoTrack;
+use touch_arm::servo::track::{Replan, ServoTrack};
 use touch_arm::touch::map::Calibration;
 use ufmt::uwriteln;
 
@@ -63,6 +64,10 @@ const START: [f32; JOINTS] = [1.570_796_3, 0.785_398_2, -1.570_796_3];
 const TARGET: [f32; JOINTS] = [0.785_398_2, 0.2, -2.2];
 const TS: f32 = 2.0;
 const N: f32 = 2.0;
+/// Where a re-plan sends the arm instead.
+const TARGET2: [f32; JOINTS] = [1.2, 1.9, -1.0];
+/// The app's frame, s.
+const FRAME_S: f32 = 0.02;
 
 /// avr-libc's `exp`/`log` called directly (AVR `double` is 32 bits), to time
 /// them beside the crate's own.
@@ -115,8 +120,33 @@ impl Bench {
             *slot = self.clock.cycles(s, e);
             drop(r);
         }
+        self.report(name, &mut c);
+    }
+
+    /// [`Bench::run`] for work that changes its input (a fresh one each run).
+    #[inline(never)]
+    fn run_mut<T, U>(&mut self, name: &str, input: impl Fn(usize) -> T, mut work: impl FnMut(&mut T) -> U) {
+        let mut c = [0u32; REPS];
+        stack::paint();
+        for (i, slot) in c.iter_mut().enumerate() {
+            let mut x = input(black_box(i));
+            let s = self.clock.now();
+            let r = work(black_box(&mut x));
+            let r = black_box(r);
+            let e = self.clock.now();
+            *slot = self.clock.cycles(s, e);
+            drop(r);
+        }
+        self.report(name, &mut c);
+    }
+
+    /// Prints a `B` line for a routine's counts and the stack high-water
+    /// since [`Bench::run`] painted it: one copy for every routine (`run`
+    /// is built once per routine, so what it need not hold stays out).
+    #[inline(never)]
+    fn report(&mut self, name: &str, c: &mut [u32; REPS]) {
         let hw = stack::high_water();
-        let (m, lo, hi) = stats(&mut c);
+        let (m, lo, hi) = stats(c);
         let _ = uwriteln!(self.serial, "B {} {} {} {} {}", name, m, lo, hi, hw);
     }
 
@@ -141,29 +171,6 @@ fn servo_maps() -> [ServoMap; JOINTS] {
         [Some(a), Some(b), Some(c)] => [a, b, c],
         _ => halt(),
     }
-}
-
-/// One 50 Hz frame's output: pulse widths (µs) and whether a joint would
-/// exceed its speed limit.
-#[derive(Clone, Copy)]
-struct Frame {
-    pulses: [u16; JOINTS],
-    too_fast: bool,
-}
-
-/// The frame the generic way, for comparison: sample the plan (positions and
-/// velocities in rad), map each angle with `ServoMap::angle_to_pulse`, check
-/// each speed.
-#[inline(never)]
-fn frame_generic(plan: &MultiPlan<f32>, maps: &[ServoMap; JOINTS], t: f32) -> Frame {
-    let s = plan.sample(t);
-    let mut out = Frame { pulses: [0; JOINTS], too_fast: false };
-    for ((p, j), m) in out.pulses.iter_mut().zip(s.iter()).zip(maps.iter()) {
-        // A NaN angle would hold the previous pulse; 0 marks it here.
-        *p = m.angle_to_pulse(j.pos).map_or(0, |x| x.us);
-        out.too_fast |= j.vel.abs() > m.max_speed::<f32>();
-    }
-    out
 }
 
 /// The printed ζ form, per joint, in f32 with the `libm` crate's `powf`:
@@ -223,28 +230,6 @@ fn main() -> ! {
     b.run("f32_mul", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x * y);
     b.run("f32_add", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)), |&(x, y)| x + y);
     b.run("f32_div", |i| (spread(i, 0.3, 7.0), spread(i, 1.1, 2.9)), |&(x, y)| x / y);
-    b.run(
-        "f32_mul_x10",
-        |i| (spread(i, 0.3, 7.0), spread(i, 0.9, 1.1)),
-        |&(x, y)| {
-            let mut r = x;
-            for _ in 0..10 {
-                r = r * y;
-            }
-            r
-        },
-    );
-    b.run(
-        "f32_add_x10",
-        |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 2.9)),
-        |&(x, y)| {
-            let mut r = x;
-            for _ in 0..10 {
-                r = r + y;
-            }
-            r
-        },
-    );
     b.run("f32_lt", |i| (spread(i, 0.3, 7.0), spread(i, -1.1, 9.9)), |&(x, y)| x < y);
     b.run("f32_to_i32", |i| spread(i, -3000.0, 3000.0), |&x| x as i32);
     b.run("i32_to_f32", |i| (i as i32) * 12345 - 7, |&x| x as f32);
@@ -278,22 +263,7 @@ fn main() -> ! {
     // The ζ-a-tₛ profile alone, and with its rate.
     b.run("g", t_at, |&t| g.g(t));
     b.run("g_rate", t_at, |&t| g.g_rate(t));
-    b.run("sample3", t_at, |&t| plan.sample(t));
-    // The 50 Hz frame: 3 joints, position and velocity → pulse widths.
-    let Ok(track) = ServoTrack::new(&plan, &maps) else { halt() };
-    b.run("frame", t_at, |&t| track.frame(t));
-    b.run("frame_generic", t_at, |&t| frame_generic(&plan, &maps, t));
-    for (name, law) in [
-        ("frame_linear", Law::Linear),
-        ("frame_cubic", Law::Cubic),
-        ("frame_quintic", Law::Quintic),
-        ("frame_trapezoid", Law::Trapezoid),
-    ] {
-        let Ok(l) = JointLaw::classic(law, TS) else { halt() };
-        let Ok(p) = MultiPlan::with_law(&START, &TARGET, &l) else { halt() };
-        let Ok(tr) = ServoTrack::new(&p, &maps) else { halt() };
-        b.run(name, t_at, |&t| tr.frame(t));
-    }
+    frames(&mut b, &plan, &maps);
     // The printed form with libm::powf, 3 joints, position only.
     let pj = paper_joints(&shape);
     b.run("paper_frame", t_at, |&t| {
@@ -311,21 +281,42 @@ fn main() -> ! {
     };
     let cal = Calibration::DEFAULT;
     b.run("plan", plan_input, |&(rx, ry, ts)| plan_move(&cal, &geo, rx, ry, ts));
-    b.run("plan_generic", plan_input, |&(rx, ry, ts)| plan_move_generic(&cal, &geo, rx, ry, ts));
 
     // What the product firmware really runs per touch: the app's policy,
-    // which also searches tₛ so no joint exceeds its speed share.
-    let limits =
-        app_policy::PlanLimits { speed: [0.5f32, 0.5, 0.5], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
-    b.run(
-        "app_plan_move",
-        |i| app_policy::MoveRequest {
+    // the shortest tₛ within every joint's speed and acceleration: closed
+    // form for the time-scaled ζ-a-tₛ, searched for the papers' form.
+    let limits = app_policy::PlanLimits {
+        speed: [0.5f32, 0.5, 0.5],
+        accel: [17.1f32; JOINTS],
+        ts_min: 0.5,
+        zat_ts_min: 1.2,
+        ts_max: 30.0,
+        n: 2.0,
+    };
+    let request = |law| {
+        move |i| app_policy::MoveRequest {
             start: START,
             target: [spread(i, 0.3, 2.8), spread(i, 0.4, 2.6), spread(i, -2.8, -0.4)],
-            law: LawKind::Zat,
-        },
-        |req| plan_move::plan_move(req, &limits).ok().map(|p| p.ts),
-    );
+            law,
+        }
+    };
+    b.run("app_plan_move", request(LawKind::Zat), |req| plan_move::plan_move(req, &limits).ok().map(|p| p.ts));
+    b.run("app_plan_move_paper", request(LawKind::ZatPaper), |req| {
+        plan_move::plan_move(req, &limits).ok().map(|p| p.ts)
+    });
+    // The move time of ζ-a-tₛ over the quintic's under the same limits, ‰:
+    // 15 moves at 3 rad/s, from speed-bound (60 rad/s²) to
+    // acceleration-bound (1 rad/s²).
+    let mut ratio = [0u32; REPS];
+    for (i, r) in ratio.iter_mut().enumerate() {
+        let lim = app_policy::PlanLimits { speed: [3.0; JOINTS], accel: [spread(i, 60.0, 1.0); JOINTS], ..limits };
+        let req = request(LawKind::Zat)(i);
+        let q = app_policy::MoveRequest { law: LawKind::Quintic, ..req };
+        if let (Ok(z), Ok(q)) = (plan_move::plan_move(&req, &lim), plan_move::plan_move(&q, &lim)) {
+            *r = (z.ts / q.ts * 1000.0 + 0.5) as u32;
+        }
+    }
+    b.counts("zat_time_over_quintic_permille", &mut ratio);
     // One touch read: 5 samples of X, Y and the two pressure channels on the
     // shared pins, with settle times, pins handed back after.
     let mut bus = ShieldBus::new(dp.PORTE, dp.PORTF, dp.PORTG, dp.PORTH);
@@ -347,7 +338,7 @@ fn main() -> ! {
             Some(p) => {
                 let a = match p.law() {
                     JointLaw::Zat(s) => s.a(),
-                    JointLaw::Classic(_) => f32::NAN,
+                    JointLaw::Scaled(_) | JointLaw::Classic(_) => f32::NAN,
                 };
                 (1u8, *p.target(), a)
             }
@@ -376,8 +367,6 @@ fn main() -> ! {
     };
     b.run("plan_map", touch, |&(rx, ry)| cal.map::<f32>(rx, ry).ok());
     b.run("plan_pose", mapped, |&(x, y)| pose_for_point(&geo, x, y).ok());
-    b.run("plan_ik2", mapped, |&(x, y)| ik2(&geo.links, x.abs(), y, Branch::Minus).ok());
-    b.run("plan_alpha", mapped, |&(x, y)| touch_arm::geometry::workspace::alpha(x, y).ok());
     b.run("plan_a_star", |i| spread(i, 1.5, 4.0), |&ts| smooth_stop_a(ts, 2.0f32));
     b.run("shape_new", shape_at, |p| Shape::new(p).ok());
     b.run("shape_smooth_stop", |i| spread(i, 1.5, 4.0), |&ts| Shape::smooth_stop(ts, 2.0f32).ok());
@@ -393,7 +382,6 @@ fn main() -> ! {
         },
     );
     b.run("atan2", |i| (spread(i, 0.01, 1.0), spread(i, -1.0, 1.0)), |&(y, x)| y.atan2(x));
-    b.run("acos", |i| spread(i, -0.99, 0.99), |&x| x.acos());
 
     // Via points: closed form with ζ, ζ_v; then the paper's iteration.
     let via = |i: usize| ViaParams {
@@ -425,6 +413,55 @@ fn main() -> ! {
     halt()
 }
 
+/// The 50 Hz frame: 3 joints, position and velocity → pulse widths, for the
+/// default law (the time-scaled ζ-a-tₛ), the papers' form (`paper`) and the
+/// classic laws; a re-plan 0.1 .. 1.78 s into the move (a ζ-a-tₛ correction
+/// superposed on it) and the frame of the two terms while both run. One
+/// track at a time: it is the largest object on the AVR's stack.
+#[inline(never)]
+fn frames(b: &mut Bench, paper: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) {
+    let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
+    let Ok(zat) = ScaledZat::new(TS) else { halt() };
+    let Ok(scaled) = MultiPlan::with_law(&START, &TARGET, &JointLaw::Scaled(zat)) else { halt() };
+    let Ok(mut track) = ServoTrack::new(paper, maps, FRAME_S) else { halt() };
+    b.run("frame_zat_paper", t_at, |&t| track.frame(t));
+    for (name, law) in [
+        ("frame_linear", Law::Linear),
+        ("frame_cubic", Law::Cubic),
+        ("frame_quintic", Law::Quintic),
+        ("frame_trapezoid", Law::Trapezoid),
+    ] {
+        let Ok(l) = JointLaw::classic(law, TS) else { halt() };
+        let Ok(p) = MultiPlan::with_law(&START, &TARGET, &l) else { halt() };
+        let Ok(()) = track.start(&p, maps) else { halt() };
+        b.run(name, t_at, |&t| track.frame(t));
+    }
+    let Ok(()) = track.start(&scaled, maps) else { halt() };
+    b.run("frame", t_at, |&t| track.frame(t));
+    let limits = app_policy::PlanLimits {
+        speed: [1.47f32; JOINTS],
+        accel: [17.1f32; JOINTS],
+        ts_min: 0.5,
+        zat_ts_min: 1.2,
+        ts_max: 30.0,
+        n: 2.0,
+    };
+    let replan = Replan { target: &TARGET2, law: LawKind::Zat, lim: &limits, slack: 1.0 / 0.98 };
+    let running = |i: usize| {
+        let mut t = track;
+        for _ in 0..5 + 6 * i {
+            t.advance();
+        }
+        t
+    };
+    b.run_mut("app_replan", running, |t| t.replan(&replan, maps).ok().flatten().map(|(ts, _)| ts));
+    for _ in 0..29 {
+        track.advance();
+    }
+    let Ok(Some(_)) = track.replan(&replan, maps) else { halt() };
+    b.run("frame_superposed", |i| spread(i, 0.0, 1.4), |&t| track.frame(t));
+}
+
 /// Map a touch, solve the pose, plan the move from the start pose: the
 /// smooth-stop shape (a = a*, `Shape::smooth_stop`, which settles
 /// monotonicity on the way) and `MultiPlan::with_law`, which checks it.
@@ -435,18 +472,6 @@ fn plan_move(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f3
     let shape = Shape::smooth_stop(ts, 2.0f32).ok()?;
     let target = [pose.alpha, pose.q2, pose.q3];
     MultiPlan::with_law(&START, &target, &JointLaw::Zat(shape)).ok()
-}
-
-/// The same plan the generic way: `smooth_stop_a`, then `MultiPlan::new`
-/// (which builds the shape again and checks monotonicity from scratch).
-#[inline(never)]
-fn plan_move_generic(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f32) -> Option<MultiPlan<f32>> {
-    let p = cal.map::<f32>(rx, ry).ok()?;
-    let pose = pose_for_point(geo, p.x_p, p.y_p).ok()?;
-    let n = 2.0f32;
-    let a = smooth_stop_a(ts, n)?;
-    let target = [pose.alpha, pose.q2, pose.q3];
-    MultiPlan::new(&START, &target, &ShapeParams { ts, a, n }).ok()
 }
 
 /// On-chip results for the runner to check: `E` lines (exp, expm1 on a

@@ -83,8 +83,9 @@ pub static mut FRAME_STATS: FrameStats =
     FrameStats { frames: 0, late_pulses: 0, overruns: 0, worst_pulse_ticks: 0, worst_app_ticks: 0, worst_ticks: 0 };
 
 /// Records the frame that just ended; `app_ticks` is when the app's part
-/// (before drawing) ended.
-pub fn record(pwm: &ServoPwm, app_ticks: u16) {
+/// (before drawing) ended. Returns whether it overran: the next frame then
+/// starts late.
+pub fn record(pwm: &ServoPwm, app_ticks: u16) -> bool {
     let end = pwm.ticks();
     let overrun = pwm.period_pending();
     let (write, late) = pwm.last_write;
@@ -103,4 +104,5 @@ pub fn record(pwm: &ServoPwm, app_ticks: u16) {
         s.worst_app_ticks = s.worst_app_ticks.max(app_ticks);
         s.worst_ticks = s.worst_ticks.max(end);
     }
+    overrun
 }

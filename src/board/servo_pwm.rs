@@ -192,11 +192,10 @@ fn sanitize(l: TickLimits) -> TickLimits {
 }
 
 impl crate::seam::ServoOutputs for ServoPwm {
-    /// µs to 0.5 µs ticks inside the absolute servo window, then `set`'s
-    /// per-channel clamp.
-    fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
-        for (ch, &us) in pulses_us.iter().enumerate() {
-            self.set(ch, us_to_ticks(us));
+    /// Ticks as they come, through `set`'s per-channel clamp.
+    fn set_pulses(&mut self, ticks: &[u16; 3]) {
+        for (ch, &t) in ticks.iter().enumerate() {
+            self.set(ch, t);
         }
         self.last_write = (self.ticks(), self.period_pending());
     }

@@ -182,6 +182,7 @@ impl Config {
                     JointField::MinDeg => cal.min_rad = centideg_to_rad(value),
                     JointField::MaxDeg => cal.max_rad = centideg_to_rad(value),
                     JointField::MaxSpeed => cal.max_speed_rad_s = centideg_to_rad(value),
+                    JointField::MaxAccel => cal.max_accel_rad_s2 = centideg_to_rad(value),
                 }
             }
             CalSet::Touch { field, value } => {
@@ -213,6 +214,7 @@ impl Config {
             JointField::MinDeg => rad_to_centideg(c.min_rad),
             JointField::MaxDeg => rad_to_centideg(c.max_rad),
             JointField::MaxSpeed => rad_to_centideg(c.max_speed_rad_s),
+            JointField::MaxAccel => rad_to_centideg(c.max_accel_rad_s2),
         }
     }
 }
@@ -241,11 +243,13 @@ pub enum JointField {
     MaxDeg,
     /// `max_speed`: degrees per second (decimal, 0..=3600).
     MaxSpeed,
+    /// `max_accel`: degrees per second squared (decimal, 0..=60000).
+    MaxAccel,
 }
 
 impl JointField {
     /// Every field, in the order `cal show` prints them.
-    pub const ALL: [JointField; 7] = [
+    pub const ALL: [JointField; 8] = [
         JointField::Offset,
         JointField::Scale,
         JointField::MinUs,
@@ -253,6 +257,7 @@ impl JointField {
         JointField::MinDeg,
         JointField::MaxDeg,
         JointField::MaxSpeed,
+        JointField::MaxAccel,
     ];
 
     /// The field's word in `cal set` and `cal show`.
@@ -265,6 +270,7 @@ impl JointField {
             JointField::MinDeg => t!("min_deg"),
             JointField::MaxDeg => t!("max_deg"),
             JointField::MaxSpeed => t!("max_speed"),
+            JointField::MaxAccel => t!("max_accel"),
         }
     }
 

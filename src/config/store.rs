@@ -1,17 +1,22 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 1, little-endian, 90 bytes)
+//! # Record layout (version 2, little-endian, 102 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (1) |
+//! | 2  | 1  | layout version (2) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
 //! | 85 | 1  | touch flags: bit 0 swap, bit 1 invert_x, bit 2 invert_y (other bits 0) |
 //! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
 //! | 87 | 1  | motion law id ([`LawKind::id`]) |
-//! | 88 | 2  | CRC-16/CCITT-FALSE of bytes 0..88 |
+//! | 88 | 12 | 3 × joint `max_accel_rad_s2` f32 (version 2) |
+//! | 100 | 2 | CRC-16/CCITT-FALSE of bytes 0..100 |
+//!
+//! A version-1 record (before acceleration limits) ends with its CRC of
+//! bytes 0..88 at 88; it is still read, with the default acceleration limits
+//! ([`JointCal::DEFAULTS`]), and the next save writes version 2.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -28,7 +33,7 @@
 //! # Tear-proof by construction
 //! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
 //! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
-//! otherwise), then bytes 1..90 (body and CRC), then byte 0 := `T`. A power
+//! otherwise), then bytes 1..102 (body and CRC), then byte 0 := `T`. A power
 //! loss tears at most the one byte being written; whatever value that byte is
 //! left with:
 //! - during step 1 the body is untouched and byte 0 read `T` before: the slot
@@ -55,7 +60,9 @@ use crate::touch::map::Calibration;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 90;
+pub const RECORD_LEN: usize = 102;
+/// A version-1 record's length (its CRC at 88).
+const RECORD_LEN_V1: usize = 90;
 /// EEPROM address of the first copy.
 pub const SLOT_A_ADDR: u16 = 0;
 /// Leaves room for the record to grow to 128 bytes.
@@ -63,8 +70,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record; a record of another version is not read.
-pub const VERSION: u8 = 1;
+/// Layout version of the record written; version 1 is still read (see the
+/// module doc), any other is not.
+pub const VERSION: u8 = 2;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -106,6 +114,9 @@ impl Config {
             flags |= FLAG_INVERT_Y;
         }
         w.put(&[flags, self.speed.id(), self.law.id()]);
+        for j in self.joints.iter() {
+            w.put(&j.max_accel_rad_s2.to_le_bytes());
+        }
         let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
         if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
             dst.copy_from_slice(&crc.to_le_bytes());
@@ -113,19 +124,22 @@ impl Config {
         buf
     }
 
-    /// Parses and validates a record. Checks, in order: magic, version, CRC,
-    /// field values.
+    /// Parses and validates a record (version 2, or 1 with the default
+    /// acceleration limits). Checks, in order: magic, version, CRC, field
+    /// values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader { buf, pos: 0 };
         if r.take::<2>() != MAGIC {
             return Err(RecordError::NoMagic);
         }
         let [version] = r.take::<1>();
-        if version != VERSION {
-            return Err(RecordError::Version(version));
-        }
-        let (body, stored) = buf.split_at(CRC_OFFSET);
-        if crc16(body).to_le_bytes() != stored {
+        let crc_at = match version {
+            VERSION => CRC_OFFSET,
+            1 => RECORD_LEN_V1 - 2,
+            v => return Err(RecordError::Version(v)),
+        };
+        let (body, rest) = buf.split_at(crc_at);
+        if rest.get(..2).is_none_or(|stored| crc16(body).to_le_bytes() != stored) {
             return Err(RecordError::Crc);
         }
         let seq = u16::from_le_bytes(r.take());
@@ -150,6 +164,11 @@ impl Config {
         let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
             return Err(RecordError::Invalid);
         };
+        if version == VERSION {
+            for j in joints.iter_mut() {
+                j.max_accel_rad_s2 = f32::from_le_bytes(r.take());
+            }
+        }
         let config = Config {
             joints,
             touch: Calibration {

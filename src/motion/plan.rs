@@ -5,6 +5,7 @@
 
 use crate::math::real::Real;
 use crate::motion::laws::{Law, LawParams, LawPlan};
+use crate::motion::scaled::ScaledZat;
 use crate::motion::zat::{Shape, ShapeParams};
 use crate::motion::{all_finite, Sample, TrajError};
 
@@ -15,8 +16,12 @@ pub const JOINTS: usize = 3;
 /// configuration record by [`LawKind::id`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LawKind {
-    /// The ζ-a-tₛ trajectory (SPEC §5).
+    /// The ζ-a-tₛ trajectory time-scaled from one reference shape
+    /// ([`ScaledZat`]): the default.
     Zat,
+    /// The papers' own ζ-a-tₛ (SPEC §5): tₛ in seconds, the shape chosen per
+    /// move (an expert option).
+    ZatPaper,
     /// [`Law::Quintic`]: zero velocity and acceleration at both ends.
     Quintic,
     /// [`Law::Cubic`]: zero velocity at both ends.
@@ -29,7 +34,8 @@ pub enum LawKind {
 
 impl LawKind {
     /// Every law, the product's own first.
-    pub const ALL: [LawKind; 5] = [LawKind::Zat, LawKind::Quintic, LawKind::Cubic, LawKind::Trapezoid, LawKind::Linear];
+    pub const ALL: [LawKind; 6] =
+        [LawKind::Zat, LawKind::ZatPaper, LawKind::Quintic, LawKind::Cubic, LawKind::Trapezoid, LawKind::Linear];
 
     /// Stable id of the EEPROM record (never renumber).
     pub fn id(self) -> u8 {
@@ -39,6 +45,7 @@ impl LawKind {
             LawKind::Cubic => 2,
             LawKind::Trapezoid => 3,
             LawKind::Linear => 4,
+            LawKind::ZatPaper => 5,
         }
     }
 
@@ -51,6 +58,7 @@ impl LawKind {
     pub fn name(self) -> crate::text::Text {
         match self {
             LawKind::Zat => t!("zat"),
+            LawKind::ZatPaper => t!("zat-paper"),
             LawKind::Quintic => t!("quintic"),
             LawKind::Cubic => t!("cubic"),
             LawKind::Trapezoid => t!("trapezoid"),
@@ -67,8 +75,10 @@ impl LawKind {
 /// A normalized profile g: g(t) = 0 for t ≤ 0, 1 for t ≥ duration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum JointLaw<R> {
-    /// The ζ-a-tₛ profile G over [0, tₛ].
+    /// The papers' ζ-a-tₛ G over [0, tₛ], tₛ in seconds.
     Zat(Shape<R>),
+    /// The time-scaled ζ-a-tₛ.
+    Scaled(ScaledZat<R>),
     /// A classic law planned 0 → 1 over [0, duration].
     Classic(LawPlan<R>),
 }
@@ -92,14 +102,29 @@ impl<R: Real> JointLaw<R> {
     }
 
     /// Builds the law the user picked; `shape` supplies tₛ for every law and
-    /// (a, n) for ζ-a-tₛ.
+    /// (a, n) for the papers' ζ-a-tₛ.
     pub fn from_kind(kind: LawKind, shape: &ShapeParams<R>) -> Result<Self, TrajError<R>> {
         match kind {
-            LawKind::Zat => Self::zat(shape),
+            LawKind::Zat => Ok(JointLaw::Scaled(ScaledZat::new(shape.ts)?)),
+            LawKind::ZatPaper => Self::zat(shape),
             LawKind::Quintic => Self::classic(Law::Quintic, shape.ts),
             LawKind::Cubic => Self::classic(Law::Cubic, shape.ts),
             LawKind::Trapezoid => Self::classic(Law::Trapezoid, shape.ts),
             LawKind::Linear => Self::classic(Law::Linear, shape.ts),
+        }
+    }
+
+    /// The law the user picks to get this profile.
+    pub fn kind(&self) -> LawKind {
+        match self {
+            JointLaw::Zat(_) => LawKind::ZatPaper,
+            JointLaw::Scaled(_) => LawKind::Zat,
+            JointLaw::Classic(l) => match l.law() {
+                Law::Quintic => LawKind::Quintic,
+                Law::Cubic => LawKind::Cubic,
+                Law::Trapezoid => LawKind::Trapezoid,
+                Law::Linear => LawKind::Linear,
+            },
         }
     }
 
@@ -108,6 +133,7 @@ impl<R: Real> JointLaw<R> {
     pub fn duration(&self) -> R {
         match self {
             JointLaw::Zat(s) => s.ts(),
+            JointLaw::Scaled(s) => s.ts(),
             JointLaw::Classic(l) => l.tf(),
         }
     }
@@ -117,6 +143,7 @@ impl<R: Real> JointLaw<R> {
     pub fn g(&self, t: R) -> R {
         match self {
             JointLaw::Zat(s) => s.g(t),
+            JointLaw::Scaled(s) => s.g(t),
             JointLaw::Classic(l) => l.position(t),
         }
     }
@@ -125,6 +152,7 @@ impl<R: Real> JointLaw<R> {
     pub fn g_rate(&self, t: R) -> (R, R) {
         match self {
             JointLaw::Zat(s) => s.g_rate(t),
+            JointLaw::Scaled(s) => s.g_rate(t),
             JointLaw::Classic(l) => {
                 let d = l.sample(t);
                 (d.s, d.v)
@@ -136,6 +164,7 @@ impl<R: Real> JointLaw<R> {
     pub fn g_derivs(&self, t: R) -> Sample<R> {
         match self {
             JointLaw::Zat(s) => s.g_derivs(t),
+            JointLaw::Scaled(s) => s.g_derivs(t),
             JointLaw::Classic(l) => l.sample(t),
         }
     }
@@ -144,6 +173,7 @@ impl<R: Real> JointLaw<R> {
     pub fn end_rate(&self) -> R {
         match self {
             JointLaw::Zat(s) => s.end_rate(),
+            JointLaw::Scaled(s) => s.end_rate(),
             JointLaw::Classic(l) => l.end_velocity(),
         }
     }
@@ -153,7 +183,8 @@ impl<R: Real> JointLaw<R> {
     pub fn check_monotone(&self) -> Result<(), TrajError<R>> {
         match self {
             JointLaw::Zat(s) => s.check_monotone(),
-            JointLaw::Classic(_) => Ok(()),
+            // The reference shape is a monotone smooth stop (tested).
+            JointLaw::Scaled(_) | JointLaw::Classic(_) => Ok(()),
         }
     }
 }

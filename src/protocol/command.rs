@@ -12,7 +12,7 @@
 //! | `move <raw_x> <raw_y>` | go to a touch point given as raw ADC values, integers 0..=1023 |
 //! | `goto <deg1> <deg2> <deg3>` | joint angles base, shoulder, elbow in degrees (−360..=360, ≤ 2 decimals), in the convention of [`crate::servo::map`] (elbow relative to the upper arm, negative = elbow up, see [`crate::servo::map::ELBOW_BRANCH`]) |
 //! | `stop` / `resume` / `status` | |
-//! | `law <zat\|quintic\|cubic\|trapezoid\|linear>` | motion law |
+//! | `law <zat\|zat-paper\|quintic\|cubic\|trapezoid\|linear>` | motion law |
 //! | `speed <slow\|normal\|fast>` | 25 / 50 / 100 % of each joint's max speed |
 //! | `cal show` / `cal save` / `cal reset` | print / store to EEPROM / back to defaults (in RAM) |
 //! | `cal set <base\|shoulder\|elbow> <field> <value>` | see [`JointField`] |
@@ -249,6 +249,7 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
         JointField::MinUs | JointField::MaxUs => parse_int(tok, 500, 2500)?,
         JointField::MinDeg | JointField::MaxDeg => parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?,
         JointField::MaxSpeed => parse_centi(tok, 0, 360_000)?,
+        JointField::MaxAccel => parse_centi(tok, 0, 6_000_000)?,
     };
     Ok(CalSet::Joint { joint, field, value })
 }

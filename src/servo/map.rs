@@ -105,6 +105,8 @@ pub struct JointCal {
     pub max_rad: f32,
     /// Largest joint speed the planner may command, rad/s.
     pub max_speed_rad_s: f32,
+    /// Largest joint acceleration the planner may command, rad/s².
+    pub max_accel_rad_s2: f32,
 }
 
 /// Accepted |µs per rad|: a 360° servo over 500..2500 µs is ~318; a 90° one ~1273.
@@ -117,12 +119,21 @@ pub const MAX_ABS_OFFSET_US: f32 = 20_000.0;
 pub const MAX_ABS_ANGLE_RAD: f32 = 2.0 * core::f32::consts::PI;
 /// Largest accepted `max_speed_rad_s` (a fast hobby servo unloaded is ~10 rad/s).
 pub const MAX_SPEED_LIMIT_RAD_S: f32 = 50.0;
+/// Largest accepted `max_accel_rad_s2` (an unloaded hobby servo reaches its
+/// speed in some 50 ms: ~200 rad/s²).
+pub const MAX_ACCEL_LIMIT_RAD_S2: f32 = 1000.0;
 
 const PI: f32 = core::f32::consts::PI;
 /// 600..2400 µs over π rad.
 const DEFAULT_US_PER_RAD: f32 = 1800.0 / PI;
 /// ≈ 170°/s: a margin below what a loaded MG996R/SG90-class servo manages.
 const DEFAULT_MAX_SPEED: f32 = 3.0;
+/// 1000°/s² ≈ 17.5 rad/s²: an unloaded MG996R/SG90-class servo reaches its
+/// ~6 rad/s in some 50–100 ms (60–120 rad/s²) and an arm link on it cuts
+/// that by about three, so this keeps a margin of two or more; the default
+/// speed is reached in 0.17 s. At the fast preset it lengthens only moves
+/// below ~45° (docs/method.md §10), which it keeps from jerking off.
+const DEFAULT_MAX_ACCEL: f32 = 1000.0 * PI / 180.0;
 
 impl JointCal {
     /// Base: α ∈ [0, π] → 600..2400 µs.
@@ -134,6 +145,7 @@ impl JointCal {
         min_rad: 0.0,
         max_rad: PI,
         max_speed_rad_s: DEFAULT_MAX_SPEED,
+        max_accel_rad_s2: DEFAULT_MAX_ACCEL,
     };
     /// Shoulder: q2 ∈ [0, π] → 600..2400 µs.
     pub const SHOULDER_DEFAULT: JointCal = JointCal::BASE_DEFAULT;
@@ -146,6 +158,7 @@ impl JointCal {
         min_rad: -PI,
         max_rad: 0.0,
         max_speed_rad_s: DEFAULT_MAX_SPEED,
+        max_accel_rad_s2: DEFAULT_MAX_ACCEL,
     };
     /// Defaults in [`Joint::index`] order.
     pub const DEFAULTS: [JointCal; 3] = [JointCal::BASE_DEFAULT, JointCal::SHOULDER_DEFAULT, JointCal::ELBOW_DEFAULT];
@@ -158,7 +171,8 @@ impl JointCal {
     /// Checks every field against the limits above and that the angle range
     /// reaches the pulse range; the first failure is returned.
     pub fn validate(&self) -> Result<(), JointCalError> {
-        let floats = [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s];
+        let floats =
+            [self.offset_us, self.us_per_rad, self.min_rad, self.max_rad, self.max_speed_rad_s, self.max_accel_rad_s2];
         if floats.iter().any(|v| !v.is_finite()) {
             return Err(JointCalError::NotFinite);
         }
@@ -177,6 +191,9 @@ impl JointCal {
         }
         if !(self.max_speed_rad_s > 0.0 && self.max_speed_rad_s <= MAX_SPEED_LIMIT_RAD_S) {
             return Err(JointCalError::Speed);
+        }
+        if !(self.max_accel_rad_s2 > 0.0 && self.max_accel_rad_s2 <= MAX_ACCEL_LIMIT_RAD_S2) {
+            return Err(JointCalError::Accel);
         }
         // The angle range must reach the pulse range, else every command would
         // end at a pulse limit: a calibration mistake, not a usable joint.
@@ -204,6 +221,8 @@ pub enum JointCalError {
     Offset,
     /// Max speed not in (0, 50] rad/s.
     Speed,
+    /// Max acceleration not in (0, 1000] rad/s².
+    Accel,
     /// The angle range maps entirely outside the pulse range.
     NoOverlap,
 }
@@ -218,6 +237,7 @@ impl JointCalError {
             JointCalError::Scale => t!("scale"),
             JointCalError::Offset => t!("offset"),
             JointCalError::Speed => t!("speed"),
+            JointCalError::Accel => t!("accel"),
             JointCalError::NoOverlap => t!("angle range misses pulse range"),
         }
     }
@@ -236,22 +256,23 @@ pub enum Limit {
     PulseMax,
 }
 
-/// A pulse width to output, and the limit that shaped it, if any. A clamp is
-/// reported only when it moves the pulse by at least 0.5 µs, so float noise
-/// at a limit (an IK returning −1e−7 for a limit of 0) is not a clamp. If both
-/// an angle and a pulse limit act, the pulse limit (applied last) is reported.
+/// A pulse width to output, in Timer5 ticks of 0.5 µs (the timer's full
+/// resolution), and the limit that shaped it, if any. A clamp is reported
+/// only when it moves the pulse by at least 0.5 µs, so float noise at a limit
+/// (an IK returning −1e−7 for a limit of 0) is not a clamp. If both an angle
+/// and a pulse limit act, the pulse limit (applied last) is reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
-    /// Width, whole µs.
-    pub us: u16,
+    /// Width, Timer5 ticks (0.5 µs).
+    pub ticks: u16,
     /// The limit that changed it, if one did (by ≥ 0.5 µs).
     pub clamped: Option<Limit>,
 }
 
 impl Pulse {
-    /// Timer5 compare value for this pulse.
-    pub fn ticks(self) -> u16 {
-        us_to_ticks(self.us)
+    /// The width in µs (a multiple of 0.5).
+    pub fn us(self) -> f32 {
+        f32::from(self.ticks) * 0.5
     }
 }
 
@@ -292,7 +313,7 @@ impl ServoMap {
     }
 
     /// Pulse for `angle` (rad), clamped to the angle and pulse limits and
-    /// rounded to the nearest µs.
+    /// rounded (half up) to the nearest Timer5 tick (0.5 µs).
     pub fn angle_to_pulse<R: Real>(&self, angle: R) -> Result<Pulse, ServoError> {
         if !angle.is_finite() {
             return Err(ServoError::NotFinite);
@@ -330,13 +351,14 @@ impl ServoMap {
             raw
         };
         // `us` is within 500..=2500 here; the final clamp is defence in depth.
-        let us = ((us + R::HALF).to_f32() as u16).max(c.min_us).min(c.max_us);
-        Ok(Pulse { us, clamped })
+        let ticks = ((us.twice() + R::HALF).to_f32() as u16).max(c.min_us * TICKS_PER_US).min(c.max_us * TICKS_PER_US);
+        Ok(Pulse { ticks, clamped })
     }
 
-    /// Angle (rad) that `us` stands for; not clamped (it reports, it does not command).
-    pub fn pulse_to_angle<R: Real>(&self, us: u16) -> R {
-        (R::from_u16(us) - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
+    /// Angle (rad) that a pulse of `ticks` (0.5 µs) stands for; not clamped
+    /// (it reports, it does not command).
+    pub fn pulse_to_angle<R: Real>(&self, ticks: u16) -> R {
+        (R::from_u16(ticks) * R::HALF - R::from_f32(self.cal.offset_us)) * R::from_f32(self.rad_per_us)
     }
 
     /// The angles whose pulse no limit changes: the angle limits intersected
@@ -369,16 +391,39 @@ impl ServoMap {
         (R::from_f32(self.cal.min_rad), R::from_f32(self.cal.max_rad))
     }
 
+    /// The angles (rad) no limit clamps: the angle limits and the pulse
+    /// limits' angles, intersected.
+    pub fn angle_window<R: Real>(&self) -> [R; 2] {
+        let (lo, hi) = self.angle_limits::<R>();
+        let (a, b) = (
+            self.pulse_to_angle::<R>(self.cal.min_us * TICKS_PER_US),
+            self.pulse_to_angle::<R>(self.cal.max_us * TICKS_PER_US),
+        );
+        let (plo, phi) = if a < b { (a, b) } else { (b, a) };
+        [lo.max(plo), hi.min(phi)]
+    }
+
     /// The joint's speed limit, rad/s.
     pub fn max_speed<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_speed_rad_s)
     }
+
+    /// The joint's acceleration limit, rad/s².
+    pub fn max_accel<R: Real>(&self) -> R {
+        R::from_f32(self.cal.max_accel_rad_s2)
+    }
+}
+
+/// A pulse of `ticks` (0.5 µs) clamped to the absolute 500..=2500 µs, so
+/// it is always a servo pulse (never 0 = off or ≥ TOP = always high).
+pub fn clamp_ticks(ticks: u16) -> u16 {
+    ticks.clamp(ABS_MIN_US * TICKS_PER_US, ABS_MAX_US * TICKS_PER_US)
 }
 
 /// Timer5 compare value (OCR5x) for a pulse of `us` µs: `2·us`, with `us`
 /// first clamped to the absolute 500..=2500 µs, so the result is always a
 /// servo pulse (never 0 = off or ≥ TOP = always high). The board converts
-/// every pulse and every pulse limit with this.
+/// the pulse limits with this; pulses arrive in ticks ([`clamp_ticks`]).
 pub fn us_to_ticks(us: u16) -> u16 {
     us.clamp(ABS_MIN_US, ABS_MAX_US) * TICKS_PER_US
 }

@@ -97,6 +97,15 @@ impl<const N: usize> Line<N> {
         self.bytes(&[b'0' + f / 10]).bytes(&[b'0' + f % 10])
     }
 
+    /// A pulse in Timer5 ticks as µs: 3001 → `1500.5`, 3000 → `1500`.
+    pub fn ticks_us(&mut self, ticks: u16) -> &mut Self {
+        self.u32(u32::from(ticks / 2));
+        if ticks % 2 == 1 {
+            self.bytes(b".5");
+        }
+        self
+    }
+
     /// The text so far.
     pub fn as_bytes(&self) -> &[u8] {
         self.buf.get(..self.len).unwrap_or(&[])

@@ -103,6 +103,16 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
     } else {
         format!("{FRAME_BUDGET_INTRO}\n\n{}\n\n", ui.frame_budget.join("\n"))
     };
+    // The move-time ratio, where the bench measured it.
+    let move_time = match bench.counts()?.iter().find(|c| c.name == "zat_time_over_quintic_permille") {
+        Some(c) => format!(
+            "## Move time against the quintic\n\nThe time-scaled ζ-a-tₛ under the same speed and acceleration limits as the quintic, 15 moves at\n3 rad/s from speed-bound (60 rad/s²) to acceleration-bound (1 rad/s²), planned on the chip: median\n{:.3}×, from {:.3}× (both at the 0.5 s floor) to {:.3}× (goal ≤ 1.1×).\n\n",
+            c.median as f64 / 1000.0,
+            c.min as f64 / 1000.0,
+            c.max as f64 / 1000.0
+        ),
+        None => String::new(),
+    };
     let (p, b, budgets) = (&inputs.product, &inputs.bench_elf, &inputs.budgets);
     fill(
         TEMPLATE,
@@ -120,12 +130,15 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
             ("ln", format!("{:.2}", acc.ln_ulps)),
             ("atan2", format!("{:.2}", acc.atan2_ulps)),
             ("sqrt", sci(acc.sqrt_rel, 1)),
+            ("move_time", move_time),
             ("ui_steps", steps.join("\n")),
             ("ui_notes", notes.join("\n\n")),
             ("frame_budget", frame_budget),
             ("fw_flash", p.flash().to_string()),
             ("bench_flash", b.flash().to_string()),
             ("flash_budget", budgets.flash.to_string()),
+            ("flash_kib", (budgets.flash / 1024).to_string()),
+            ("flash_met", if p.flash() <= budgets.flash { "is met" } else { "is not met" }.to_string()),
             ("fw_ram", p.static_ram().to_string()),
             ("bench_ram", b.static_ram().to_string()),
             ("ram_budget", budgets.static_ram.to_string()),

@@ -43,7 +43,17 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ("g", "ζ-a-tₛ G alone"),
     ("g_rate", "ζ-a-tₛ G and G′"),
     ("sample3", "`MultiPlan::sample`: 3 joints, positions + velocities (rad)"),
-    ("frame", "**50 Hz frame**: `ServoTrack::frame`, 3 joints, G + G′ → pulse widths + speed check"),
+    ("frame", "**50 Hz frame**: `ServoTrack::frame`, 3 joints, time-scaled ζ-a-tₛ G + G′ → pulse widths + speed check"),
+    ("frame_zat_paper", "frame, the papers' ζ-a-tₛ (tₛ in seconds)"),
+    ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
+    (
+        "app_replan",
+        "**a re-plan mid-move**: correction superposed on the running move (`ServoTrack::replan`: cell bounds, duration search, in place)",
+    ),
+    (
+        "app_plan_move_paper",
+        "the app's plan per touch for `law zat-paper` (tₛ search for the speed bound, a*, the largest G″ for the acceleration)",
+    ),
     ("frame_generic", "same frame via `MultiPlan::sample` + `ServoMap::angle_to_pulse` ×3"),
     ("frame_linear", "frame, linear law"),
     ("frame_cubic", "frame, cubic law"),
@@ -71,7 +81,7 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ("via_paper", "via point, the paper's iteration (tol 1e-5)"),
     (
         "app_plan_move",
-        "**the app's plan per touch** (`motion::planner::plan_move`: tₛ search for the speed bound, a*, checks)",
+        "**the app's plan per touch** (`planner::plan_move`: time-scaled ζ-a-tₛ, closed-form tₛ for speed and acceleration, checks)",
     ),
     ("touch_sample", "**touch sample**: 5 × (X, Y, z1, z2) ADC reads with settle times, shared pins lent and restored"),
 ];

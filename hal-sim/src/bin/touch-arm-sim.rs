@@ -1,10 +1,14 @@
 //! The main job: run the real firmware ELF in simavr, touch the simulated
-//! panel once, and record what the servos receive.
+//! panel once (twice with `--then`: a second map touch mid-move), and
+//! record what the servos receive.
 //!
 //! Writes to the output directory (default `out/`):
-//! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`;
+//! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`
+//!   (µs to the timer's 0.5 µs tick);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
-//!   final_pulses_us, arrival_s}`;
+//!   final_pulses_us, arrival_s, law, ts_s}` for the point the arm ends on,
+//!   and with `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
+//!   `then_ts_s`, `then_reply`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
 //! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes,
@@ -49,6 +53,36 @@ struct Args {
     /// Output directory
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
+    /// A second map touch MS ms after the first is confirmed (mid-move: the firmware re-plans)
+    #[arg(long, value_name = "X2,Y2@MS", value_parser = then_touch, allow_hyphen_values = true)]
+    then: Option<Then>,
+    /// The motion law, sent over serial (`law <LAW>`) before the touch [default: the firmware's, zat]
+    #[arg(long, value_name = "LAW", value_parser = ["zat", "zat-paper", "quintic", "cubic", "trapezoid", "linear"])]
+    law: Option<String>,
+}
+
+/// `--then X2,Y2@MS`: where and when the second touch goes.
+#[derive(Debug, Clone, Copy)]
+struct Then {
+    /// The map point (X2, Y2); the raw reading that presses its pixel is
+    /// found with the layout of the panel chosen (`--lcd`).
+    xy: (f64, f64),
+    /// Delay after the first touch's confirmation, ms.
+    ms: u32,
+}
+
+/// The finger lifts after the first confirmation and the filter needs
+/// `release_confirm` frames to see it go: a second press earlier than this
+/// would be a drag (which the screen ignores), not a touch.
+const THEN_MIN_MS: u32 = 100;
+
+fn then_touch(s: &str) -> Result<Then, String> {
+    let (xy, ms) = s.split_once('@').ok_or_else(|| format!("expected X2,Y2@MS, got {s:?}"))?;
+    let ms: u32 = ms.trim().parse().map_err(|_| format!("MS must be a whole number of milliseconds, got {ms:?}"))?;
+    if ms < THEN_MIN_MS {
+        return Err(format!("MS must be at least {THEN_MIN_MS} (the finger must lift between the touches), got {ms}"));
+    }
+    Ok(Then { xy: map_point(xy)?, ms })
 }
 
 /// `--xy`: a point of the map (the workspace [-1,1]x[0,1]).
@@ -102,12 +136,29 @@ fn off_map(line: Option<&str>) -> Option<String> {
     })
 }
 
+/// `ts_ms` of a move reply, in seconds.
+fn reply_ts(line: &str) -> Result<f64, String> {
+    line.split_whitespace()
+        .skip_while(|w| *w != "ts_ms")
+        .nth(1)
+        .and_then(|v| v.parse::<f64>().ok())
+        .map(|ms| ms / 1000.0)
+        .ok_or_else(|| format!("no ts_ms in {line:?}"))
+}
+
+/// The lines the firmware answers a confirmed press with.
+const TOUCH_REPLIES: [&str; 4] = ["info touch ", "err touch ", "info screen ", "err screen "];
+
 fn run(args: Args) -> Result<(), String> {
     let elf = args.elf.unwrap_or_else(firmware::default_elf);
     let out = args.out;
     let lay = args.lcd.layout();
     let on_map = |(x, y): (f64, f64)| {
         firmware::map_touch_on(&lay, x as f32, y as f32).map(|(raw, _)| raw).ok_or("point off the map")
+    };
+    let then = match args.then {
+        Some(t) => Some((t, on_map(t.xy)?)),
+        None => None,
     };
     let raw = match (args.raw, args.xy) {
         (Some((x, y)), _) => (f64::from(x), f64::from(y)),
@@ -118,15 +169,31 @@ fn run(args: Args) -> Result<(), String> {
     let mut s = Session::start_with_lcd(&elf, PanelWiring::A, args.lcd, 1)?;
     s.run_for(1.5)?;
     s.run_until_ready(2.0)?;
+    let law = match &args.law {
+        Some(l) => {
+            let reply = s.command(&format!("law {l}"))?;
+            if reply != format!("ok law {l}") {
+                return Err(format!("the firmware refused `law {l}`: {reply}"));
+            }
+            l.clone()
+        }
+        None => "zat".to_string(),
+    };
     let t_touch = s.avr.time_s();
+    let from = s.avr.uart_output().len();
     s.press_raw(raw.0, raw.1)?;
-    s.run_for(0.3)?;
+    let first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
+    // The second touch needs the finger lifted at once; otherwise it rests
+    // as long as a tap does.
+    if then.is_none() {
+        s.run_for((t_touch + 0.3 - s.avr.time_s()).max(0.0))?;
+    }
     s.release();
-    // Until the reply to the touch, then through the move and a margin.
-    s.run_for(0.2)?;
+    if then.is_none() {
+        s.run_for(0.2)?;
+    }
     let text = s.avr.uart_output_string();
-    let replies = ["info touch ", "err touch ", "info screen ", "err screen "];
-    let line = text.lines().find(|l| replies.iter().any(|r| l.starts_with(r))).map(str::to_string);
+    let line = first.as_ref().map(|(l, _)| l.clone());
     // No reply is right only off the map (a guard band or gap); on it, a fault.
     let on_map = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16).is_some();
     if let Some(what) = off_map(line.as_deref()).filter(|_| line.is_some() || !on_map) {
@@ -143,18 +210,32 @@ fn run(args: Args) -> Result<(), String> {
         println!("no move: wrote {} only", screen.display());
         return Ok(());
     }
-    let Some(line) = line else { return Err(format!("the firmware did not report the touch:\n{text}")) };
+    let Some((line, t_confirm)) = first else { return Err(format!("the firmware did not report the touch:\n{text}")) };
     if line.starts_with("err") {
         return Err(format!("the firmware refused the touch: {line}"));
     }
-    let ts = line
-        .split_whitespace()
-        .skip_while(|w| *w != "ts_ms")
-        .nth(1)
-        .and_then(|v| v.parse::<f64>().ok())
-        .ok_or_else(|| format!("no ts_ms in {line:?}"))?
-        / 1000.0;
-    s.run_for(ts + 1.0)?;
+    let ts = reply_ts(&line)?;
+    // The last touch decides where the arm ends up.
+    let (mut end_raw, mut end_ts, mut end_t) = (raw, ts, t_confirm);
+    let mut second = None;
+    if let Some((then, then_raw)) = then {
+        s.run_for((t_confirm + f64::from(then.ms) / 1000.0 - s.avr.time_s()).max(0.0))?;
+        let from = s.avr.uart_output().len();
+        s.press_raw(then_raw.0, then_raw.1)?;
+        let reply = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
+        s.release();
+        let Some((line2, t2)) = reply else {
+            return Err(format!("the firmware did not report the second touch:\n{}", s.avr.uart_output_string()));
+        };
+        if !line2.starts_with("info touch ") {
+            return Err(format!("the firmware refused the second touch: {line2}"));
+        }
+        (end_raw, end_ts, end_t) = (then_raw, reply_ts(&line2)?, t2);
+        second = Some((then, line2, t2 - t_confirm));
+    }
+    s.run_for((end_t + end_ts + 1.0 - s.avr.time_s()).max(0.0))?;
+    let first_raw = raw;
+    let raw = end_raw;
 
     // Host f64 reference of the same chain (SPEC §2–4) for the summary.
     let (x_p, y_p) = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16)
@@ -177,7 +258,7 @@ fn run(args: Args) -> Result<(), String> {
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut csv = String::from("t_s,base_us,shoulder_us,elbow_us\n");
     for ((b, s), e) in trains[0].iter().zip(&trains[1]).zip(&trains[2]).take(n) {
-        csv += &format!("{:.6},{:.3},{:.3},{:.3}\n", b.0, b.1, s.1, e.1);
+        csv += &format!("{:.6},{:.1},{:.1},{:.1}\n", b.0, b.1, s.1, e.1);
     }
     let csv_path = out.join("pulses.csv");
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
@@ -193,14 +274,25 @@ fn run(args: Args) -> Result<(), String> {
         .set("target_pulses_us", hal_sim::report::Val::Raw(list(&target)))
         .set("final_pulses_us", hal_sim::report::Val::Raw(list(&finals)))
         .set("arrival_s", arrival)
-        .render();
+        .set("law", hal_sim::report::Val::Str(law))
+        .set("ts_s", ts);
+    let json = match &second {
+        Some((then, line2, after)) => json
+            .set("first_raw", hal_sim::report::Val::Raw(format!("[{}, {}]", first_raw.0, first_raw.1)))
+            .set("then_delay_ms", then.ms)
+            .set("then_confirmed_after_s", *after)
+            .set("then_ts_s", end_ts)
+            .set("then_reply", hal_sim::report::Val::Str(line2.clone())),
+        None => json,
+    }
+    .render();
     let json_path = out.join("summary.json");
     std::fs::write(&json_path, json.clone() + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
 
     // Angles back from the pulses through the calibration, and their rates.
     let t: Vec<f64> = (0..n).map(|i| trains[0][i].0).collect();
     let ang: Vec<Vec<f64>> = (0..3)
-        .map(|j| (0..n).map(|i| maps[j].pulse_to_angle::<f64>(trains[j][i].1.round() as u16).to_degrees()).collect())
+        .map(|j| (0..n).map(|i| maps[j].pulse_to_angle::<f64>((trains[j][i].1 * 2.0) as u16).to_degrees()).collect())
         .collect();
     let vel: Vec<Vec<f64>> = ang
         .iter()
@@ -233,6 +325,12 @@ fn run(args: Args) -> Result<(), String> {
         pose.alpha.to_degrees()
     );
     println!("firmware: {line}");
+    if let Some((then, line2, after)) = &second {
+        println!(
+            "second touch at raw ({}, {}), confirmed {:.3} s after the first ({} ms asked): {line2}",
+            end_raw.0, end_raw.1, after, then.ms
+        );
+    }
     println!(
         "IK (host f64): base {:.2} deg, shoulder {:.2} deg, elbow {:.2} deg",
         q[0].to_degrees(),

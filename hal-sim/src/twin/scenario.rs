@@ -609,7 +609,7 @@ impl Runner {
             }
             Expect::Pulses(w, tol) => {
                 let p = sim.servos.pulses().ok_or("no pulses are being output")?;
-                close3("pulses (us)", &p.map(f64::from), w, *tol)?
+                close3("pulses (us)", &p.map(|t| f64::from(t) / 2.0), w, *tol)?
             }
             Expect::Effector(reach, height, tol) => {
                 let ef = sim.effector()?;
@@ -631,9 +631,10 @@ impl Runner {
                     .iter()
                     .find(|r| r.pulses.is_some())
                     .ok_or("no pulses since the last boot")?;
-                if first.pulses != Some(*p) || first.boot_frame != *at {
+                // The scenario states whole µs, the servos see ticks of 0.5 µs.
+                if first.pulses != Some(p.map(|us| us * 2)) || first.boot_frame != *at {
                     return Err(format!(
-                        "first pulses {:?} at boot frame {}, want {p:?} at {at}",
+                        "first pulses {:?} ticks at boot frame {}, want {p:?} µs at {at}",
                         first.pulses, first.boot_frame
                     ));
                 }
@@ -689,7 +690,7 @@ impl Runner {
                 for p in self.window(from).windows(2) {
                     if let (Some(a), Some(b)) = (p[0].pulses, p[1].pulses) {
                         for (x, y) in a.iter().zip(b.iter()) {
-                            worst = worst.max((*x as f64 - *y as f64).abs());
+                            worst = worst.max((*x as f64 - *y as f64).abs() / 2.0);
                         }
                     }
                 }

@@ -24,7 +24,7 @@ impl Default for ServoModel {
 /// One recorded PWM period.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ServoSample {
-    /// Pulses of the period (`None`: no pulse).
+    /// Pulses of the period in Timer5 ticks of 0.5 µs (`None`: no pulse).
     pub pulses: Option<[u16; 3]>,
     /// Shaft angles at the end of the period, rad (servo convention).
     pub angles: [f64; 3],
@@ -39,7 +39,7 @@ pub struct SimServos {
     angles: [f64; 3],
     pulses: Option<[u16; 3]>,
     pub history: Vec<ServoSample>,
-    /// Every `set_pulses` value outside a servo's configured pulse range.
+    /// Every `set_pulses` value (ticks) outside a servo's configured pulse range.
     pub violations: Vec<[u16; 3]>,
 }
 
@@ -68,16 +68,16 @@ impl SimServos {
         self.pulses = None;
     }
 
-    /// The angle a pulse stands for, from the calibration in f64.
-    pub fn pulse_angle(cal: &JointCal, us: u16) -> f64 {
-        (us as f64 - cal.offset_us as f64) / cal.us_per_rad as f64
+    /// The angle a pulse of `ticks` (0.5 µs) stands for, from the calibration in f64.
+    pub fn pulse_angle(cal: &JointCal, ticks: u16) -> f64 {
+        (f64::from(ticks) / 2.0 - cal.offset_us as f64) / cal.us_per_rad as f64
     }
 
     /// Runs the servos for `dt` seconds of the current pulses and records it.
     pub fn advance(&mut self, dt: f64) {
         if let Some(p) = self.pulses {
-            for ((a, cal), us) in self.angles.iter_mut().zip(self.cals.iter()).zip(p.iter()) {
-                let target = Self::pulse_angle(cal, *us);
+            for ((a, cal), ticks) in self.angles.iter_mut().zip(self.cals.iter()).zip(p.iter()) {
+                let target = Self::pulse_angle(cal, *ticks);
                 let err = target - *a;
                 let err_us = err.abs() * (cal.us_per_rad as f64).abs();
                 if err_us > self.model.deadband_us {
@@ -91,15 +91,16 @@ impl SimServos {
 }
 
 impl ServoOutputs for SimServos {
-    fn set_pulses(&mut self, pulses_us: &[u16; 3]) {
-        let bad = pulses_us
-            .iter()
-            .zip(self.cals.iter())
-            .any(|(us, c)| *us < c.min_us || *us > c.max_us || *us < ABS_MIN_US || *us > ABS_MAX_US);
+    fn set_pulses(&mut self, ticks: &[u16; 3]) {
+        // Ticks against limits in µs: compare 2·limit.
+        let bad = ticks.iter().zip(self.cals.iter()).any(|(t, c)| {
+            let t = u32::from(*t);
+            t < 2 * u32::from(c.min_us.max(ABS_MIN_US)) || t > 2 * u32::from(c.max_us.min(ABS_MAX_US))
+        });
         if bad {
-            self.violations.push(*pulses_us);
+            self.violations.push(*ticks);
         }
-        self.pulses = Some(*pulses_us);
+        self.pulses = Some(*ticks);
     }
 
     fn disable(&mut self) {
@@ -117,8 +118,8 @@ mod tests {
         let mut s = SimServos::new(&JointCal::DEFAULTS, &model, &[0.0, 0.0, -1.0]);
         s.advance(0.02);
         assert_eq!(s.angles(), [0.0, 0.0, -1.0], "no pulse, no motion");
-        // 1500 us on the base = pi/2; 0.1 rad per 20 ms frame.
-        s.set_pulses(&[1500, 600, 1828]);
+        // 1500 us (3000 ticks) on the base = pi/2; 0.1 rad per 20 ms frame.
+        s.set_pulses(&[3000, 1200, 3656]);
         s.advance(0.02);
         assert!((s.angles()[0] - 0.1).abs() < 1e-12);
         for _ in 0..20 {
@@ -126,13 +127,18 @@ mod tests {
         }
         // Arrived exactly (the last step is shorter than the limit): π/2 up to
         // the f32 calibration constants.
-        assert_eq!(s.angles()[0], SimServos::pulse_angle(&JointCal::BASE_DEFAULT, 1500));
+        assert_eq!(s.angles()[0], SimServos::pulse_angle(&JointCal::BASE_DEFAULT, 3000));
         assert!((s.angles()[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
         // Elbow: 1828 us = -0.99833 rad, 0.95 us from -1 rad: inside the deadband.
         assert_eq!(s.angles()[2], -1.0);
         assert_eq!(s.history.len(), 22);
         assert!(s.violations.is_empty());
-        s.set_pulses(&[2450, 600, 1500]);
-        assert_eq!(s.violations, vec![[2450, 600, 1500]]);
+        s.set_pulses(&[4900, 1200, 3000]);
+        assert_eq!(s.violations, vec![[4900, 1200, 3000]]);
+        // Half a µs past a limit is a violation now that ticks are carried.
+        s.set_pulses(&[4801, 1200, 3000]);
+        assert_eq!(s.violations.len(), 2);
+        s.set_pulses(&[4800, 1199, 3000]);
+        assert_eq!(s.violations.len(), 3);
     }
 }

@@ -45,6 +45,7 @@ pub struct FrameRecord {
     /// Pose the app commanded, rad.
     pub commanded: [f32; 3],
     /// Pulses in the servo outputs after the frame.
+    /// Timer5 ticks of 0.5 µs.
     pub pulses: Option<[u16; 3]>,
     /// Servo shaft angles at the end of the period, rad.
     pub servo: [f64; 3],

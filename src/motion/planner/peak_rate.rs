@@ -1,12 +1,16 @@
 //! The largest rate `max g′` of a motion profile: what a move's joint speeds
-//! peak at (joint j at `|Δ_j|·max g′`). Closed form for the classic laws;
-//! for ζ-a-tₛ a safeguarded Newton search on G″ = 0 ([`zat_peak_rate`]),
-//! plus what a duration search needs to steer with it (rough estimates,
-//! a bound for the slow creep before the end, and d ln P/dtₛ).
+//! peak at (joint j at `|Δ_j|·max g′`), and its largest `|g″|`. Closed form
+//! for the laws whose profile only scales with its duration (the classic
+//! laws and the time-scaled ζ-a-tₛ: [`Ratios`]); for the papers' ζ-a-tₛ a
+//! safeguarded Newton search on G″ = 0 ([`zat_peak_rate`]), plus what a
+//! duration search needs to steer with it (rough estimates, a bound for the
+//! slow creep before the end, and d ln P/dtₛ), and a search for the largest
+//! |G″| ([`zat_peak_acc`]).
 
 use crate::math::real::Real;
 use crate::motion::laws::Law;
-use crate::motion::plan::JointLaw;
+use crate::motion::plan::{JointLaw, LawKind};
+use crate::motion::scaled::{ScaledZat, ACC_RATIO, JERK_RATIO, VEL_RATIO};
 use crate::motion::zat::{t_star, Shape};
 
 /// The peak search stops once the last Newton step predicts G′ to rise by
@@ -34,6 +38,36 @@ pub fn classic_peak_factor(law: Law) -> f64 {
         Law::Quintic => 1.875,
         Law::Trapezoid => 1.5,
     }
+}
+
+/// The peaks of a profile that only scales with its duration T,
+/// g(t) = f(t/T): velocity `|Δ|·vel/T`, acceleration `|Δ|·acc/T²`, jerk
+/// `|Δ|·jerk/T³`; `None` where the law steps (linear: the velocity at both
+/// ends, so no acceleration limit can hold; trapezoid: the acceleration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ratios {
+    /// Peak velocity ratio.
+    pub vel: f64,
+    /// Peak acceleration ratio, if the acceleration is bounded.
+    pub acc: Option<f64>,
+    /// Peak jerk ratio, if the jerk is bounded.
+    pub jerk: Option<f64>,
+}
+
+/// [`Ratios`] of a law (docs/method.md §9–10); `None` for the papers'
+/// ζ-a-tₛ, whose shape changes with tₛ.
+#[inline]
+pub fn law_ratios(kind: LawKind) -> Option<Ratios> {
+    Some(match kind {
+        LawKind::Zat => Ratios { vel: VEL_RATIO, acc: Some(ACC_RATIO), jerk: Some(JERK_RATIO) },
+        LawKind::ZatPaper => return None,
+        // f″ = 60(τ − 3τ² + 2τ³) peaks at τ = (3 ∓ √3)/6 with 10/√3; f‴ at
+        // the ends with 60.
+        LawKind::Quintic => Ratios { vel: 1.875, acc: Some(5.773_502_691_896_258), jerk: Some(60.0) },
+        LawKind::Cubic => Ratios { vel: 1.5, acc: Some(6.0), jerk: Some(12.0) },
+        LawKind::Trapezoid => Ratios { vel: 1.5, acc: Some(4.5), jerk: None },
+        LawKind::Linear => Ratios { vel: 1.0, acc: None, jerk: None },
+    })
 }
 
 /// `max g′` over (0, tₛ] of a ζ-a-tₛ profile.
@@ -264,10 +298,105 @@ pub(crate) fn ln_peak_slope<R: Real>(shape: &Shape<R>, h: &Hump<R>, da: R) -> R 
     }
 }
 
-/// `max g′` of any profile (closed form for the classic laws).
+/// `max g′` of any profile (closed form for the classic laws and the
+/// time-scaled ζ-a-tₛ).
 pub fn peak_rate<R: Real>(law: &JointLaw<R>) -> R {
     match law {
         JointLaw::Zat(s) => zat_peak_rate(s),
+        JointLaw::Scaled(s) => scaled_peak(s, VEL_RATIO),
         JointLaw::Classic(p) => R::lit(classic_peak_factor(p.law())) / p.duration(),
     }
+}
+
+fn scaled_peak<R: Real>(s: &ScaledZat<R>, ratio: f64) -> R {
+    R::lit(ratio) / s.ts()
+}
+
+/// Grid points per piece on which [`zat_peak_acc`] looks for the humps of G″.
+const ACC_GRID: u8 = 16;
+/// Illinois steps per hump (superlinear: 6–8 suffice).
+const ACC_STEPS: u8 = 16;
+
+/// `max |g″|` over (0, tₛ] of the papers' ζ-a-tₛ. G″ = G·(h1² + h2) and
+/// G‴ = G·(h1³ + 3h1·h2 + h3) come from [`Shape::rate_terms`]. As in
+/// [`zat_peak_rate`], (0, t*] and [t*, tₛ] are searched apart when t* < tₛ:
+/// the first holds G′'s hump and its steep fall into the near-stop at t*
+/// (two humps of G″ that can lie a tenth of t* apart), the second the slow
+/// creep. Every sign change of G‴ on a uniform grid of 16 points
+/// per piece brackets a hump of G″, whose top is found by the Illinois method
+/// on G‴ = 0; the end value G″(tₛ⁻) counts too. A hump is flat at its top, so
+/// the value found is the peak to 1e-5 (the tests compare with dense scans
+/// for tₛ ∈ [1.05, 40], n ∈ [1.3, 8]).
+#[inline(never)]
+pub fn zat_peak_acc<R: Real>(shape: &Shape<R>) -> R {
+    let ts = shape.ts();
+    let t_star = t_star(ts, shape.ln_n());
+    let split = t_star < ts && t_star > R::ZERO;
+    let first = acc_piece(shape, R::ZERO, if split { t_star } else { ts });
+    if split {
+        first.max(acc_piece(shape, t_star, ts))
+    } else {
+        first
+    }
+}
+
+/// The largest |G″| on (lo, hi] (see [`zat_peak_acc`]).
+fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
+    // (G″, G‴) at t, None where G is below 1e-34 (far left of everything).
+    let at = |t: R| {
+        shape.rate_terms(t).map(|r| {
+            let h1 = r.h1;
+            (r.g * (h1 * h1 + r.h2), r.g * (h1 * (h1 * h1 + R::lit(3.0) * r.h2) + r.h3))
+        })
+    };
+    let mut best = R::ZERO;
+    let mut prev: Option<(R, R)> = None;
+    let step = (hi - lo) / R::from_u16(u16::from(ACC_GRID));
+    let mut k = 1u8;
+    while k <= ACC_GRID {
+        let t = if k == ACC_GRID { hi } else { lo + step * R::from_u16(u16::from(k)) };
+        k += 1;
+        let Some((g2, g3)) = at(t) else {
+            prev = None;
+            continue;
+        };
+        best = best.max(g2.abs());
+        if let Some((tp, g3p)) = prev {
+            if (g3p > R::ZERO) != (g3 > R::ZERO) && g3p != R::ZERO {
+                best = best.max(hump_top(&at, (tp, g3p), (t, g3)));
+            }
+        }
+        prev = Some((t, g3));
+    }
+    best
+}
+
+/// |G″| at the zero of G‴ between `a` and `b` (opposite signs of G‴), by
+/// the Illinois method (regula falsi that halves a stale end's value); the
+/// largest |G″| it evaluated.
+fn hump_top<R: Real>(at: &impl Fn(R) -> Option<(R, R)>, a: (R, R), b: (R, R)) -> R {
+    let ((mut ta, mut fa), (mut tb, mut fb)) = (a, b);
+    let mut best = R::ZERO;
+    let mut k = 0;
+    while k < ACC_STEPS {
+        k += 1;
+        let t = tb - fb * (tb - ta) / (fb - fa);
+        if !(t > ta.min(tb) && t < ta.max(tb)) {
+            break;
+        }
+        let Some((g2, g3)) = at(t) else { break };
+        best = best.max(g2.abs());
+        if (g3 > R::ZERO) != (fb > R::ZERO) {
+            ta = tb;
+            fa = fb;
+        } else {
+            fa *= R::HALF;
+        }
+        tb = t;
+        fb = g3;
+        if !(tb - ta).abs().gt(&(R::lit(1e-6) * tb)) {
+            break;
+        }
+    }
+    best
 }

@@ -2,46 +2,161 @@
 //! the [module doc](super) for the policy).
 
 use super::duration::zat_duration;
-use super::peak_rate::classic_peak_factor;
+use super::peak_rate::{law_ratios, zat_peak_acc, zat_peak_rate, Ratios};
 use super::request::{time_ratio, MoveRequest, PlanError, PlanLimits, PlannedMove};
+use super::shape_choice::{zat_shape, ZatShape};
 use crate::math::real::Real;
 use crate::motion::laws::Law;
 use crate::motion::plan::{JointLaw, LawKind, MultiPlan};
+use crate::motion::scaled::ScaledZat;
 use crate::motion::TrajError;
 
-/// Plans a move under the speed limits (see the module doc).
+/// Longer durations the papers' ζ-a-tₛ tries for its acceleration limit
+/// before it settles for the shortest passing one (3–5 suffice where
+/// max |G″| falls with tₛ).
+const ACC_SEARCH_STEPS: u8 = 16;
+/// ln of the growth of tₛ when the secant gives no step (×1.25).
+const ACC_SEARCH_GROW: f64 = 0.223;
+/// How far below f = 0 the acceleration search aims (so that a candidate
+/// usually passes).
+const ACC_SEARCH_AIM: f64 = 0.005;
+/// The acceleration search's tolerance on ln tₛ: the tₛ returned is at most
+/// 1 % above the shortest one that passes.
+const ACC_SEARCH_TOL: f64 = 0.01;
+
+/// Plans a move under the speed and acceleration limits (see the module
+/// doc). Not inlined, so that its searches' locals are not part of the
+/// caller's stack frame.
+#[inline(never)]
 pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<PlannedMove<R>, PlanError> {
     let ratio = time_ratio(req, &lim.speed)?;
-    let (law, ts, a, peak) = match req.law {
-        LawKind::Zat => {
-            let (z, peak) = zat_duration(ratio, lim)?;
-            (JointLaw::Zat(z.shape), z.shape.ts(), Some(z.choice()), peak)
+    let acc_ratio = time_ratio(req, &lim.accel)?;
+    let (law, a, peak, peak_acc) = match law_ratios(req.law) {
+        None => {
+            let (z, peak, peak_acc) = zat_paper(ratio, acc_ratio, lim)?;
+            (JointLaw::Zat(z.shape), Some(z.choice()), peak, peak_acc)
         }
-        kind => {
-            let (classic, factor) = match kind {
-                LawKind::Quintic => (Law::Quintic, classic_peak_factor(Law::Quintic)),
-                LawKind::Cubic => (Law::Cubic, classic_peak_factor(Law::Cubic)),
-                LawKind::Trapezoid => (Law::Trapezoid, classic_peak_factor(Law::Trapezoid)),
-                _ => (Law::Linear, classic_peak_factor(Law::Linear)),
+        Some(r) => {
+            let ts = scaled_duration(&r, &[ratio, acc_ratio], lim)?;
+            let law = scaling_law(req.law, ts).map_err(|_| PlanError::Trajectory)?;
+            let peak_acc = match r.acc {
+                Some(c) => R::lit(c) / (ts * ts),
+                None => R::lit(f64::INFINITY),
             };
-            let ts = (R::lit(factor) * ratio).max(lim.ts_min);
-            if !ts.le(&lim.ts_max) {
-                return Err(PlanError::SpeedLimit);
-            }
-            let law = JointLaw::classic(classic, ts).map_err(|_| PlanError::Trajectory)?;
-            (law, ts, None, R::lit(factor) / ts)
+            (law, None, R::lit(r.vel) / ts, peak_acc)
         }
     };
     let plan = MultiPlan::with_law(&req.start, &req.target, &law).map_err(|e| match e {
         TrajError::NotFinite => PlanError::NotFinite,
         _ => PlanError::Trajectory,
     })?;
-    // Defence in depth: the bound the choice above was made to satisfy.
+    // Defence in depth: the bounds the choice above was made to satisfy
+    // (the linear law's steps cannot satisfy an acceleration bound).
     let tol = R::ONE + R::lit(1e-4);
-    for ((s, e), w) in req.start.iter().zip(req.target.iter()).zip(lim.speed.iter()) {
-        if (*e - *s).abs() * peak > *w * tol {
+    let d = plan.delta();
+    for ((d, w), acc) in d.iter().zip(lim.speed.iter()).zip(lim.accel.iter()) {
+        if d.abs() * peak > *w * tol || (peak_acc.is_finite() && d.abs() * peak_acc > *acc * tol) {
             return Err(PlanError::SpeedLimit);
         }
     }
-    Ok(PlannedMove { end_velocity: plan.end_velocities(), plan, ts, a, peak_rate: peak })
+    let ts = plan.duration();
+    Ok(PlannedMove { end_velocity: plan.end_velocities(), plan, ts, a, peak_rate: peak, peak_acc })
+}
+
+/// The profile of a law that scales with its duration, over `ts` (the
+/// papers' ζ-a-tₛ gets the time-scaled one: it has no single shape).
+#[inline(never)]
+pub fn scaling_law<R: Real>(kind: LawKind, ts: R) -> Result<JointLaw<R>, TrajError<R>> {
+    let law = match kind {
+        LawKind::Zat | LawKind::ZatPaper => return ScaledZat::new(ts).map(JointLaw::Scaled),
+        LawKind::Quintic => Law::Quintic,
+        LawKind::Cubic => Law::Cubic,
+        LawKind::Trapezoid => Law::Trapezoid,
+        LawKind::Linear => Law::Linear,
+    };
+    JointLaw::classic(law, ts)
+}
+
+/// The shortest duration of a profile that scales with its duration:
+/// `max(ts_min, vel·ratio, √(acc·acc_ratio))` for `ratios` = [ratio,
+/// acc_ratio] ([`time_ratio`] of the speeds and of the accelerations),
+/// Err(SpeedLimit) past ts_max. Always inlined: LLVM would otherwise pass
+/// its promoted arguments on the AVR's stack.
+#[inline(always)]
+pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>) -> Result<R, PlanError> {
+    let [ratio, acc_ratio] = *ratios;
+    let mut ts = (R::lit(r.vel) * ratio).max(lim.ts_min);
+    if let Some(c) = r.acc {
+        ts = ts.max((R::lit(c) * acc_ratio).sqrt());
+    }
+    if ts <= lim.ts_max {
+        Ok(ts)
+    } else {
+        Err(PlanError::SpeedLimit)
+    }
+}
+
+/// The papers' ζ-a-tₛ: the shortest tₛ for the speeds ([`zat_duration`]);
+/// while the largest |G″| ([`zat_peak_acc`]) breaks an acceleration limit, a
+/// search for a longer one on f = ln(acc_ratio·max|G″|) over ln tₛ: secant
+/// steps (the first assumes max|G″| ∝ 1/tₛ²) aimed [`ACC_SEARCH_AIM`] below
+/// f = 0, growth by a quarter or bisection where a step would leave the
+/// bracket, until the shortest passing tₛ is within [`ACC_SEARCH_TOL`] of
+/// the longest failing one. max |G″| falls with tₛ for n ≥ 2 but not always
+/// for smaller n, where a shorter tₛ inside a dip can pass too: the result
+/// passes and is near the start of the passing range the search brackets,
+/// not always the shortest. The speed bound is verified again on the shape
+/// returned, with its P and max |G″|.
+#[inline(never)]
+fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
+    let (z, peak) = zat_duration(ratio, lim)?;
+    let acc = zat_peak_acc(&z.shape);
+    if acc_ratio * acc <= R::ONE {
+        return Ok((z, peak, acc));
+    }
+    let l = lim.n.ln();
+    // The longest failing ln tₛ and its f; the shortest passing candidate.
+    let (mut lo, mut f_lo) = (z.shape.ts().ln(), (acc_ratio * acc).ln());
+    let mut best: Option<(ZatShape<R>, R, R)> = None;
+    let mut slope = -R::TWO;
+    let ln_max = lim.ts_max.ln();
+    let mut k = 0;
+    while k < ACC_SEARCH_STEPS {
+        k += 1;
+        let hi = match &best {
+            Some((b, _, _)) => b.shape.ts().ln(),
+            None => ln_max,
+        };
+        if best.is_some() && hi - lo <= R::lit(ACC_SEARCH_TOL) {
+            break;
+        }
+        // A step must move a quarter of the tolerance away from both ends,
+        // or it would only re-evaluate a known candidate.
+        let gap = R::lit(0.25 * ACC_SEARCH_TOL);
+        let mut x = lo - (f_lo + R::lit(ACC_SEARCH_AIM)) / slope;
+        if !(x > lo + gap && x < hi - gap) {
+            // No useful step: bisect the bracket, or grow by a quarter
+            // while none passed yet (max |G″| need not fall with tₛ: for
+            // small n it rises again over part of [1.2, 2] s).
+            x = if best.is_some() { R::HALF * (lo + hi) } else { (lo + R::lit(ACC_SEARCH_GROW)).min(hi) };
+        }
+        let c = zat_shape(x.exp().min(lim.ts_max), lim.n, l).map_err(|_| PlanError::Trajectory)?;
+        let acc = zat_peak_acc(&c.shape);
+        let f = (acc_ratio * acc).ln();
+        if f <= R::ZERO {
+            let peak = zat_peak_rate(&c.shape);
+            if ratio * peak <= R::ONE {
+                best = Some((c, peak, acc));
+                continue;
+            }
+        }
+        if !x.lt(&ln_max) {
+            break;
+        }
+        let s = (f - f_lo) / (x - lo);
+        slope = if s < R::ZERO { s } else { -R::TWO };
+        lo = x;
+        f_lo = f;
+    }
+    best.ok_or(PlanError::SpeedLimit)
 }

@@ -21,19 +21,22 @@ pub enum PlanError {
     NotFinite,
 }
 
-/// Durations and the ζ-a-tₛ base for planning, and the speed each joint may
-/// use in this move.
+/// Durations and the ζ-a-tₛ base for planning, and the speed and
+/// acceleration each joint may use in this move.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanLimits<R> {
     /// Largest joint speed for this move, rad/s, per joint (> 0).
     pub speed: [R; JOINTS],
+    /// Largest joint acceleration for this move, rad/s², per joint (> 0).
+    pub accel: [R; JOINTS],
     /// Shortest classic move, s.
     pub ts_min: R,
-    /// Shortest ζ-a-tₛ move, s (> 1 keeps the smooth stop available).
+    /// Shortest move of the papers' ζ-a-tₛ, s (> 1 keeps the smooth stop
+    /// available); the time-scaled one takes `ts_min` like the classic laws.
     pub zat_ts_min: R,
     /// Longest move of any law, s.
     pub ts_max: R,
-    /// ζ-a-tₛ base n.
+    /// The papers' ζ-a-tₛ base n.
     pub n: R,
 }
 
@@ -55,19 +58,22 @@ pub struct PlannedMove<R> {
     pub plan: MultiPlan<R>,
     /// Duration, s.
     pub ts: R,
-    /// The ζ-a-tₛ shape choice; `None` for the classic laws.
+    /// The papers' ζ-a-tₛ shape choice; `None` for the other laws.
     pub a: Option<AChoice<R>>,
     /// max g′ of the profile, 1/s.
     pub peak_rate: R,
+    /// max |g″| of the profile, 1/s² (∞ for the linear law, which steps).
+    pub peak_acc: R,
     /// Joint velocities just before the end (rad/s): a step to 0 unless 0.
     pub end_velocity: [R; JOINTS],
 }
 
-/// `max_j |Δ_j|/ω_j` in seconds: the duration a profile with max g′ = 1/T
-/// would need.
-pub fn time_ratio<R: Real>(req: &MoveRequest<R>, speed: &[R; JOINTS]) -> Result<R, PlanError> {
+/// `max_j |Δ_j|/ω_j`: with the speeds, in seconds, the duration a profile
+/// with max g′ = 1/T would need; with the accelerations (`max_j |Δ_j|/α_j`),
+/// in s², the squared duration a profile with max |g″| = 1/T² would need.
+pub fn time_ratio<R: Real>(req: &MoveRequest<R>, limit: &[R; JOINTS]) -> Result<R, PlanError> {
     let mut r = R::ZERO;
-    for ((s, e), w) in req.start.iter().zip(req.target.iter()).zip(speed.iter()) {
+    for ((s, e), w) in req.start.iter().zip(req.target.iter()).zip(limit.iter()) {
         let d = (*e - *s).abs();
         if !(d.is_finite() && w.is_finite()) {
             return Err(PlanError::NotFinite);
