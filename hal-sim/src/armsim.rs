@@ -9,7 +9,7 @@ use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
 use touch_arm::motion::scaled::ScaledZat;
-use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::motion::via::{iterate_paper, via_shape_for, Continuity, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
 use touch_arm::touch::map::Calibration;
@@ -51,7 +51,7 @@ pub enum Cmd {
     /// `"zeta": null, "zeta_infinite": true`. A null ζ with `zeta_infinite: false` means ζ is
     /// undefined (a ≥ tₛ). CSV cells of non-finite values are empty.
     Traj(TrajArgs),
-    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_infinite, zeta_v, zeta_v_infinite, condition, converges, velocity_jump, acceleration_jump}; --t/--samples: CSV t,s,v,acc,jerk
+    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_infinite, zeta_v, zeta_v_infinite, condition, converges, a_v, n_v, velocity_jump, acceleration_jump, jerk_jump}; --t/--samples: CSV t,s,v,acc,jerk
     ///
     /// ζ (S_v → S_f) is infinite when S_v = S_f, ζ_v (q0 → S_v) when S_v = q0: the value is then
     /// null and its `_infinite` flag true (likewise `zeta_iter`/`zeta_v_iter` with --iterate).
@@ -123,12 +123,32 @@ pub struct ViaCore {
     /// Via time t_v, 0 < t_v < tₛ [s]
     #[arg(long)]
     pub tv: f64,
-    /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v)
+    /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v); chosen by --continuity c1|c2
     #[arg(long)]
-    pub av: f64,
-    /// Base n_v of the via segment
+    pub av: Option<f64>,
+    /// Base n_v of the via segment; chosen by --continuity c2
     #[arg(long)]
-    pub nv: f64,
+    pub nv: Option<f64>,
+    /// Continuity at t_v: c0 position only (--av, --nv as given), c1 also velocity (picks a_v for --nv), c2 also acceleration (picks n_v and a_v; needs t_v > 1)
+    #[arg(long, value_enum, default_value_t = ContinuityArg::C0)]
+    pub continuity: ContinuityArg,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ContinuityArg {
+    C0,
+    C1,
+    C2,
+}
+
+impl From<ContinuityArg> for Continuity {
+    fn from(c: ContinuityArg) -> Self {
+        match c {
+            ContinuityArg::C0 => Continuity::C0,
+            ContinuityArg::C1 => Continuity::C1,
+            ContinuityArg::C2 => Continuity::C2,
+        }
+    }
 }
 
 #[derive(Args, Debug)]
@@ -523,18 +543,37 @@ fn zat_plan(a: &ZatArgs) -> Result<ZatPlan<f64>, String> {
     ZatPlan::new(&zat_params(a)).map_err(|e| traj_err(&e))
 }
 
-fn via_params(a: &ViaCore) -> ViaParams<f64> {
+/// The via segment's (a_v, n_v): given, or chosen for the asked continuity.
+fn via_shape(a: &ViaCore) -> Result<(f64, f64), String> {
+    let (av, nv) = match (a.continuity, a.av, a.nv) {
+        (ContinuityArg::C0, Some(av), Some(nv)) => (av, nv),
+        (ContinuityArg::C0, _, _) => return Err("--continuity c0 needs --av and --nv".into()),
+        (ContinuityArg::C1, None, Some(nv)) => (f64::NAN, nv),
+        (ContinuityArg::C1, _, _) => {
+            return Err("--continuity c1 needs --nv and picks a_v itself: leave out --av".into())
+        }
+        (ContinuityArg::C2, None, None) => (f64::NAN, f64::NAN),
+        (ContinuityArg::C2, _, _) => {
+            return Err("--continuity c2 picks a_v and n_v itself: leave out --av and --nv".into())
+        }
+    };
+    via_shape_for(a.tv, av, nv, a.continuity.into()).map_err(|e| e.to_string())
+}
+
+fn via_params(a: &ViaCore) -> Result<ViaParams<f64>, String> {
     let m = &a.main;
-    ViaParams { q0: m.q0, theta_v: a.via, sf: m.sf, tv: a.tv, ts: m.ts, a: m.a, n: m.n, av: a.av, nv: a.nv }
+    let (av, nv) = via_shape(a)?;
+    Ok(ViaParams { q0: m.q0, theta_v: a.via, sf: m.sf, tv: a.tv, ts: m.ts, a: m.a, n: m.n, av, nv })
 }
 
 fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
+    let p = via_params(a)?;
     // Name the segment whose parameters are wrong before the combined check.
-    Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv })
+    Shape::new(&ShapeParams { ts: p.tv, a: p.av, n: p.nv })
         .map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
     Shape::new(&ShapeParams { ts: a.main.ts, a: a.main.a, n: a.main.n })
         .map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
-    ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
+    ViaPlan::new(&p).map_err(|e| traj_err(&e))
 }
 
 fn law_plan(a: &LawCore) -> Result<LawSampler, String> {
@@ -620,13 +659,16 @@ fn cmd_via(a: &ViaArgs) -> Result<String, String> {
         .set("zeta_v_infinite", plan.sv() == a.p.main.q0)
         .set("condition", plan.condition().number())
         .set("converges", r < 1.0)
+        .set("a_v", plan.via_shape().a())
+        .set("n_v", plan.via_shape().n())
         .set("velocity_jump", plan.velocity_jump())
-        .set("acceleration_jump", plan.acc_jump());
+        .set("acceleration_jump", plan.acc_jump())
+        .set("jerk_jump", plan.jumps().jerk);
     if let Some(tol) = a.iterate {
         if !(tol.is_finite() && tol > 0.0) {
             return Err(format!("--iterate tolerance must be positive, got {tol}"));
         }
-        match iterate_paper(&via_params(&a.p), tol, MAX_PAPER_ITERATIONS) {
+        match iterate_paper(&via_params(&a.p)?, tol, MAX_PAPER_ITERATIONS) {
             Ok(it) => {
                 j = j
                     .set("iterations", it.iterations)

@@ -674,3 +674,66 @@ fn plot_writes_png_and_svg() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Right minus left one-sided derivatives (second order) of S at t_v from the
+/// CSV positions: (velocity jump, acceleration jump).
+fn fd_jumps(base: &[&str], tv: f64, h: f64) -> (f64, f64) {
+    let ts: Vec<String> = (-3..=3).map(|k| format!("{}", tv + k as f64 * h)).collect();
+    let (_, rows) = csv(&[base, &["--t", &ts.join(",")]].concat());
+    let s = |k: i32| rows[(k + 3) as usize][1];
+    let v_l = (3.0 * s(0) - 4.0 * s(-1) + s(-2)) / (2.0 * h);
+    let v_r = (-3.0 * s(0) + 4.0 * s(1) - s(2)) / (2.0 * h);
+    let a_l = (2.0 * s(0) - 5.0 * s(-1) + 4.0 * s(-2) - s(-3)) / (h * h);
+    let a_r = (2.0 * s(0) - 5.0 * s(1) + 4.0 * s(2) - s(3)) / (h * h);
+    (v_r - v_l, a_r - a_l)
+}
+
+#[test]
+fn via_continuity_picks_the_shape_and_reports_the_jumps() {
+    let base = ["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--tv", "1.5", "--ts", "2.5", "--a", "1", "--n", "2"];
+    let h = 2e-4;
+    // c0: the given shape; the jumps it reports are the finite differences'.
+    let c0 = [&base[..], &["--av", "1", "--nv", "2"]].concat();
+    let v = json(&c0);
+    let (dv, da) = fd_jumps(&c0, 1.5, h);
+    assert!(f(&v, "velocity_jump").abs() > 1e-2);
+    assert!((dv - f(&v, "velocity_jump")).abs() < 1e-5, "fd {dv} vs {}", v["velocity_jump"]);
+    assert!((da - f(&v, "acceleration_jump")).abs() < 1e-2 * f(&v, "acceleration_jump").abs(), "fd {da} vs {v}");
+    // c1: a_v = t_v − log_{n_v} t_v, the velocity continuous, the acceleration not.
+    let c1 = [&base[..], &["--nv", "2", "--continuity", "c1"]].concat();
+    let v = json(&c1);
+    assert!((f(&v, "a_v") - (1.5 - 1.5f64.log2())).abs() < 1e-15);
+    assert_eq!(f(&v, "n_v"), 2.0);
+    assert!(f(&v, "velocity_jump").abs() < 1e-14, "{v}");
+    // Gv″(t_v⁻) = (L/t_v)(L − 2/(t_v − 1)) with L = ln 2; the jump is −(S_v − q0) times it.
+    let l = 2f64.ln();
+    let want = -f(&v, "s_v") * (l / 1.5) * (l - 4.0);
+    assert!((f(&v, "acceleration_jump") - want).abs() < 1e-12, "{v}");
+    let (dv, da) = fd_jumps(&c1, 1.5, h);
+    assert!(dv.abs() < 1e-5, "fd velocity jump {dv}");
+    assert!((da - want).abs() < 1e-2 * want.abs(), "fd {da} vs {want}");
+    // c2: n_v = e^(2/(t_v − 1)) = e⁴; velocity and acceleration continuous, the
+    // jerk steps by −(S_v − q0)·4(t_v + 1)/(t_v²(t_v − 1)³).
+    let c2 = [&base[..], &["--continuity", "c2"]].concat();
+    let v = json(&c2);
+    assert!((f(&v, "n_v") - 4f64.exp()).abs() < 1e-12, "{v}");
+    assert!(f(&v, "velocity_jump").abs() < 1e-14 && f(&v, "acceleration_jump").abs() < 1e-13, "{v}");
+    let jerk = -f(&v, "s_v") * 4.0 * 2.5 / (1.5 * 1.5 * 0.125);
+    assert!((f(&v, "jerk_jump") - jerk).abs() < 1e-9 * jerk.abs(), "{v} vs {jerk}");
+    let (dv, da) = fd_jumps(&c2, 1.5, h);
+    assert!(dv.abs() < 1e-5 && da.abs() < 2e-2, "fd jumps {dv} {da}");
+    // The same S_v for every choice: the via value is met whatever the shape.
+    let (_, rows) = csv(&[&c2[..], &["--t", "1.5"]].concat());
+    assert!((rows[0][1] - 0.6).abs() < 1e-14);
+}
+
+#[test]
+fn via_continuity_refusals_are_clear() {
+    let base = ["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--ts", "2.5", "--a", "1", "--n", "2"];
+    fails(&[&base[..], &["--tv", "0.8", "--continuity", "c2"]].concat(), "admissible only for t_v > 1");
+    fails(&[&base[..], &["--tv", "0.8", "--nv", "2", "--continuity", "c1"]].concat(), "t_v > 1");
+    fails(&[&base[..], &["--tv", "1.5", "--nv", "5000", "--continuity", "c1"]].concat(), "n_v <");
+    fails(&[&base[..], &["--tv", "1.5", "--av", "1", "--continuity", "c2"]].concat(), "leave out");
+    fails(&[&base[..], &["--tv", "1.5", "--av", "1", "--nv", "2", "--continuity", "c1"]].concat(), "leave out --av");
+    fails(&[&base[..], &["--tv", "1.5", "--nv", "2"]].concat(), "needs --av and --nv");
+}
