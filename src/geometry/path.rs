@@ -32,6 +32,8 @@ pub enum Path<R> {
     Line {
         /// Start P_a.
         from: Vec3<R>,
+        /// End P_b, returned exactly at s = 1.
+        to: Vec3<R>,
         /// P_b − P_a.
         delta: Vec3<R>,
     },
@@ -86,7 +88,7 @@ impl<R: Real> Path<R> {
         if (cx * cx + cy * cy).is_zero() {
             return Err(PathShapeError::CrossesBaseAxis);
         }
-        Ok(Path::Line { from: *from, delta })
+        Ok(Path::Line { from: *from, to: *to, delta })
     }
 
     /// One turn of radius r around `center` in the vertical plane through
@@ -119,7 +121,7 @@ impl<R: Real> Path<R> {
     /// visits.
     pub fn critical_points(&self) -> [R; 2] {
         match *self {
-            Path::Line { from, delta } => {
+            Path::Line { from, delta, .. } => {
                 let closest = |n: usize| {
                     let (mut ad, mut dd) = (R::ZERO, R::ZERO);
                     for i in 0..n {
@@ -152,8 +154,7 @@ impl<R: Real> Path<R> {
         self.point(R::ZERO)
     }
 
-    /// Where the path ends (s = 1): P_b exactly for a line's own `to` only up
-    /// to the rounding of P_a + (P_b − P_a).
+    /// Where the path ends (s = 1): a line's P_b exactly.
     pub fn end(&self) -> Vec3<R> {
         self.point(R::ONE)
     }
@@ -166,8 +167,13 @@ impl<R: Real> Path<R> {
     /// P and its first two derivatives in s.
     pub fn jet(&self, s: R) -> PathJet<R> {
         match *self {
-            Path::Line { from, delta } => PathJet {
-                p: [from[0] + delta[0] * s, from[1] + delta[1] * s, from[2] + delta[2] * s],
+            Path::Line { from, to, delta } => PathJet {
+                // P_a + (P_b − P_a)·1 can miss P_b by an ulp; the target is exact.
+                p: if s < R::ONE {
+                    [from[0] + delta[0] * s, from[1] + delta[1] * s, from[2] + delta[2] * s]
+                } else {
+                    to
+                },
                 dp: delta,
                 ddp: [R::ZERO; 3],
             },
