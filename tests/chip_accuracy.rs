@@ -475,3 +475,41 @@ proptest! {
             "fk ({fx}, {fy}) vs ({}, {})", pose.reach, pose.height);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// The path frame's pulse (`angle_to_ticks`, integer clamps to the
+    /// window's end pulses) is `angle_to_pulse`'s, for every calibration the
+    /// validation accepts and every angle, inside the limits or far outside.
+    #[test]
+    fn angle_to_ticks_is_angle_to_pulse(
+        offset in 300.0f32..2700.0,
+        k in prop_oneof![-1500.0f32..-150.0, 150.0f32..1500.0],
+        min_us in 500u16..1400,
+        span in 100u16..1100,
+        lo in -3.0f32..0.5,
+        width in 0.2f32..3.0,
+        angle in prop_oneof![-4.0f32..4.0, -1e30f32..1e30],
+    ) {
+        let cal = JointCal {
+            offset_us: offset,
+            us_per_rad: k,
+            min_us,
+            max_us: min_us + span,
+            min_rad: lo,
+            max_rad: lo + width,
+            ..JointCal::BASE_DEFAULT
+        };
+        let Ok(m) = ServoMap::new(&cal) else { return Ok(()) };
+        prop_assert_eq!(m.angle_to_ticks(angle), Some(m.angle_to_pulse(angle).unwrap().ticks));
+        // Near the window's ends, where the clamps take over.
+        for edge in [cal.min_rad, cal.max_rad] {
+            for d in [-1e-3f32, -1e-6, 0.0, 1e-6, 1e-3] {
+                prop_assert_eq!(m.angle_to_ticks(edge + d), Some(m.angle_to_pulse(edge + d).unwrap().ticks));
+            }
+        }
+        prop_assert_eq!(m.angle_to_ticks(f32::NAN), None);
+        prop_assert_eq!(m.angle_to_ticks(f32::INFINITY), None);
+    }
+}

@@ -159,9 +159,22 @@ impl<R: Real> Path<R> {
         self.point(R::ONE)
     }
 
-    /// P(s).
+    /// P(s) (the per-frame path: no derivatives).
     pub fn point(&self, s: R) -> Vec3<R> {
-        self.jet(s).p
+        match *self {
+            Path::Line { from, to, delta } => {
+                if s < R::ONE {
+                    [from[0] + delta[0] * s, from[1] + delta[1] * s, from[2] + delta[2] * s]
+                } else {
+                    to
+                }
+            }
+            Path::Circle { center, radius, dir } => {
+                let phi = R::PI.twice() * s;
+                let (pr, pz) = (radius * phi.cos(), radius * phi.sin());
+                [center[0] + pr * dir[0], center[1] + pr * dir[1], center[2] + pz]
+            }
+        }
     }
 
     /// P and its first two derivatives in s.

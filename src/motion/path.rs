@@ -13,7 +13,7 @@
 
 use core::fmt;
 
-use crate::geometry::ik::{Branch, IkError, Links};
+use crate::geometry::ik::{ik3, Branch, IkError, Links};
 use crate::geometry::path::{ik_jet, JetError, JointJet, Path, PathShapeError, Vec3};
 use crate::math::real::Real;
 use crate::motion::plan::{JointLaw, LawKind, JOINTS};
@@ -359,6 +359,15 @@ fn stretch<R: Real>(peaks: &PathPeaks<R>, lim: &PathLimits<R>) -> (R, u8, bool) 
 /// scale exactly in exact arithmetic.
 const STRETCH_SLACK: f64 = 1e-5;
 
+/// The joint angles at time t: the law's g, the path's point, the IK; the
+/// per-frame work of a path move (no derivatives).
+#[inline]
+pub fn path_angles<R: Real>(path: &Path<R>, law: &JointLaw<R>, arm: &PathArm<R>, t: R) -> Result<Vec3<R>, IkError<R>> {
+    let p = path.point(law.g(t));
+    let q = ik3(&arm.links, p[0], p[1], p[2], arm.branch)?;
+    Ok([q.th1, q.th2, q.th3])
+}
+
 impl<R: Real> PathPlan<R> {
     /// Plans a path move: checks the path, scans it at the asked duration
     /// and refuses or slows down (never clamps) where a joint's speed or
@@ -419,6 +428,11 @@ impl<R: Real> PathPlan<R> {
     #[inline]
     pub fn peaks(&self) -> &PathPeaks<R> {
         &self.peaks
+    }
+
+    /// Joint angles at time t ([`path_angles`]).
+    pub fn angles(&self, t: R) -> Result<Vec3<R>, IkError<R>> {
+        path_angles(&self.path, &self.law, &self.arm, t)
     }
 
     /// Effector and joints at time t (held at the ends outside [0, tₛ]).

@@ -292,19 +292,28 @@ pub struct ServoMap {
     rad_per_us: f32,
     /// Angle overshoot that moves the pulse by less than 0.5 µs.
     angle_tol: f32,
+    /// The pulses at the ends of the output window, ticks, low first.
+    window_ticks: [u16; 2],
 }
 
 impl ServoMap {
     /// A mapping for `cal`, once it validates.
     pub fn new(cal: &JointCal) -> Result<ServoMap, JointCalError> {
         cal.validate()?;
-        Ok(ServoMap {
+        let mut m = ServoMap {
             cal: *cal,
             min_us: cal.min_us as f32,
             max_us: cal.max_us as f32,
             rad_per_us: 1.0 / cal.us_per_rad,
             angle_tol: 0.5 / cal.us_per_rad.abs(),
-        })
+            window_ticks: [0, 0],
+        };
+        // Validated limits are finite, so both pulses exist.
+        let (Ok(a), Ok(b)) = (m.angle_to_pulse(cal.min_rad), m.angle_to_pulse(cal.max_rad)) else {
+            return Err(JointCalError::NotFinite);
+        };
+        m.window_ticks = [a.ticks.min(b.ticks), a.ticks.max(b.ticks)];
+        Ok(m)
     }
 
     /// The calibration it was built from.
@@ -353,6 +362,24 @@ impl ServoMap {
         // `us` is within 500..=2500 here; the final clamp is defence in depth.
         let ticks = ((us.twice() + R::HALF).to_f32() as u16).max(c.min_us * TICKS_PER_US).min(c.max_us * TICKS_PER_US);
         Ok(Pulse { ticks, clamped })
+    }
+
+    /// [`ServoMap::angle_to_pulse`]'s ticks without the report of which limit
+    /// clamped, for a frame whose angles are not affine in one profile (a
+    /// path move): the same value in fewer float operations. The map with
+    /// its clamps and rounding is monotone, so clamping the rounded pulse of
+    /// the raw angle to the pulses of the window's ends is clamping the angle
+    /// and the pulse first. `None` for a non-finite angle.
+    #[inline]
+    pub fn angle_to_ticks(&self, angle: f32) -> Option<u16> {
+        if !angle.is_finite() {
+            return None;
+        }
+        let us = self.cal.offset_us + self.cal.us_per_rad * angle;
+        // The float-to-integer cast saturates, which keeps the order.
+        let raw = (us.twice() + 0.5) as i32;
+        let [lo, hi] = self.window_ticks;
+        Some(raw.clamp(i32::from(lo), i32::from(hi)) as u16)
     }
 
     /// Angle (rad) that a pulse of `ticks` (0.5 µs) stands for; not clamped
