@@ -15,7 +15,7 @@ use touch_arm::math::sqrt_split::sqrt_split;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
 use touch_arm::motion::TrajError;
-use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::map::{JointCal, ServoMap, TickMap};
 use touch_arm::servo::track::ServoTrack;
 
 /// |got − want| in units of the f32 spacing at `want`.
@@ -479,11 +479,11 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
-    /// The path frame's pulse (`angle_to_ticks`, integer clamps to the
-    /// window's end pulses) is `angle_to_pulse`'s, for every calibration the
-    /// validation accepts and every angle, inside the limits or far outside.
+    /// The path frame's pulse (`TickMap`, integer clamps to the window's end
+    /// pulses) is `angle_to_pulse`'s, for every calibration the validation
+    /// accepts and every angle, inside the limits or far outside.
     #[test]
-    fn angle_to_ticks_is_angle_to_pulse(
+    fn tick_map_is_angle_to_pulse(
         offset in 300.0f32..2700.0,
         k in prop_oneof![-1500.0f32..-150.0, 150.0f32..1500.0],
         min_us in 500u16..1400,
@@ -502,14 +502,15 @@ proptest! {
             ..JointCal::BASE_DEFAULT
         };
         let Ok(m) = ServoMap::new(&cal) else { return Ok(()) };
-        prop_assert_eq!(m.angle_to_ticks(angle), Some(m.angle_to_pulse(angle).unwrap().ticks));
+        let f = TickMap::new(&m).unwrap();
+        prop_assert_eq!(f.ticks(angle), Some(m.angle_to_pulse(angle).unwrap().ticks));
         // Near the window's ends, where the clamps take over.
         for edge in [cal.min_rad, cal.max_rad] {
             for d in [-1e-3f32, -1e-6, 0.0, 1e-6, 1e-3] {
-                prop_assert_eq!(m.angle_to_ticks(edge + d), Some(m.angle_to_pulse(edge + d).unwrap().ticks));
+                prop_assert_eq!(f.ticks(edge + d), Some(m.angle_to_pulse(edge + d).unwrap().ticks));
             }
         }
-        prop_assert_eq!(m.angle_to_ticks(f32::NAN), None);
-        prop_assert_eq!(m.angle_to_ticks(f32::INFINITY), None);
+        prop_assert_eq!(f.ticks(f32::NAN), None);
+        prop_assert_eq!(f.ticks(f32::INFINITY), None);
     }
 }

@@ -45,7 +45,7 @@ use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
 use touch_arm::seam::RawSample;
 use touch_arm::seam::TouchPanel;
-use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::map::{JointCal, ServoMap, TickMap};
 use touch_arm::servo::track::{Replan, ServoTrack};
 use touch_arm::touch::map::Calibration;
 use ufmt::uwriteln;
@@ -466,12 +466,12 @@ fn frames(b: &mut Bench, paper: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) {
 }
 
 /// Angles through the calibration to Timer5 ticks, as a path frame writes
-/// them (`angle_to_ticks`: `angle_to_pulse`'s value).
+/// them (`TickMap`: `angle_to_pulse`'s value).
 #[inline(always)]
-fn to_ticks(q: &[f32; JOINTS], maps: &[ServoMap; JOINTS]) -> Option<[u16; JOINTS]> {
+fn to_ticks(q: &[f32; JOINTS], maps: &[TickMap; JOINTS]) -> Option<[u16; JOINTS]> {
     let mut out = [0u16; JOINTS];
     for ((o, m), q) in out.iter_mut().zip(maps.iter()).zip(q.iter()) {
-        *o = m.angle_to_ticks(*q)?;
+        *o = m.ticks(*q)?;
     }
     Some(out)
 }
@@ -482,6 +482,11 @@ fn to_ticks(q: &[f32; JOINTS], maps: &[ServoMap; JOINTS]) -> Option<[u16; JOINTS
 #[inline(never)]
 fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
     let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
+    let (Some(m0), Some(m1), Some(m2)) = (TickMap::new(&maps[0]), TickMap::new(&maps[1]), TickMap::new(&maps[2]))
+    else {
+        halt()
+    };
+    let maps = &[m0, m1, m2];
     let Ok(links) = Links::new(1.0f32, 1.0) else { halt() };
     let arm = PathArm { links, branch: Branch::Minus };
     let Ok(line) = Path::line(&[1.0f32, 0.3, 0.2], &[-0.4, 0.9, 0.7]) else { halt() };

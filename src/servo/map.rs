@@ -292,28 +292,19 @@ pub struct ServoMap {
     rad_per_us: f32,
     /// Angle overshoot that moves the pulse by less than 0.5 µs.
     angle_tol: f32,
-    /// The pulses at the ends of the output window, ticks, low first.
-    window_ticks: [u16; 2],
 }
 
 impl ServoMap {
     /// A mapping for `cal`, once it validates.
     pub fn new(cal: &JointCal) -> Result<ServoMap, JointCalError> {
         cal.validate()?;
-        let mut m = ServoMap {
+        Ok(ServoMap {
             cal: *cal,
             min_us: cal.min_us as f32,
             max_us: cal.max_us as f32,
             rad_per_us: 1.0 / cal.us_per_rad,
             angle_tol: 0.5 / cal.us_per_rad.abs(),
-            window_ticks: [0, 0],
-        };
-        // Validated limits are finite, so both pulses exist.
-        let (Ok(a), Ok(b)) = (m.angle_to_pulse(cal.min_rad), m.angle_to_pulse(cal.max_rad)) else {
-            return Err(JointCalError::NotFinite);
-        };
-        m.window_ticks = [a.ticks.min(b.ticks), a.ticks.max(b.ticks)];
-        Ok(m)
+        })
     }
 
     /// The calibration it was built from.
@@ -362,24 +353,6 @@ impl ServoMap {
         // `us` is within 500..=2500 here; the final clamp is defence in depth.
         let ticks = ((us.twice() + R::HALF).to_f32() as u16).max(c.min_us * TICKS_PER_US).min(c.max_us * TICKS_PER_US);
         Ok(Pulse { ticks, clamped })
-    }
-
-    /// [`ServoMap::angle_to_pulse`]'s ticks without the report of which limit
-    /// clamped, for a frame whose angles are not affine in one profile (a
-    /// path move): the same value in fewer float operations. The map with
-    /// its clamps and rounding is monotone, so clamping the rounded pulse of
-    /// the raw angle to the pulses of the window's ends is clamping the angle
-    /// and the pulse first. `None` for a non-finite angle.
-    #[inline]
-    pub fn angle_to_ticks(&self, angle: f32) -> Option<u16> {
-        if !angle.is_finite() {
-            return None;
-        }
-        let us = self.cal.offset_us + self.cal.us_per_rad * angle;
-        // The float-to-integer cast saturates, which keeps the order.
-        let raw = (us.twice() + 0.5) as i32;
-        let [lo, hi] = self.window_ticks;
-        Some(raw.clamp(i32::from(lo), i32::from(hi)) as u16)
     }
 
     /// Angle (rad) that a pulse of `ticks` (0.5 µs) stands for; not clamped
@@ -438,6 +411,47 @@ impl ServoMap {
     /// The joint's acceleration limit, rad/s².
     pub fn max_accel<R: Real>(&self) -> R {
         R::from_f32(self.cal.max_accel_rad_s2)
+    }
+}
+
+/// [`ServoMap::angle_to_pulse`]'s ticks without the report of which limit
+/// clamped, for frames whose angles are not affine in one profile (a path
+/// move): the same value in fewer float operations. The map with its clamps
+/// and rounding is monotone, so clamping the rounded pulse of the raw angle
+/// to the pulses of the window's ends is clamping the angle and the pulse
+/// first. Built once per move from its [`ServoMap`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickMap {
+    offset_us: f32,
+    us_per_rad: f32,
+    /// The pulses at the ends of the output window, ticks, low first.
+    window: [u16; 2],
+}
+
+impl TickMap {
+    /// The fast map of `m`. `None` only if a limit angle has no pulse, which
+    /// a validated calibration rules out.
+    pub fn new(m: &ServoMap) -> Option<TickMap> {
+        let c = m.cal();
+        let (a, b) = (m.angle_to_pulse(c.min_rad).ok()?, m.angle_to_pulse(c.max_rad).ok()?);
+        Some(TickMap {
+            offset_us: c.offset_us,
+            us_per_rad: c.us_per_rad,
+            window: [a.ticks.min(b.ticks), a.ticks.max(b.ticks)],
+        })
+    }
+
+    /// The pulse for `angle`, Timer5 ticks; `None` for a non-finite angle.
+    #[inline]
+    pub fn ticks(&self, angle: f32) -> Option<u16> {
+        if !angle.is_finite() {
+            return None;
+        }
+        let us = self.offset_us + self.us_per_rad * angle;
+        // The float-to-integer cast saturates, which keeps the order.
+        let raw = (us.twice() + 0.5) as i32;
+        let [lo, hi] = self.window;
+        Some(raw.clamp(i32::from(lo), i32::from(hi)) as u16)
     }
 }
 

@@ -47,7 +47,7 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ("frame_zat_paper", "frame, the papers' ζ-a-tₛ (tₛ in seconds)"),
     (
         "path_frame",
-        "**straight-line path frame**: time-scaled ζ-a-tₛ g, the point on the segment, 3-DoF IK (`ik3`), 3 pulses (`angle_to_ticks`)",
+        "**straight-line path frame**: time-scaled ζ-a-tₛ g, the point on the segment, 3-DoF IK (`ik3`), 3 pulses (`TickMap`)",
     ),
     ("via_frame", "via-point frame: Gv and G once, S = q0 + (S_v − q0)·Gv + (S_f − S_v)·G per joint, 3 pulses"),
     ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
