@@ -7,7 +7,7 @@ use core::f64::consts::PI;
 use proptest::prelude::*;
 use touch_arm::geometry::ik::{fk3, ik3, Branch, Links};
 use touch_arm::geometry::path::{ik_jet, JetError, Path, PathShapeError, Vec3};
-use touch_arm::motion::path::{Pace, PathArm, PathError, PathLimits, PathPlan, PathRequest};
+use touch_arm::motion::path::{Pace, PathArm, PathCheck, PathError, PathLimits, PathPlan, PathRequest, REFINE_FULL};
 use touch_arm::motion::plan::LawKind;
 
 fn cfg() -> ProptestConfig {
@@ -24,7 +24,7 @@ fn limits(speed: f64, accel: f64) -> PathLimits<f64> {
 }
 
 fn req(path: Path<f64>, law: LawKind, ts: f64, pace: Pace) -> PathRequest<f64> {
-    PathRequest { path, law, ts, pace, samples: 400 }
+    PathRequest { path, law, ts, pace, samples: 400, refine: REFINE_FULL }
 }
 
 fn dist(a: &Vec3<f64>, b: &Vec3<f64>) -> f64 {
@@ -261,4 +261,36 @@ fn plan_checks_refuse_with_the_reason() {
     // A singular point itself has no rates.
     let straight = Path::line(&[2.0, 0.0, 0.0], &[1.0, 0.5, 0.0]).unwrap();
     assert_eq!(ik_jet(&a.links, a.branch, &straight.jet(0.0)), Err(JetError::Singular));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// The check spread over many small steps (as the chip would over
+    /// frames) decides exactly what the one-shot plan decides, in a number of
+    /// units known in advance: the grid, then per critical point one search,
+    /// its instant, two sides per refinement step and the move to the next
+    /// point, and the end (all twice when slowed down).
+    #[test]
+    fn stepped_check_equals_the_one_shot_plan(a in point(), b in point(), ts in 0.3f64..4.0, chunk in 1u16..40) {
+        let Ok(line) = Path::line(&a, &b) else { return Ok(()) };
+        for (pace, refine) in [(Pace::SlowDown, 24), (Pace::Refuse, 24), (Pace::SlowDown, REFINE_FULL)] {
+            let r = PathRequest { path: line, law: LawKind::Zat, ts, pace, samples: 48, refine };
+            let (arm, lim) = (arm(), limits(1.5, 6.0));
+            let want = PathPlan::new(&r, &arm, &lim);
+            let mut check = PathCheck::new(&r, &arm, &lim).unwrap();
+            let mut calls = 0u32;
+            let got = loop {
+                calls += 1;
+                if let Some(g) = check.step(chunk) {
+                    break g;
+                }
+            };
+            prop_assert_eq!(got, want);
+            // Asked again, the same answer, no more work.
+            prop_assert_eq!(check.step(chunk), Some(want));
+            let per_scan = 49 + 2 * (3 + 2 * (u32::from(refine) - 3)) + 1;
+            prop_assert!(calls <= (2 * per_scan).div_ceil(u32::from(chunk)) + 1, "{calls} calls of {chunk}");
+        }
+    }
 }

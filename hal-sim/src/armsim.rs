@@ -9,7 +9,7 @@ use touch_arm::geometry::path::Path;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
-use touch_arm::motion::path::{Pace, PathArm, PathLimits, PathPlan, PathRequest};
+use touch_arm::motion::path::{Pace, PathArm, PathLimits, PathPlan, PathRequest, REFINE_FULL};
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::scaled::ScaledZat;
 use touch_arm::motion::via::{iterate_paper, via_shape_for, Continuity, ViaParams, ViaPlan};
@@ -910,7 +910,7 @@ fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
         ts_max: PATH_TS_MAX,
     };
     let pace = if c.slow_down { Pace::SlowDown } else { Pace::Refuse };
-    let req = PathRequest { path, law: path_law(c.law), ts: c.ts, pace, samples: PATH_SCAN };
+    let req = PathRequest { path, law: path_law(c.law), ts: c.ts, pace, samples: PATH_SCAN, refine: REFINE_FULL };
     PathPlan::new(&req, &PathArm { links, branch: Branch::Minus }, &lim).map_err(|e| e.to_string())
 }
 

@@ -36,7 +36,7 @@ use touch_arm::geometry::path::Path;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
 use touch_arm::motion::laws::Law;
-use touch_arm::motion::path::{path_angles, PathArm};
+use touch_arm::motion::path::{path_angles, Pace, PathArm, PathCheck, PathLimits, PathRequest};
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
 use touch_arm::motion::planner::{plan_move, request as app_policy};
@@ -493,6 +493,24 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
     let Ok(zat) = ScaledZat::new(TS) else { halt() };
     let law = JointLaw::Scaled(zat);
     b.run("path_frame", t_at, |&t| path_angles(&line, &law, &arm, t).ok().and_then(|q| to_ticks(&q, maps)));
+    // One unit of a line's plan-time check (a visit: law, IK and joint rates;
+    // or a search for a critical instant), at points of a 24 + 2 × 45-unit
+    // scan that include both searches.
+    let lim = PathLimits {
+        min: [0.0, 0.0, -3.141_592_7],
+        max: [3.141_592_7, 3.141_592_7, 0.0],
+        speed: [2.94; JOINTS],
+        accel: [17.1; JOINTS],
+        ts_max: 30.0,
+    };
+    let req = PathRequest { path: line, law: LawKind::Zat, ts: TS, pace: Pace::SlowDown, samples: 24, refine: 24 };
+    const UNITS_AT: [u16; REPS] = [0, 5, 10, 15, 20, 24, 25, 26, 30, 40, 50, 60, 70, 71, 100];
+    let at = |i: usize| {
+        let Ok(mut c) = PathCheck::new(&req, &arm, &lim) else { halt() };
+        let _ = c.step(UNITS_AT.get(i).copied().unwrap_or(0));
+        c
+    };
+    b.run_mut("path_check_unit", at, |c| c.step(1).is_some());
     let p = ViaParams { q0: 0.0f32, theta_v: 0.0, sf: 0.0, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: 3.0 };
     let (Ok(gv), Ok(g)) = (
         Shape::new(&ShapeParams { ts: p.tv, a: p.av, n: p.nv }),

@@ -66,6 +66,9 @@ pub struct PathRequest<R> {
     pub pace: Pace,
     /// Intervals of the plan-time scan (≥ 2).
     pub samples: u16,
+    /// Refinement steps around each critical point ([`REFINE_FULL`] on the
+    /// host; fewer resolve spikes down to tₛ·2^(−refine/4) only).
+    pub refine: u16,
 }
 
 /// Why a path move cannot be planned. `s` is the path's progress (0..1)
@@ -275,12 +278,14 @@ fn visit<R: Real>(
     Ok(jj.q)
 }
 
-/// Bisections for the instant a critical progress is passed (g is monotone).
-const CRITICAL_BISECTIONS: u8 = 48;
-/// Steps of the refinement around a critical instant: offsets tₛ·2^(−m/4)
-/// for m = 4..=CLUSTER_STEPS, down to a millionth of the move on each side,
-/// so a spike of any width above that is visited within a fifth of its width.
-const CLUSTER_STEPS: u16 = 80;
+/// Bisections for the instant a critical progress is passed (g is monotone):
+/// to the f32 resolution of the duration.
+const CRITICAL_BISECTIONS: u8 = 24;
+/// Refinement steps of the host's checks (`armsim`): offsets tₛ·2^(−m/4)
+/// for m = 4..=80, down to a millionth of the move on each side of a
+/// critical instant, so a spike of any width above that is visited within a
+/// fifth of its width.
+pub const REFINE_FULL: u16 = 80;
 
 /// The instant t with g(t) = s.
 fn time_of<R: Real>(law: &JointLaw<R>, s: R) -> R {
@@ -296,46 +301,185 @@ fn time_of<R: Real>(law: &JointLaw<R>, s: R) -> R {
     (lo + hi) * R::HALF
 }
 
-fn scan<R: Real>(
-    path: &Path<R>,
-    law: &JointLaw<R>,
-    arm: &PathArm<R>,
-    lim: &PathLimits<R>,
+/// Where a resumable scan is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ScanAt<R> {
+    /// The even grid's instant i of `samples`.
+    Grid(u16),
+    /// The instant of critical point `crit` is still to be found.
+    Critical(u8),
+    /// Around critical instant `t_c`: offset step `m` (3: `t_c` itself) on
+    /// side `late`, the offset `off` for it.
+    Cluster {
+        crit: u8,
+        t_c: R,
+        off: R,
+        m: u16,
+        late: bool,
+    },
+    Finished,
+}
+
+/// The scan of one duration, a unit of work (a visit or a bisection) at a
+/// time: the grid (each point reachable, non-singular, inside the angle
+/// limits, one IK branch), then the refinement around each of the path's
+/// critical points, where narrow rate spikes sit. Grid-independent: the
+/// refinement sits at the same τ = t/tₛ for every tₛ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Scan<R> {
+    at: ScanAt<R>,
+    peaks: PathPeaks<R>,
+    prev: Option<Vec3<R>>,
+}
+
+impl<R: Real> Scan<R> {
+    fn new() -> Self {
+        Scan {
+            at: ScanAt::Grid(0),
+            peaks: PathPeaks { speed: [R::ZERO; JOINTS], accel: [R::ZERO; JOINTS] },
+            prev: None,
+        }
+    }
+
+    /// One unit of work; `Ok(true)` once the scan is complete.
+    fn step(&mut self, c: &Checked<R>, law: &JointLaw<R>) -> Result<bool, PathError<R>> {
+        let ts = law.duration();
+        match self.at {
+            ScanAt::Grid(i) => {
+                let t = if i >= c.samples { ts } else { ts * R::from_u16(i) / R::from_u16(c.samples) };
+                let q = visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+                if let Some(p) = self.prev {
+                    for j in 0..JOINTS {
+                        // Angles are finite here (`visit` checked their rates).
+                        if R::lit(BRANCH_JUMP_RAD).lt_num((q[j] - p[j]).abs()) {
+                            return Err(PathError::Singular { s: law.g(t) });
+                        }
+                    }
+                }
+                self.prev = Some(q);
+                self.at = if i >= c.samples { ScanAt::Critical(0) } else { ScanAt::Grid(i + 1) };
+            }
+            ScanAt::Critical(crit) => {
+                self.at = match c.path.critical_points().get(usize::from(crit)) {
+                    Some(&s_c) => {
+                        let t_c = time_of(law, s_c);
+                        ScanAt::Cluster { crit, t_c, off: ts * R::HALF, m: 3, late: false }
+                    }
+                    None => ScanAt::Finished,
+                };
+            }
+            ScanAt::Cluster { crit, t_c, off, m, late } => {
+                if m == 3 {
+                    visit(&c.path, law, &c.arm, &c.lim, t_c, &mut self.peaks)?;
+                    self.at = ScanAt::Cluster { crit, t_c, off, m: 4, late: false };
+                } else if m > c.refine {
+                    self.at = ScanAt::Critical(crit + 1);
+                } else {
+                    let t = if late { t_c + off } else { t_c - off };
+                    if R::ZERO <= t && t <= ts {
+                        visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+                    }
+                    self.at = if late {
+                        // 2^(−1/4).
+                        ScanAt::Cluster { crit, t_c, off: off * R::lit(0.840_896_415_253_714_5), m: m + 1, late: false }
+                    } else {
+                        ScanAt::Cluster { crit, t_c, off, m, late: true }
+                    };
+                }
+            }
+            ScanAt::Finished => return Ok(true),
+        }
+        Ok(self.at == ScanAt::Finished)
+    }
+}
+
+/// What a check holds beside the law it scans.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Checked<R> {
+    path: Path<R>,
+    arm: PathArm<R>,
+    lim: PathLimits<R>,
     samples: u16,
-) -> Result<PathPeaks<R>, PathError<R>> {
-    let ts = law.duration();
-    let k = R::from_u16(samples);
-    let mut peaks = PathPeaks { speed: [R::ZERO; JOINTS], accel: [R::ZERO; JOINTS] };
-    let mut prev: Option<Vec3<R>> = None;
-    for i in 0..=samples {
-        let t = if i == samples { ts } else { ts * R::from_u16(i) / k };
-        let q = visit(path, law, arm, lim, t, &mut peaks)?;
-        if let Some(p) = prev {
-            for j in 0..JOINTS {
-                // Angles are finite here (`visit` checked their rates).
-                if R::lit(BRANCH_JUMP_RAD).lt_num((q[j] - p[j]).abs()) {
-                    return Err(PathError::Singular { s: law.g(t) });
-                }
+    refine: u16,
+    pace: Pace,
+}
+
+/// A path plan worked out a bounded amount at a time ([`PathCheck::step`]),
+/// so a caller with a frame to keep (the chip) can spread it over frames;
+/// [`PathPlan::new`] runs one to the end. The same result either way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathCheck<R> {
+    c: Checked<R>,
+    law: JointLaw<R>,
+    kind: LawKind,
+    /// Already lengthened once (the second scan decides).
+    slowed: bool,
+    scan: Scan<R>,
+    outcome: Option<Result<PathPlan<R>, PathError<R>>>,
+}
+
+impl<R: Real> PathCheck<R> {
+    /// Checks the request's limits and law; the scan is to come.
+    pub fn new(req: &PathRequest<R>, arm: &PathArm<R>, lim: &PathLimits<R>) -> Result<Self, PathError<R>> {
+        check_limits(lim)?;
+        if req.samples < 2 {
+            return Err(PathError::BadLimits);
+        }
+        let law = law_for(req.law, req.ts)?;
+        let c =
+            Checked { path: req.path, arm: *arm, lim: *lim, samples: req.samples, refine: req.refine, pace: req.pace };
+        Ok(PathCheck { c, law, kind: req.law, slowed: false, scan: Scan::new(), outcome: None })
+    }
+
+    /// Does up to `units` units of work (a unit is one visit of the move,
+    /// IK with rates, or one search for a critical instant); the plan or the
+    /// refusal once decided, and from then on.
+    pub fn step(&mut self, units: u16) -> Option<Result<PathPlan<R>, PathError<R>>> {
+        for _ in 0..units {
+            if self.outcome.is_some() {
+                break;
+            }
+            match self.scan.step(&self.c, &self.law) {
+                Ok(false) => {}
+                Ok(true) => self.outcome = self.decide(),
+                Err(e) => self.outcome = Some(Err(e)),
             }
         }
-        prev = Some(q);
+        self.outcome
     }
-    // Grid-independent: the refinement sits at the same τ = t/tₛ for every tₛ.
-    let step = R::lit(0.840_896_415_253_714_5); // 2^(−1/4)
-    for s_c in path.critical_points() {
-        let t_c = time_of(law, s_c);
-        visit(path, law, arm, lim, t_c, &mut peaks)?;
-        let mut off = ts * R::HALF;
-        for _ in 4..=CLUSTER_STEPS {
-            for t in [t_c - off, t_c + off] {
-                if R::ZERO <= t && t <= ts {
-                    visit(path, law, arm, lim, t, &mut peaks)?;
-                }
+
+    /// After a complete scan: the plan, a refusal, or (slowing down, once)
+    /// `None` and a new scan at the shortest admissible duration.
+    fn decide(&mut self) -> Option<Result<PathPlan<R>, PathError<R>>> {
+        let peaks = self.scan.peaks;
+        let (f, joint, accel) = stretch(&peaks, &self.c.lim);
+        if f <= R::ONE {
+            return Some(Ok(PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks }));
+        }
+        let ts = self.law.duration();
+        let ts_min = ts * f;
+        if self.c.pace == Pace::Refuse || self.slowed {
+            return Some(Err(if accel {
+                PathError::Accel { joint, ts_min }
+            } else {
+                PathError::Speed { joint, ts_min }
+            }));
+        }
+        let ts = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
+        // ts is finite (from finite peaks and limits), as is ts_max.
+        if self.c.lim.ts_max.lt_num(ts) {
+            return Some(Err(PathError::TooSlow { ts_min }));
+        }
+        match law_for(self.kind, ts) {
+            Ok(law) => {
+                self.law = law;
+                self.slowed = true;
+                self.scan = Scan::new();
+                None
             }
-            off *= step;
+            Err(e) => Some(Err(e)),
         }
     }
-    Ok(peaks)
 }
 
 /// The factor by which the move must be lengthened (≤ 1: it fits), and the
@@ -375,34 +519,11 @@ impl<R: Real> PathPlan<R> {
     /// at both ends: like a joint move by it, it honours the speed only
     /// between the steps.
     pub fn new(req: &PathRequest<R>, arm: &PathArm<R>, lim: &PathLimits<R>) -> Result<Self, PathError<R>> {
-        check_limits(lim)?;
-        if req.samples < 2 {
-            return Err(PathError::BadLimits);
-        }
-        let law = law_for(req.law, req.ts)?;
-        let peaks = scan(&req.path, &law, arm, lim, req.samples)?;
-        let (f, joint, accel) = stretch(&peaks, lim);
-        if f <= R::ONE {
-            return Ok(PathPlan { path: req.path, law, arm: *arm, peaks });
-        }
-        let ts_min = req.ts * f;
-        if req.pace == Pace::Refuse {
-            return Err(if accel { PathError::Accel { joint, ts_min } } else { PathError::Speed { joint, ts_min } });
-        }
-        let ts = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
-        // ts is finite (from finite peaks and limits), as is ts_max.
-        if lim.ts_max.lt_num(ts) {
-            return Err(PathError::TooSlow { ts_min });
-        }
-        let law = law_for(req.law, ts)?;
-        let peaks = scan(&req.path, &law, arm, lim, req.samples)?;
-        let (f, joint, accel) = stretch(&peaks, lim);
-        if f <= R::ONE {
-            Ok(PathPlan { path: req.path, law, arm: *arm, peaks })
-        } else if accel {
-            Err(PathError::Accel { joint, ts_min: ts * f })
-        } else {
-            Err(PathError::Speed { joint, ts_min: ts * f })
+        let mut check = PathCheck::new(req, arm, lim)?;
+        loop {
+            if let Some(r) = check.step(u16::MAX) {
+                return r;
+            }
         }
     }
 

@@ -50,6 +50,10 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
         "**straight-line path frame**: time-scaled ζ-a-tₛ g, the point on the segment, 3-DoF IK (`ik3`), 3 pulses (`TickMap`)",
     ),
     ("via_frame", "via-point frame: Gv and G once, S = q0 + (S_v − q0)·Gv + (S_f − S_v)·G per joint, 3 pulses"),
+    (
+        "path_check_unit",
+        "one unit of a path's plan-time check (`PathCheck::step(1)`: a visit, law + IK + joint rates; or the search for a critical instant)",
+    ),
     ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
     (
         "app_replan",
