@@ -15,7 +15,7 @@ use touch_arm::math::sqrt_split::sqrt_split;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, Shape, ShapeParams};
 use touch_arm::motion::TrajError;
-use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::map::{JointCal, ServoMap, TickMap};
 use touch_arm::servo::track::ServoTrack;
 
 /// |got − want| in units of the f32 spacing at `want`.
@@ -473,5 +473,44 @@ proptest! {
         let (fx, fy) = fk2(&geo.links, pose.q2, pose.q3);
         prop_assert!((fx - pose.reach).abs() < 3e-6 && (fy - pose.height).abs() < 3e-6,
             "fk ({fx}, {fy}) vs ({}, {})", pose.reach, pose.height);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// The path frame's pulse (`TickMap`, integer clamps to the window's end
+    /// pulses) is `angle_to_pulse`'s, for every calibration the validation
+    /// accepts and every angle, inside the limits or far outside.
+    #[test]
+    fn tick_map_is_angle_to_pulse(
+        offset in 300.0f32..2700.0,
+        k in prop_oneof![-1500.0f32..-150.0, 150.0f32..1500.0],
+        min_us in 500u16..1400,
+        span in 100u16..1100,
+        lo in -3.0f32..0.5,
+        width in 0.2f32..3.0,
+        angle in prop_oneof![-4.0f32..4.0, -1e30f32..1e30],
+    ) {
+        let cal = JointCal {
+            offset_us: offset,
+            us_per_rad: k,
+            min_us,
+            max_us: min_us + span,
+            min_rad: lo,
+            max_rad: lo + width,
+            ..JointCal::BASE_DEFAULT
+        };
+        let Ok(m) = ServoMap::new(&cal) else { return Ok(()) };
+        let f = TickMap::new(&m).unwrap();
+        prop_assert_eq!(f.ticks(angle), Some(m.angle_to_pulse(angle).unwrap().ticks));
+        // Near the window's ends, where the clamps take over.
+        for edge in [cal.min_rad, cal.max_rad] {
+            for d in [-1e-3f32, -1e-6, 0.0, 1e-6, 1e-3] {
+                prop_assert_eq!(f.ticks(edge + d), Some(m.angle_to_pulse(edge + d).unwrap().ticks));
+            }
+        }
+        prop_assert_eq!(f.ticks(f32::NAN), None);
+        prop_assert_eq!(f.ticks(f32::INFINITY), None);
     }
 }

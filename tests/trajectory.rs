@@ -5,7 +5,10 @@ use proptest::prelude::*;
 use reference::zat::Zat;
 use touch_arm::motion::laws::{eval, Law, LawParams, LawPlan};
 use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
-use touch_arm::motion::via::{iterate_paper, smooth_via_a, via_condition, ViaCondition, ViaParams, ViaPlan};
+use touch_arm::motion::via::{
+    c1_max_base, c2_ln_base, c2_via_jerk, iterate_paper, smooth_via_a, via_condition, via_shape_for, Continuity,
+    ContinuityError, ViaCondition, ViaParams, ViaPlan,
+};
 use touch_arm::motion::zat::{pole_margin, smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
 
@@ -588,7 +591,7 @@ fn via_jumps_are_left_right_differences() {
 fn smooth_via_shape_removes_velocity_jump() {
     for &(tv, nv) in &[(1.5, 3.0), (2.0, 2.0), (2.5, 1.5)] {
         let av = smooth_via_a(tv, nv).unwrap();
-        assert!(close(av, tv - tv.ln() / nv.ln(), 1e-15));
+        assert!(close(av, tv - tv.ln() / nv.ln(), 1e-14), "tv {tv}: a_v {av} vs {}", tv - tv.ln() / nv.ln());
         let p = ViaParams { q0: 0.1, theta_v: 0.6, sf: 0.8, tv, ts: 3.0, a: 1.0, n: 2.0, av, nv };
         let plan = ViaPlan::new(&p).unwrap();
         assert!(plan.velocity_jump().abs() < 1e-12, "{}", plan.velocity_jump());
@@ -598,6 +601,89 @@ fn smooth_via_shape_removes_velocity_jump() {
         assert!(close(l.v, r.v, 1e-5));
     }
     assert_eq!(smooth_via_a(0.8, 2.0), None);
+}
+
+/// Left derivatives of Gv at its end from one-sided finite differences of
+/// the independent reference's G (second order, step h): (G′, G″).
+fn fd_end_derivs(tv: f64, av: f64, nv: f64, h: f64) -> (f64, f64) {
+    let z = Zat::new(tv, av, nv);
+    let g = |k: f64| z.g(tv - k * h);
+    let v = (3.0 * g(0.0) - 4.0 * g(1.0) + g(2.0)) / (2.0 * h);
+    let acc = (2.0 * g(0.0) - 5.0 * g(1.0) + 4.0 * g(2.0) - g(3.0)) / (h * h);
+    (v, acc)
+}
+
+#[test]
+fn via_continuity_c2_zeroes_velocity_and_acceleration_jumps() {
+    for &tv in &[1.1f64, 1.3, 1.5, 2.0, 3.0, 5.0, 9.0] {
+        let (av, nv) = via_shape_for(tv, f64::NAN, f64::NAN, Continuity::C2).unwrap();
+        // n_v = e^(2/(t_v − 1)), a_v its smooth stop.
+        assert!(close(nv.ln(), 2.0 / (tv - 1.0), 1e-14), "tv {tv}: n_v {nv}");
+        assert!(close(av, tv - tv.ln() / nv.ln(), 1e-14), "tv {tv}: a_v {av} vs {}", tv - tv.ln() / nv.ln());
+        assert_eq!(c2_ln_base(tv), Some(2.0 / (tv - 1.0)));
+        let p = ViaParams { q0: 0.1, theta_v: 0.6, sf: 0.8, tv, ts: tv + 1.5, a: 1.0, n: 2.0, av, nv };
+        let plan = ViaPlan::new(&p).unwrap();
+        assert!(plan.via_shape().is_monotone(), "tv {tv}");
+        let j = plan.jumps();
+        let k = plan.sv() - 0.1;
+        // Rounding level, relative to the scale of the via term's derivatives.
+        let scale = k.abs() * c2_via_jerk(tv).max(1.0);
+        assert!(j.v.abs() < 1e-12 * scale, "tv {tv}: velocity jump {}", j.v);
+        assert!(j.acc.abs() < 1e-10 * scale, "tv {tv}: acceleration jump {}", j.acc);
+        // The jerk cannot be continuous as well: −(S_v − q0)·4(t_v + 1)/(t_v²(t_v − 1)³).
+        assert!(close(j.jerk, -k * c2_via_jerk(tv), 1e-8), "tv {tv}: {} vs {}", j.jerk, -k * c2_via_jerk(tv));
+        // Against finite differences of the independent reference shape.
+        let h = 1e-4 * (tv - 1.0);
+        let (v, acc) = fd_end_derivs(tv, av, nv, h);
+        let gv3 = c2_via_jerk(tv);
+        assert!(v.abs() < 1e-6 * gv3, "tv {tv}: fd G′ {v}");
+        assert!(acc.abs() < 1e-3 * gv3 * (tv - 1.0), "tv {tv}: fd G″ {acc}");
+    }
+}
+
+#[test]
+fn via_continuity_c1_keeps_the_base_and_steps_the_acceleration() {
+    for &tv in &[1.2f64, 1.5, 2.5, 6.0] {
+        let max = c1_max_base(tv);
+        // ln n_v < ln t_v/(√t_v − 1)²: the bound is where a* reaches u_min.
+        assert!(close(max.ln(), tv.ln() / (tv.sqrt() - 1.0).powi(2), 1e-14));
+        for frac in [0.05, 0.5, 0.95] {
+            let nv = (frac * max.ln()).exp();
+            let (av, nv2) = via_shape_for(tv, 123.0, nv, Continuity::C1).unwrap();
+            assert_eq!(nv2, nv);
+            let p = ViaParams { q0: 0.0, theta_v: 0.7, sf: 1.0, tv, ts: tv + 1.0, a: 1.0, n: 2.0, av, nv };
+            let plan = ViaPlan::new(&p).unwrap();
+            let k = plan.sv();
+            let l = nv.ln();
+            assert!(plan.velocity_jump().abs() < 1e-11 * k.abs() * (1.0 + l * tv), "tv {tv} nv {nv}");
+            // Gv″(t_v⁻) = (L/t_v)·(L − 2/(t_v − 1)): zero only at C2's base.
+            let want = -k * (l / tv) * (l - 2.0 / (tv - 1.0));
+            assert!(close(plan.acc_jump(), want, 1e-8), "tv {tv} nv {nv}: {} vs {want}", plan.acc_jump());
+            let (v, acc) = fd_end_derivs(tv, av, nv, 1e-5);
+            assert!(v.abs() < 1e-4 * (1.0 + l), "fd G′ {v}");
+            assert!(close(-k * acc, want, 1e-3 * (1.0 + l * l)), "fd {} vs {want}", -k * acc);
+        }
+        match via_shape_for(tv, 0.0, max * 1.01, Continuity::C1) {
+            Err(ContinuityError::BaseTooLarge { max: m, .. }) => assert!(close(m, max, 1e-14)),
+            other => panic!("tv {tv}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn via_continuity_refusals() {
+    for c in [Continuity::C1, Continuity::C2] {
+        for tv in [0.3, 1.0] {
+            assert_eq!(via_shape_for(tv, 0.5, 2.0, c), Err(ContinuityError::ViaTooEarly { tv }));
+        }
+        assert_eq!(via_shape_for(f64::NAN, 0.5, 2.0, c), Err(ContinuityError::NotFinite));
+    }
+    // e^(2/(t_v − 1)) overflows: f32 past L = 88, f64 past 709.
+    assert_eq!(via_shape_for(1.01f32, 0.0, 0.0, Continuity::C2), Err(ContinuityError::NotFinite));
+    assert!(via_shape_for(1.05f32, 0.0, 0.0, Continuity::C2).is_ok());
+    assert_eq!(via_shape_for(1.001f64, 0.0, 0.0, Continuity::C2), Err(ContinuityError::NotFinite));
+    // C0 passes the given shape through.
+    assert_eq!(via_shape_for(0.5, 0.2, 3.0, Continuity::C0), Ok((0.2, 3.0)));
 }
 
 #[test]

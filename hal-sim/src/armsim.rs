@@ -5,18 +5,22 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use touch_arm::geometry::ik::{base_angle, fk2, ik2, ik3, Branch, IkError, Links};
+use touch_arm::geometry::path::Path;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry, PoseError};
 use touch_arm::geometry::workspace::WorkspacePoint;
 use touch_arm::motion::laws::{Law, LawParams, LawPlan};
+use touch_arm::motion::path::{Pace, PathArm, PathLimits, PathPlan, PathRequest, REFINE_FULL};
+use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::scaled::ScaledZat;
-use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
+use touch_arm::motion::via::{iterate_paper, via_shape_for, Continuity, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
+use touch_arm::servo::map::JointCal;
 use touch_arm::touch::map::Calibration;
 
-use crate::cli::{parse_pair, parse_raw};
+use crate::cli::{parse_pair, parse_raw, parse_triple};
 use crate::plot::{self, Curve, Panel};
-use crate::report::{csv_row, Json};
+use crate::report::{csv_row, num, Json, Val};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -51,7 +55,7 @@ pub enum Cmd {
     /// `"zeta": null, "zeta_infinite": true`. A null ζ with `zeta_infinite: false` means ζ is
     /// undefined (a ≥ tₛ). CSV cells of non-finite values are empty.
     Traj(TrajArgs),
-    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_infinite, zeta_v, zeta_v_infinite, condition, converges, velocity_jump, acceleration_jump}; --t/--samples: CSV t,s,v,acc,jerk
+    /// Via-point trajectory (closed-form S_v): JSON {r, s_v, zeta, zeta_infinite, zeta_v, zeta_v_infinite, condition, converges, a_v, n_v, velocity_jump, acceleration_jump, jerk_jump}; --t/--samples: CSV t,s,v,acc,jerk
     ///
     /// ζ (S_v → S_f) is infinite when S_v = S_f, ζ_v (q0 → S_v) when S_v = q0: the value is then
     /// null and its `_infinite` flag true (likewise `zeta_iter`/`zeta_v_iter` with --iterate).
@@ -61,6 +65,13 @@ pub enum Cmd {
     Law(LawArgs),
     /// Plot position, velocity, acceleration and jerk of a trajectory to PNG or SVG
     Plot(PlotArgs),
+    /// End-effector path (straight line or circle) paced by a motion law, solved by IK per sample: CSV t,x,y,z,th1,th2,th3; --info: JSON {ts, ts_asked, slowed, peak_speed, peak_accel}
+    ///
+    /// The plan is checked first: every point reachable, not singular and inside the joint angle
+    /// limits (the servo defaults: base and shoulder [0, π], elbow [−π, 0] on the elbow-up branch),
+    /// no joint over its speed or acceleration limit. A too short --ts is refused with the
+    /// shortest admissible one, or taken by --slow-down; no joint is ever clamped.
+    Path(PathArgs),
 }
 
 // Every argument struct allows values with a leading hyphen: clap's
@@ -123,12 +134,32 @@ pub struct ViaCore {
     /// Via time t_v, 0 < t_v < tₛ [s]
     #[arg(long)]
     pub tv: f64,
-    /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v)
+    /// Shape a_v of the via segment (a_v = t_v − log_{n_v} t_v gives a smooth velocity at t_v); chosen by --continuity c1|c2
     #[arg(long)]
-    pub av: f64,
-    /// Base n_v of the via segment
+    pub av: Option<f64>,
+    /// Base n_v of the via segment; chosen by --continuity c2
     #[arg(long)]
-    pub nv: f64,
+    pub nv: Option<f64>,
+    /// Continuity at t_v: c0 position only (--av, --nv as given), c1 also velocity (picks a_v for --nv), c2 also acceleration (picks n_v and a_v; needs t_v > 1)
+    #[arg(long, value_enum, default_value_t = ContinuityArg::C0)]
+    pub continuity: ContinuityArg,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum ContinuityArg {
+    C0,
+    C1,
+    C2,
+}
+
+impl From<ContinuityArg> for Continuity {
+    fn from(c: ContinuityArg) -> Self {
+        match c {
+            ContinuityArg::C0 => Continuity::C0,
+            ContinuityArg::C1 => Continuity::C1,
+            ContinuityArg::C2 => Continuity::C2,
+        }
+    }
 }
 
 #[derive(Args, Debug)]
@@ -213,6 +244,77 @@ pub struct LawArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct PathArgs {
+    #[command(subcommand)]
+    pub kind: PathKind,
+}
+
+#[derive(Subcommand, Debug, Clone)]
+pub enum PathKind {
+    /// The straight segment --from → --to
+    Line(PathLine),
+    /// One turn of radius --radius around --center in the arm's vertical plane, from the point farthest out, rising first
+    Circle(PathCircle),
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_hyphen_values = true)]
+pub struct PathLine {
+    /// Start point "X,Y,Z" (x, y horizontal, z up; workspace units)
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
+    pub from: [f64; 3],
+    /// End point "X,Y,Z"
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
+    pub to: [f64; 3],
+    #[command(flatten)]
+    pub common: PathCommon,
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_hyphen_values = true)]
+pub struct PathCircle {
+    /// Centre "X,Y,Z"
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
+    pub center: [f64; 3],
+    /// Radius r > 0 (smaller than the centre's distance from the base axis)
+    #[arg(long)]
+    pub radius: f64,
+    #[command(flatten)]
+    pub common: PathCommon,
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(allow_hyphen_values = true)]
+pub struct PathCommon {
+    /// Duration tₛ > 0 [s]
+    #[arg(long)]
+    pub ts: f64,
+    /// The law pacing the path (default: the firmware's, zat)
+    #[arg(long, value_enum, default_value_t = LawKindArg::Zat)]
+    pub law: LawKindArg,
+    /// Take the shortest admissible duration when --ts is too short for a joint's limits (else refuse)
+    #[arg(long)]
+    pub slow_down: bool,
+    /// Largest joint speed [rad/s] (default: the servo defaults')
+    #[arg(long)]
+    pub max_speed: Option<f64>,
+    /// Largest joint acceleration [rad/s²] (default: the servo defaults')
+    #[arg(long)]
+    pub max_accel: Option<f64>,
+    /// Upper-arm length l2
+    #[arg(long, default_value_t = 1.0)]
+    pub l2: f64,
+    /// Forearm length l3
+    #[arg(long, default_value_t = 1.0)]
+    pub l3: f64,
+    #[command(flatten)]
+    pub times: Times,
+    /// Print the plan's duration and peaks as JSON instead of samples
+    #[arg(long, conflicts_with_all = ["t", "samples"])]
+    pub info: bool,
+}
+
+#[derive(Args, Debug)]
 pub struct PlotArgs {
     #[command(subcommand)]
     pub what: PlotWhat,
@@ -226,6 +328,17 @@ pub enum PlotWhat {
     Via(PlotVia),
     /// Plot a classic law (same flags as `law`)
     Law(PlotLaw),
+    /// Plot an end-effector path: top and side views of the effector and the joint angles over time (same flags as `path`, plus --out)
+    Path(PlotPath),
+}
+
+#[derive(Args, Debug)]
+pub struct PlotPath {
+    #[command(subcommand)]
+    pub kind: PathKind,
+    /// Output file, .png or .svg
+    #[arg(long, value_name = "FILE", global = true)]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -416,6 +529,7 @@ pub fn run(cli: &Cli) -> Result<String, String> {
         Cmd::Via(a) => cmd_via(a),
         Cmd::Law(a) => cmd_law(a),
         Cmd::Plot(a) => cmd_plot(a),
+        Cmd::Path(a) => cmd_path(&a.kind),
     }
 }
 
@@ -523,18 +637,37 @@ fn zat_plan(a: &ZatArgs) -> Result<ZatPlan<f64>, String> {
     ZatPlan::new(&zat_params(a)).map_err(|e| traj_err(&e))
 }
 
-fn via_params(a: &ViaCore) -> ViaParams<f64> {
+/// The via segment's (a_v, n_v): given, or chosen for the asked continuity.
+fn via_shape(a: &ViaCore) -> Result<(f64, f64), String> {
+    let (av, nv) = match (a.continuity, a.av, a.nv) {
+        (ContinuityArg::C0, Some(av), Some(nv)) => (av, nv),
+        (ContinuityArg::C0, _, _) => return Err("--continuity c0 needs --av and --nv".into()),
+        (ContinuityArg::C1, None, Some(nv)) => (f64::NAN, nv),
+        (ContinuityArg::C1, _, _) => {
+            return Err("--continuity c1 needs --nv and picks a_v itself: leave out --av".into())
+        }
+        (ContinuityArg::C2, None, None) => (f64::NAN, f64::NAN),
+        (ContinuityArg::C2, _, _) => {
+            return Err("--continuity c2 picks a_v and n_v itself: leave out --av and --nv".into())
+        }
+    };
+    via_shape_for(a.tv, av, nv, a.continuity.into()).map_err(|e| e.to_string())
+}
+
+fn via_params(a: &ViaCore) -> Result<ViaParams<f64>, String> {
     let m = &a.main;
-    ViaParams { q0: m.q0, theta_v: a.via, sf: m.sf, tv: a.tv, ts: m.ts, a: m.a, n: m.n, av: a.av, nv: a.nv }
+    let (av, nv) = via_shape(a)?;
+    Ok(ViaParams { q0: m.q0, theta_v: a.via, sf: m.sf, tv: a.tv, ts: m.ts, a: m.a, n: m.n, av, nv })
 }
 
 fn via_plan(a: &ViaCore) -> Result<ViaPlan<f64>, String> {
+    let p = via_params(a)?;
     // Name the segment whose parameters are wrong before the combined check.
-    Shape::new(&ShapeParams { ts: a.tv, a: a.av, n: a.nv })
+    Shape::new(&ShapeParams { ts: p.tv, a: p.av, n: p.nv })
         .map_err(|e| format!("via segment (--tv, --av, --nv): {}", traj_err(&e)))?;
     Shape::new(&ShapeParams { ts: a.main.ts, a: a.main.a, n: a.main.n })
         .map_err(|e| format!("main segment (--ts, --a, --n): {}", traj_err(&e)))?;
-    ViaPlan::new(&via_params(a)).map_err(|e| traj_err(&e))
+    ViaPlan::new(&p).map_err(|e| traj_err(&e))
 }
 
 fn law_plan(a: &LawCore) -> Result<LawSampler, String> {
@@ -620,13 +753,16 @@ fn cmd_via(a: &ViaArgs) -> Result<String, String> {
         .set("zeta_v_infinite", plan.sv() == a.p.main.q0)
         .set("condition", plan.condition().number())
         .set("converges", r < 1.0)
+        .set("a_v", plan.via_shape().a())
+        .set("n_v", plan.via_shape().n())
         .set("velocity_jump", plan.velocity_jump())
-        .set("acceleration_jump", plan.acc_jump());
+        .set("acceleration_jump", plan.acc_jump())
+        .set("jerk_jump", plan.jumps().jerk);
     if let Some(tol) = a.iterate {
         if !(tol.is_finite() && tol > 0.0) {
             return Err(format!("--iterate tolerance must be positive, got {tol}"));
         }
-        match iterate_paper(&via_params(&a.p), tol, MAX_PAPER_ITERATIONS) {
+        match iterate_paper(&via_params(&a.p)?, tol, MAX_PAPER_ITERATIONS) {
             Ok(it) => {
                 j = j
                     .set("iterations", it.iterations)
@@ -668,6 +804,9 @@ fn cmd_law(a: &LawArgs) -> Result<String, String> {
 const PLOT_SAMPLES: usize = 600;
 
 fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
+    if let PlotWhat::Path(p) = &a.what {
+        return plot_path(p);
+    }
     let (title, out, t, samples): (String, &PlotOut, Vec<f64>, Vec<Sample<f64>>) = match &a.what {
         PlotWhat::Traj(p) => {
             let plan = zat_plan(&p.p)?;
@@ -690,6 +829,7 @@ fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
             );
             (title, &p.out, t, s)
         }
+        PlotWhat::Path(_) => unreachable!("handled above"),
         PlotWhat::Law(p) => {
             let plan = law_plan(&p.p)?;
             let t = plot_times(&p.out, p.p.t0, p.p.tf)?;
@@ -719,4 +859,142 @@ fn cmd_plot(a: &PlotArgs) -> Result<String, String> {
 
 fn plot_times(o: &PlotOut, start: f64, end: f64) -> Result<Vec<f64>, String> {
     times(&Times { t: None, samples: Some(o.samples.unwrap_or(PLOT_SAMPLES)) }, start, end)
+}
+
+/// Scan intervals of a path plan: with the refinement around the path's
+/// critical points, the tests find no peak a four times denser scan exceeds
+/// by more than a few percent.
+const PATH_SCAN: u16 = 400;
+
+/// Longest path move `--slow-down` may take, s.
+const PATH_TS_MAX: f64 = 600.0;
+
+fn path_law(l: LawKindArg) -> LawKind {
+    match l {
+        LawKindArg::Linear => LawKind::Linear,
+        LawKindArg::Cubic => LawKind::Cubic,
+        LawKindArg::Quintic => LawKind::Quintic,
+        LawKindArg::Trapezoid => LawKind::Trapezoid,
+        LawKindArg::Zat => LawKind::Zat,
+    }
+}
+
+fn path_common(k: &PathKind) -> &PathCommon {
+    match k {
+        PathKind::Line(l) => &l.common,
+        PathKind::Circle(c) => &c.common,
+    }
+}
+
+/// The path's plan under the servo defaults' angle ranges (elbow up) and
+/// the given or default speed and acceleration limits.
+fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
+    let c = path_common(k);
+    let path = match k {
+        PathKind::Line(l) => Path::line(&l.from, &l.to),
+        PathKind::Circle(ci) => Path::circle(&ci.center, ci.radius),
+    };
+    let path = path.map_err(|e| touch_arm::motion::path::PathError::<f64>::Shape(e).to_string())?;
+    let links = links(&LinkArgs { l2: c.l2, l3: c.l3, branch: BranchArg::Minus })?;
+    let d = JointCal::DEFAULTS;
+    let speed = c.max_speed.unwrap_or(f64::from(d[0].max_speed_rad_s));
+    let accel = c.max_accel.unwrap_or(f64::from(d[0].max_accel_rad_s2));
+    if !(speed.is_finite() && speed > 0.0 && accel.is_finite() && accel > 0.0) {
+        return Err(format!("--max-speed and --max-accel must be positive and finite, got {speed}, {accel}"));
+    }
+    let lim = PathLimits {
+        min: d.map(|j| f64::from(j.min_rad)),
+        max: d.map(|j| f64::from(j.max_rad)),
+        speed: [speed; 3],
+        accel: [accel; 3],
+        ts_max: PATH_TS_MAX,
+    };
+    let pace = if c.slow_down { Pace::SlowDown } else { Pace::Refuse };
+    let req = PathRequest { path, law: path_law(c.law), ts: c.ts, pace, samples: PATH_SCAN, refine: REFINE_FULL };
+    PathPlan::new(&req, &PathArm { links, branch: Branch::Minus }, &lim).map_err(|e| e.to_string())
+}
+
+/// A JSON array of numbers.
+fn num_array(v: &[f64]) -> Val {
+    Val::Raw(format!("[{}]", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")))
+}
+
+/// t, the effector and the joint angles at each time.
+fn path_rows(plan: &PathPlan<f64>, ts: &[f64]) -> Result<Vec<[f64; 7]>, String> {
+    ts.iter()
+        .map(|&t| {
+            let s = plan.state(t).map_err(|e| format!("at t = {t}: {e}"))?;
+            Ok([t, s.p[0], s.p[1], s.p[2], s.q[0], s.q[1], s.q[2]])
+        })
+        .collect()
+}
+
+fn cmd_path(k: &PathKind) -> Result<String, String> {
+    let plan = path_plan(k)?;
+    let c = path_common(k);
+    if c.info {
+        let p = plan.peaks();
+        return Ok(Json::new()
+            .set("ts", plan.ts())
+            .set("ts_asked", c.ts)
+            .set("slowed", plan.ts() > c.ts)
+            .set("peak_speed", num_array(&p.speed))
+            .set("peak_accel", num_array(&p.accel))
+            .render()
+            + "\n");
+    }
+    let ts = times(&c.times, 0.0, plan.ts())?;
+    let rows = path_rows(&plan, &ts)?;
+    let mut out = String::from("t,x,y,z,th1,th2,th3\n");
+    for r in rows {
+        out.push_str(&csv_row(&r));
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// `armsim plot path`: top view (x, y), side view (x, z) and the joint angles.
+fn plot_path(p: &PlotPath) -> Result<String, String> {
+    let out = p.out.as_ref().ok_or("give --out FILE (.png or .svg)")?;
+    let plan = path_plan(&p.kind)?;
+    let c = path_common(&p.kind);
+    let t = times(&Times { t: None, samples: Some(c.times.samples.unwrap_or(PLOT_SAMPLES)) }, 0.0, plan.ts())?;
+    let rows = path_rows(&plan, &t)?;
+    let col = |i: usize| rows.iter().map(|r| r[i]).collect::<Vec<f64>>();
+    let (x, y, z, th1, th2, th3) = (col(1), col(2), col(3), col(4), col(5), col(6));
+    let (a, b) = (plan.path().start(), plan.path().end());
+    let title = match &p.kind {
+        PathKind::Line(l) => format!("line {:?} -> {:?}, ts = {:.3} s ({:?})", l.from, l.to, plan.ts(), c.law),
+        PathKind::Circle(ci) => {
+            format!("circle around {:?}, r = {}, ts = {:.3} s ({:?})", ci.center, ci.radius, plan.ts(), c.law)
+        }
+    };
+    let views = [
+        plot::View {
+            title: "top view",
+            xlabel: "x",
+            ylabel: "y",
+            x: &x,
+            y: &y,
+            marks: vec![("start", a[0], a[1]), ("target", b[0], b[1]), ("base", 0.0, 0.0)],
+        },
+        plot::View {
+            title: "side view",
+            xlabel: "x",
+            ylabel: "z",
+            x: &x,
+            y: &z,
+            marks: vec![("start", a[0], a[2]), ("target", b[0], b[2])],
+        },
+    ];
+    let panel = Panel {
+        ylabel: "joint angle [rad]",
+        curves: vec![
+            Curve { label: "th1 (base)", y: &th1 },
+            Curve { label: "th2 (shoulder)", y: &th2 },
+            Curve { label: "th3 (elbow)", y: &th3 },
+        ],
+    };
+    plot::path_figure(out, &title, &views, &t, &panel).map_err(|e| e.to_string())?;
+    Ok(format!("wrote {}\n", out.display()))
 }

@@ -39,6 +39,20 @@ pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
     Ok((a, b))
 }
 
+/// A point "X,Y,Z" of finite numbers.
+pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [a, b, c] = parts[..] else {
+        return Err(format!("expected X,Y,Z, got {s:?}"));
+    };
+    let p = |v: &str| v.trim().parse::<f64>().map_err(|_| format!("not a number: {v:?}"));
+    let v = [p(a)?, p(b)?, p(c)?];
+    if !v.iter().all(|x| x.is_finite()) {
+        return Err("coordinates must be finite".into());
+    }
+    Ok(v)
+}
+
 /// A raw panel reading "X,Y": two 10-bit ADC values.
 pub fn parse_raw(s: &str) -> Result<(u16, u16), String> {
     let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;

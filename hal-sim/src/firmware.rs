@@ -428,13 +428,8 @@ pub struct HostTarget {
 
 /// [`HostTarget`] of workspace point (x_p, y_p).
 pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
-    use touch_arm::geometry::ik::Links;
-    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
-    let geo = ArmGeometry {
-        k: 1.0,
-        links: Links::new(1.0, 1.0).map_err(|e| format!("{e:?}"))?,
-        branch: touch_arm::servo::map::ELBOW_BRANCH,
-    };
+    use touch_arm::geometry::pose::pose_for_point;
+    let geo = host_geometry()?;
     let pose = pose_for_point(&geo, x_p, y_p).map_err(|e| format!("{e:?}"))?;
     let q = [pose.alpha, pose.q2, pose.q3];
     let maps = default_servo_maps()?;
@@ -450,6 +445,31 @@ pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
         }
     }
     Ok(HostTarget { pose, q, pulses_us, within_limits })
+}
+
+/// The firmware's arm ([`touch_arm::app::AppParams::DEFAULT`]) in f64, for
+/// the host's references.
+pub fn host_geometry() -> Result<touch_arm::geometry::pose::ArmGeometry<f64>, String> {
+    use touch_arm::geometry::ik::Links;
+    let p = touch_arm::app::AppParams::DEFAULT;
+    Ok(touch_arm::geometry::pose::ArmGeometry {
+        k: f64::from(p.k),
+        links: Links::new(f64::from(p.l2), f64::from(p.l3)).map_err(|e| format!("{e:?}"))?,
+        branch: p.branch,
+    })
+}
+
+/// Where measured pulses (µs, whole Timer5 ticks) put the effector: each
+/// pulse back through its joint's calibration to the angle, then the 3-DoF
+/// forward kinematics (x, y horizontal, the base turning by its angle, z up).
+pub fn effector_at(
+    maps: &[touch_arm::servo::map::ServoMap; 3],
+    links: &touch_arm::geometry::ik::Links<f64>,
+    pulses_us: &[f64; 3],
+) -> [f64; 3] {
+    let q: [f64; 3] = std::array::from_fn(|j| maps[j].pulse_to_angle::<f64>((pulses_us[j] * 2.0).round() as u16));
+    let (x, y, z) = touch_arm::geometry::ik::fk3(links, q[0], q[1], q[2]);
+    [x, y, z]
 }
 
 #[cfg(test)]

@@ -233,7 +233,7 @@ fn bad_input_fails_with_one_clear_line() {
 
 #[test]
 fn every_subcommand_has_help() {
-    for cmd in ["map", "ik", "plan", "traj", "via", "law", "plot"] {
+    for cmd in ["map", "ik", "plan", "traj", "via", "law", "plot", "path"] {
         let (code, out, _) = armsim(&[cmd, "--help"]);
         assert_eq!(code, 0);
         assert!(out.contains("Usage: armsim"), "{cmd}: {out}");
@@ -672,5 +672,201 @@ fn plot_writes_png_and_svg() {
         ],
         "u_min",
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Right minus left one-sided derivatives (second order) of S at t_v from the
+/// CSV positions: (velocity jump, acceleration jump).
+fn fd_jumps(base: &[&str], tv: f64, h: f64) -> (f64, f64) {
+    let ts: Vec<String> = (-3..=3).map(|k| format!("{}", tv + k as f64 * h)).collect();
+    let (_, rows) = csv(&[base, &["--t", &ts.join(",")]].concat());
+    let s = |k: i32| rows[(k + 3) as usize][1];
+    let v_l = (3.0 * s(0) - 4.0 * s(-1) + s(-2)) / (2.0 * h);
+    let v_r = (-3.0 * s(0) + 4.0 * s(1) - s(2)) / (2.0 * h);
+    let a_l = (2.0 * s(0) - 5.0 * s(-1) + 4.0 * s(-2) - s(-3)) / (h * h);
+    let a_r = (2.0 * s(0) - 5.0 * s(1) + 4.0 * s(2) - s(3)) / (h * h);
+    (v_r - v_l, a_r - a_l)
+}
+
+#[test]
+fn via_continuity_picks_the_shape_and_reports_the_jumps() {
+    let base = ["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--tv", "1.5", "--ts", "2.5", "--a", "1", "--n", "2"];
+    let h = 2e-4;
+    // c0: the given shape; the jumps it reports are the finite differences'.
+    let c0 = [&base[..], &["--av", "1", "--nv", "2"]].concat();
+    let v = json(&c0);
+    let (dv, da) = fd_jumps(&c0, 1.5, h);
+    assert!(f(&v, "velocity_jump").abs() > 1e-2);
+    assert!((dv - f(&v, "velocity_jump")).abs() < 1e-5, "fd {dv} vs {}", v["velocity_jump"]);
+    assert!((da - f(&v, "acceleration_jump")).abs() < 1e-2 * f(&v, "acceleration_jump").abs(), "fd {da} vs {v}");
+    // c1: a_v = t_v − log_{n_v} t_v, the velocity continuous, the acceleration not.
+    let c1 = [&base[..], &["--nv", "2", "--continuity", "c1"]].concat();
+    let v = json(&c1);
+    assert!((f(&v, "a_v") - (1.5 - 1.5f64.log2())).abs() < 1e-15);
+    assert_eq!(f(&v, "n_v"), 2.0);
+    assert!(f(&v, "velocity_jump").abs() < 1e-14, "{v}");
+    // Gv″(t_v⁻) = (L/t_v)(L − 2/(t_v − 1)) with L = ln 2; the jump is −(S_v − q0) times it.
+    let l = 2f64.ln();
+    let want = -f(&v, "s_v") * (l / 1.5) * (l - 4.0);
+    assert!((f(&v, "acceleration_jump") - want).abs() < 1e-12, "{v}");
+    let (dv, da) = fd_jumps(&c1, 1.5, h);
+    assert!(dv.abs() < 1e-5, "fd velocity jump {dv}");
+    assert!((da - want).abs() < 1e-2 * want.abs(), "fd {da} vs {want}");
+    // c2: n_v = e^(2/(t_v − 1)) = e⁴; velocity and acceleration continuous, the
+    // jerk steps by −(S_v − q0)·4(t_v + 1)/(t_v²(t_v − 1)³).
+    let c2 = [&base[..], &["--continuity", "c2"]].concat();
+    let v = json(&c2);
+    assert!((f(&v, "n_v") - 4f64.exp()).abs() < 1e-12, "{v}");
+    assert!(f(&v, "velocity_jump").abs() < 1e-14 && f(&v, "acceleration_jump").abs() < 1e-13, "{v}");
+    let jerk = -f(&v, "s_v") * 4.0 * 2.5 / (1.5 * 1.5 * 0.125);
+    assert!((f(&v, "jerk_jump") - jerk).abs() < 1e-9 * jerk.abs(), "{v} vs {jerk}");
+    let (dv, da) = fd_jumps(&c2, 1.5, h);
+    assert!(dv.abs() < 1e-5 && da.abs() < 2e-2, "fd jumps {dv} {da}");
+    // The same S_v for every choice: the via value is met whatever the shape.
+    let (_, rows) = csv(&[&c2[..], &["--t", "1.5"]].concat());
+    assert!((rows[0][1] - 0.6).abs() < 1e-14);
+}
+
+#[test]
+fn via_continuity_refusals_are_clear() {
+    let base = ["via", "--q0", "0", "--via", "0.6", "--sf", "1", "--ts", "2.5", "--a", "1", "--n", "2"];
+    fails(&[&base[..], &["--tv", "0.8", "--continuity", "c2"]].concat(), "admissible only for t_v > 1");
+    fails(&[&base[..], &["--tv", "0.8", "--nv", "2", "--continuity", "c1"]].concat(), "t_v > 1");
+    fails(&[&base[..], &["--tv", "1.5", "--nv", "5000", "--continuity", "c1"]].concat(), "n_v <");
+    fails(&[&base[..], &["--tv", "1.5", "--av", "1", "--continuity", "c2"]].concat(), "leave out");
+    fails(&[&base[..], &["--tv", "1.5", "--av", "1", "--nv", "2", "--continuity", "c1"]].concat(), "leave out --av");
+    fails(&[&base[..], &["--tv", "1.5", "--nv", "2"]].concat(), "needs --av and --nv");
+}
+
+/// FK of the app's arm (l2 = l3 = 1), written out here: the base turns the
+/// planar (ρ, z) = (cos θ2 + cos(θ2 + θ3), sin θ2 + sin(θ2 + θ3)).
+fn fk(th1: f64, th2: f64, th3: f64) -> [f64; 3] {
+    let (rho, z) = (th2.cos() + (th2 + th3).cos(), th2.sin() + (th2 + th3).sin());
+    [rho * th1.cos(), rho * th1.sin(), z]
+}
+
+/// The firmware's default law: ζ-a-tₛ with n = 2 and the smooth stop of
+/// T₀ = 1.5 s, run over tₛ (the independent f64 reference).
+fn scaled_zat(t: f64, ts: f64) -> f64 {
+    let t0: f64 = 1.5;
+    Zat::new(t0, t0 - t0.log2(), 2.0).g(t * t0 / ts)
+}
+
+#[test]
+fn path_line_follows_the_segment_paced_by_the_law() {
+    let (a, b) = ([1.0, 0.3, 0.2], [-0.4, 0.9, 0.7]);
+    let (header, rows) =
+        csv(&["path", "line", "--from", "1,0.3,0.2", "--to", "-0.4,0.9,0.7", "--ts", "3", "--samples", "61"]);
+    assert_eq!(header, ["t", "x", "y", "z", "th1", "th2", "th3"]);
+    assert_eq!(rows.len(), 61);
+    for r in &rows {
+        let g = scaled_zat(r[0], 3.0);
+        // P(t) = P_a + (P_b − P_a)·g(t).
+        for i in 0..3 {
+            assert!((r[1 + i] - (a[i] + (b[i] - a[i]) * g)).abs() < 1e-13, "t {}: {r:?} vs g = {g}", r[0]);
+        }
+        // FK(IK(P(t))) = P(t), with θ1 the direction of P in the top view.
+        let p = fk(r[4], r[5], r[6]);
+        assert!((0..3).all(|i| (p[i] - r[1 + i]).abs() < 1e-13), "{p:?} vs {r:?}");
+        assert!((r[4] - r[2].atan2(r[1])).abs() < 1e-15);
+        // Elbow up, inside the servo defaults' ranges.
+        assert!(r[6] <= 0.0 && r[6] >= -PI && (0.0..=PI).contains(&r[5]));
+    }
+    assert_eq!(&rows[0][1..4], &a[..]);
+    assert_eq!(&rows[60][1..4], &b[..]);
+}
+
+#[test]
+fn path_circle_is_one_turn_in_the_arms_vertical_plane() {
+    let (c, r) = ([0.8, 0.6, 0.4], 0.2);
+    let (_, rows) = csv(&[
+        "path",
+        "circle",
+        "--center",
+        "0.8,0.6,0.4",
+        "--radius",
+        "0.2",
+        "--ts",
+        "4",
+        "--law",
+        "quintic",
+        "--samples",
+        "81",
+    ]);
+    for row in &rows {
+        let d = ((row[1] - c[0]).powi(2) + (row[2] - c[1]).powi(2) + (row[3] - c[2]).powi(2)).sqrt();
+        assert!((d - r).abs() < 1e-14, "{row:?}");
+        // In the vertical plane through the base axis and C: θ1 constant.
+        assert!((row[4] - 0.6f64.atan2(0.8)).abs() < 1e-14);
+        let p = fk(row[4], row[5], row[6]);
+        assert!((0..3).all(|i| (p[i] - row[1 + i]).abs() < 1e-13));
+        // The angle round the centre is 2π·quintic(t/tₛ).
+        let tau = row[0] / 4.0;
+        let g = 10.0 * tau.powi(3) - 15.0 * tau.powi(4) + 6.0 * tau.powi(5);
+        let (radial, up) = (((row[1] - c[0]) * 0.8 + (row[2] - c[1]) * 0.6) / r, (row[3] - c[2]) / r);
+        let want = 2.0 * PI * g;
+        assert!((radial - want.cos()).abs() < 1e-12 && (up - want.sin()).abs() < 1e-12, "t {}", row[0]);
+    }
+    // Starts farthest out and comes back there.
+    let (first, last) = (&rows[0], &rows[80]);
+    assert!((first[1] - 0.96).abs() < 1e-15 && (first[2] - 0.72).abs() < 1e-15 && first[3] == 0.4);
+    assert!((0..7).skip(1).all(|i| (first[i] - last[i]).abs() < 1e-13));
+}
+
+#[test]
+fn path_limits_refuse_or_slow_down() {
+    let line = ["path", "line", "--from", "1,0.3,0.2", "--to", "-0.4,0.9,0.7"];
+    // At 0.5 s the base would exceed the default 3 rad/s: refused with the shortest tₛ.
+    fails(&[&line[..], &["--ts", "0.5", "--samples", "3"]].concat(), "base speed limit: the path needs ts >=");
+    let v = json(&[&line[..], &["--ts", "0.5", "--slow-down", "--info"]].concat());
+    assert_eq!(v["slowed"], true);
+    let ts = f(&v, "ts");
+    let peak = v["peak_speed"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).fold(0.0, f64::max);
+    assert!(peak <= 3.0 && peak > 2.999, "{v}");
+    // The slowed duration is admissible without slowing; a bit less is refused.
+    let v2 = json(&[&line[..], &["--ts", &format!("{ts}"), "--info"]].concat());
+    assert_eq!(v2["slowed"], false);
+    fails(&[&line[..], &["--ts", &format!("{}", ts * 0.999), "--info"]].concat(), "speed limit");
+    // Stricter limits lengthen it further.
+    let v3 = json(
+        &[&line[..], &["--ts", "0.5", "--slow-down", "--max-speed", "1.5", "--max-accel", "4", "--info"]].concat(),
+    );
+    assert!(f(&v3, "ts") > ts);
+    // Geometry: through the base axis, out of reach, behind the base, a circle reaching the axis.
+    fails(
+        &["path", "line", "--from", "0.5,0.5,0.2", "--to", "-0.5,-0.5,0.9", "--ts", "3", "--samples", "3"],
+        "base axis",
+    );
+    fails(&["path", "line", "--from", "1,0.5,0.2", "--to", "1,2,0.2", "--ts", "3", "--samples", "3"], "reach");
+    fails(
+        &["path", "line", "--from", "1,0.5,0.2", "--to", "1,-0.5,0.2", "--ts", "3", "--samples", "3"],
+        "base joint limit",
+    );
+    fails(
+        &["path", "circle", "--center", "0.3,0.4,0.5", "--radius", "0.5", "--ts", "3", "--samples", "3"],
+        "base axis",
+    );
+    fails(&["path", "circle", "--center", "0.3,0.4,0.5", "--radius", "0", "--ts", "3", "--samples", "3"], "radius");
+    fails(&["path", "line", "--from", "1,0.5", "--to", "1,2,0.2", "--ts", "3", "--samples", "3"], "X,Y,Z");
+    fails(&[&line[..], &["--ts", "3", "--max-speed", "0", "--info"]].concat(), "--max-speed");
+    fails(&[&line[..], &["--ts", "-1", "--info"]].concat(), "duration");
+}
+
+#[test]
+fn plot_path_draws_the_views() {
+    let dir = std::env::temp_dir().join(format!("armsim-path-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (kind, args) in [
+        ("line", &["line", "--from", "1,0.3,0.2", "--to", "-0.4,0.9,0.7", "--ts", "3"][..]),
+        ("circle", &["circle", "--center", "0.8,0.6,0.4", "--radius", "0.2", "--ts", "4"][..]),
+    ] {
+        let out = dir.join(format!("{kind}.png"));
+        let (code, stdout, err) = armsim(&[&["plot", "path"][..], args, &["--out", out.to_str().unwrap()]].concat());
+        assert_eq!(code, 0, "{err}");
+        assert!(stdout.starts_with("wrote "));
+        let png = std::fs::read(&out).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        assert!(png.len() > 10_000, "{kind}: {} bytes", png.len());
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -91,6 +91,18 @@ fn frame_fits_its_cycle_budget() {
     }
 }
 
+/// Issue #13's target for a frame of a straight-line effector move (IK, law
+/// and pulses), at its worst.
+const PATH_FRAME_BUDGET_CYCLES: u32 = 16_000;
+
+#[test]
+fn path_frame_fits_its_cycle_budget() {
+    let b = benches();
+    let [median, _, max, _] = b["path_frame"];
+    eprintln!("path frame: median {median}, max {max} cycles; via frame: {:?}", b["via_frame"]);
+    assert!(max <= PATH_FRAME_BUDGET_CYCLES, "path frame worst case {max} cycles > {PATH_FRAME_BUDGET_CYCLES}");
+}
+
 #[test]
 fn stack_high_water_fits_budget() {
     let s = fields("S");

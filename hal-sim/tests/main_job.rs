@@ -45,11 +45,45 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
     }
     let csv = std::fs::read_to_string(dir.join("pulses.csv")).unwrap();
     assert!(csv.starts_with("t_s,base_us,shoulder_us,elbow_us\n") && csv.lines().count() > 100);
-    for png in ["angles.png", "screen.png"] {
+    for png in ["angles.png", "path.png", "screen.png"] {
         let bytes = std::fs::read(dir.join(png)).unwrap();
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{png}");
     }
+    check_effector(&csv, &std::fs::read_to_string(dir.join("effector.csv")).unwrap(), &summary);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The default calibration inverted (600 + (1800/π)·θ for base and shoulder,
+/// 2400 + (1800/π)·θ for the elbow) and the FK of the paper's arm
+/// (l2 = l3 = 1), written out here.
+fn effector(pulses_us: &[f64]) -> [f64; 3] {
+    let k = 1800.0 / std::f64::consts::PI;
+    let (a, q2, q3) = ((pulses_us[0] - 600.0) / k, (pulses_us[1] - 600.0) / k, (pulses_us[2] - 2400.0) / k);
+    let (rho, z) = (q2.cos() + (q2 + q3).cos(), q2.sin() + (q2 + q3).sin());
+    [rho * a.cos(), rho * a.sin(), z]
+}
+
+/// effector.csv is the FK of pulses.csv row by row, and ends on the target
+/// pose's effector (reach |x_p|, height y_p in the direction α).
+fn check_effector(pulses: &str, eff: &str, summary: &Value) {
+    assert!(eff.starts_with("t_s,x,y,z\n"), "{}", &eff[..eff.len().min(80)]);
+    let rows = |text: &str| -> Vec<Vec<f64>> {
+        text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect()
+    };
+    let (p, e) = (rows(pulses), rows(eff));
+    assert_eq!(p.len(), e.len());
+    for (pr, er) in p.iter().zip(&e) {
+        assert_eq!(pr[0], er[0]);
+        let want = effector(&pr[1..]);
+        // The firmware calibration holds its constants in f32: 1e-7 relative.
+        assert!((0..3).all(|i| (er[1 + i] - want[i]).abs() < 1e-6), "t {}: {er:?} vs {want:?}", pr[0]);
+    }
+    let (x_p, y_p) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
+    let alpha = summary["alpha_deg"].as_f64().unwrap().to_radians();
+    let end = &e[e.len() - 1];
+    let target = [x_p.abs() * alpha.cos(), x_p.abs() * alpha.sin(), y_p];
+    // Within a few half-microsecond ticks of the pulses (1.6e-3 rad each).
+    assert!((0..3).all(|i| (end[1 + i] - target[i]).abs() < 5e-3), "{end:?} vs {target:?}");
 }
 
 /// Width and height from a PNG's header (IHDR).

@@ -32,9 +32,11 @@ use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::stack;
 use touch_arm::board::usart::Usart0;
 use touch_arm::geometry::ik::{Branch, Links};
+use touch_arm::geometry::path::Path;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
 use touch_arm::motion::laws::Law;
+use touch_arm::motion::path::{path_angles, Pace, PathArm, PathCheck, PathLimits, PathRequest};
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
 use touch_arm::motion::planner::{plan_move, request as app_policy};
@@ -43,7 +45,7 @@ use touch_arm::motion::via::{iterate_paper, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, zeta, Shape, ShapeParams, ZatParams};
 use touch_arm::seam::RawSample;
 use touch_arm::seam::TouchPanel;
-use touch_arm::servo::map::{JointCal, ServoMap};
+use touch_arm::servo::map::{JointCal, ServoMap, TickMap};
 use touch_arm::servo::track::{Replan, ServoTrack};
 use touch_arm::touch::map::Calibration;
 use ufmt::uwriteln;
@@ -264,6 +266,7 @@ fn main() -> ! {
     b.run("g", t_at, |&t| g.g(t));
     b.run("g_rate", t_at, |&t| g.g_rate(t));
     frames(&mut b, &plan, &maps);
+    path_frames(&mut b, &maps);
     // The printed form with libm::powf, 3 joints, position only.
     let pj = paper_joints(&shape);
     b.run("paper_frame", t_at, |&t| {
@@ -460,6 +463,75 @@ fn frames(b: &mut Bench, paper: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) {
     }
     let Ok(Some(_)) = track.replan(&replan, maps) else { halt() };
     b.run("frame_superposed", |i| spread(i, 0.0, 1.4), |&t| track.frame(t));
+}
+
+/// Angles through the calibration to Timer5 ticks, as a path frame writes
+/// them (`TickMap`: `angle_to_pulse`'s value).
+#[inline(always)]
+fn to_ticks(q: &[f32; JOINTS], maps: &[TickMap; JOINTS]) -> Option<[u16; JOINTS]> {
+    let mut out = [0u16; JOINTS];
+    for ((o, m), q) in out.iter_mut().zip(maps.iter()).zip(q.iter()) {
+        *o = m.ticks(*q)?;
+    }
+    Some(out)
+}
+
+/// A frame of a straight-line effector move (the law's g, the point, the
+/// 3-DoF IK, three pulses) and of a via-point move (both shapes once, then a
+/// multiply-add per joint, three pulses).
+#[inline(never)]
+fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
+    let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
+    let (Some(m0), Some(m1), Some(m2)) = (TickMap::new(&maps[0]), TickMap::new(&maps[1]), TickMap::new(&maps[2]))
+    else {
+        halt()
+    };
+    let maps = &[m0, m1, m2];
+    let Ok(links) = Links::new(1.0f32, 1.0) else { halt() };
+    let arm = PathArm { links, branch: Branch::Minus };
+    let Ok(line) = Path::line(&[1.0f32, 0.3, 0.2], &[-0.4, 0.9, 0.7]) else { halt() };
+    let Ok(zat) = ScaledZat::new(TS) else { halt() };
+    let law = JointLaw::Scaled(zat);
+    b.run("path_frame", t_at, |&t| path_angles(&line, &law, &arm, t).ok().and_then(|q| to_ticks(&q, maps)));
+    // One unit of a line's plan-time check (a visit: law, IK and joint rates;
+    // or a search for a critical instant), at points of a 24 + 2 × 45-unit
+    // scan that include both searches.
+    let lim = PathLimits {
+        min: [0.0, 0.0, -3.141_592_7],
+        max: [3.141_592_7, 3.141_592_7, 0.0],
+        speed: [2.94; JOINTS],
+        accel: [17.1; JOINTS],
+        ts_max: 30.0,
+    };
+    let req = PathRequest { path: line, law: LawKind::Zat, ts: TS, pace: Pace::SlowDown, samples: 24, refine: 24 };
+    const UNITS_AT: [u16; REPS] = [0, 5, 10, 15, 20, 24, 25, 26, 30, 40, 50, 60, 70, 71, 100];
+    let at = |i: usize| {
+        let Ok(mut c) = PathCheck::new(&req, &arm, &lim) else { halt() };
+        let _ = c.step(UNITS_AT.get(i).copied().unwrap_or(0));
+        c
+    };
+    b.run_mut("path_check_unit", at, |c| c.step(1).is_some());
+    let p = ViaParams { q0: 0.0f32, theta_v: 0.0, sf: 0.0, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: 3.0 };
+    let (Ok(gv), Ok(g)) = (
+        Shape::new(&ShapeParams { ts: p.tv, a: p.av, n: p.nv }),
+        Shape::new(&ShapeParams { ts: p.ts, a: p.a, n: p.n }),
+    ) else {
+        halt()
+    };
+    // Per joint: q0, S_v, S_f of a lift over the default move.
+    let joints = [[START[0], 1.2, TARGET[0]], [START[1], 1.6, TARGET[1]], [START[2], -1.2, TARGET[2]]];
+    b.run(
+        "via_frame",
+        |i| spread(i, 0.1, 2.9),
+        |&t| {
+            let (wv, w) = (gv.g(t), g.g(t));
+            let mut q = [0.0f32; JOINTS];
+            for (q, [q0, sv, sf]) in q.iter_mut().zip(joints.iter()) {
+                *q = *q0 + (*sv - *q0) * wv + (*sf - *sv) * w;
+            }
+            to_ticks(&q, maps)
+        },
+    );
 }
 
 /// Map a touch, solve the pose, plan the move from the start pose: the

@@ -1,10 +1,14 @@
 //! Trajectories: the ζ-a-tₛ law ([`zat`]) and its time-scaled form
-//! ([`scaled`]), via-point moves ([`via`]), the classic laws ([`laws`]), a
+//! ([`scaled`]), via-point moves ([`via`]), the classic laws ([`laws`]),
+//! end-effector paths paced by a law ([`path`]), moves lifted over a via
+//! pose ([`lift`]), a
 //! synchronized multi-joint move ([`plan`]) and the planner that picks its
 //! duration and shape under the speed and acceleration limits ([`planner`]). This module holds the types every law shares: one sample of
 //! a motion and the error of all trajectory constructors.
 
 pub mod laws;
+pub mod lift;
+pub mod path;
 pub mod plan;
 pub mod planner;
 pub mod scaled;

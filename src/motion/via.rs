@@ -6,6 +6,8 @@
 //! r = G(t_v), that is linear in S_v and solved in closed form; the paper's
 //! fixed-point iteration is kept for reproduction and converges only if r < 1.
 
+use core::fmt;
+
 use crate::math::real::Real;
 use crate::motion::zat::{smooth_stop_a, Shape, ShapeParams};
 use crate::motion::{all_finite, Sample, TrajError};
@@ -313,4 +315,125 @@ pub fn iterate_paper<R: Real>(p: &ViaParams<R>, tol: R, max_iter: u16) -> Result
         sv = p.theta_v - sigma * m;
         i += 1;
     }
+}
+
+/// How smooth the via term's stop at t_v must be: the via shape Gv is the
+/// only term that changes its law at t_v, so its left derivatives there are
+/// the jumps of the whole trajectory (times −(S_v − q0)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Continuity {
+    /// Position only: (a_v, n_v) as given.
+    C0,
+    /// Velocity too: a_v = t_v − log_{n_v} t_v for the given n_v.
+    C1,
+    /// Velocity and acceleration: n_v = e^(2/(t_v − 1)) and its a_v.
+    C2,
+}
+
+/// Why no (a_v, n_v) gives the asked continuity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContinuityError<R> {
+    /// t_v ≤ 1 s: Gv′(t_v⁻) = 0 needs n_v^(t_v − a_v) = t_v > 1 with
+    /// a_v < u_min(t_v), which has no solution for t_v ≤ 1.
+    ViaTooEarly {
+        /// The via time given.
+        tv: R,
+    },
+    /// The smooth stop's a_v lies past the pole for this base: C1 needs
+    /// ln n_v < ln t_v/(√t_v − 1)².
+    BaseTooLarge {
+        /// The base given.
+        nv: R,
+        /// The bound it must stay below.
+        max: R,
+    },
+    /// A non-finite input, or t_v so close to 1 that e^(2/(t_v − 1))
+    /// overflows.
+    NotFinite,
+}
+
+impl<R: Real> fmt::Display for ContinuityError<R> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ContinuityError::ViaTooEarly { tv } => write!(
+                f,
+                "no continuous velocity at the via point: t_v = {} s, but a_v = t_v - log_nv(t_v) is admissible only for t_v > 1 s",
+                tv.to_f64()
+            ),
+            ContinuityError::BaseTooLarge { nv, max } => write!(
+                f,
+                "no continuous velocity at the via point for n_v = {}: a_v = t_v - log_nv(t_v) is admissible only for n_v < {}",
+                nv.to_f64(),
+                max.to_f64()
+            ),
+            ContinuityError::NotFinite => {
+                f.write_str("non-finite via parameters (or t_v so close to 1 s that n_v = e^(2/(t_v - 1)) overflows)")
+            }
+        }
+    }
+}
+
+/// The one base that also makes the acceleration continuous at t_v:
+/// with Gv′(t_v⁻) = 0, Gv″(t_v⁻) = h2 = (L/t_v)·(L − 2/(t_v − 1)) (L = ln n_v,
+/// SPEC §5's h2 at u′·p = 1), so L = 2/(t_v − 1). That L always lies inside
+/// C1's domain ln t_v/(√t_v − 1)², since ln s > 2(s − 1)/(s + 1) for s = √t_v > 1.
+#[inline]
+pub fn c2_ln_base<R: Real>(tv: R) -> Option<R> {
+    if !(tv.is_finite() && R::ONE.lt_num(tv)) {
+        return None;
+    }
+    let l = R::TWO / (tv - R::ONE);
+    if l.is_finite() && l.exp().is_finite() {
+        Some(l)
+    } else {
+        None
+    }
+}
+
+/// The largest base for which C1 is admissible: e^(ln t_v/(√t_v − 1)²).
+pub fn c1_max_base<R: Real>(tv: R) -> R {
+    let s = tv.sqrt() - R::ONE;
+    (tv.ln() / (s * s)).exp()
+}
+
+/// (a_v, n_v) for the asked continuity at t_v; `av`, `nv` are the user's
+/// values (C0 keeps both, C1 keeps n_v, C2 replaces both). C0 does no checks
+/// here: the plan validates the shape.
+pub fn via_shape_for<R: Real>(tv: R, av: R, nv: R, c: Continuity) -> Result<(R, R), ContinuityError<R>> {
+    match c {
+        Continuity::C0 => Ok((av, nv)),
+        Continuity::C1 => {
+            if !(tv.is_finite() && nv.is_finite()) {
+                return Err(ContinuityError::NotFinite);
+            }
+            if !R::ONE.lt_num(tv) {
+                return Err(ContinuityError::ViaTooEarly { tv });
+            }
+            match smooth_via_a(tv, nv) {
+                Some(a) => Ok((a, nv)),
+                None => Err(ContinuityError::BaseTooLarge { nv, max: c1_max_base(tv) }),
+            }
+        }
+        Continuity::C2 => {
+            if !tv.is_finite() {
+                return Err(ContinuityError::NotFinite);
+            }
+            if !R::ONE.lt_num(tv) {
+                return Err(ContinuityError::ViaTooEarly { tv });
+            }
+            let nv = c2_ln_base(tv).ok_or(ContinuityError::NotFinite)?.exp();
+            // Inside C1's domain by construction; a refusal here is rounding
+            // at the edge of the representable bases.
+            let a = smooth_via_a(tv, nv).ok_or(ContinuityError::NotFinite)?;
+            Ok((a, nv))
+        }
+    }
+}
+
+/// Gv‴(t_v⁻) of the C2 shape, 4(t_v + 1)/(t_v²·(t_v − 1)³) (SPEC §5's h3 with
+/// h1 = h2 = 0): never 0, so no (a_v, n_v) of this family also makes the
+/// jerk continuous; the jerk steps by −(S_v − q0) times this.
+pub fn c2_via_jerk<R: Real>(tv: R) -> R {
+    let d = tv - R::ONE;
+    R::lit(4.0) * (tv + R::ONE) / (tv * tv * d * d * d)
 }

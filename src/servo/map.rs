@@ -414,6 +414,47 @@ impl ServoMap {
     }
 }
 
+/// [`ServoMap::angle_to_pulse`]'s ticks without the report of which limit
+/// clamped, for frames whose angles are not affine in one profile (a path
+/// move): the same value in fewer float operations. The map with its clamps
+/// and rounding is monotone, so clamping the rounded pulse of the raw angle
+/// to the pulses of the window's ends is clamping the angle and the pulse
+/// first. Built once per move from its [`ServoMap`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickMap {
+    offset_us: f32,
+    us_per_rad: f32,
+    /// The pulses at the ends of the output window, ticks, low first.
+    window: [u16; 2],
+}
+
+impl TickMap {
+    /// The fast map of `m`. `None` only if a limit angle has no pulse, which
+    /// a validated calibration rules out.
+    pub fn new(m: &ServoMap) -> Option<TickMap> {
+        let c = m.cal();
+        let (a, b) = (m.angle_to_pulse(c.min_rad).ok()?, m.angle_to_pulse(c.max_rad).ok()?);
+        Some(TickMap {
+            offset_us: c.offset_us,
+            us_per_rad: c.us_per_rad,
+            window: [a.ticks.min(b.ticks), a.ticks.max(b.ticks)],
+        })
+    }
+
+    /// The pulse for `angle`, Timer5 ticks; `None` for a non-finite angle.
+    #[inline]
+    pub fn ticks(&self, angle: f32) -> Option<u16> {
+        if !angle.is_finite() {
+            return None;
+        }
+        let us = self.offset_us + self.us_per_rad * angle;
+        // The float-to-integer cast saturates, which keeps the order.
+        let raw = (us.twice() + 0.5) as i32;
+        let [lo, hi] = self.window;
+        Some(raw.clamp(i32::from(lo), i32::from(hi)) as u16)
+    }
+}
+
 /// A pulse of `ticks` (0.5 µs) clamped to the absolute 500..=2500 µs, so
 /// it is always a servo pulse (never 0 = off or ≥ TOP = always high).
 pub fn clamp_ticks(ticks: u16) -> u16 {

@@ -6,22 +6,22 @@ pub fn describe(name: &str) -> &str {
     DESCRIPTIONS.iter().find(|(n, _)| *n == name).map_or(name, |(_, d)| d)
 }
 
-/// The median target (for `frame`: its max, see [`judged`]), if any.
+/// The median target (for `frame` and `path_frame`: their max, see [`judged`]), if any.
 pub fn target(name: &str) -> Option<u64> {
     TARGETS.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
 }
 
-/// The figure a target judges: the median, except for the frame, which must
+/// The figure a target judges: the median, except for the frames, which must
 /// also hold at its worst (a frame that overran would delay the pulses).
 pub fn judged(name: &str, median: u64, max: u64) -> u64 {
-    if name == "frame" {
+    if name == "frame" || name == "path_frame" {
         max
     } else {
         median
     }
 }
 
-const TARGETS: [(&str, u64); 3] = [("frame", 8000), ("plan", 20000), ("via_solve", 20000)];
+const TARGETS: [(&str, u64); 4] = [("frame", 8000), ("path_frame", 16000), ("plan", 20000), ("via_solve", 20000)];
 
 const DESCRIPTIONS: &[(&str, &str)] = &[
     ("f32_mul", "f32 multiply (avr-libc)"),
@@ -45,6 +45,15 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ("sample3", "`MultiPlan::sample`: 3 joints, positions + velocities (rad)"),
     ("frame", "**50 Hz frame**: `ServoTrack::frame`, 3 joints, time-scaled ζ-a-tₛ G + G′ → pulse widths + speed check"),
     ("frame_zat_paper", "frame, the papers' ζ-a-tₛ (tₛ in seconds)"),
+    (
+        "path_frame",
+        "**straight-line path frame**: time-scaled ζ-a-tₛ g, the point on the segment, 3-DoF IK (`ik3`), 3 pulses (`TickMap`)",
+    ),
+    ("via_frame", "via-point frame: Gv and G once, S = q0 + (S_v − q0)·Gv + (S_f − S_v)·G per joint, 3 pulses"),
+    (
+        "path_check_unit",
+        "one unit of a path's plan-time check (`PathCheck::step(1)`: a visit, law + IK + joint rates; or the search for a critical instant)",
+    ),
     ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
     (
         "app_replan",
@@ -97,6 +106,7 @@ mod tests {
         assert_eq!((target("frame"), target("plan"), target("g")), (Some(8000), Some(20000), None));
         // The frame is judged on its max, the others on their median.
         assert_eq!(judged("frame", 6778, 7000), 7000);
+        assert_eq!((target("path_frame"), judged("path_frame", 15500, 15771)), (Some(16000), 15771));
         assert_eq!(judged("plan", 16849, 69474), 16849);
     }
 }

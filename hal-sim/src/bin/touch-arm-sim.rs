@@ -11,6 +11,10 @@
 //!   `then_ts_s`, `then_reply`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
+//! - `effector.csv`: `t_s,x,y,z`, where the measured pulses put the effector
+//!   (through the default calibration and the forward kinematics);
+//! - `path.png`: top and side views of that effector path, start and target
+//!   marked, and the joint angles;
 //! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes,
 //!   at the panel's size.
 //!
@@ -32,7 +36,7 @@ use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
 
 /// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
-/// DIR/summary.json, DIR/angles.png and DIR/screen.png. A press that lands on a
+/// DIR/summary.json, DIR/angles.png, DIR/effector.csv, DIR/path.png and DIR/screen.png. A press that lands on a
 /// button or between the screen's regions moves nothing: the job says what the
 /// screen did with it and writes DIR/screen.png only.
 #[derive(Parser, Debug)]
@@ -311,6 +315,50 @@ fn run(args: Args) -> Result<(), String> {
     )
     .map_err(|e| e.to_string())?;
 
+    // Where the measured pulses put the effector, and its path.
+    let links = firmware::host_geometry()?.links;
+    let eff: Vec<[f64; 3]> = (0..n)
+        .map(|i| firmware::effector_at(&maps, &links, &[trains[0][i].1, trains[1][i].1, trains[2][i].1]))
+        .collect();
+    let mut ecsv = String::from("t_s,x,y,z\n");
+    for (ti, p) in t.iter().zip(&eff) {
+        ecsv += &format!("{ti:.6},{:.9},{:.9},{:.9}\n", p[0], p[1], p[2]);
+    }
+    let eff_path = out.join("effector.csv");
+    std::fs::write(&eff_path, ecsv).map_err(|e| format!("{}: {e}", eff_path.display()))?;
+    // The move starts from where the arm was when the panel was touched.
+    let start = eff[t.iter().position(|&ti| ti >= t_touch).unwrap_or(0)];
+    let (tx, ty, tz) = touch_arm::geometry::ik::fk3(&links, q[0], q[1], q[2]);
+    let col = |k: usize| eff.iter().map(|p| p[k]).collect::<Vec<f64>>();
+    let (ex, ey, ez) = (col(0), col(1), col(2));
+    let views = [
+        plot::View {
+            title: "top view",
+            xlabel: "x",
+            ylabel: "y",
+            x: &ex,
+            y: &ey,
+            marks: vec![("start", start[0], start[1]), ("target", tx, ty), ("base", 0.0, 0.0)],
+        },
+        plot::View {
+            title: "side view",
+            xlabel: "x",
+            ylabel: "z",
+            x: &ex,
+            y: &ez,
+            marks: vec![("start", start[0], start[2]), ("target", tx, tz)],
+        },
+    ];
+    let path_png = out.join("path.png");
+    plot::path_figure(
+        &path_png,
+        "firmware in simavr: effector path from the measured servo pulses",
+        &views,
+        &t,
+        &Panel { ylabel: "angle [deg]", curves: curves(&names, &ang) },
+    )
+    .map_err(|e| e.to_string())?;
+
     let screen = out.join("screen.png");
     s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
 
@@ -338,7 +386,15 @@ fn run(args: Args) -> Result<(), String> {
         q[2].to_degrees()
     );
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
-    println!("wrote {}, {}, {}, {}", csv_path.display(), json_path.display(), png.display(), screen.display());
+    println!(
+        "wrote {}, {}, {}, {}, {}, {}",
+        csv_path.display(),
+        json_path.display(),
+        png.display(),
+        eff_path.display(),
+        path_png.display(),
+        screen.display()
+    );
     Ok(())
 }
 

@@ -1,0 +1,572 @@
+//! End-effector paths paced by a motion law (the lab note): the effector
+//! follows P(g(t)) for a [`Path`] and the selected law's profile g (0 → 1
+//! over tₛ), and the joints follow the IK of every point.
+//!
+//! Unlike a joint move, the joints are not affine in g, so their speeds and
+//! accelerations are checked on a scan of the move when it is planned:
+//! θ̇ = θ′(s)·ġ and θ̈ = θ″(s)·ġ² + θ′(s)·g̈ with s = g(t) and θ′, θ″ from
+//! [`ik_jet`]. Every law offered here scales with its duration (g(t) = G(t/tₛ)),
+//! so the scan's grid τ = t/tₛ sees the same path points for every tₛ and its
+//! peaks scale exactly as 1/tₛ and 1/tₛ²: the shortest admissible tₛ follows
+//! from one scan in closed form, which is how [`Pace::SlowDown`] lengthens a
+//! move instead of clamping any joint.
+
+use core::fmt;
+
+use crate::geometry::ik::{ik3, Branch, IkError, Links};
+use crate::geometry::path::{ik_jet, JetError, JointJet, Path, PathShapeError, Vec3};
+use crate::math::real::Real;
+use crate::motion::plan::{JointLaw, LawKind, JOINTS};
+use crate::motion::zat::ShapeParams;
+use crate::motion::TrajError;
+
+/// The arm a path is solved for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathArm<R> {
+    /// Upper arm and forearm.
+    pub links: Links<R>,
+    /// Elbow solution.
+    pub branch: Branch,
+}
+
+/// What each joint may do along a path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathLimits<R> {
+    /// Smallest angle per joint, rad.
+    pub min: [R; JOINTS],
+    /// Largest angle per joint, rad.
+    pub max: [R; JOINTS],
+    /// Largest speed per joint, rad/s (> 0).
+    pub speed: [R; JOINTS],
+    /// Largest acceleration per joint, rad/s² (> 0).
+    pub accel: [R; JOINTS],
+    /// Longest move [`Pace::SlowDown`] may make, s.
+    pub ts_max: R,
+}
+
+/// What to do when the asked duration is too short for a joint's limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pace {
+    /// Refuse, naming the joint and the shortest admissible duration.
+    Refuse,
+    /// Take the shortest admissible duration (at most `ts_max`).
+    SlowDown,
+}
+
+/// A path move to plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathRequest<R> {
+    /// The effector's path.
+    pub path: Path<R>,
+    /// The law pacing it.
+    pub law: LawKind,
+    /// Asked duration, s.
+    pub ts: R,
+    /// Too short a duration: refuse or slow down.
+    pub pace: Pace,
+    /// Intervals of the plan-time scan (≥ 2).
+    pub samples: u16,
+    /// Refinement steps around each critical point ([`REFINE_FULL`] on the
+    /// host; fewer resolve spikes down to tₛ·2^(−refine/4) only).
+    pub refine: u16,
+}
+
+/// Why a path move cannot be planned. `s` is the path's progress (0..1)
+/// where the problem is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PathError<R> {
+    /// The path itself (empty, non-finite, through the base axis).
+    Shape(PathShapeError),
+    /// The law's parameters (non-finite or non-positive duration).
+    Law(TrajError<R>),
+    /// The papers' own ζ-a-tₛ changes its shape with tₛ: not offered for paths.
+    LawNotScalable,
+    /// A non-finite limit, a limit ≤ 0, or fewer than 2 scan intervals.
+    BadLimits,
+    /// A point out of the arm's reach.
+    Unreachable {
+        /// Progress.
+        s: R,
+    },
+    /// A point on the base axis or with the arm straight or folded.
+    Singular {
+        /// Progress.
+        s: R,
+    },
+    /// A joint outside its angle limits.
+    JointLimit {
+        /// 0 base, 1 shoulder, 2 elbow.
+        joint: u8,
+        /// Progress.
+        s: R,
+        /// The angle it would need, rad.
+        angle: R,
+    },
+    /// A joint over its speed limit at the asked duration.
+    Speed {
+        /// 0 base, 1 shoulder, 2 elbow.
+        joint: u8,
+        /// The shortest duration that keeps it, s.
+        ts_min: R,
+    },
+    /// A joint over its acceleration limit at the asked duration.
+    Accel {
+        /// 0 base, 1 shoulder, 2 elbow.
+        joint: u8,
+        /// The shortest duration that keeps it, s.
+        ts_min: R,
+    },
+    /// Slowing down would need more than `ts_max`.
+    TooSlow {
+        /// The duration it would need, s.
+        ts_min: R,
+    },
+}
+
+/// The joints' names in refusals.
+pub const JOINT_NAMES: [&str; JOINTS] = ["base", "shoulder", "elbow"];
+
+fn joint_name(j: u8) -> &'static str {
+    JOINT_NAMES.get(j as usize).copied().unwrap_or("?")
+}
+
+impl<R: Real> fmt::Display for PathError<R> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            PathError::Shape(PathShapeError::NotFinite) => f.write_str("path: non-finite coordinate or radius"),
+            PathError::Shape(PathShapeError::Degenerate) => f.write_str("path: empty segment or radius not > 0"),
+            PathError::Shape(PathShapeError::CrossesBaseAxis) => {
+                f.write_str("path crosses the base axis (x = y = 0), where the base would turn by 180 degrees at once")
+            }
+            PathError::Law(e) => write!(f, "law: {e}"),
+            PathError::LawNotScalable => f.write_str(
+                "law zat-paper is not offered for paths (its shape changes with ts); use zat or a classic law",
+            ),
+            PathError::BadLimits => f.write_str(
+                "joint limits must be finite, speeds and accelerations > 0, and the scan at least 2 intervals",
+            ),
+            PathError::Unreachable { s } => write!(f, "path leaves the arm's reach at s = {:.4}", s.to_f64()),
+            PathError::Singular { s } => {
+                write!(f, "path meets a singular pose (base axis, arm straight or folded) at s = {:.4}", s.to_f64())
+            }
+            PathError::JointLimit { joint, s, angle } => write!(
+                f,
+                "{} joint limit: {:.4} rad needed at s = {:.4}",
+                joint_name(joint),
+                angle.to_f64(),
+                s.to_f64()
+            ),
+            PathError::Speed { joint, ts_min } => write!(
+                f,
+                "{} speed limit: the path needs ts >= {:.4} s (or slow down)",
+                joint_name(joint),
+                ts_min.to_f64()
+            ),
+            PathError::Accel { joint, ts_min } => write!(
+                f,
+                "{} acceleration limit: the path needs ts >= {:.4} s (or slow down)",
+                joint_name(joint),
+                ts_min.to_f64()
+            ),
+            PathError::TooSlow { ts_min } => {
+                write!(f, "the joints' limits need ts >= {:.4} s, beyond the longest move", ts_min.to_f64())
+            }
+        }
+    }
+}
+
+/// The peaks a scan found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathPeaks<R> {
+    /// max |θ̇_j|, rad/s.
+    pub speed: [R; JOINTS],
+    /// max |θ̈_j|, rad/s².
+    pub accel: [R; JOINTS],
+}
+
+/// A planned path move.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathPlan<R> {
+    path: Path<R>,
+    law: JointLaw<R>,
+    arm: PathArm<R>,
+    peaks: PathPeaks<R>,
+}
+
+/// The effector and the joints at one instant of a path move.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathState<R> {
+    /// Progress s = g(t).
+    pub s: R,
+    /// Effector position P(s).
+    pub p: Vec3<R>,
+    /// Joint angles, rad.
+    pub q: Vec3<R>,
+    /// Joint speeds, rad/s.
+    pub dq: Vec3<R>,
+    /// Joint accelerations, rad/s².
+    pub ddq: Vec3<R>,
+}
+
+fn law_for<R: Real>(kind: LawKind, ts: R) -> Result<JointLaw<R>, PathError<R>> {
+    if kind == LawKind::ZatPaper {
+        return Err(PathError::LawNotScalable);
+    }
+    // (a, n) are read by the papers' form only.
+    JointLaw::from_kind(kind, &ShapeParams { ts, a: R::ZERO, n: R::TWO }).map_err(PathError::Law)
+}
+
+fn jet_err<R: Real>(e: JetError<R>, s: R) -> PathError<R> {
+    match e {
+        JetError::Ik(IkError::Unreachable { .. }) | JetError::Ik(IkError::NotFinite) => PathError::Unreachable { s },
+        JetError::Ik(IkError::Singular) | JetError::Singular => PathError::Singular { s },
+    }
+}
+
+/// Largest change of a joint between two scan points that still counts as
+/// one continuous IK branch; more means the solution flipped (a wrap of q2 or
+/// of θ1), which rates at the points themselves would not show.
+const BRANCH_JUMP_RAD: f64 = 0.5;
+
+fn check_limits<R: Real>(l: &PathLimits<R>) -> Result<(), PathError<R>> {
+    for j in 0..JOINTS {
+        let ok = l.min[j].is_finite()
+            && l.max[j].is_finite()
+            && l.min[j] <= l.max[j]
+            && l.speed[j].is_finite()
+            && l.speed[j].is_positive()
+            && l.accel[j].is_finite()
+            && l.accel[j].is_positive();
+        if !ok {
+            return Err(PathError::BadLimits);
+        }
+    }
+    if l.ts_max.is_finite() {
+        Ok(())
+    } else {
+        Err(PathError::BadLimits)
+    }
+}
+
+/// Scans the move at `samples + 1` evenly spaced instants: every point
+/// reachable, non-singular and inside the angle limits, one IK branch
+/// throughout; returns the joints' peak speeds and accelerations.
+/// Checks one instant and folds its rates into `peaks`; returns the angles.
+fn visit<R: Real>(
+    path: &Path<R>,
+    law: &JointLaw<R>,
+    arm: &PathArm<R>,
+    lim: &PathLimits<R>,
+    t: R,
+    peaks: &mut PathPeaks<R>,
+) -> Result<Vec3<R>, PathError<R>> {
+    let g = law.g_derivs(t);
+    let jj = ik_jet(&arm.links, arm.branch, &path.jet(g.s)).map_err(|e| jet_err(e, g.s))?;
+    for j in 0..JOINTS {
+        let q = jj.q[j];
+        if !(lim.min[j] <= q && q <= lim.max[j]) {
+            return Err(PathError::JointLimit { joint: j as u8, s: g.s, angle: q });
+        }
+        let v = (jj.dq[j] * g.v).abs();
+        let a = (jj.ddq[j] * g.v * g.v + jj.dq[j] * g.acc).abs();
+        if !(v.is_finite() && a.is_finite()) {
+            return Err(PathError::Singular { s: g.s });
+        }
+        peaks.speed[j] = peaks.speed[j].max(v);
+        peaks.accel[j] = peaks.accel[j].max(a);
+    }
+    Ok(jj.q)
+}
+
+/// Bisections for the instant a critical progress is passed (g is monotone):
+/// to the f32 resolution of the duration.
+const CRITICAL_BISECTIONS: u8 = 24;
+/// Refinement steps of the host's checks (`armsim`): offsets tₛ·2^(−m/4)
+/// for m = 4..=80, down to a millionth of the move on each side of a
+/// critical instant, so a spike of any width above that is visited within a
+/// fifth of its width.
+pub const REFINE_FULL: u16 = 80;
+
+/// The instant t with g(t) = s.
+fn time_of<R: Real>(law: &JointLaw<R>, s: R) -> R {
+    let (mut lo, mut hi) = (R::ZERO, law.duration());
+    for _ in 0..CRITICAL_BISECTIONS {
+        let mid = (lo + hi) * R::HALF;
+        if law.g(mid) < s {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo + hi) * R::HALF
+}
+
+/// Where a resumable scan is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ScanAt<R> {
+    /// The even grid's instant i of `samples`.
+    Grid(u16),
+    /// The instant of critical point `crit` is still to be found.
+    Critical(u8),
+    /// Around critical instant `t_c`: offset step `m` (3: `t_c` itself) on
+    /// side `late`, the offset `off` for it.
+    Cluster {
+        crit: u8,
+        t_c: R,
+        off: R,
+        m: u16,
+        late: bool,
+    },
+    Finished,
+}
+
+/// The scan of one duration, a unit of work (a visit or a bisection) at a
+/// time: the grid (each point reachable, non-singular, inside the angle
+/// limits, one IK branch), then the refinement around each of the path's
+/// critical points, where narrow rate spikes sit. Grid-independent: the
+/// refinement sits at the same τ = t/tₛ for every tₛ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Scan<R> {
+    at: ScanAt<R>,
+    peaks: PathPeaks<R>,
+    prev: Option<Vec3<R>>,
+}
+
+impl<R: Real> Scan<R> {
+    fn new() -> Self {
+        Scan {
+            at: ScanAt::Grid(0),
+            peaks: PathPeaks { speed: [R::ZERO; JOINTS], accel: [R::ZERO; JOINTS] },
+            prev: None,
+        }
+    }
+
+    /// One unit of work; `Ok(true)` once the scan is complete.
+    fn step(&mut self, c: &Checked<R>, law: &JointLaw<R>) -> Result<bool, PathError<R>> {
+        let ts = law.duration();
+        match self.at {
+            ScanAt::Grid(i) => {
+                let t = if i >= c.samples { ts } else { ts * R::from_u16(i) / R::from_u16(c.samples) };
+                let q = visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+                if let Some(p) = self.prev {
+                    for j in 0..JOINTS {
+                        // Angles are finite here (`visit` checked their rates).
+                        if R::lit(BRANCH_JUMP_RAD).lt_num((q[j] - p[j]).abs()) {
+                            return Err(PathError::Singular { s: law.g(t) });
+                        }
+                    }
+                }
+                self.prev = Some(q);
+                self.at = if i >= c.samples { ScanAt::Critical(0) } else { ScanAt::Grid(i + 1) };
+            }
+            ScanAt::Critical(crit) => {
+                self.at = match c.path.critical_points().get(usize::from(crit)) {
+                    Some(&s_c) => {
+                        let t_c = time_of(law, s_c);
+                        ScanAt::Cluster { crit, t_c, off: ts * R::HALF, m: 3, late: false }
+                    }
+                    None => ScanAt::Finished,
+                };
+            }
+            ScanAt::Cluster { crit, t_c, off, m, late } => {
+                if m == 3 {
+                    visit(&c.path, law, &c.arm, &c.lim, t_c, &mut self.peaks)?;
+                    self.at = ScanAt::Cluster { crit, t_c, off, m: 4, late: false };
+                } else if m > c.refine {
+                    self.at = ScanAt::Critical(crit + 1);
+                } else {
+                    let t = if late { t_c + off } else { t_c - off };
+                    if R::ZERO <= t && t <= ts {
+                        visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+                    }
+                    self.at = if late {
+                        // 2^(−1/4).
+                        ScanAt::Cluster { crit, t_c, off: off * R::lit(0.840_896_415_253_714_5), m: m + 1, late: false }
+                    } else {
+                        ScanAt::Cluster { crit, t_c, off, m, late: true }
+                    };
+                }
+            }
+            ScanAt::Finished => return Ok(true),
+        }
+        Ok(self.at == ScanAt::Finished)
+    }
+}
+
+/// What a check holds beside the law it scans.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Checked<R> {
+    path: Path<R>,
+    arm: PathArm<R>,
+    lim: PathLimits<R>,
+    samples: u16,
+    refine: u16,
+    pace: Pace,
+}
+
+/// A path plan worked out a bounded amount at a time ([`PathCheck::step`]),
+/// so a caller with a frame to keep (the chip) can spread it over frames;
+/// [`PathPlan::new`] runs one to the end. The same result either way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathCheck<R> {
+    c: Checked<R>,
+    law: JointLaw<R>,
+    kind: LawKind,
+    /// Already lengthened once (the second scan decides).
+    slowed: bool,
+    scan: Scan<R>,
+    outcome: Option<Result<PathPlan<R>, PathError<R>>>,
+}
+
+impl<R: Real> PathCheck<R> {
+    /// Checks the request's limits and law; the scan is to come.
+    pub fn new(req: &PathRequest<R>, arm: &PathArm<R>, lim: &PathLimits<R>) -> Result<Self, PathError<R>> {
+        check_limits(lim)?;
+        if req.samples < 2 {
+            return Err(PathError::BadLimits);
+        }
+        let law = law_for(req.law, req.ts)?;
+        let c =
+            Checked { path: req.path, arm: *arm, lim: *lim, samples: req.samples, refine: req.refine, pace: req.pace };
+        Ok(PathCheck { c, law, kind: req.law, slowed: false, scan: Scan::new(), outcome: None })
+    }
+
+    /// Does up to `units` units of work (a unit is one visit of the move,
+    /// IK with rates, or one search for a critical instant); the plan or the
+    /// refusal once decided, and from then on.
+    pub fn step(&mut self, units: u16) -> Option<Result<PathPlan<R>, PathError<R>>> {
+        for _ in 0..units {
+            if self.outcome.is_some() {
+                break;
+            }
+            match self.scan.step(&self.c, &self.law) {
+                Ok(false) => {}
+                Ok(true) => self.outcome = self.decide(),
+                Err(e) => self.outcome = Some(Err(e)),
+            }
+        }
+        self.outcome
+    }
+
+    /// After a complete scan: the plan, a refusal, or (slowing down, once)
+    /// `None` and a new scan at the shortest admissible duration.
+    fn decide(&mut self) -> Option<Result<PathPlan<R>, PathError<R>>> {
+        let peaks = self.scan.peaks;
+        let (f, joint, accel) = stretch(&peaks, &self.c.lim);
+        if f <= R::ONE {
+            return Some(Ok(PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks }));
+        }
+        let ts = self.law.duration();
+        let ts_min = ts * f;
+        if self.c.pace == Pace::Refuse || self.slowed {
+            return Some(Err(if accel {
+                PathError::Accel { joint, ts_min }
+            } else {
+                PathError::Speed { joint, ts_min }
+            }));
+        }
+        let ts = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
+        // ts is finite (from finite peaks and limits), as is ts_max.
+        if self.c.lim.ts_max.lt_num(ts) {
+            return Some(Err(PathError::TooSlow { ts_min }));
+        }
+        match law_for(self.kind, ts) {
+            Ok(law) => {
+                self.law = law;
+                self.slowed = true;
+                self.scan = Scan::new();
+                None
+            }
+            Err(e) => Some(Err(e)),
+        }
+    }
+}
+
+/// The factor by which the move must be lengthened (≤ 1: it fits), and the
+/// joint and kind (`true` = acceleration) that bind.
+fn stretch<R: Real>(peaks: &PathPeaks<R>, lim: &PathLimits<R>) -> (R, u8, bool) {
+    let mut worst = (R::ZERO, 0u8, false);
+    for j in 0..JOINTS {
+        let fv = peaks.speed[j] / lim.speed[j];
+        let fa = (peaks.accel[j] / lim.accel[j]).sqrt();
+        if worst.0 < fv {
+            worst = (fv, j as u8, false);
+        }
+        if worst.0 < fa {
+            worst = (fa, j as u8, true);
+        }
+    }
+    worst
+}
+
+/// Rounding allowance when a slowed-down move is scanned again: its peaks
+/// scale exactly in exact arithmetic.
+const STRETCH_SLACK: f64 = 1e-5;
+
+/// The joint angles at time t: the law's g, the path's point, the IK; the
+/// per-frame work of a path move (no derivatives).
+#[inline]
+pub fn path_angles<R: Real>(path: &Path<R>, law: &JointLaw<R>, arm: &PathArm<R>, t: R) -> Result<Vec3<R>, IkError<R>> {
+    let p = path.point(law.g(t));
+    let q = ik3(&arm.links, p[0], p[1], p[2], arm.branch)?;
+    Ok([q.th1, q.th2, q.th3])
+}
+
+impl<R: Real> PathPlan<R> {
+    /// Plans a path move: checks the path, scans it at the asked duration
+    /// and refuses or slows down (never clamps) where a joint's speed or
+    /// acceleration would exceed its limit. The linear law steps its velocity
+    /// at both ends: like a joint move by it, it honours the speed only
+    /// between the steps.
+    pub fn new(req: &PathRequest<R>, arm: &PathArm<R>, lim: &PathLimits<R>) -> Result<Self, PathError<R>> {
+        let mut check = PathCheck::new(req, arm, lim)?;
+        loop {
+            if let Some(r) = check.step(u16::MAX) {
+                return r;
+            }
+        }
+    }
+
+    /// Duration, s (longer than asked after a slow-down).
+    #[inline]
+    pub fn ts(&self) -> R {
+        self.law.duration()
+    }
+
+    /// The path.
+    #[inline]
+    pub fn path(&self) -> &Path<R> {
+        &self.path
+    }
+
+    /// The pacing profile.
+    #[inline]
+    pub fn law(&self) -> &JointLaw<R> {
+        &self.law
+    }
+
+    /// The joints' peak speeds and accelerations on the plan's scan.
+    #[inline]
+    pub fn peaks(&self) -> &PathPeaks<R> {
+        &self.peaks
+    }
+
+    /// Joint angles at time t ([`path_angles`]).
+    pub fn angles(&self, t: R) -> Result<Vec3<R>, IkError<R>> {
+        path_angles(&self.path, &self.law, &self.arm, t)
+    }
+
+    /// Effector and joints at time t (held at the ends outside [0, tₛ]).
+    pub fn state(&self, t: R) -> Result<PathState<R>, PathError<R>> {
+        let g = self.law.g_derivs(t);
+        let pj = self.path.jet(g.s);
+        let jj: JointJet<R> = ik_jet(&self.arm.links, self.arm.branch, &pj).map_err(|e| jet_err(e, g.s))?;
+        let mut dq = [R::ZERO; JOINTS];
+        let mut ddq = [R::ZERO; JOINTS];
+        for j in 0..JOINTS {
+            dq[j] = jj.dq[j] * g.v;
+            ddq[j] = jj.ddq[j] * g.v * g.v + jj.dq[j] * g.acc;
+        }
+        Ok(PathState { s: g.s, p: pj.p, q: jj.q, dq, ddq })
+    }
+}
