@@ -340,8 +340,15 @@ pub fn zat_peak_acc<R: Real>(shape: &Shape<R>) -> R {
     }
 }
 
-/// The largest |G″| on (lo, hi] (see [`zat_peak_acc`]).
+/// The largest |G″| on (lo, hi] (see [`zat_peak_acc`]). A hump before the
+/// first grid point where G is representable has no sign change of G‴ on
+/// the grid to bracket it: when |G″| already falls there, the cell before
+/// it is scanned on a grid of its own (once).
 fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
+    acc_scan(shape, lo, hi, true)
+}
+
+fn acc_scan<R: Real>(shape: &Shape<R>, lo: R, hi: R, refine_first: bool) -> R {
     // (G″, G‴) at t, None where G is below 1e-34 (far left of everything).
     let at = |t: R| {
         shape.rate_terms(t).map(|r| {
@@ -351,6 +358,7 @@ fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
     };
     let mut best = R::ZERO;
     let mut prev: Option<(R, R)> = None;
+    let mut before = lo;
     let step = (hi - lo) / R::from_u16(u16::from(ACC_GRID));
     let mut k = 1u8;
     while k <= ACC_GRID {
@@ -358,13 +366,21 @@ fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
         k += 1;
         let Some((g2, g3)) = at(t) else {
             prev = None;
+            before = t;
             continue;
         };
         best = best.max(g2.abs());
-        if let Some((tp, g3p)) = prev {
-            if (g3p > R::ZERO) != (g3 > R::ZERO) && g3p != R::ZERO {
-                best = best.max(hump_top(&at, (tp, g3p), (t, g3)));
+        match prev {
+            Some((tp, g3p)) => {
+                if (g3p > R::ZERO) != (g3 > R::ZERO) && g3p != R::ZERO {
+                    best = best.max(hump_top(&at, (tp, g3p), (t, g3)));
+                }
             }
+            // |G″| falls at the first point: its hump is in the cell before.
+            None if refine_first && (g2 > R::ZERO) != (g3 > R::ZERO) => {
+                best = best.max(acc_scan(shape, before, t, false));
+            }
+            None => {}
         }
         prev = Some((t, g3));
     }
