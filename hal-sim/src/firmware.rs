@@ -152,6 +152,16 @@ pub struct Session {
     /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
+    adc: std::rc::Rc<std::cell::Cell<AdcCount>>,
+}
+
+/// ADC conversions the firmware has started, on any channel: how many, and
+/// the cycles of the first and the last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AdcCount {
+    pub conversions: u64,
+    pub first_cycle: u64,
+    pub last_cycle: u64,
 }
 
 impl Session {
@@ -181,11 +191,20 @@ impl Session {
             panel: crate::twin::panel::SimPanel::new(seed),
         }));
         let model = panel.clone();
+        let adc = std::rc::Rc::new(std::cell::Cell::new(AdcCount::default()));
+        let count = adc.clone();
         avr.set_adc_handler(move |req| {
+            let mut c = count.get();
+            if c.conversions == 0 {
+                c.first_cycle = req.cycle;
+            }
+            c.conversions += 1;
+            c.last_cycle = req.cycle;
+            count.set(c);
             let v = model.borrow_mut().read(req).unwrap_or_else(|| crate::panel::PanelOnPins::read_off_panel(req));
             crate::avr::AdcInput::Raw(v)
         });
-        Ok(Session { avr, lcd, panel })
+        Ok(Session { avr, lcd, panel, adc })
     }
 
     /// Presses the panel where the firmware's X and Y reads return (raw_x,
@@ -201,6 +220,11 @@ impl Session {
 
     pub fn release(&mut self) {
         self.panel.borrow_mut().panel.release();
+    }
+
+    /// The ADC conversions so far (the touch reads and the wiring probe's).
+    pub fn adc_count(&self) -> AdcCount {
+        self.adc.get()
     }
 
     /// ADC noise (σ, counts) and the probability of a random glitch per conversion.

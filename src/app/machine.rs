@@ -78,6 +78,7 @@ impl App {
             }
         }
         self.filter.reset();
+        self.probe_wanted = self.config.wiring.is_none();
         self.commanded = self.clamp_to_limits(&self.params.home);
         self.last_move.target = self.commanded;
         self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };

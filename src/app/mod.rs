@@ -71,6 +71,7 @@ mod screen;
 mod serial;
 mod telemetry;
 pub mod text;
+mod wiring;
 
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{Source, Warning};
@@ -404,6 +405,10 @@ pub struct App {
     /// The target of this frame, planned after the pulses.
     plan_due: Option<PlanDue>,
     screen: screen::Screen,
+    /// The firmware should probe the panel's wiring (`wiring.rs`).
+    probe_wanted: bool,
+    /// The last probe identified no wiring.
+    wiring_unknown: bool,
 }
 
 /// Servo maps of a configuration.
@@ -457,6 +462,8 @@ impl App {
             deferred_touch: None,
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
+            probe_wanted: false,
+            wiring_unknown: false,
         })
     }
 

@@ -142,7 +142,11 @@ impl App {
                 Ok(Done::Nothing)
             }
             Command::CalSet(set) => self.cal_set(&set),
-            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(Done::CalReset),
+            // The measured wiring is a fact about the shield, not a setting.
+            Command::CalReset => {
+                let defaults = Config { wiring: self.config.wiring, ..Config::DEFAULT };
+                self.replace_config(&defaults, false).map(Done::CalReset)
+            }
             Command::CalSave => self.cal_save(storage),
         };
         result.unwrap_or_else(Done::Refused)
