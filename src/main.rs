@@ -147,7 +147,9 @@ fn frame(app: &mut App, b: &mut Board) {
 /// The panel's wiring probe, when the app wants one (first boot, the
 /// calibration screen): before the first servo pulse all of it at once
 /// (README "Touch wiring" gives its time), later one plate-link read per
-/// frame so no frame misses its period. The verdict goes to the app, which
+/// frame so no frame misses its period, started over whenever the app's
+/// panel read saw contact (`app::wiring`), its verdict taken only after a
+/// frame whose panel read was clean. The verdict goes to the app, which
 /// reports it and reads the panel through it from the next frame.
 #[inline(never)]
 fn probe_wiring(app: &mut App, b: &mut Board) {
@@ -155,9 +157,15 @@ fn probe_wiring(app: &mut App, b: &mut Board) {
         b.probe = Some(Probe::new());
     }
     let Some(probe) = b.probe.as_mut() else { return };
-    let all = !app.pulses_started();
-    while b.bus.probe_step(&mut b.adc, probe) && all {
-        b.dog.feed();
+    if !app.pulses_started() {
+        while b.bus.probe_step(&mut b.adc, probe) {
+            b.dog.feed();
+        }
+    } else if app.panel_contact() {
+        *probe = Probe::new();
+        return;
+    } else if b.bus.probe_step(&mut b.adc, probe) {
+        return;
     }
     if let Some(found) = probe.result() {
         b.probe = None;

@@ -178,3 +178,35 @@ fn the_wiring_is_saved_with_the_calibration_and_survives_a_power_cycle() {
     let (line, _) = touch_and_settle(&mut s, raw_x, raw_y);
     assert!(line.starts_with(&format!("info touch {raw_x} {raw_y} cond 2")), "{line}");
 }
+
+/// From the calibration screen: the probe runs again once the finger that
+/// opened it is lifted, one read per frame (36 frames, 0.72 s) while the arm
+/// holds, and starts over when a touch (the first crosshair) lands in the
+/// middle of it, so the finger never makes it report an unknown wiring; the
+/// verdict comes once the panel has been left alone for a whole probe.
+#[test]
+fn the_calibration_screen_probes_again_and_a_touch_restarts_the_probe() {
+    let lay = touch_arm::ui::Layout::QVGA;
+    let mut s = boot(PanelWiring::A, 6, None);
+    let c = lay.calibrate();
+    let (bx, by) = firmware::raw_at_centre(&lay, c).unwrap();
+    let from = s.avr.uart_output().len();
+    s.press_raw(bx.round(), by.round()).unwrap();
+    s.run_for(0.3).unwrap();
+    s.release();
+    let t_release = s.avr.time_s();
+    // 0.3 s in (15 of the 36 reads), a touch of 0.3 s.
+    s.run_for(0.3).unwrap();
+    s.press_raw(300.0, 300.0).unwrap();
+    s.run_for(0.3).unwrap();
+    s.release();
+    let t_lift = s.avr.time_s();
+    let (line, t) = s.await_line(from, &["info wiring", "err touch wiring"], 1.5).unwrap().expect("a verdict");
+    assert_eq!(line, "info wiring a");
+    let out = &s.avr.uart_output_string()[from..];
+    assert!(out.contains("info screen calibrate"), "{out}");
+    // Not before the touch: 36 reads after the lift (and the filter's
+    // release confirmation), not 36 after the first release.
+    assert!(t - t_release > 0.6 + 0.72, "{t} after a release at {t_release}");
+    assert!((0.72..0.72 + 0.2).contains(&(t - t_lift)), "{} s after the lift", t - t_lift);
+}

@@ -409,6 +409,8 @@ pub struct App {
     probe_wanted: bool,
     /// The last probe identified no wiring.
     wiring_unknown: bool,
+    /// The last panel read saw (or may have seen) a finger.
+    contact: bool,
 }
 
 /// Servo maps of a configuration.
@@ -464,6 +466,7 @@ impl App {
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
             probe_wanted: false,
             wiring_unknown: false,
+            contact: false,
         })
     }
 

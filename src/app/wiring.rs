@@ -5,9 +5,13 @@
 //! The app asks for a probe when the loaded configuration has no wiring
 //! (first boot, or a record written before version 3) and when the
 //! calibration screen opens (a shield may have been swapped), but only once
-//! no press is held: a finger joins the plates and every pair would read
-//! linked. The firmware runs the probe and hands the verdict to
-//! [`App::set_wiring`]. An unidentified wiring leaves the touch panel unread
+//! no press is held: a finger joins the plates and pairs that are open would
+//! read linked. The firmware runs the probe and hands the verdict to
+//! [`App::set_wiring`]. While the arm runs, the probe takes one read per
+//! frame between the app's own panel reads, and starts over whenever one of
+//! those saw contact ([`App::panel_contact`]): a finger put down during a
+//! probe read shows in the next panel read at the latest, so a verdict is
+//! only taken after a frame whose panel read was clean. An unidentified wiring leaves the touch panel unread
 //! (or read through the wiring it had), says so on serial and on the screen,
 //! and the arm stays fully usable over serial.
 
@@ -21,6 +25,12 @@ impl App {
     /// module doc).
     pub fn wiring_probe_wanted(&self) -> bool {
         self.probe_wanted && self.mode != Mode::Boot && self.filter.held().is_none()
+    }
+
+    /// The last panel read saw something other than an untouched panel (a
+    /// press, or a read the filter rejected).
+    pub fn panel_contact(&self) -> bool {
+        self.contact
     }
 
     /// True once a frame has written servo pulses: the probe must then run
