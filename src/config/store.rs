@@ -328,11 +328,17 @@ fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordErr
 /// Which of two read slots [`load`] uses: the valid one, or of two valid ones
 /// the newer, A on a tie. [`save`] writes the other slot first.
 pub fn pick(a: &Result<Record, RecordError>, b: &Result<Record, RecordError>) -> Option<Source> {
+    pick_seq(a.as_ref().ok().map(|r| r.seq), b.as_ref().ok().map(|r| r.seq))
+}
+
+/// [`pick`] for any record stored this way: the sequence numbers of the
+/// valid copies (`None` for an invalid one).
+pub fn pick_seq(a: Option<u16>, b: Option<u16>) -> Option<Source> {
     match (a, b) {
-        (Ok(ra), Ok(rb)) if seq_newer(rb.seq, ra.seq) => Some(Source::SlotB),
-        (Ok(_), _) => Some(Source::SlotA),
-        (Err(_), Ok(_)) => Some(Source::SlotB),
-        (Err(_), Err(_)) => None,
+        (Some(sa), Some(sb)) if seq_newer(sb, sa) => Some(Source::SlotB),
+        (Some(_), _) => Some(Source::SlotA),
+        (None, Some(_)) => Some(Source::SlotB),
+        (None, None) => None,
     }
 }
 
@@ -409,16 +415,24 @@ pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveErr
     };
     let seq = newest.wrapping_add(1);
     let record = config.encode(seq);
-    for addr in [first, second] {
-        write_slot(storage, addr, &record)?;
-    }
+    write_both(storage, [first, second], &record)?;
     Ok(seq)
 }
 
+/// Writes `record` to the two slots in the order given (the one [`pick`]
+/// would not use first), each in the three steps of the module doc: the
+/// same tear-proof save for any record whose byte 0 is [`MAGIC`]`[0]`.
+pub(super) fn write_both<S: Storage>(storage: &mut S, order: [u16; 2], record: &[u8]) -> Result<(), SaveError> {
+    for addr in order {
+        write_slot(storage, addr, record)?;
+    }
+    Ok(())
+}
+
 /// One slot in the three steps of the module doc, then read back.
-fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN]) -> Result<(), SaveError> {
+fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8]) -> Result<(), SaveError> {
     let addr = u32::from(addr);
-    let (commit, body) = record.split_at(1);
+    let Some((commit, body)) = record.split_first() else { return Err(SaveError::Verify) };
     let mut first = [0u8];
     storage.read(addr, &mut first).map_err(SaveError::Storage)?;
     // Only a committed slot is uncommitted first: rewriting a byte that is
@@ -427,11 +441,15 @@ fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN])
         storage.write(addr, &[UNCOMMITTED]).map_err(SaveError::Storage)?;
     }
     storage.write(addr + 1, body).map_err(SaveError::Storage)?;
-    storage.write(addr, commit).map_err(SaveError::Storage)?;
-    let mut check = [0u8; RECORD_LEN];
-    storage.read(addr, &mut check).map_err(SaveError::Storage)?;
-    if check != *record {
-        return Err(SaveError::Verify);
+    storage.write(addr, core::slice::from_ref(commit)).map_err(SaveError::Storage)?;
+    // Read back in pieces: no record-sized buffer on the stack.
+    let mut check = [0u8; 16];
+    for (i, part) in record.chunks(check.len()).enumerate() {
+        let got = check.get_mut(..part.len()).unwrap_or(&mut []);
+        storage.read(addr + (i * 16) as u32, got).map_err(SaveError::Storage)?;
+        if got != part {
+            return Err(SaveError::Verify);
+        }
     }
     Ok(())
 }
