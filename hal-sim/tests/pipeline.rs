@@ -787,6 +787,47 @@ mod config {
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
     }
 
+    /// The poses' record (`config::poses`): explicit little-endian layout,
+    /// the configuration's CRC, and every value check.
+    #[test]
+    fn pose_record_layout_and_rejections() {
+        use touch_arm::config::poses::{Poses, POSE_RECORD_LEN, POSE_VERSION};
+        let mut p = Poses::EMPTY;
+        assert!(p.set(2, Some([9000, -1, -36_000])));
+        assert!(!p.set(0, Some([0; 3])) && !p.set(5, None) && !p.set(1, Some([36_001, 0, 0])));
+        assert_eq!((p.get(1), p.get(2), p.get(0), p.get(5)), (None, Some([9000, -1, -36_000]), None, None));
+        let r = p.encode(0x0102);
+        assert_eq!(r.len(), POSE_RECORD_LEN);
+        assert_eq!((&r[0..2], r[2], &r[3..5]), (&b"TP"[..], POSE_VERSION, &[0x02, 0x01][..]));
+        // Slot 1 unused (flag and zeros), slot 2 at 5 + 13.
+        assert_eq!(&r[5..18], &[0u8; 13]);
+        assert_eq!(r[18], 1);
+        assert_eq!(&r[19..23], &9000i32.to_le_bytes());
+        assert_eq!(&r[23..27], &(-1i32).to_le_bytes());
+        assert_eq!(&r[27..31], &(-36_000i32).to_le_bytes());
+        assert_eq!(&r[57..59], &crc16(&r[..57]).to_le_bytes());
+        assert_eq!(Poses::decode(&r), Ok((0x0102, p)));
+        for i in 3..POSE_RECORD_LEN {
+            let mut bad = r;
+            bad[i] ^= 0x08;
+            assert_eq!(Poses::decode(&bad), Err(RecordError::Crc), "byte {i}");
+        }
+        let mut v = r;
+        v[2] = 2;
+        assert_eq!(Poses::decode(&v), Err(RecordError::Version(2)));
+        let reseal = |mut r: [u8; POSE_RECORD_LEN]| {
+            let crc = crc16(&r[..57]);
+            r[57..].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        // A flag of 2, an unused slot with an angle, an angle past 360°.
+        for (at, bytes) in [(5usize, vec![2u8]), (6, vec![1]), (19, 36_001i32.to_le_bytes().to_vec())] {
+            let mut bad = r;
+            bad[at..at + bytes.len()].copy_from_slice(&bytes);
+            assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid), "at {at}");
+        }
+    }
+
     #[test]
     fn decode_rejections() {
         let good = sample_config().encode(7);
