@@ -63,6 +63,7 @@ impl App {
     #[inline(never)]
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
+        self.poses = crate::config::poses::load(storage).poses;
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {

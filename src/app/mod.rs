@@ -65,6 +65,7 @@
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod machine;
+mod poses;
 mod recalibrate;
 pub mod refusal;
 mod screen;
@@ -411,6 +412,8 @@ pub struct App {
     wiring_unknown: bool,
     /// The last panel read saw (or may have seen) a finger.
     contact: bool,
+    /// The saved poses (`poses.rs`), loaded at boot.
+    poses: crate::config::poses::Poses,
 }
 
 /// Servo maps of a configuration.
@@ -467,6 +470,7 @@ impl App {
             probe_wanted: false,
             wiring_unknown: false,
             contact: false,
+            poses: crate::config::poses::Poses::EMPTY,
         })
     }
 

@@ -53,6 +53,14 @@ pub(super) enum Done {
     CalSaved(Result<u16, SaveError>),
     /// Lines the port lost.
     Lost(u16),
+    /// `pose save|clear <n>` (true for save) and how storing went.
+    PoseStored(u8, bool, Result<u16, super::poses::PoseStoreError>),
+    /// `pose go <n>`, planned.
+    PoseWent(u8),
+    /// `pose go <n>` of an empty slot.
+    PoseEmpty(u8),
+    /// `pose list`.
+    PoseList,
 }
 
 impl App {
@@ -148,6 +156,7 @@ impl App {
                 self.replace_config(&defaults, false).map(Done::CalReset)
             }
             Command::CalSave => self.cal_save(storage),
+            Command::Pose(p) => self.pose(p, storage),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -232,6 +241,25 @@ impl App {
             Done::Lost(n) => {
                 r.str(t!("err input lost:")).num(i32::from(n)).str(t!(" lines"));
             }
+            Done::PoseStored(n, save, Ok(seq)) => {
+                r.str(if save { t!("ok pose save") } else { t!("ok pose clear") });
+                r.num(i32::from(n)).word(t!("seq")).num(i32::from(seq));
+            }
+            Done::PoseStored(_, _, Err(e)) => {
+                r.str(match e {
+                    super::poses::PoseStoreError::Range => t!("err out of range"),
+                    super::poses::PoseStoreError::Save(SaveError::Verify) => t!("err save failed: verify"),
+                    super::poses::PoseStoreError::Save(_) => t!("err save failed: storage"),
+                });
+            }
+            Done::PoseWent(n) => {
+                r.str(t!("ok pose go")).num(i32::from(n));
+                self.describe_move(r, false);
+            }
+            Done::PoseEmpty(n) => {
+                r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
+            }
+            Done::PoseList => self.pose_list(r),
         }
         serial.write(reply.finish());
     }
