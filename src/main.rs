@@ -19,7 +19,7 @@ use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
 use touch_arm::board::frame::{self, FrameBudget};
 use touch_arm::board::lcd::{Controller, IdReads, Lcd, Rotation};
-use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
+use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS, SERVO_RANGE};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::tick::Tick;
@@ -65,7 +65,7 @@ fn main() -> ! {
         // Outputs stay disconnected until the app commands its first pose;
         // the hardware window starts at the servo range and narrows to the
         // loaded calibration's limits every frame.
-        pwm: ServoPwm::new(dp.TC5, &dp.PORTL, &[TickLimits { min: 1000, max: 5000 }; CHANNELS]),
+        pwm: ServoPwm::new(dp.TC5, dp.TC1, &dp.PORTL, &dp.PORTB, &[SERVO_RANGE; CHANNELS]),
         dog,
         lcd: Controller::Ili9341,
         probe: None,

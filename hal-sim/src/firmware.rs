@@ -145,6 +145,9 @@ const STACK_PAINT: u8 = 0xA5;
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
     [crate::avr::Pin::of(mega::SERVOS[0]), crate::avr::Pin::of(mega::SERVOS[1]), crate::avr::Pin::of(mega::SERVOS[2])];
 
+/// The gripper servo's pin: OC1A = PB5 = D11 (Timer1, started with Timer5).
+pub const GRIPPER_PIN: crate::avr::Pin = crate::avr::Pin::of(mega::GRIPPER);
+
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
@@ -181,7 +184,7 @@ impl Session {
         let mut avr = load(elf)?;
         // Before the first instruction, so the high-water mark covers the run.
         avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
-        for pin in SERVO_PINS {
+        for pin in SERVO_PINS.into_iter().chain([GRIPPER_PIN]) {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
         let lcd = crate::lcd_bus::LcdBus::attach_chip(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD, chip)
@@ -293,6 +296,12 @@ impl Session {
         SERVO_PINS.map(|pin| {
             pulse_ticks(&self.avr.pulses(pin)).into_iter().map(|(c, t)| (c as f64 / CPU_HZ as f64, t)).collect()
         })
+    }
+
+    /// Every complete gripper pulse measured so far: (rise time in CPU
+    /// cycles, width in Timer1 ticks of 0.5 µs).
+    pub fn grip_pulse_ticks(&self) -> Vec<(u64, u16)> {
+        pulse_ticks(&self.avr.pulses(GRIPPER_PIN))
     }
 
     /// Every complete servo pulse measured so far, per joint: (rise time s,
