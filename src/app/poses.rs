@@ -10,7 +10,6 @@
 //! held pose is saved.
 
 use super::refusal::Refusal;
-use super::serial::Done;
 use super::text::Line;
 use super::{App, Mode};
 use crate::config::poses::{self, Pose};
@@ -20,12 +19,12 @@ use crate::seam::Storage;
 
 impl App {
     /// Carries out a `pose` command.
-    pub(super) fn pose<E: Storage>(&mut self, cmd: PoseCmd, storage: &mut E) -> Result<Done, Refusal> {
+    pub(super) fn pose<E: Storage>(&mut self, cmd: PoseCmd, storage: &mut E) -> Result<PoseDone, Refusal> {
         match cmd {
-            PoseCmd::List => Ok(Done::PoseList),
+            PoseCmd::List => Ok(PoseDone::List),
             PoseCmd::Go(n) => match self.poses.get(n) {
-                Some(p) => self.move_to_angles(&p).map(|()| Done::PoseWent(n)),
-                None => Ok(Done::PoseEmpty(n)),
+                Some(p) => self.move_to_angles(&p).map(|()| PoseDone::Went(n)),
+                None => Ok(PoseDone::Empty(n)),
             },
             PoseCmd::Save(n) => {
                 if self.is_moving() {
@@ -35,13 +34,13 @@ impl App {
                     return Err(Refusal::Homing);
                 }
                 let held: Pose = self.commanded.map(rad_to_centideg);
-                Ok(Done::PoseStored(n, true, self.store_pose(storage, n, Some(held))))
+                Ok(PoseDone::Stored(n, true, self.store_pose(storage, n, Some(held))))
             }
             PoseCmd::Clear(n) => {
                 if self.is_moving() {
                     return Err(Refusal::Busy);
                 }
-                Ok(Done::PoseStored(n, false, self.store_pose(storage, n, None)))
+                Ok(PoseDone::Stored(n, false, self.store_pose(storage, n, None)))
             }
         }
     }
@@ -75,6 +74,20 @@ impl App {
             }
         }
     }
+}
+
+/// What a `pose` command did, for its reply (formatted with the others',
+/// in `serial.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum PoseDone {
+    /// `pose save|clear <n>` (true for save) and how storing went.
+    Stored(u8, bool, Result<u16, PoseStoreError>),
+    /// `pose go <n>`, planned.
+    Went(u8),
+    /// `pose go <n>` of an empty slot.
+    Empty(u8),
+    /// `pose list`.
+    List,
 }
 
 /// Why a pose was not stored.

@@ -18,6 +18,7 @@
 //!   and is otherwise counted, then reported as `warn output full: <n> lines
 //!   dropped` as soon as that fits.
 
+use super::poses::{PoseDone, PoseStoreError};
 use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
@@ -53,14 +54,8 @@ pub(super) enum Done {
     CalSaved(Result<u16, SaveError>),
     /// Lines the port lost.
     Lost(u16),
-    /// `pose save|clear <n>` (true for save) and how storing went.
-    PoseStored(u8, bool, Result<u16, super::poses::PoseStoreError>),
-    /// `pose go <n>`, planned.
-    PoseWent(u8),
-    /// `pose go <n>` of an empty slot.
-    PoseEmpty(u8),
-    /// `pose list`.
-    PoseList,
+    /// A `pose` command.
+    Pose(PoseDone),
 }
 
 impl App {
@@ -156,7 +151,7 @@ impl App {
                 self.replace_config(&defaults, false).map(Done::CalReset)
             }
             Command::CalSave => self.cal_save(storage),
-            Command::Pose(p) => self.pose(p, storage),
+            Command::Pose(p) => self.pose(p, storage).map(Done::Pose),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -241,25 +236,25 @@ impl App {
             Done::Lost(n) => {
                 r.str(t!("err input lost:")).num(i32::from(n)).str(t!(" lines"));
             }
-            Done::PoseStored(n, save, Ok(seq)) => {
+            Done::Pose(PoseDone::Stored(n, save, Ok(seq))) => {
                 r.str(if save { t!("ok pose save") } else { t!("ok pose clear") });
                 r.num(i32::from(n)).word(t!("seq")).num(i32::from(seq));
             }
-            Done::PoseStored(_, _, Err(e)) => {
+            Done::Pose(PoseDone::Stored(_, _, Err(e))) => {
                 r.str(match e {
-                    super::poses::PoseStoreError::Range => t!("err out of range"),
-                    super::poses::PoseStoreError::Save(SaveError::Verify) => t!("err save failed: verify"),
-                    super::poses::PoseStoreError::Save(_) => t!("err save failed: storage"),
+                    PoseStoreError::Range => t!("err out of range"),
+                    PoseStoreError::Save(SaveError::Verify) => t!("err save failed: verify"),
+                    PoseStoreError::Save(_) => t!("err save failed: storage"),
                 });
             }
-            Done::PoseWent(n) => {
+            Done::Pose(PoseDone::Went(n)) => {
                 r.str(t!("ok pose go")).num(i32::from(n));
                 self.describe_move(r, false);
             }
-            Done::PoseEmpty(n) => {
+            Done::Pose(PoseDone::Empty(n)) => {
                 r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
             }
-            Done::PoseList => self.pose_list(r),
+            Done::Pose(PoseDone::List) => self.pose_list(r),
         }
         serial.write(reply.finish());
     }
