@@ -1,14 +1,15 @@
 //! Panel probe: which of the known touch wirings (`TouchWiring::A/B/C`,
 //! README "Which panel wiring?") this shield has, then raw panel readings.
 //!
-//! With nobody touching the screen, it measures every pair of a digital
-//! panel candidate (D6..D9) and an analog one (A1..A3): the two ends of one
-//! plate (a few hundred ohms) read under 20 counts with the analog pin pulled
-//! up and the digital one low, an open pair 1023
-//! ([`ShieldBus::plate_link`]). It prints each pair, then every preset whose
-//! two plates are exactly the linked pairs. (b and c use the same two plates
-//! with X and Y exchanged: both match such a shield, and either works, since
-//! the touch calibration sets the axis swap and directions.) Then it reads
+//! With nobody touching the screen, it runs the firmware's own wiring probe
+//! (`touch::wiring::Probe` through [`ShieldBus::probe_step`]: every pair of
+//! a digital panel candidate (D6..D9) and an analog one (A1..A3), the median
+//! of three reads): the two ends of one plate (a few hundred ohms) read under
+//! 20 counts, an open pair 1023. It prints each pair with its last read, then
+//! every preset whose two plates are exactly the linked pairs. (b and c use
+//! the same two plates with X and Y exchanged: both match such a shield, and
+//! either works, since the touch calibration sets the axis swap and
+//! directions; the firmware takes b.) Then it reads
 //! the panel with the first match and prints `raw x y z` for every touch,
 //! ten times a second, so pressing the corners shows the calibration values.
 //! The on-board LED (D13) blinks with each reading.
@@ -23,7 +24,7 @@ use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::StatefulOutputPin;
 use touch_arm::board::adc::Adc;
 use touch_arm::board::fault::halt;
-use touch_arm::board::gpio::mega::{A1, A2, A3, D6, D7, D8, D9};
+use touch_arm::board::gpio::mega::{A1, A2, D6, D7, D8, D9};
 use touch_arm::board::gpio::{self, Pin};
 use touch_arm::board::shield::{ShieldBus, TouchWiring};
 use touch_arm::board::usart::Usart0;
@@ -32,14 +33,8 @@ use touch_arm::seam::{RawSample, TouchPanel};
 use touch_arm::t;
 use touch_arm::text::Text;
 use touch_arm::touch::filter::FilterConfig;
+use touch_arm::touch::wiring::{pair_index, Probe, Wiring, READS_PER_PAIR};
 use ufmt::uwriteln;
-
-/// The presets' X+/Y− pins (driven low) and X−/Y+ pins (analog, sensed).
-const DRIVES: [Pin; 4] = [D6, D7, D8, D9];
-const SENSES: [Pin; 3] = [A1, A2, A3];
-/// Below this a pair is one plate: a plate of up to ~10 kΩ against the
-/// 20–50 kΩ pull-up; an open pair reads 1023.
-const LINKED_BELOW: u16 = 256;
 
 #[avr_device::entry]
 fn main() -> ! {
@@ -56,26 +51,36 @@ fn main() -> ! {
     let mut out = Fmt(&mut serial);
 
     let _ = uwriteln!(out, "probe touch wiring: do not touch the screen");
-    let mut linked = [[false; SENSES.len()]; DRIVES.len()];
-    for (d, row) in DRIVES.iter().zip(linked.iter_mut()) {
-        for (s, cell) in SENSES.iter().zip(row.iter_mut()) {
-            match bus.plate_link(&mut adc, *d, *s) {
-                Ok(count) => {
-                    *cell = count < LINKED_BELOW;
-                    let verdict = if *cell { t!("plate") } else { t!("open") };
-                    let _ = uwriteln!(out, "link {} {} {} {}", name(*d), name(*s), count, verdict);
-                }
-                Err(_) => {
-                    let _ = uwriteln!(out, "link {} {} failed", name(*d), name(*s));
-                }
+    let mut probe = Probe::new();
+    let mut reads = 0;
+    while let Some((d, s)) = probe.next() {
+        let count = bus.plate_link(&mut adc, d, s).ok();
+        probe.record(count);
+        reads += 1;
+        if reads % READS_PER_PAIR != 0 {
+            continue;
+        }
+        let bit = pair_index(d, s).map_or(0, |i| 1u16 << i);
+        let links = probe.links();
+        let verdict = match () {
+            _ if links.plate & bit != 0 => t!("plate"),
+            _ if links.open & bit != 0 => t!("open"),
+            _ => t!("unclear"),
+        };
+        match count {
+            Some(c) => {
+                let _ = uwriteln!(out, "link {} {} {} {}", name(d), name(s), c, verdict);
+            }
+            None => {
+                let _ = uwriteln!(out, "link {} {} failed", name(d), name(s));
             }
         }
     }
     let mut found: Option<TouchWiring> = None;
-    for (id, w) in TouchWiring::PRESETS {
-        if matches(&linked, &w) {
-            let _ = uwriteln!(out, "match {}", id);
-            found = found.or(Some(w));
+    for w in Wiring::ALL {
+        if probe.links().fit(w) {
+            let _ = uwriteln!(out, "match {}", w.name());
+            found = found.or(Some(TouchWiring::preset(w)));
         }
     }
     let Some(wiring) = found else {
@@ -86,23 +91,12 @@ fn main() -> ! {
     let z_min = FilterConfig::DEFAULT.z_min;
     loop {
         let mut s = [RawSample { x: 0, y: 0, z: 0 }];
-        if bus.touch(&mut adc, &wiring).read(&mut s).is_ok() && s[0].z >= z_min {
+        if bus.touch(&mut adc, Some(&wiring)).read(&mut s).is_ok() && s[0].z >= z_min {
             let _ = uwriteln!(out, "raw {} {} {}", s[0].x, s[0].y, s[0].z);
             let _ = led.toggle();
         }
         delay.delay_ms(100);
     }
-}
-
-/// True if the linked pairs are exactly the wiring's two plates (X+ to X−,
-/// Y− to Y+).
-fn matches(linked: &[[bool; SENSES.len()]; DRIVES.len()], w: &TouchWiring) -> bool {
-    DRIVES.iter().zip(linked.iter()).all(|(d, row)| {
-        SENSES.iter().zip(row.iter()).all(|(s, l)| {
-            let plate = (*d == w.xp() && *s == w.xm()) || (*d == w.ym() && *s == w.yp());
-            *l == plate
-        })
-    })
 }
 
 fn name(p: Pin) -> Text {

@@ -12,8 +12,10 @@
 //! Prints `window <joint> <min_us> <max_us> <stored|defaults>` when a sweep
 //! starts and `end <joint> <us>` at each turn. Keys on the console: `0`, `1`,
 //! `2` sweep base, shoulder, elbow (the joint left holds its last pulse);
-//! space pauses and resumes. Only the swept joints get pulses: the others
-//! stay limp.
+//! `3` the gripper on D11 (Timer1, started with Timer5: its pulses start
+//! with the joints'), over the servo range (`window grip 500 2500
+//! servo-range`: it has no calibration yet); space pauses and resumes. Only
+//! the swept servos get pulses: the others stay limp.
 //!
 //! Run it with the arm free to move (or the servo off the arm).
 //! `cargo avr` builds it; `cargo avr-run --example servo-sweep` flashes it
@@ -27,7 +29,7 @@ use embedded_hal::pwm::SetDutyCycle;
 use embedded_io::{Read, ReadReady};
 use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
-use touch_arm::board::servo_pwm::{ServoPwm, TickLimits};
+use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, GRIP_CHANNEL};
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::{Delay, Fmt};
 use touch_arm::config::store::{self, Source};
@@ -45,26 +47,27 @@ fn main() -> ! {
     let mut serial = Usart0::new(dp.USART0);
     let loaded = store::load(&mut Eeprom::new(dp.EEPROM));
     let source = if loaded.source == Source::Defaults { t!("defaults") } else { t!("stored") };
-    let mut pwm = ServoPwm::new(dp.TC5, &dp.PORTL, &loaded.config.joints.map(|j| TickLimits::of_joint(&j)));
+    let limits = loaded.config.joints.map(|j| TickLimits::of_joint(&j));
+    let mut pwm = ServoPwm::new(dp.TC5, dp.TC1, &dp.PORTL, &dp.PORTB, &limits);
     // SAFETY: the receive interrupt's ring is initialised by `Usart0::new`.
     unsafe { avr_device::interrupt::enable() };
     let mut delay = Delay;
 
-    let mut joint = Joint::Base;
-    let mut sweep = Sweep::start(&pwm, joint);
-    let _ =
-        uwriteln!(Fmt(&mut serial), "window {} {} {} {}", joint.name(), sweep.lim.min / 2, sweep.lim.max / 2, source);
+    let mut ch = Joint::Base.index();
+    let mut sweep = Sweep::start(&pwm, ch);
+    let _ = uwriteln!(Fmt(&mut serial), "window {} {} {} {}", name(ch), sweep.lim.min / 2, sweep.lim.max / 2, source);
     let mut paused = false;
     loop {
         let mut key = [0u8];
         if serial.read_ready() == Ok(true) && serial.read(&mut key) == Ok(1) {
             match key[0] {
-                b'0'..=b'2' => {
-                    joint = Joint::ALL[usize::from(key[0] - b'0')];
-                    sweep = Sweep::start(&pwm, joint);
+                b'0'..=b'3' => {
+                    ch = usize::from(key[0] - b'0');
+                    sweep = Sweep::start(&pwm, ch);
                     paused = false;
                     let (min, max) = (sweep.lim.min / 2, sweep.lim.max / 2);
-                    let _ = uwriteln!(Fmt(&mut serial), "window {} {} {} {}", joint.name(), min, max, source);
+                    let from = if ch == GRIP_CHANNEL { t!("servo-range") } else { source };
+                    let _ = uwriteln!(Fmt(&mut serial), "window {} {} {} {}", name(ch), min, max, from);
                 }
                 b' ' => paused = !paused,
                 _ => {}
@@ -72,13 +75,21 @@ fn main() -> ! {
         }
         if !paused {
             if sweep.advance() {
-                let _ = uwriteln!(Fmt(&mut serial), "end {} {}", joint.name(), sweep.pos / 2);
+                let _ = uwriteln!(Fmt(&mut serial), "end {} {}", name(ch), sweep.pos / 2);
             }
-            if let Some(mut ch) = pwm.channel(joint.index()) {
-                let _ = ch.set_duty_cycle(sweep.pos);
+            if let Some(mut out) = pwm.channel(ch) {
+                let _ = out.set_duty_cycle(sweep.pos);
             }
         }
         delay.delay_ms(STEP_MS);
+    }
+}
+
+/// A channel's name: the joint's, or `grip`.
+fn name(ch: usize) -> touch_arm::text::Text {
+    match Joint::ALL.get(ch) {
+        Some(j) => j.name(),
+        None => t!("grip"),
     }
 }
 
@@ -90,9 +101,9 @@ struct Sweep {
 }
 
 impl Sweep {
-    /// From the middle of `joint`'s window, upwards.
-    fn start(pwm: &ServoPwm, joint: Joint) -> Sweep {
-        let lim = pwm.limits(joint.index()).unwrap_or(TickLimits { min: 0, max: 0 });
+    /// From the middle of channel `ch`'s window, upwards.
+    fn start(pwm: &ServoPwm, ch: usize) -> Sweep {
+        let lim = pwm.limits(ch).unwrap_or(TickLimits { min: 0, max: 0 });
         Sweep { lim, pos: lim.min + (lim.max - lim.min) / 2, up: true }
     }
 

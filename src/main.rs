@@ -19,7 +19,7 @@ use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
 use touch_arm::board::frame::{self, FrameBudget};
 use touch_arm::board::lcd::{Controller, IdReads, Lcd, Rotation};
-use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS};
+use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS, SERVO_RANGE};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::tick::Tick;
@@ -28,11 +28,8 @@ use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config::settings::Config;
 use touch_arm::seam::SerialPort;
 use touch_arm::text::line::Line;
+use touch_arm::touch::wiring::Probe;
 use ufmt::uwriteln;
-
-/// How the resistive panel is wired on this shield (SPEC §8 variants a/b/c;
-/// README "Wiring" explains how to find yours).
-const TOUCH_WIRING: TouchWiring = TouchWiring::A;
 
 /// A planning frame can take tens of milliseconds and `cal save` feeds the
 /// dog per EEPROM byte; 500 ms leaves margin and still stops a hung arm fast.
@@ -49,6 +46,8 @@ struct Board {
     dog: Watchdog,
     /// The display controller found at boot.
     lcd: Controller,
+    /// The panel's wiring being measured (`touch::wiring`), if the app asked.
+    probe: Option<Probe>,
 }
 
 #[avr_device::entry]
@@ -66,9 +65,10 @@ fn main() -> ! {
         // Outputs stay disconnected until the app commands its first pose;
         // the hardware window starts at the servo range and narrows to the
         // loaded calibration's limits every frame.
-        pwm: ServoPwm::new(dp.TC5, &dp.PORTL, &[TickLimits { min: 1000, max: 5000 }; CHANNELS]),
+        pwm: ServoPwm::new(dp.TC5, dp.TC1, &dp.PORTL, &dp.PORTB, &[SERVO_RANGE; CHANNELS]),
         dog,
         lcd: Controller::Ili9341,
+        probe: None,
     };
     // SAFETY: every peripheral the interrupt handlers touch is initialised.
     unsafe { avr_device::interrupt::enable() };
@@ -93,6 +93,13 @@ fn main() -> ! {
         while !board.pwm.period_started() {}
         board.dog.feed();
         frame(app, &mut board);
+        if !app.pulses_started() && app.wiring_probe_wanted() {
+            // First boot: the whole probe before the first pulse, outside the
+            // frame cadence like the display's start-up (no pulse is due
+            // yet); the next frame waits for a fresh period start.
+            probe_wiring(app, &mut board);
+            let _ = board.pwm.period_started();
+        }
     }
 }
 
@@ -114,7 +121,9 @@ fn start_app() -> Option<&'static mut App> {
 #[inline(never)]
 fn frame(app: &mut App, b: &mut Board) {
     b.pwm.set_limits(&tick_limits(app.config()));
-    let mut panel = b.bus.touch(&mut b.adc, &TOUCH_WIRING);
+    // The measured wiring; none (not measured, or not identified) reads nothing.
+    let wiring = app.config().wiring.map(TouchWiring::preset);
+    let mut panel = b.bus.touch(&mut b.adc, wiring.as_ref());
     app.frame(&mut Io {
         panel: &mut panel,
         servos: &mut b.pwm,
@@ -122,6 +131,9 @@ fn frame(app: &mut App, b: &mut Board) {
         storage: &mut b.eeprom,
         serial: &mut b.serial,
     });
+    if app.pulses_started() {
+        probe_wiring(app, b);
+    }
     let app_ticks = b.pwm.ticks();
     // After the touch read, never during it: drawing holds the shared pins.
     // Only what changed is redrawn, and only as much as the period leaves;
@@ -129,6 +141,35 @@ fn frame(app: &mut App, b: &mut Board) {
     let _ = app.draw_screen_sliced(&mut Lcd::with_controller(&mut b.bus, b.lcd), &mut FrameBudget::new(&b.pwm));
     if frame::record(&b.pwm, app_ticks) {
         app.frame_was_late();
+    }
+}
+
+/// The panel's wiring probe, when the app wants one (first boot, the
+/// calibration screen): before the first servo pulse all of it at once
+/// (README "Touch wiring" gives its time), later one plate-link read per
+/// frame so no frame misses its period, started over whenever the app's
+/// panel read saw contact (`app::wiring`), its verdict taken only after a
+/// frame whose panel read was clean. The verdict goes to the app, which
+/// reports it and reads the panel through it from the next frame.
+#[inline(never)]
+fn probe_wiring(app: &mut App, b: &mut Board) {
+    if b.probe.is_none() && app.wiring_probe_wanted() {
+        b.probe = Some(Probe::new());
+    }
+    let Some(probe) = b.probe.as_mut() else { return };
+    if !app.pulses_started() {
+        while b.bus.probe_step(&mut b.adc, probe) {
+            b.dog.feed();
+        }
+    } else if app.panel_contact() {
+        *probe = Probe::new();
+        return;
+    } else if b.bus.probe_step(&mut b.adc, probe) {
+        return;
+    }
+    if let Some(found) = probe.result() {
+        b.probe = None;
+        app.set_wiring(found, &mut b.serial);
     }
 }
 

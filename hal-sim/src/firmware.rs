@@ -145,6 +145,9 @@ const STACK_PAINT: u8 = 0xA5;
 pub const SERVO_PINS: [crate::avr::Pin; 3] =
     [crate::avr::Pin::of(mega::SERVOS[0]), crate::avr::Pin::of(mega::SERVOS[1]), crate::avr::Pin::of(mega::SERVOS[2])];
 
+/// The gripper servo's pin: OC1A = PB5 = D11 (Timer1, started with Timer5).
+pub const GRIPPER_PIN: crate::avr::Pin = crate::avr::Pin::of(mega::GRIPPER);
+
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
@@ -152,6 +155,16 @@ pub struct Session {
     /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
     panel: std::rc::Rc<std::cell::RefCell<crate::panel::PanelOnPins>>,
+    adc: std::rc::Rc<std::cell::Cell<AdcCount>>,
+}
+
+/// ADC conversions the firmware has started, on any channel: how many, and
+/// the cycles of the first and the last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AdcCount {
+    pub conversions: u64,
+    pub first_cycle: u64,
+    pub last_cycle: u64,
 }
 
 impl Session {
@@ -171,7 +184,7 @@ impl Session {
         let mut avr = load(elf)?;
         // Before the first instruction, so the high-water mark covers the run.
         avr.paint_stack(STACK_PAINT).map_err(|e| format!("painting the stack: {e:?}"))?;
-        for pin in SERVO_PINS {
+        for pin in SERVO_PINS.into_iter().chain([GRIPPER_PIN]) {
             avr.watch_pin(pin).map_err(|e| format!("{e:?}"))?;
         }
         let lcd = crate::lcd_bus::LcdBus::attach_chip(&mut avr, crate::lcd_bus::BusPins::MEGA_SHIELD, chip)
@@ -181,11 +194,20 @@ impl Session {
             panel: crate::twin::panel::SimPanel::new(seed),
         }));
         let model = panel.clone();
+        let adc = std::rc::Rc::new(std::cell::Cell::new(AdcCount::default()));
+        let count = adc.clone();
         avr.set_adc_handler(move |req| {
+            let mut c = count.get();
+            if c.conversions == 0 {
+                c.first_cycle = req.cycle;
+            }
+            c.conversions += 1;
+            c.last_cycle = req.cycle;
+            count.set(c);
             let v = model.borrow_mut().read(req).unwrap_or_else(|| crate::panel::PanelOnPins::read_off_panel(req));
             crate::avr::AdcInput::Raw(v)
         });
-        Ok(Session { avr, lcd, panel })
+        Ok(Session { avr, lcd, panel, adc })
     }
 
     /// Presses the panel where the firmware's X and Y reads return (raw_x,
@@ -201,6 +223,11 @@ impl Session {
 
     pub fn release(&mut self) {
         self.panel.borrow_mut().panel.release();
+    }
+
+    /// The ADC conversions so far (the touch reads and the wiring probe's).
+    pub fn adc_count(&self) -> AdcCount {
+        self.adc.get()
     }
 
     /// ADC noise (σ, counts) and the probability of a random glitch per conversion.
@@ -269,6 +296,12 @@ impl Session {
         SERVO_PINS.map(|pin| {
             pulse_ticks(&self.avr.pulses(pin)).into_iter().map(|(c, t)| (c as f64 / CPU_HZ as f64, t)).collect()
         })
+    }
+
+    /// Every complete gripper pulse measured so far: (rise time in CPU
+    /// cycles, width in Timer1 ticks of 0.5 µs).
+    pub fn grip_pulse_ticks(&self) -> Vec<(u64, u16)> {
+        pulse_ticks(&self.avr.pulses(GRIPPER_PIN))
     }
 
     /// Every complete servo pulse measured so far, per joint: (rise time s,

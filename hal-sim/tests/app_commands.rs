@@ -117,3 +117,47 @@ fn first_move_is_slow_and_reports_its_plan() {
     r.run_frames(50);
     assert_eq!(ask(&mut r, "cal set base max_accel 0"), ["err base accel"]);
 }
+
+/// The wiring probe's verdict as the app takes it (`app::wiring`; the
+/// probe itself runs on the chip: `touch_wiring.rs`): wanted after a boot
+/// with no stored wiring, reported, kept by `cal reset`, saved with the
+/// configuration; an unidentified wiring is an unsolicited `err touch`
+/// line and the screen's top warning.
+#[test]
+fn the_wiring_verdict_is_reported_kept_and_saved() {
+    use touch_arm::config::store;
+    use touch_arm::touch::wiring::{Links, Wiring, WiringUnknown};
+    use touch_arm::ui::warn;
+    let mut s = sim(&AppParams { screen: true, ..AppParams::DEFAULT });
+    assert!(!s.app.wiring_probe_wanted(), "before the configuration is loaded");
+    s.run_frames(1);
+    assert!(s.app.wiring_probe_wanted() && !s.app.pulses_started());
+    s.serial.output.clear();
+    // Wiring a's plates and one pair (0: D6–A1) neither plate nor open.
+    let links = Links { plate: Wiring::A.plates(), open: 0xFFF & !Wiring::A.plates() & !1 };
+    s.app.set_wiring(Err(WiringUnknown(links)), &mut s.serial);
+    assert_eq!(s.serial.lines(), ["err touch wiring unknown plates 0x880 open 0x77e"]);
+    assert_eq!(hal_sim::random_input::replies_in("err touch wiring unknown plates 0x880 open 0x77e"), 0);
+    assert!(!s.app.wiring_probe_wanted(), "one probe per boot");
+    assert_eq!(s.app.config().wiring, None);
+    assert_ne!(s.app.ui_model().warnings & warn::TOUCH_WIRING, 0);
+    assert_eq!(touch_arm::ui::warning_line(s.app.ui_model().warnings).as_str(), "! touch wiring unknown");
+
+    s.serial.output.clear();
+    s.app.set_wiring(Ok(Wiring::B), &mut s.serial);
+    assert_eq!(s.serial.lines(), ["info wiring b"]);
+    assert_eq!(s.app.config().wiring, Some(Wiring::B));
+    assert_eq!(s.app.ui_model().warnings & warn::TOUCH_WIRING, 0);
+    s.run_frames(u64::from(AppParams::DEFAULT.home_settle_frames));
+    assert_eq!(ask(&mut s, "cal reset"), ["ok cal reset"]);
+    assert_eq!(s.app.config().wiring, Some(Wiring::B), "a fact about the shield, not a setting");
+    assert!(ask(&mut s, "cal save")[0].starts_with("ok cal save"));
+    assert_eq!(store::load(&mut s.eeprom).config.wiring, Some(Wiring::B));
+
+    // A boot with the stored wiring does not probe.
+    let mut again = sim(&AppParams { screen: true, ..AppParams::DEFAULT });
+    again.eeprom = s.eeprom.clone();
+    again.run_frames(1);
+    assert_eq!(again.app.config().wiring, Some(Wiring::B));
+    assert!(!again.app.wiring_probe_wanted());
+}

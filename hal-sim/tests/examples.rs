@@ -135,6 +135,43 @@ fn servo_sweep_covers_the_window_and_only_the_chosen_joint() {
     assert!(shoulder.iter().all(|p| (599.75..=2400.25).contains(&p.1)));
 }
 
+/// Key `3` sweeps the gripper on D11 (OC1A, Timer1) over the servo range,
+/// 500..2500 µs (it has no calibration yet), at 0.5 µs resolution, and its
+/// pulses start with the base's: Timer1 runs with Timer5's TOP (39999) and
+/// prescaler (8) and was started with it. The harness stamps an edge 0 to 4
+/// cycles late; simavr starts each timer at the write of its clock select
+/// (it does not model GTCCR's TSM, which on the chip releases both on the
+/// same prescaler edge), 2 cycles apart: so the rises differ by less than
+/// one tick (8 cycles) here and by none on the chip.
+#[test]
+fn servo_sweep_drives_the_gripper_on_timer1_aligned_with_timer5() {
+    let mut s = start("servo-sweep", PanelWiring::A);
+    run_until_printed(&mut s, "end base 2400\n", 2.0);
+    assert!(s.grip_pulse_ticks().is_empty(), "the gripper is limp until swept");
+    s.avr.uart_send(b"3");
+    let out = run_until_printed(&mut s, "end grip 2500\n", 3.0);
+    assert!(out.contains("window grip 500 2500 servo-range\n"), "{out}");
+    s.run_for(0.1).unwrap();
+    let grip = s.grip_pulse_ticks();
+    // From the middle of the window (3000 ticks) up in steps of 40 ticks
+    // (20 µs per 20 ms; the first pulse is one step in), every width on the
+    // 0.5 µs grid.
+    assert!(grip.len() > 40, "{}", grip.len());
+    assert!(grip.iter().all(|(_, t)| (1000..=5000).contains(t)), "{grip:?}");
+    assert_eq!(grip[0].1, 3040);
+    assert!(grip.windows(2).all(|w| w[1].1.abs_diff(w[0].1) <= 40), "{grip:?}");
+    assert!(grip.iter().any(|(_, t)| *t == 5000));
+    // The base holds its last pulse meanwhile; every gripper rise has a base
+    // rise within a tick.
+    let base: Vec<u64> = s.avr.pulses(firmware::SERVO_PINS[0]).iter().map(|p| p.rise_cycle).collect();
+    let rises: Vec<u64> = s.avr.pulses(firmware::GRIPPER_PIN).iter().map(|p| p.rise_cycle).collect();
+    assert_eq!(rises.len(), grip.len());
+    for r in &rises {
+        let nearest = base.iter().map(|b| b.abs_diff(*r)).min().unwrap();
+        assert!(nearest < 8, "a gripper pulse {nearest} cycles off the base's");
+    }
+}
+
 /// The `mipidsi` feature's example: mipidsi's ILI9341 driver through the
 /// shield bus. The decoded controller must hold a blue screen with a red
 /// 100×50 rectangle at (10, 20) of the landscape view.

@@ -251,6 +251,7 @@ fn power_up_sends_no_pulse_before_the_home_pose() {
     let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 3).unwrap();
     s.run_for(0.05).unwrap();
     assert!(s.pulses().iter().all(|p| p.is_empty()), "pulses before the configuration was loaded");
+    assert!(s.grip_pulse_ticks().is_empty(), "a gripper pulse before the configuration was loaded");
     s.run_for(1.0).unwrap();
     for p in s.pulses() {
         assert!(!p.is_empty());

@@ -30,11 +30,13 @@ fn main_job_writes_pulses_summary_plots_and_screen() {
         "arrival_s",
         "law",
         "ts_s",
+        "wiring",
     ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}: {summary}");
     }
     assert_eq!(summary["condition"], 3);
     assert_eq!(summary["law"], "zat");
+    assert_eq!(summary["wiring"], "a");
     let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
     assert!((x + 0.4).abs() < 0.01 && (y - 0.5).abs() < 0.01, "the map pixel holding (-0.4, 0.5): ({x}, {y})");
     let target: Vec<f64> =
@@ -112,6 +114,33 @@ fn lcd_chooses_the_simulated_controller_around_the_same_elf() {
         assert_eq!(png_size(&std::fs::read(dir.join("screen.png")).unwrap()), size, "--lcd {lcd}");
         std::fs::remove_dir_all(&dir).ok();
     }
+}
+
+/// `--wiring` puts the simulated panel on another preset's pins around the
+/// same ELF: the firmware finds b on both b and c (the same plates), and the
+/// arm ends on the same map point, c after the job has set the mirrored
+/// calibration the calibration screen finds for it.
+#[test]
+fn wiring_chooses_the_simulated_panel_pins_around_the_same_elf() {
+    let mut finals = Vec::new();
+    for wiring in ["b", "c"] {
+        let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-wiring-{wiring}", std::process::id()));
+        let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+            .args(["--xy", "0.4,0.6", "--wiring", wiring, "--out"])
+            .arg(&dir)
+            .output()
+            .expect("run touch-arm-sim");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "--wiring {wiring}: {}{stdout}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.contains("info wiring b\n"), "{stdout}");
+        let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(summary["wiring"], "b");
+        let (x, y) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
+        assert!((x - 0.4).abs() < 0.01 && (y - 0.6).abs() < 0.01, "--wiring {wiring}: ({x}, {y})");
+        finals.push(summary["final_pulses_us"].clone());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+    assert_eq!(finals[0], finals[1]);
 }
 
 /// `--raw X,Y` for the centre of a screen region (default calibration).

@@ -617,6 +617,7 @@ mod config {
     use touch_arm::seam::StorageError;
     use touch_arm::servo::map::{Joint, JointCal, JointCalError};
     use touch_arm::touch::map::Calibration;
+    use touch_arm::touch::wiring::Wiring;
 
     /// The simulator's EEPROM (erased = 0xFF, power loss after a number of
     /// written bytes), seen one record at a time.
@@ -642,6 +643,7 @@ mod config {
         };
         c.speed = SpeedPreset::Fast;
         c.law = LawKind::Quintic;
+        c.wiring = Some(Wiring::C);
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -702,7 +704,9 @@ mod config {
         // Version 2 appends the acceleration limits before the CRC.
         assert_eq!(&r[88..92], &c.joints[0].max_accel_rad_s2.to_le_bytes());
         assert_eq!(&r[96..100], &c.joints[2].max_accel_rad_s2.to_le_bytes());
-        assert_eq!(&r[100..102], &crc16(&r[..100]).to_le_bytes());
+        // Version 3 appends the measured touch wiring (c = 3).
+        assert_eq!(r[100], 3);
+        assert_eq!(&r[101..103], &crc16(&r[..101]).to_le_bytes());
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
     }
@@ -724,6 +728,8 @@ mod config {
             for (w, d) in want.joints.iter_mut().zip(JointCal::DEFAULTS.iter()) {
                 w.max_accel_rad_s2 = d.max_accel_rad_s2;
             }
+            // No wiring before version 3: the firmware probes at boot.
+            want.wiring = None;
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -746,6 +752,82 @@ mod config {
         assert_eq!((l.seq, l.warning), (6, None));
     }
 
+    /// A version-2 record (102 bytes, CRC of 0..100 at 100, written before
+    /// the measured wiring) loads with every field but the wiring, which is
+    /// none; the next save writes version 3 with the wiring the probe found.
+    #[test]
+    fn version_2_records_migrate_without_a_wiring() {
+        let c = sample_config();
+        for tail in [0xFFu8, 0x00, 0x02] {
+            let mut r = [tail; RECORD_LEN];
+            r[..100].copy_from_slice(&c.encode(77)[..100]);
+            r[2] = 2;
+            let crc = crc16(&r[..100]);
+            r[100..102].copy_from_slice(&crc.to_le_bytes());
+            let want = Config { wiring: None, ..c };
+            assert_eq!(Config::decode(&r), Ok(Record { seq: 77, config: want }), "tail {tail:#x}");
+            let mut bad = r;
+            bad[60] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        let mut v2 = [0u8; 102];
+        v2[..100].copy_from_slice(&c.encode(9)[..100]);
+        v2[2] = 2;
+        let crc = crc16(&v2[..100]);
+        v2[100..].copy_from_slice(&crc.to_le_bytes());
+        ee.write(u32::from(SLOT_A_ADDR), &v2).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &v2).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config.wiring), (Source::SlotA, 9, None, None));
+        let found = Config { wiring: Some(Wiring::A), ..l.config };
+        assert_eq!(save(&mut ee, &found), Ok(10));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (10, None, found));
+        assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
+    }
+
+    /// The poses' record (`config::poses`): explicit little-endian layout,
+    /// the configuration's CRC, and every value check.
+    #[test]
+    fn pose_record_layout_and_rejections() {
+        use touch_arm::config::poses::{Poses, POSE_RECORD_LEN, POSE_VERSION};
+        let mut p = Poses::EMPTY;
+        assert!(p.set(2, Some([9000, -1, -36_000])));
+        assert!(!p.set(0, Some([0; 3])) && !p.set(5, None) && !p.set(1, Some([36_001, 0, 0])));
+        assert_eq!((p.get(1), p.get(2), p.get(0), p.get(5)), (None, Some([9000, -1, -36_000]), None, None));
+        let r = p.encode(0x0102);
+        assert_eq!(r.len(), POSE_RECORD_LEN);
+        assert_eq!((&r[0..2], r[2], &r[3..5]), (&b"TP"[..], POSE_VERSION, &[0x02, 0x01][..]));
+        // Slot 1 unused (flag and zeros), slot 2 at 5 + 13.
+        assert_eq!(&r[5..18], &[0u8; 13]);
+        assert_eq!(r[18], 1);
+        assert_eq!(&r[19..23], &9000i32.to_le_bytes());
+        assert_eq!(&r[23..27], &(-1i32).to_le_bytes());
+        assert_eq!(&r[27..31], &(-36_000i32).to_le_bytes());
+        assert_eq!(&r[57..59], &crc16(&r[..57]).to_le_bytes());
+        assert_eq!(Poses::decode(&r), Ok((0x0102, p)));
+        for i in 3..POSE_RECORD_LEN {
+            let mut bad = r;
+            bad[i] ^= 0x08;
+            assert_eq!(Poses::decode(&bad), Err(RecordError::Crc), "byte {i}");
+        }
+        let mut v = r;
+        v[2] = 2;
+        assert_eq!(Poses::decode(&v), Err(RecordError::Version(2)));
+        let reseal = |mut r: [u8; POSE_RECORD_LEN]| {
+            let crc = crc16(&r[..57]);
+            r[57..].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        // A flag of 2, an unused slot with an angle, an angle past 360°.
+        for (at, bytes) in [(5usize, vec![2u8]), (6, vec![1]), (19, 36_001i32.to_le_bytes().to_vec())] {
+            let mut bad = r;
+            bad[at..at + bytes.len()].copy_from_slice(&bytes);
+            assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid), "at {at}");
+        }
+    }
+
     #[test]
     fn decode_rejections() {
         let good = sample_config().encode(7);
@@ -754,8 +836,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 3;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(3)));
+        r[2] = 4;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(4)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -763,11 +845,12 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..100]);
-            r[100..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..101]);
+            r[101..].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08)] {
+        // ... and an unknown wiring id.
+        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08), (100, 4)] {
             let mut r = good;
             r[off] = val;
             assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
@@ -813,12 +896,13 @@ mod config {
                 invert_y: f[2],
             },
         );
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6)
-            .prop_map(|(joints, touch, s, l)| Config {
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, 0u8..4)
+            .prop_map(|(joints, touch, s, l, w)| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
                 law: LawKind::from_id(l).unwrap(),
+                wiring: Wiring::from_id(w),
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }

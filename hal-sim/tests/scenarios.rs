@@ -37,6 +37,7 @@ scenarios!(
     idle_noise,
     law_switch,
     malformed,
+    pose,
     powerup,
     refusals,
     replan,

@@ -212,3 +212,98 @@ fn load_and_save_agree_on_which_copy_is_in_use() {
         }
     }
 }
+
+/// The saved poses (`config::poses`) are stored the same way: a power loss
+/// at any byte of a pose save, with every kind of value in the torn byte,
+/// from blank, equal, unequal, corrupt and uncommitted copies, loads the
+/// poses before the save or the new ones, and the new ones once the first
+/// copy is complete. The configuration's slots are never written.
+#[test]
+fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
+    use touch_arm::config::poses::{self, Poses, POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
+    let mut one = Poses::EMPTY;
+    assert!(one.set(1, Some([9000, 9000, -9000])));
+    let mut two = one;
+    assert!(two.set(3, Some([4500, 10_000, -12_000])));
+    let mut moved = two;
+    // One angle one hundredth of a degree apart: a record differing in a byte.
+    assert!(moved.set(3, Some([4501, 10_000, -12_000])));
+    let sets = [Poses::EMPTY, one, two, moved];
+    #[derive(Clone, Copy, Debug)]
+    enum P {
+        Blank,
+        Valid(usize, u16),
+        Corrupt(usize, u16),
+        Uncommitted(usize, u16),
+    }
+    let fill = |e: &mut SimEeprom, at: u16, p: P| {
+        let bytes = match p {
+            P::Blank => vec![0xFF; POSE_RECORD_LEN],
+            P::Valid(k, seq) => sets[k].encode(seq).to_vec(),
+            P::Corrupt(k, seq) => {
+                let mut r = sets[k].encode(seq);
+                r[20] ^= 0x10;
+                r.to_vec()
+            }
+            P::Uncommitted(k, seq) => {
+                let mut r = sets[k].encode(seq);
+                r[0] = UNCOMMITTED;
+                r.to_vec()
+            }
+        };
+        e.mem[at as usize..at as usize + POSE_RECORD_LEN].copy_from_slice(&bytes);
+    };
+    use P::*;
+    let priors = [
+        (Blank, Blank),
+        (Valid(1, 4), Valid(1, 4)),
+        (Valid(2, 4), Valid(1, 4)),
+        (Valid(1, 9), Valid(2, 8)),
+        (Valid(1, 0xFFFF), Valid(2, 0)),
+        (Valid(2, 5), Corrupt(1, 6)),
+        (Corrupt(1, 6), Valid(2, 5)),
+        (Valid(1, 5), Uncommitted(3, 6)),
+        (Uncommitted(3, 6), Valid(1, 5)),
+    ];
+    let mut cases = 0u64;
+    for (pa, pb) in priors {
+        let mut prior = SimEeprom::new();
+        fill(&mut prior, POSE_SLOT_A, pa);
+        fill(&mut prior, POSE_SLOT_B, pb);
+        let before = poses::load(&mut prior.clone());
+        for new in &sets {
+            let mut dry = prior.clone();
+            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+            let seq = poses::save(&mut rec, new).expect("a save without power loss succeeds");
+            let writes = rec.writes;
+            assert!(writes.iter().all(|(a, _)| *a >= POSE_SLOT_A), "a configuration byte written");
+            let slot_of = |a: u16| if a >= POSE_SLOT_B { POSE_SLOT_B } else { POSE_SLOT_A };
+            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+            for cut in 0..=writes.len() {
+                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                let old_byte = prior.mem[addr as usize];
+                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                    let mut e = prior.clone();
+                    e.power_loss_after(cut);
+                    e.torn_value = torn;
+                    let _ = poses::save(&mut e, new);
+                    e.restore_power();
+                    let l = poses::load(&mut e);
+                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                    let is_new = (l.poses, l.seq) == (*new, seq) && l.source != Source::Defaults;
+                    let is_old = (l.poses, l.seq, l.source) == (before.poses, before.seq, before.source);
+                    assert!(is_new || is_old, "{ctx}: loaded {l:?}");
+                    if cut >= first_len {
+                        assert_eq!((l.poses, l.seq), (*new, seq), "{ctx}: the first copy was complete");
+                    }
+                    let again = poses::save(&mut e, &sets[2]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                    let l = poses::load(&mut e);
+                    assert_eq!((l.poses, l.seq, l.damaged), (sets[2], again, false), "{ctx}");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{cases} torn pose saves");
+    assert!(cases > 10_000);
+}

@@ -17,7 +17,7 @@ use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
 use crate::servo::map::{Joint, ServoMap};
 use crate::servo::track::Replan;
-use crate::touch::filter::{TouchEvent, TouchPoint, MAX_SAMPLES};
+use crate::touch::filter::{Read, TouchEvent, TouchPoint, MAX_SAMPLES};
 
 impl App {
     /// One 20 ms frame. Call once per servo PWM period.
@@ -63,6 +63,7 @@ impl App {
     #[inline(never)]
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
+        self.poses = crate::config::poses::load(storage).poses;
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {
@@ -78,6 +79,7 @@ impl App {
             }
         }
         self.filter.reset();
+        self.probe_wanted = self.config.wiring.is_none();
         self.commanded = self.clamp_to_limits(&self.params.home);
         self.last_move.target = self.commanded;
         self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };
@@ -133,6 +135,8 @@ impl App {
         // A failed read is a miss: the filter refuses an empty read.
         let read: &[RawSample] = if panel.read(samples).is_ok() { samples } else { &[] };
         let step = self.filter.update(read);
+        // Anything but a clean "not touched" may be a finger joining the plates.
+        self.contact = !matches!(step.read, Read::NotTouched(_));
         let p = match step.event {
             // On a screen a press is a button or a map point; a drag (Moved)
             // must not turn into a second button press.

@@ -65,12 +65,14 @@
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod machine;
+mod poses;
 mod recalibrate;
 pub mod refusal;
 mod screen;
 mod serial;
 mod telemetry;
 pub mod text;
+mod wiring;
 
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{Source, Warning};
@@ -404,6 +406,14 @@ pub struct App {
     /// The target of this frame, planned after the pulses.
     plan_due: Option<PlanDue>,
     screen: screen::Screen,
+    /// The firmware should probe the panel's wiring (`wiring.rs`).
+    probe_wanted: bool,
+    /// The last probe identified no wiring.
+    wiring_unknown: bool,
+    /// The last panel read saw (or may have seen) a finger.
+    contact: bool,
+    /// The saved poses (`poses.rs`), loaded at boot.
+    poses: crate::config::poses::Poses,
 }
 
 /// Servo maps of a configuration.
@@ -457,6 +467,10 @@ impl App {
             deferred_touch: None,
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
+            probe_wanted: false,
+            wiring_unknown: false,
+            contact: false,
+            poses: crate::config::poses::Poses::EMPTY,
         })
     }
 

@@ -119,6 +119,8 @@ impl App {
                 ScreenEvent::Calibrate(Err(Refusal::Busy))
             }
             Some(Hit::Calibrate) => {
+                // Measured again once the finger is lifted: the shield may have changed.
+                self.probe_wanted = true;
                 self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
                 ScreenEvent::Calibrate(Ok(()))
             }
@@ -250,6 +252,9 @@ impl App {
         }
         if st.pulses.is_none() {
             warnings |= ui::warn::SERVOS_OFF;
+        }
+        if self.wiring_unknown {
+            warnings |= ui::warn::TOUCH_WIRING;
         }
         UiModel {
             state,

@@ -18,6 +18,7 @@
 //!   and is otherwise counted, then reported as `warn output full: <n> lines
 //!   dropped` as soon as that fits.
 
+use super::poses::{PoseDone, PoseStoreError};
 use super::refusal::Refusal;
 use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
@@ -53,6 +54,8 @@ pub(super) enum Done {
     CalSaved(Result<u16, SaveError>),
     /// Lines the port lost.
     Lost(u16),
+    /// A `pose` command.
+    Pose(PoseDone),
 }
 
 impl App {
@@ -142,8 +145,13 @@ impl App {
                 Ok(Done::Nothing)
             }
             Command::CalSet(set) => self.cal_set(&set),
-            Command::CalReset => self.replace_config(&Config::DEFAULT, false).map(Done::CalReset),
+            // The measured wiring is a fact about the shield, not a setting.
+            Command::CalReset => {
+                let defaults = Config { wiring: self.config.wiring, ..Config::DEFAULT };
+                self.replace_config(&defaults, false).map(Done::CalReset)
+            }
             Command::CalSave => self.cal_save(storage),
+            Command::Pose(p) => self.pose(p, storage).map(Done::Pose),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -228,6 +236,25 @@ impl App {
             Done::Lost(n) => {
                 r.str(t!("err input lost:")).num(i32::from(n)).str(t!(" lines"));
             }
+            Done::Pose(PoseDone::Stored(n, save, Ok(seq))) => {
+                r.str(if save { t!("ok pose save") } else { t!("ok pose clear") });
+                r.num(i32::from(n)).word(t!("seq")).num(i32::from(seq));
+            }
+            Done::Pose(PoseDone::Stored(_, _, Err(e))) => {
+                r.str(match e {
+                    PoseStoreError::Range => t!("err out of range"),
+                    PoseStoreError::Save(SaveError::Verify) => t!("err save failed: verify"),
+                    PoseStoreError::Save(_) => t!("err save failed: storage"),
+                });
+            }
+            Done::Pose(PoseDone::Went(n)) => {
+                r.str(t!("ok pose go")).num(i32::from(n));
+                self.describe_move(r, false);
+            }
+            Done::Pose(PoseDone::Empty(n)) => {
+                r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
+            }
+            Done::Pose(PoseDone::List) => self.pose_list(r),
         }
         serial.write(reply.finish());
     }

@@ -329,7 +329,7 @@ fn main() -> ! {
         |_| (),
         |_| {
             let mut samples = [RawSample { x: 0, y: 0, z: 0 }; 5];
-            bus.touch(&mut adc, &TouchWiring::A).read(&mut samples)
+            bus.touch(&mut adc, Some(&TouchWiring::A)).read(&mut samples)
         },
     );
 

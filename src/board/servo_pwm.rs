@@ -1,22 +1,38 @@
 //! Timer5 hardware PWM for the three servos on OC5A/OC5B/OC5C = D46/D45/D44
-//! (PL3/PL4/PL5: base, shoulder, elbow). Timers 1, 3 and 4 sit on the shield's
-//! LCD data and SD pins, so Timer5 is the one clean 16-bit timer left.
+//! (PL3/PL4/PL5: base, shoulder, elbow), and Timer1's OC1A = D11 (PB5) for a
+//! fourth servo, the gripper. Timers 3 and 4 sit on the shield's LCD data
+//! pins; Timer1's outputs are the shield's microSD pins D11..D13, free on
+//! the Mega when no card is used (`seam::pins::mega::D11` says why D11).
 //!
-//! Mode 14 (fast PWM, TOP = ICR5 = 39999) with prescaler 8: 16 MHz / 8 = 2 MHz,
-//! so one tick is 0.5 µs and the period is 40000 ticks = 20 ms (50 Hz). OCR5x
+//! Mode 14 (fast PWM, TOP = ICR = 39999) with prescaler 8: 16 MHz / 8 = 2 MHz,
+//! so one tick is 0.5 µs and the period is 40000 ticks = 20 ms (50 Hz). OCRnx
 //! is double-buffered by the hardware and latched at BOTTOM, so a new width
-//! never produces a glitched pulse; the overflow flag marks the start of each
-//! period, which is what the app's 50 Hz frame aligns with.
+//! never produces a glitched pulse; Timer5's overflow flag marks the start of
+//! each period, which is what the app's 50 Hz frame aligns with.
+//!
+//! Timer1 runs in the same mode with the same TOP and prescaler, started on
+//! the same clock edge as Timer5 (ATmega2560 datasheet, GTCCR: with TSM set,
+//! PSRSYNC holds the prescaler shared by timers 0, 1, 3, 4 and 5 in reset;
+//! clearing TSM releases them together), so every gripper pulse starts with
+//! the joints' pulses and a width set in a frame takes effect at the same
+//! period start as theirs.
 
-use avr_device::atmega2560::{PORTL, TC5};
+use avr_device::atmega2560::{PORTB, PORTL, TC1, TC5};
 use embedded_hal::pwm::SetDutyCycle;
 
-use crate::seam::pins::mega::SERVOS;
+use crate::seam::pins::mega::{GRIPPER, SERVOS};
 use crate::seam::pins::Port;
 use crate::servo::map::{us_to_ticks, JointCal, TIMER5_TOP};
 
 /// Timer5 compare channels in use: OC5A, OC5B, OC5C (base, shoulder, elbow).
 pub const CHANNELS: usize = 3;
+/// The gripper's channel number in [`ServoPwm::set`] and friends: Timer1's OC1A.
+pub const GRIP_CHANNEL: usize = CHANNELS;
+/// Every output: the three joints and the gripper.
+const OUTPUTS: usize = CHANNELS + 1;
+/// PB5 (the pin map's gripper pin).
+const GRIP_PIN: u8 = 1 << GRIPPER.bit();
+const _: () = assert!(matches!(GRIPPER.port(), Port::B));
 /// PL3, PL4, PL5 (the pin map's servo pins, all on port L).
 const SERVO_PINS: u8 = (1 << SERVOS[0].bit()) | (1 << SERVOS[1].bit()) | (1 << SERVOS[2].bit());
 const _: () = assert!(
@@ -40,43 +56,64 @@ impl TickLimits {
     }
 }
 
-/// Timer5 and its three compare outputs, owned, with a tick window per
-/// channel.
+/// Timer5 and its three compare outputs, and Timer1's OC1A for the
+/// gripper, owned, with a tick window per channel.
 pub struct ServoPwm {
     tc5: TC5,
-    limits: [TickLimits; CHANNELS],
-    enabled: [bool; CHANNELS],
+    tc1: TC1,
+    limits: [TickLimits; OUTPUTS],
+    enabled: [bool; OUTPUTS],
     /// When the last `set_pulses` came: ticks into the period, and whether
     /// the next period had already started (its pulses then went out with
     /// the previous widths: a missed period).
     pub last_write: (u16, bool),
 }
 
+/// The servo range a channel's window starts at before a calibration
+/// narrows it: 500..2500 µs.
+pub const SERVO_RANGE: TickLimits = TickLimits { min: 1000, max: 5000 };
+
 impl ServoPwm {
-    /// Starts the timer with every output disconnected (the pins driven low):
-    /// no servo sees a pulse until `set` commands a width for it.
-    pub fn new(tc5: TC5, portl: &PORTL, limits: &[TickLimits; CHANNELS]) -> Self {
+    /// Starts both timers together with every output disconnected (the pins
+    /// driven low): no servo sees a pulse until `set` commands a width for
+    /// it. The joints get `limits`; the gripper's window is [`SERVO_RANGE`]
+    /// until [`ServoPwm::set_grip_limits`].
+    pub fn new(tc5: TC5, tc1: TC1, portl: &PORTL, portb: &PORTB, limits: &[TickLimits; CHANNELS]) -> Self {
         // SAFETY: every bit pattern is valid for the port registers; only the
-        // three servo bits change. No interrupt handler touches port L.
+        // servo bits change. No interrupt handler touches ports L or B.
         portl.portl().modify(|r, w| unsafe { w.bits(r.bits() & !SERVO_PINS) });
         portl.ddrl().modify(|r, w| unsafe { w.bits(r.bits() | SERVO_PINS) });
+        portb.portb().modify(|r, w| unsafe { w.bits(r.bits() & !GRIP_PIN) });
+        portb.ddrb().modify(|r, w| unsafe { w.bits(r.bits() | GRIP_PIN) });
+        // SAFETY: only GTCCR of Timer0's block is touched; `Tick` (the owner
+        // of Timer0) never writes it. Halting the shared prescaler delays
+        // Timer0 by the few cycles below, once, at start-up.
+        let gtccr = unsafe { (*avr_device::atmega2560::TC0::ptr()).gtccr() };
+        gtccr.write(|w| w.tsm().set_bit().psrsync().set_bit());
         tc5.tccr5b().write(|w| w.cs5().no_clock());
+        tc1.tccr1b().write(|w| w.cs1().no_clock());
         tc5.tccr5a().write(|w| w.wgm5().set(0b10).com5a().disconnected().com5b().disconnected().com5c().disconnected());
+        tc1.tccr1a().write(|w| w.wgm1().set(0b10).com1a().disconnected().com1b().disconnected().com1c().disconnected());
         avr_device::interrupt::free(|_| {
             tc5.icr5().write(|w| w.set(TIMER5_TOP));
             tc5.tcnt5().write(|w| w.set(0));
+            tc1.icr1().write(|w| w.set(TIMER5_TOP));
+            tc1.tcnt1().write(|w| w.set(0));
         });
         tc5.tccr5b().write(|w| w.wgm5().set(0b11).cs5().prescale_8());
-        let mut pwm = Self { tc5, limits: *limits, enabled: [false; CHANNELS], last_write: (0, false) };
-        for ch in 0..CHANNELS {
-            pwm.limits[ch] = sanitize(limits[ch]);
-        }
+        tc1.tccr1b().write(|w| w.wgm1().set(0b11).cs1().prescale_8());
+        // Both count from here, on the same prescaler edge.
+        gtccr.write(|w| w.tsm().clear_bit());
+        let mut pwm =
+            Self { tc5, tc1, limits: [SERVO_RANGE; OUTPUTS], enabled: [false; OUTPUTS], last_write: (0, false) };
+        pwm.set_limits(limits);
         pwm
     }
 
-    /// Sets channel `ch`'s pulse width in 0.5 µs ticks, clamped into the
-    /// channel's limits, and connects its output on first use. Returns the
-    /// value actually written. Takes effect at the next period start.
+    /// Sets channel `ch`'s pulse width in 0.5 µs ticks (0..=2 the joints,
+    /// [`GRIP_CHANNEL`] the gripper), clamped into the channel's limits, and
+    /// connects its output on first use. Returns the value actually
+    /// written. Takes effect at the next period start.
     pub fn set(&mut self, ch: usize, ticks: u16) -> u16 {
         let Some(lim) = self.limits.get(ch).copied() else {
             return 0;
@@ -90,24 +127,32 @@ impl ServoPwm {
         avr_device::interrupt::free(|_| match ch {
             0 => self.tc5.ocr5a().write(|w| w.set(ocr)),
             1 => self.tc5.ocr5b().write(|w| w.set(ocr)),
-            _ => self.tc5.ocr5c().write(|w| w.set(ocr)),
+            2 => self.tc5.ocr5c().write(|w| w.set(ocr)),
+            _ => self.tc1.ocr1a().write(|w| w.set(ocr)),
         });
         if !self.enabled[ch] {
             self.enabled[ch] = true;
-            self.tc5.tccr5a().modify(|_, w| match ch {
-                0 => w.com5a().match_clear(),
-                1 => w.com5b().match_clear(),
-                _ => w.com5c().match_clear(),
-            });
+            match ch {
+                0 => self.tc5.tccr5a().modify(|_, w| w.com5a().match_clear()),
+                1 => self.tc5.tccr5a().modify(|_, w| w.com5b().match_clear()),
+                2 => self.tc5.tccr5a().modify(|_, w| w.com5c().match_clear()),
+                _ => self.tc1.tccr1a().modify(|_, w| w.com1a().match_clear()),
+            };
         }
         v
+    }
+
+    /// The gripper's window (e.g. from its calibration). A value already
+    /// set stays until the next `set`.
+    pub fn set_grip_limits(&mut self, limits: TickLimits) {
+        self.limits[GRIP_CHANNEL] = sanitize(limits);
     }
 
     /// Replaces the per-channel windows (e.g. after the stored calibration is
     /// loaded or changed). A value already set stays until the next `set`.
     pub fn set_limits(&mut self, limits: &[TickLimits; CHANNELS]) {
-        for ch in 0..CHANNELS {
-            self.limits[ch] = sanitize(limits[ch]);
+        for (l, new) in self.limits.iter_mut().zip(limits.iter()) {
+            *l = sanitize(*new);
         }
     }
 
@@ -115,7 +160,8 @@ impl ServoPwm {
     /// than being driven somewhere unintended. Used on panic and fault.
     pub fn disable_all(&mut self) {
         self.tc5.tccr5a().modify(|_, w| w.com5a().disconnected().com5b().disconnected().com5c().disconnected());
-        self.enabled = [false; CHANNELS];
+        self.tc1.tccr1a().modify(|_, w| w.com1a().disconnected());
+        self.enabled = [false; OUTPUTS];
     }
 
     /// Timer ticks (0.5 µs, 8 CPU cycles) since the current period started.
@@ -156,10 +202,10 @@ pub struct ServoChannel<'a> {
 pub const PERIOD_TICKS: u16 = TIMER5_TOP + 1;
 
 impl ServoPwm {
-    /// Channel `ch` (0 base, 1 shoulder, 2 elbow) as a [`SetDutyCycle`], or
-    /// `None` past the last channel.
+    /// Channel `ch` (0 base, 1 shoulder, 2 elbow, [`GRIP_CHANNEL`] the
+    /// gripper) as a [`SetDutyCycle`], or `None` past the last channel.
     pub fn channel(&mut self, ch: usize) -> Option<ServoChannel<'_>> {
-        (ch < CHANNELS).then_some(ServoChannel { pwm: self, ch })
+        (ch < OUTPUTS).then_some(ServoChannel { pwm: self, ch })
     }
 
     /// Channel `ch`'s window in ticks.

@@ -26,6 +26,7 @@ use super::delay_us;
 use super::gpio::mega::{LCD_CS, LCD_DATA, LCD_RD, LCD_RS, LCD_RST, LCD_WR};
 use super::gpio::{Pin, PinMode};
 use crate::seam::pins::PanelPinout;
+use crate::touch::wiring::{Probe, Wiring};
 
 /// Every LCD pin, in the order they are restored after a touch read: data and
 /// RS first, then the RD/WR strobes, chip select last. Had CS been left active
@@ -265,6 +266,18 @@ impl ShieldBus {
     }
 }
 
+impl ShieldBus {
+    /// The next read of a wiring probe ([`Probe`], `touch::wiring`): one
+    /// [`ShieldBus::plate_link`] of the pair it names, recorded (a failed
+    /// conversion as a failed read). Returns false once the probe is
+    /// finished. About [`LINK_SETTLE_US`] plus a conversion.
+    pub fn probe_step(&mut self, adc: &mut Adc, probe: &mut Probe) -> bool {
+        let Some((drive, sense)) = probe.next() else { return false };
+        probe.record(self.plate_link(adc, drive, sense).ok());
+        true
+    }
+}
+
 fn snapshot() -> [PinMode; 13] {
     RESTORE_ORDER.map(|p| p.mode())
 }
@@ -334,6 +347,15 @@ impl TouchWiring {
     }
     /// The known wirings with their names, for tools that try each.
     pub const PRESETS: [(char, TouchWiring); 3] = [('a', Self::A), ('b', Self::B), ('c', Self::C)];
+
+    /// The preset of a measured or stored wiring.
+    pub const fn preset(w: Wiring) -> TouchWiring {
+        match w {
+            Wiring::A => Self::A,
+            Wiring::B => Self::B,
+            Wiring::C => Self::C,
+        }
+    }
 
     /// Checks that all four are distinct shield pins and X−, Y+ are analog.
     pub const fn new(xp: Pin, xm: Pin, yp: Pin, ym: Pin) -> Result<TouchWiring, WiringError> {

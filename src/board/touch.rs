@@ -108,29 +108,38 @@ impl TouchPanel for TouchPins<'_> {
 
 /// [`TouchPanel`] for the app: borrows the bus and the ADC for as long as it
 /// lives; every `read` lends the pins and restores them before returning.
+/// Without a wiring (none known yet, or the probe identified none) the pins
+/// stay the LCD's and every sample reads untouched (pressure 0): the panel
+/// is not driven through pins that may not be its own.
 pub struct TouchReader<'a> {
     bus: &'a mut ShieldBus,
     adc: &'a mut Adc,
-    wiring: &'a TouchWiring,
+    wiring: Option<&'a TouchWiring>,
 }
 
 impl<'a> TouchReader<'a> {
-    /// A reader for the panel wired as `wiring`.
-    pub fn new(bus: &'a mut ShieldBus, adc: &'a mut Adc, wiring: &'a TouchWiring) -> Self {
+    /// A reader for the panel wired as `wiring`, or one that reads nothing.
+    pub fn new(bus: &'a mut ShieldBus, adc: &'a mut Adc, wiring: Option<&'a TouchWiring>) -> Self {
         Self { bus, adc, wiring }
     }
 }
 
 impl TouchPanel for TouchReader<'_> {
     fn read(&mut self, out: &mut [RawSample]) -> Result<(), TouchError> {
-        self.bus.with_touch(self.adc, self.wiring, |p| p.fill(out))
+        match self.wiring {
+            Some(w) => self.bus.with_touch(self.adc, w, |p| p.fill(out)),
+            None => {
+                out.fill(RawSample { x: 0, y: 0, z: 0 });
+                Ok(())
+            }
+        }
     }
 }
 
 impl ShieldBus {
     /// A [`TouchPanel`](crate::seam::TouchPanel) over this bus: each `read`
-    /// is one `with_touch` call.
-    pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: &'a TouchWiring) -> TouchReader<'a> {
+    /// is one `with_touch` call (none without a wiring).
+    pub fn touch<'a>(&'a mut self, adc: &'a mut Adc, wiring: Option<&'a TouchWiring>) -> TouchReader<'a> {
         TouchReader::new(self, adc, wiring)
     }
 }

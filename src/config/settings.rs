@@ -7,6 +7,7 @@ use crate::math::units::{centideg_to_rad, deg_per_rad, rad_to_centideg, round_i3
 use crate::motion::plan::LawKind;
 use crate::servo::map::{Joint, JointCal, JointCalError};
 use crate::touch::map::{Calibration, CalibrationError};
+use crate::touch::wiring::Wiring;
 
 /// Raw ADC range accepted by `move` and the touch calibration.
 pub const RAW_MAX: i32 = 1023;
@@ -104,6 +105,9 @@ pub struct Config {
     pub speed: SpeedPreset,
     /// The trajectory law of new moves.
     pub law: LawKind,
+    /// The panel's wiring as measured (`touch::wiring`); `None` until a
+    /// probe has identified one (the firmware then probes at boot).
+    pub wiring: Option<Wiring>,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -136,6 +140,7 @@ impl Config {
         touch: Calibration::DEFAULT,
         speed: SpeedPreset::Normal,
         law: LawKind::Zat,
+        wiring: None,
     };
 
     /// Checks every joint calibration and the touch calibration; the first

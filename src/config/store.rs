@@ -1,6 +1,6 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 2, little-endian, 102 bytes)
+//! # Record layout (version 3, little-endian, 103 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
@@ -12,11 +12,16 @@
 //! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
 //! | 87 | 1  | motion law id ([`LawKind::id`]) |
 //! | 88 | 12 | 3 × joint `max_accel_rad_s2` f32 (version 2) |
-//! | 100 | 2 | CRC-16/CCITT-FALSE of bytes 0..100 |
+//! | 100 | 1 | touch wiring id ([`Wiring::id`]; 0 = none identified yet) (version 3) |
+//! | 101 | 2 | CRC-16/CCITT-FALSE of bytes 0..101 |
 //!
-//! A version-1 record (before acceleration limits) ends with its CRC of
-//! bytes 0..88 at 88; it is still read, with the default acceleration limits
-//! ([`JointCal::DEFAULTS`]), and the next save writes version 2.
+//! Older records are still read, and the next save writes version 3:
+//! - version 2 (before the measured wiring) ends with its CRC of bytes
+//!   0..100 at 100; it reads with no wiring, so the firmware probes the panel
+//!   at boot;
+//! - version 1 (before acceleration limits) ends with its CRC of bytes 0..88
+//!   at 88; it reads with the default acceleration limits
+//!   ([`JointCal::DEFAULTS`]) and no wiring.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -33,7 +38,7 @@
 //! # Tear-proof by construction
 //! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
 //! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
-//! otherwise), then bytes 1..102 (body and CRC), then byte 0 := `T`. A power
+//! otherwise), then bytes 1..103 (body and CRC), then byte 0 := `T`. A power
 //! loss tears at most the one byte being written; whatever value that byte is
 //! left with:
 //! - during step 1 the body is untouched and byte 0 read `T` before: the slot
@@ -56,11 +61,14 @@ use crate::motion::plan::LawKind;
 use crate::seam::{Storage, StorageError};
 use crate::servo::map::JointCal;
 use crate::touch::map::Calibration;
+use crate::touch::wiring::Wiring;
 
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 102;
+pub const RECORD_LEN: usize = 103;
+/// A version-2 record's length (its CRC at 100).
+const RECORD_LEN_V2: usize = 102;
 /// A version-1 record's length (its CRC at 88).
 const RECORD_LEN_V1: usize = 90;
 /// EEPROM address of the first copy.
@@ -70,9 +78,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; version 1 is still read (see the
-/// module doc), any other is not.
-pub const VERSION: u8 = 2;
+/// Layout version of the record written; versions 1 and 2 are still read
+/// (see the module doc), any other is not.
+pub const VERSION: u8 = 3;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -117,6 +125,7 @@ impl Config {
         for j in self.joints.iter() {
             w.put(&j.max_accel_rad_s2.to_le_bytes());
         }
+        w.put(&[self.wiring.map_or(0, Wiring::id)]);
         let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
         if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
             dst.copy_from_slice(&crc.to_le_bytes());
@@ -124,9 +133,9 @@ impl Config {
         buf
     }
 
-    /// Parses and validates a record (version 2, or 1 with the default
-    /// acceleration limits). Checks, in order: magic, version, CRC, field
-    /// values.
+    /// Parses and validates a record (version 3; 2 without a wiring; 1
+    /// without a wiring and with the default acceleration limits). Checks, in
+    /// order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader { buf, pos: 0 };
         if r.take::<2>() != MAGIC {
@@ -135,6 +144,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            2 => RECORD_LEN_V2 - 2,
             1 => RECORD_LEN_V1 - 2,
             v => return Err(RecordError::Version(v)),
         };
@@ -164,11 +174,18 @@ impl Config {
         let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
             return Err(RecordError::Invalid);
         };
-        if version == VERSION {
+        if version >= 2 {
             for j in joints.iter_mut() {
                 j.max_accel_rad_s2 = f32::from_le_bytes(r.take());
             }
         }
+        let wiring = match version {
+            VERSION => match r.take::<1>() {
+                [0] => None,
+                [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
+            },
+            _ => None,
+        };
         let config = Config {
             joints,
             touch: Calibration {
@@ -182,6 +199,7 @@ impl Config {
             },
             speed,
             law,
+            wiring,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })
@@ -310,11 +328,17 @@ fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordErr
 /// Which of two read slots [`load`] uses: the valid one, or of two valid ones
 /// the newer, A on a tie. [`save`] writes the other slot first.
 pub fn pick(a: &Result<Record, RecordError>, b: &Result<Record, RecordError>) -> Option<Source> {
+    pick_seq(a.as_ref().ok().map(|r| r.seq), b.as_ref().ok().map(|r| r.seq))
+}
+
+/// [`pick`] for any record stored this way: the sequence numbers of the
+/// valid copies (`None` for an invalid one).
+pub fn pick_seq(a: Option<u16>, b: Option<u16>) -> Option<Source> {
     match (a, b) {
-        (Ok(ra), Ok(rb)) if seq_newer(rb.seq, ra.seq) => Some(Source::SlotB),
-        (Ok(_), _) => Some(Source::SlotA),
-        (Err(_), Ok(_)) => Some(Source::SlotB),
-        (Err(_), Err(_)) => None,
+        (Some(sa), Some(sb)) if seq_newer(sb, sa) => Some(Source::SlotB),
+        (Some(_), _) => Some(Source::SlotA),
+        (None, Some(_)) => Some(Source::SlotB),
+        (None, None) => None,
     }
 }
 
@@ -391,16 +415,24 @@ pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveErr
     };
     let seq = newest.wrapping_add(1);
     let record = config.encode(seq);
-    for addr in [first, second] {
-        write_slot(storage, addr, &record)?;
-    }
+    write_both(storage, [first, second], &record)?;
     Ok(seq)
 }
 
+/// Writes `record` to the two slots in the order given (the one [`pick`]
+/// would not use first), each in the three steps of the module doc: the
+/// same tear-proof save for any record whose byte 0 is [`MAGIC`]`[0]`.
+pub(super) fn write_both<S: Storage>(storage: &mut S, order: [u16; 2], record: &[u8]) -> Result<(), SaveError> {
+    for addr in order {
+        write_slot(storage, addr, record)?;
+    }
+    Ok(())
+}
+
 /// One slot in the three steps of the module doc, then read back.
-fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN]) -> Result<(), SaveError> {
+fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8]) -> Result<(), SaveError> {
     let addr = u32::from(addr);
-    let (commit, body) = record.split_at(1);
+    let Some((commit, body)) = record.split_first() else { return Err(SaveError::Verify) };
     let mut first = [0u8];
     storage.read(addr, &mut first).map_err(SaveError::Storage)?;
     // Only a committed slot is uncommitted first: rewriting a byte that is
@@ -409,11 +441,15 @@ fn write_slot<S: Storage>(storage: &mut S, addr: u16, record: &[u8; RECORD_LEN])
         storage.write(addr, &[UNCOMMITTED]).map_err(SaveError::Storage)?;
     }
     storage.write(addr + 1, body).map_err(SaveError::Storage)?;
-    storage.write(addr, commit).map_err(SaveError::Storage)?;
-    let mut check = [0u8; RECORD_LEN];
-    storage.read(addr, &mut check).map_err(SaveError::Storage)?;
-    if check != *record {
-        return Err(SaveError::Verify);
+    storage.write(addr, core::slice::from_ref(commit)).map_err(SaveError::Storage)?;
+    // Read back in pieces: no record-sized buffer on the stack.
+    let mut check = [0u8; 16];
+    for (i, part) in record.chunks(check.len()).enumerate() {
+        let got = check.get_mut(..part.len()).unwrap_or(&mut []);
+        storage.read(addr + (i * 16) as u32, got).map_err(SaveError::Storage)?;
+        if got != part {
+            return Err(SaveError::Verify);
+        }
     }
     Ok(())
 }

@@ -18,6 +18,7 @@
 //! | `cal set <base\|shoulder\|elbow> <field> <value>` | see [`JointField`] |
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
 //! | `log <on\|off>` | |
+//! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //!
 //! # Numbers
 //! Integers: optional sign, decimal digits. Decimals: optional sign, at least
@@ -28,6 +29,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
+use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
@@ -39,8 +41,9 @@ pub const LINE_LEN: usize = 64;
 /// The firmware's line buffer.
 pub type SerialLine = LineBuffer<LINE_LEN>;
 
-/// `goto` accepts ±360.00° (joint limits are the servo layer's business).
-pub const GOTO_MAX_CENTIDEG: i32 = 36_000;
+/// `goto` accepts ±360.00° (joint limits are the servo layer's business),
+/// the range a saved pose may hold.
+pub const GOTO_MAX_CENTIDEG: i32 = POSE_MAX_CENTIDEG;
 
 /// One parsed command line (see the module doc's grammar).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,6 +80,21 @@ pub enum Command {
     CalReset,
     /// `log on|off`: per-frame telemetry.
     Log(bool),
+    /// `pose …`: the saved poses.
+    Pose(PoseCmd),
+}
+
+/// A `pose` command; slots are numbered 1..=[`POSES`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PoseCmd {
+    /// `pose save <n>`: the pose held now into slot n, stored in the EEPROM.
+    Save(u8),
+    /// `pose go <n>`: move to slot n's pose (as `goto` its angles).
+    Go(u8),
+    /// `pose clear <n>`: empty slot n, stored in the EEPROM.
+    Clear(u8),
+    /// `pose list`: every slot.
+    List,
 }
 
 /// Why a line was not a command; each has the reason the `err` reply gives.
@@ -296,6 +314,17 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             b"set" => Command::CalSet(parse_cal_set(&mut t)?),
             _ => return Err(CmdError::BadArgument),
         },
+        b"pose" => {
+            let verb = t.arg()?;
+            let slot = |t: &mut Tokens| -> Result<u8, CmdError> { Ok(parse_int(t.arg()?, 1, POSES as i32)? as u8) };
+            Command::Pose(match verb {
+                b"save" => PoseCmd::Save(slot(&mut t)?),
+                b"go" => PoseCmd::Go(slot(&mut t)?),
+                b"clear" => PoseCmd::Clear(slot(&mut t)?),
+                b"list" => PoseCmd::List,
+                _ => return Err(CmdError::BadArgument),
+            })
+        }
         _ => return Err(CmdError::UnknownCommand),
     };
     t.end()?;

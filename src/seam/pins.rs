@@ -116,6 +116,14 @@ pub mod mega {
     pub const D8: Pin = Pin::new(Port::H, 5);
     /// D9 = PH6: LCD_D1.
     pub const D9: Pin = Pin::new(Port::H, 6);
+    /// D11 = PB5 (OC1A): the gripper servo. On the UNO the shield's D10..D13
+    /// are its microSD card's SPI (SS, MOSI, MISO, SCK); on the Mega those
+    /// header pins are PB4..PB7, not the SPI port (PB0..PB3), so the card
+    /// cannot work there and, with no card in the socket, the pins are
+    /// free. D11 (the card's MOSI, an input on the shield side) is driven by
+    /// nothing on the shield, unlike D12 (MISO, which a card drives); D13
+    /// (PB7) carries the board's LED.
+    pub const D11: Pin = Pin::new(Port::B, 5);
     /// D44 = PL5 (OC5C): the elbow servo.
     pub const D44: Pin = Pin::new(Port::L, 5);
     /// D45 = PL4 (OC5B): the shoulder servo.
@@ -139,6 +147,8 @@ pub mod mega {
     /// The servo signal pins in joint order (base, shoulder, elbow): Timer5's
     /// OC5A, OC5B, OC5C.
     pub const SERVOS: [Pin; 3] = [D46, D45, D44];
+    /// The gripper servo's signal pin: Timer1's OC1A.
+    pub const GRIPPER: Pin = D11;
 }
 
 /// Which shield pins carry the resistive panel's four electrodes. Shields

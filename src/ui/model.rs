@@ -48,6 +48,10 @@ pub mod warn {
     pub const DEFAULT_SETTINGS: u8 = 1 << 1;
     /// Servo outputs are off (limp arm).
     pub const SERVOS_OFF: u8 = 1 << 2;
+    /// The panel's wiring probe identified no known wiring: touches are not
+    /// read (the serial line still works). Above the others, since it is
+    /// why touching the screen does nothing.
+    pub const TOUCH_WIRING: u8 = 1 << 3;
 }
 
 /// Everything the main screen shows. Angles are radians (as the pose and

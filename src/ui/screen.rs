@@ -184,6 +184,7 @@ fn warning_text(bit: u8) -> Text {
         warn::COPY_DAMAGED => t!("! a settings copy damaged"),
         warn::DEFAULT_SETTINGS => t!("! default settings in use"),
         warn::SERVOS_OFF => t!("! servos are off"),
+        warn::TOUCH_WIRING => t!("! touch wiring unknown"),
         0 => t!(""),
         _ => t!("! check the serial log"),
     }

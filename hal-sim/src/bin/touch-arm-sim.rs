@@ -6,7 +6,7 @@
 //! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`
 //!   (µs to the timer's 0.5 µs tick);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
-//!   final_pulses_us, arrival_s, law, ts_s}` for the point the arm ends on,
+//!   final_pulses_us, arrival_s, law, ts_s, wiring}` for the point the arm ends on,
 //!   and with `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
 //!   `then_ts_s`, `then_reply`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
@@ -19,7 +19,14 @@
 //!   at the panel's size.
 //!
 //! `--lcd` chooses the display controller simulated around the same ELF
-//! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot).
+//! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot),
+//! `--wiring` the pins the touch panel is on (a, b or c; the firmware
+//! measures it at boot and prints `info wiring …`). Wiring c is the same two
+//! plates as b with X and Y exchanged and reversed, so the firmware reads it
+//! as b, mirrored: the job then sets over serial the touch calibration the
+//! calibration screen finds for it (swap, both inversions, the span
+//! mirrored), so the same map point is touched on every wiring. `summary.json`
+//! gains `wiring`, the one the firmware reported.
 //!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
@@ -34,6 +41,7 @@ use hal_sim::lcd_bus::Chip;
 use hal_sim::panel::PanelWiring;
 use hal_sim::plot::{self, Curve, Panel};
 use hal_sim::report::Json;
+use touch_arm::touch::map::Calibration;
 
 /// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
 /// DIR/summary.json, DIR/angles.png, DIR/effector.csv, DIR/path.png and DIR/screen.png. A press that lands on a
@@ -48,6 +56,9 @@ struct Args {
     /// The display controller on the simulated shield: ili9341, st7789, ili9486 or ili9325
     #[arg(long, value_name = "CONTROLLER", value_parser = lcd_chip, default_value = "ili9341")]
     lcd: Chip,
+    /// The touch panel's wiring on the simulated shield: a, b or c
+    #[arg(long, value_name = "WIRING", value_parser = panel_wiring, default_value = "a")]
+    wiring: PanelWiring,
     /// A raw panel reading (ADC counts 0..=1023), wherever it lands: map, button or nothing
     #[arg(long, value_name = "X,Y", value_parser = parse_raw, conflicts_with = "xy")]
     raw: Option<(u16, u16)>,
@@ -97,6 +108,36 @@ fn map_point(s: &str) -> Result<(f64, f64), String> {
     } else {
         Err(format!("{x},{y} is not on the map (the workspace is [-1,1]x[0,1])"))
     }
+}
+
+/// `--wiring`: a preset of the pin map by its letter.
+fn panel_wiring(s: &str) -> Result<PanelWiring, String> {
+    match s {
+        "a" => Ok(PanelWiring::A),
+        "b" => Ok(PanelWiring::B),
+        "c" => Ok(PanelWiring::C),
+        _ => Err(format!("unknown wiring {s:?} (a, b or c)")),
+    }
+}
+
+/// What the calibration screen finds on a wiring-c panel read as b: a c
+/// reading (x, y) arrives as (1023 − y, 1023 − x), so the axes swap, both
+/// run backwards, and each span is the default one mirrored.
+fn mirrored_calibration() -> Vec<String> {
+    let d = Calibration::DEFAULT;
+    let m = |v: u16| 1023 - v;
+    [
+        ("x_min", m(d.x_max)),
+        ("x_max", m(d.x_min)),
+        ("y_min", m(d.y_max)),
+        ("y_max", m(d.y_min)),
+        ("swap", 1),
+        ("invert_x", 1),
+        ("invert_y", 1),
+    ]
+    .iter()
+    .map(|(f, v)| format!("cal set touch {f} {v}"))
+    .collect()
 }
 
 /// `--lcd`: a supported controller by name.
@@ -170,9 +211,23 @@ fn run(args: Args) -> Result<(), String> {
         (None, None) => on_map((0.4, 0.6))?,
     };
 
-    let mut s = Session::start_with_lcd(&elf, PanelWiring::A, args.lcd, 1)?;
+    let mut s = Session::start_with_lcd(&elf, args.wiring, args.lcd, 1)?;
     s.run_for(1.5)?;
     s.run_until_ready(2.0)?;
+    let boot = s.avr.uart_output_string();
+    let found = boot
+        .lines()
+        .find_map(|l| l.strip_prefix("info wiring "))
+        .ok_or_else(|| format!("the firmware did not identify the touch wiring:\n{boot}"))?
+        .to_string();
+    if args.wiring == PanelWiring::C {
+        for cmd in mirrored_calibration() {
+            let reply = s.command(&cmd)?;
+            if reply != "ok cal set" {
+                return Err(format!("the firmware refused `{cmd}`: {reply}"));
+            }
+        }
+    }
     let law = match &args.law {
         Some(l) => {
             let reply = s.command(&format!("law {l}"))?;
@@ -279,7 +334,8 @@ fn run(args: Args) -> Result<(), String> {
         .set("final_pulses_us", hal_sim::report::Val::Raw(list(&finals)))
         .set("arrival_s", arrival)
         .set("law", hal_sim::report::Val::Str(law))
-        .set("ts_s", ts);
+        .set("ts_s", ts)
+        .set("wiring", hal_sim::report::Val::Str(found.clone()));
     let json = match &second {
         Some((then, line2, after)) => json
             .set("first_raw", hal_sim::report::Val::Raw(format!("[{}, {}]", first_raw.0, first_raw.1)))
@@ -401,8 +457,10 @@ fn run(args: Args) -> Result<(), String> {
 /// The firmware's first line and what it said about the display.
 fn print_boot(text: &str) {
     println!("{}", text.lines().next().unwrap_or(""));
-    if let Some(l) = text.lines().find(|l| l.starts_with("info lcd ") || l.starts_with("warn lcd ")) {
-        println!("{l}");
+    for prefix in [["info lcd ", "warn lcd "], ["info wiring ", "err touch wiring "]] {
+        if let Some(l) = text.lines().find(|l| prefix.iter().any(|p| l.starts_with(p))) {
+            println!("{l}");
+        }
     }
 }
 

@@ -1,0 +1,100 @@
+//! The saved poses over serial (`pose save|go|clear <n>`, `pose list`):
+//! kept in RAM from boot, every change stored at once in the EEPROM
+//! (`config::poses`: two copies, the configuration's CRC, tear-proof).
+//!
+//! A pose is the pose commanded when it was saved, in centidegrees;
+//! `pose go` is the `goto` of those angles, so it goes through the same
+//! state checks, joint limits, planner and refusals as every target
+//! (a touch included), and its reply is `goto`'s. Saving is refused while
+//! the arm moves or homes (no pose is held then); while STOP is latched the
+//! held pose is saved.
+
+use super::refusal::Refusal;
+use super::text::Line;
+use super::{App, Mode};
+use crate::config::poses::{self, Pose};
+use crate::math::units::rad_to_centideg;
+use crate::protocol::command::PoseCmd;
+use crate::seam::Storage;
+
+impl App {
+    /// Carries out a `pose` command.
+    pub(super) fn pose<E: Storage>(&mut self, cmd: PoseCmd, storage: &mut E) -> Result<PoseDone, Refusal> {
+        match cmd {
+            PoseCmd::List => Ok(PoseDone::List),
+            PoseCmd::Go(n) => match self.poses.get(n) {
+                Some(p) => self.move_to_angles(&p).map(|()| PoseDone::Went(n)),
+                None => Ok(PoseDone::Empty(n)),
+            },
+            PoseCmd::Save(n) => {
+                if self.is_moving() {
+                    return Err(Refusal::Busy);
+                }
+                if matches!(self.mode, Mode::Homing { .. } | Mode::Boot) {
+                    return Err(Refusal::Homing);
+                }
+                let held: Pose = self.commanded.map(rad_to_centideg);
+                Ok(PoseDone::Stored(n, true, self.store_pose(storage, n, Some(held))))
+            }
+            PoseCmd::Clear(n) => {
+                if self.is_moving() {
+                    return Err(Refusal::Busy);
+                }
+                Ok(PoseDone::Stored(n, false, self.store_pose(storage, n, None)))
+            }
+        }
+    }
+
+    /// Slot `n` := `pose`, stored; the RAM copy changes only once stored.
+    fn store_pose<E: Storage>(&mut self, storage: &mut E, n: u8, pose: Option<Pose>) -> Result<u16, PoseStoreError> {
+        let mut next = self.poses;
+        if !next.set(n, pose) {
+            return Err(PoseStoreError::Range);
+        }
+        let seq = poses::save(storage, &next).map_err(PoseStoreError::Save)?;
+        self.poses = next;
+        Ok(seq)
+    }
+
+    /// `ok pose list` and each slot: `<n> <base> <shoulder> <elbow>` in
+    /// degrees with two decimals, or `<n> empty`.
+    pub(super) fn pose_list(&self, r: &mut Line) {
+        r.str(t!("ok pose list"));
+        for (k, slot) in self.poses.slots.iter().enumerate() {
+            r.bytes(b" ").u32(k as u32 + 1);
+            match slot {
+                Some(p) => {
+                    for v in p {
+                        r.bytes(b" ").centi(*v);
+                    }
+                }
+                None => {
+                    r.word(t!("empty"));
+                }
+            }
+        }
+    }
+}
+
+/// What a `pose` command did, for its reply (formatted with the others',
+/// in `serial.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum PoseDone {
+    /// `pose save|clear <n>` (true for save) and how storing went.
+    Stored(u8, bool, Result<u16, PoseStoreError>),
+    /// `pose go <n>`, planned.
+    Went(u8),
+    /// `pose go <n>` of an empty slot.
+    Empty(u8),
+    /// `pose list`.
+    List,
+}
+
+/// Why a pose was not stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum PoseStoreError {
+    /// An angle beyond ±360° (a held pose never is; kept for the record's rule).
+    Range,
+    /// The EEPROM save failed.
+    Save(crate::config::store::SaveError),
+}

@@ -1,0 +1,191 @@
+//! Up to four saved poses ("drink", "table": the presets assistive arms
+//! offer), kept in the EEPROM beside the configuration and stored the same
+//! way: two copies with a sequence number and the CRC-16 of [`super::crc`],
+//! each written in the tear-proof three steps of [`super::store`] (the
+//! record's byte 0 is the same commit byte), so a save cut by a power loss
+//! leaves the poses before it or the new ones, never a mixture.
+//!
+//! A pose is the three joint angles in hundredths of a degree, the units of
+//! `goto` and `cal show`: a saved pose is reached exactly as the `goto` of
+//! those angles would be (same planner, limits and refusals), and what is
+//! saved round-trips through the record bit for bit.
+//!
+//! # Record layout (version 1, little-endian, 59 bytes)
+//! | offset | size | field |
+//! |-------:|-----:|-------|
+//! | 0 | 2 | magic `b"TP"` |
+//! | 2 | 1 | layout version (1) |
+//! | 3 | 2 | sequence counter (u16, serial arithmetic as the configuration's) |
+//! | 5 | 52 | 4 × pose: 1 byte used (0 or 1), then base, shoulder, elbow as i32 centidegrees (all 0 when unused) |
+//! | 57 | 2 | CRC-16/CCITT-FALSE of bytes 0..57 |
+//!
+//! Copy A lives at [`POSE_SLOT_A`], copy B at [`POSE_SLOT_B`], past the
+//! configuration's two 128-byte slots.
+
+use super::crc::crc16;
+use super::store::{pick_seq, write_both, RecordError, SaveError, Source, UNCOMMITTED};
+use crate::seam::Storage;
+
+/// Saved poses at most.
+pub const POSES: usize = 4;
+/// A pose's angles within ±360.00°, as `goto` accepts them.
+pub const POSE_MAX_CENTIDEG: i32 = 36_000;
+/// Bytes of one record, CRC included.
+pub const POSE_RECORD_LEN: usize = 59;
+/// EEPROM address of the first copy (the configuration uses 0..256).
+pub const POSE_SLOT_A: u16 = 256;
+/// EEPROM address of the second copy.
+pub const POSE_SLOT_B: u16 = 384;
+/// The record's first bytes; byte 0 is the commit byte of [`super::store`].
+pub const POSE_MAGIC: [u8; 2] = *b"TP";
+/// Layout version of the record.
+pub const POSE_VERSION: u8 = 1;
+
+const CRC_AT: usize = POSE_RECORD_LEN - 2;
+const _: () = assert!(POSE_MAGIC[0] == super::store::MAGIC[0] && UNCOMMITTED != POSE_MAGIC[0]);
+const _: () = assert!(POSE_SLOT_A as usize + POSE_RECORD_LEN <= POSE_SLOT_B as usize);
+
+/// One pose: base, shoulder, elbow in hundredths of a degree.
+pub type Pose = [i32; 3];
+
+/// The four pose slots, numbered 1..=4 on the serial line and the screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Poses {
+    /// Slot `n` is `slots[n - 1]`; `None` when empty.
+    pub slots: [Option<Pose>; POSES],
+}
+
+impl Poses {
+    /// No pose saved.
+    pub const EMPTY: Poses = Poses { slots: [None; POSES] };
+
+    /// The pose in slot `n` (1..=4), if saved.
+    pub fn get(&self, n: u8) -> Option<Pose> {
+        self.slots.get(usize::from(n).wrapping_sub(1)).copied().flatten()
+    }
+
+    /// Puts `pose` (or nothing) in slot `n` (1..=4); false for another `n`
+    /// or an angle beyond ±360°.
+    pub fn set(&mut self, n: u8, pose: Option<Pose>) -> bool {
+        if pose.is_some_and(|p| p.iter().any(|v| v.abs() > POSE_MAX_CENTIDEG)) {
+            return false;
+        }
+        match self.slots.get_mut(usize::from(n).wrapping_sub(1)) {
+            Some(slot) => {
+                *slot = pose;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Serializes with sequence number `seq`.
+    pub fn encode(&self, seq: u16) -> [u8; POSE_RECORD_LEN] {
+        let mut buf = [0u8; POSE_RECORD_LEN];
+        let mut at = 0;
+        let mut put = |bytes: &[u8]| {
+            if let Some(dst) = buf.get_mut(at..at + bytes.len()) {
+                dst.copy_from_slice(bytes);
+            }
+            at += bytes.len();
+        };
+        put(&POSE_MAGIC);
+        put(&[POSE_VERSION]);
+        put(&seq.to_le_bytes());
+        for slot in self.slots.iter() {
+            put(&[u8::from(slot.is_some())]);
+            for v in slot.unwrap_or([0; 3]) {
+                put(&v.to_le_bytes());
+            }
+        }
+        let crc = crc16(buf.get(..CRC_AT).unwrap_or(&[]));
+        if let Some(dst) = buf.get_mut(CRC_AT..) {
+            dst.copy_from_slice(&crc.to_le_bytes());
+        }
+        buf
+    }
+
+    /// Parses and validates a record: magic, version, CRC, then the values
+    /// (used flag 0 or 1, angles within ±360°, an unused slot all zero).
+    /// Returns the sequence number and the poses.
+    pub fn decode(buf: &[u8; POSE_RECORD_LEN]) -> Result<(u16, Poses), RecordError> {
+        if buf.get(..2) != Some(&POSE_MAGIC[..]) {
+            return Err(RecordError::NoMagic);
+        }
+        let version = buf.get(2).copied().unwrap_or(0);
+        if version != POSE_VERSION {
+            return Err(RecordError::Version(version));
+        }
+        let (body, crc) = buf.split_at(CRC_AT);
+        if crc16(body).to_le_bytes() != crc {
+            return Err(RecordError::Crc);
+        }
+        let word = |i: usize| -> [u8; 4] {
+            let mut w = [0u8; 4];
+            if let Some(src) = buf.get(i..i + 4) {
+                w.copy_from_slice(src);
+            }
+            w
+        };
+        let seq = u16::from_le_bytes([buf[3], buf[4]]);
+        let mut poses = Poses::EMPTY;
+        for (k, slot) in poses.slots.iter_mut().enumerate() {
+            let at = 5 + k * 13;
+            let pose = [0, 1, 2].map(|j| i32::from_le_bytes(word(at + 1 + 4 * j)));
+            *slot = match buf.get(at) {
+                Some(0) if pose == [0; 3] => None,
+                Some(1) if pose.iter().all(|v| v.abs() <= POSE_MAX_CENTIDEG) => Some(pose),
+                _ => return Err(RecordError::Invalid),
+            };
+        }
+        Ok((seq, poses))
+    }
+}
+
+/// What [`load`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadedPoses {
+    /// The poses to run with (none when no copy is valid).
+    pub poses: Poses,
+    /// Which copy they came from.
+    pub source: Source,
+    /// Sequence number of that copy (0 for none).
+    pub seq: u16,
+    /// A copy was invalid: erased (never saved), or damaged.
+    pub damaged: bool,
+}
+
+fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<(u16, Poses), RecordError> {
+    let mut buf = [0u8; POSE_RECORD_LEN];
+    storage.read(u32::from(addr), &mut buf).map_err(RecordError::Storage)?;
+    Poses::decode(&buf)
+}
+
+/// Reads both copies and picks the poses the way the configuration's load
+/// does (`store::pick`).
+pub fn load<S: Storage>(storage: &mut S) -> LoadedPoses {
+    let a = read_slot(storage, POSE_SLOT_A);
+    let b = read_slot(storage, POSE_SLOT_B);
+    let damaged = a.is_err() || b.is_err();
+    let found = |r: &(u16, Poses), source| LoadedPoses { poses: r.1, source, seq: r.0, damaged };
+    match (pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)), &a, &b) {
+        (Some(Source::SlotA), Ok(ra), _) => found(ra, Source::SlotA),
+        (Some(Source::SlotB), _, Ok(rb)) => found(rb, Source::SlotB),
+        _ => LoadedPoses { poses: Poses::EMPTY, source: Source::Defaults, seq: 0, damaged },
+    }
+}
+
+/// Writes `poses` to both copies (the one [`load`] does not use first) and
+/// returns the new sequence number.
+pub fn save<S: Storage>(storage: &mut S, poses: &Poses) -> Result<u16, SaveError> {
+    let a = read_slot(storage, POSE_SLOT_A);
+    let b = read_slot(storage, POSE_SLOT_B);
+    let (newest, order) = match pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)) {
+        Some(Source::SlotA) => (a.map_or(0, |r| r.0), [POSE_SLOT_B, POSE_SLOT_A]),
+        Some(Source::SlotB) => (b.map_or(0, |r| r.0), [POSE_SLOT_A, POSE_SLOT_B]),
+        _ => (0, [POSE_SLOT_A, POSE_SLOT_B]),
+    };
+    let seq = newest.wrapping_add(1);
+    write_both(storage, order, &poses.encode(seq))?;
+    Ok(seq)
+}
