@@ -307,3 +307,127 @@ fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
     eprintln!("{cases} torn pose saves");
     assert!(cases > 10_000);
 }
+
+/// The gripper's calibration (`config::grip`) is stored the same way: a
+/// power loss at any byte of its save, with every kind of value in the torn
+/// byte, from blank, equal, unequal, corrupt and uncommitted copies, loads
+/// the calibration before the save or the new one, and the new one once the
+/// first copy is complete. Neither the configuration's nor the poses' slots
+/// are written.
+#[test]
+fn a_power_loss_at_any_byte_of_a_grip_save_loads_the_old_or_the_new_calibration() {
+    use touch_arm::config::grip::{self, GRIP_DEFAULT, GRIP_RECORD_LEN, GRIP_SLOT_A, GRIP_SLOT_B};
+    use touch_arm::servo::map::JointCal;
+    let wide = JointCal { max_us: 2400, max_rad: std::f32::consts::PI, ..GRIP_DEFAULT };
+    // One pulse limit a microsecond apart: a record differing in a byte.
+    let nudged = JointCal { max_us: 1501, ..GRIP_DEFAULT };
+    let slow = JointCal { max_speed_rad_s: 1.0, offset_us: 650.0, ..GRIP_DEFAULT };
+    let sets = [GRIP_DEFAULT, wide, nudged, slow];
+    #[derive(Clone, Copy, Debug)]
+    enum P {
+        Blank,
+        Valid(usize, u16),
+        Corrupt(usize, u16),
+        Uncommitted(usize, u16),
+    }
+    let fill = |e: &mut SimEeprom, at: u16, p: P| {
+        let bytes = match p {
+            P::Blank => vec![0xFF; GRIP_RECORD_LEN],
+            P::Valid(k, seq) => grip::encode(&sets[k], seq).to_vec(),
+            P::Corrupt(k, seq) => {
+                let mut r = grip::encode(&sets[k], seq);
+                r[14] ^= 0x10;
+                r.to_vec()
+            }
+            P::Uncommitted(k, seq) => {
+                let mut r = grip::encode(&sets[k], seq);
+                r[0] = UNCOMMITTED;
+                r.to_vec()
+            }
+        };
+        e.mem[at as usize..at as usize + GRIP_RECORD_LEN].copy_from_slice(&bytes);
+    };
+    use P::*;
+    let priors = [
+        (Blank, Blank),
+        (Valid(1, 4), Valid(1, 4)),
+        (Valid(2, 4), Valid(1, 4)),
+        (Valid(1, 9), Valid(2, 8)),
+        (Valid(1, 0xFFFF), Valid(2, 0)),
+        (Valid(2, 5), Corrupt(1, 6)),
+        (Corrupt(1, 6), Valid(2, 5)),
+        (Valid(1, 5), Uncommitted(3, 6)),
+        (Uncommitted(3, 6), Valid(1, 5)),
+    ];
+    let mut cases = 0u64;
+    for (pa, pb) in priors {
+        let mut prior = SimEeprom::new();
+        fill(&mut prior, GRIP_SLOT_A, pa);
+        fill(&mut prior, GRIP_SLOT_B, pb);
+        let before = grip::load(&mut prior.clone());
+        for new in &sets {
+            let mut dry = prior.clone();
+            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+            let seq = grip::save(&mut rec, new).expect("a save without power loss succeeds");
+            let writes = rec.writes;
+            assert!(writes.iter().all(|(a, _)| *a >= GRIP_SLOT_A), "a configuration or pose byte written");
+            let slot_of = |a: u16| if a >= GRIP_SLOT_B { GRIP_SLOT_B } else { GRIP_SLOT_A };
+            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+            for cut in 0..=writes.len() {
+                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                let old_byte = prior.mem[addr as usize];
+                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                    let mut e = prior.clone();
+                    e.power_loss_after(cut);
+                    e.torn_value = torn;
+                    let _ = grip::save(&mut e, new);
+                    e.restore_power();
+                    let l = grip::load(&mut e);
+                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                    let is_new = (l.cal, l.seq) == (*new, seq) && l.source != Source::Defaults;
+                    let is_old = (l.cal, l.seq, l.source) == (before.cal, before.seq, before.source);
+                    assert!(is_new || is_old, "{ctx}: loaded {l:?}");
+                    if cut >= first_len {
+                        assert_eq!((l.cal, l.seq), (*new, seq), "{ctx}: the first copy was complete");
+                    }
+                    let again = grip::save(&mut e, &sets[1]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                    let l = grip::load(&mut e);
+                    assert_eq!((l.cal, l.seq, l.damaged), (sets[1], again, false), "{ctx}");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{cases} torn grip saves");
+    assert!(cases > 5_000);
+}
+
+/// The gripper record's layout: the documented offsets, the defaults
+/// round-trip bit for bit, and what load refuses.
+#[test]
+fn the_grip_record_round_trips_and_refuses_what_it_should() {
+    use touch_arm::config::grip::{self, GRIP_DEFAULT, GRIP_RECORD_LEN, GRIP_SLOT_A};
+    let r = grip::encode(&GRIP_DEFAULT, 0x1234);
+    assert_eq!(&r[..5], &[b'T', b'G', 1, 0x34, 0x12]);
+    assert_eq!(&r[5..9], &600.0f32.to_le_bytes());
+    assert_eq!(&r[13..17], &[0x58, 0x02, 0xDC, 0x05], "600 and 1500 us");
+    assert_eq!(grip::decode(&r), Ok((0x1234, GRIP_DEFAULT)));
+    let mut bad = r;
+    bad[2] = 2;
+    assert_eq!(grip::decode(&bad), Err(RecordError::Version(2)));
+    let mut bad = r;
+    bad[GRIP_RECORD_LEN - 1] ^= 1;
+    assert_eq!(grip::decode(&bad), Err(RecordError::Crc));
+    // A valid CRC over an invalid calibration (min_us above max_us).
+    let inverted = touch_arm::servo::map::JointCal { min_us: 1600, ..GRIP_DEFAULT };
+    assert_eq!(grip::decode(&grip::encode(&inverted, 1)), Err(RecordError::Invalid));
+    // Never written: the defaults, not reported as damage; one copy damaged is.
+    let mut e = SimEeprom::new();
+    assert_eq!(
+        grip::load(&mut e),
+        grip::LoadedGrip { cal: GRIP_DEFAULT, source: Source::Defaults, seq: 0, damaged: false }
+    );
+    e.mem[GRIP_SLOT_A as usize..GRIP_SLOT_A as usize + GRIP_RECORD_LEN].copy_from_slice(&bad);
+    let l = grip::load(&mut e);
+    assert!(l.damaged && l.source == Source::Defaults);
+}
