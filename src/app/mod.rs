@@ -64,6 +64,7 @@
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
 
+mod grip;
 mod machine;
 mod poses;
 mod recalibrate;
@@ -317,6 +318,15 @@ pub struct Status {
     pub first_move_pending: bool,
     /// Per-frame telemetry is on (`log on`).
     pub log: bool,
+    /// Gripper angle commanded in the last frame, rad.
+    pub grip: f32,
+    /// Target of the gripper's current or last move, rad.
+    pub grip_target: f32,
+    /// The gripper's pulse written in the last frame, ticks (`None` before
+    /// the first).
+    pub grip_pulse: Option<u16>,
+    /// A grip move is running.
+    pub grip_moving: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -414,6 +424,8 @@ pub struct App {
     contact: bool,
     /// The saved poses (`poses.rs`), loaded at boot.
     poses: crate::config::poses::Poses,
+    /// The gripper (`grip.rs`): calibration, angle and move.
+    grip: grip::Grip,
 }
 
 /// Servo maps of a configuration.
@@ -471,6 +483,7 @@ impl App {
             wiring_unknown: false,
             contact: false,
             poses: crate::config::poses::Poses::EMPTY,
+            grip: grip::Grip::new(&crate::config::grip::GRIP_DEFAULT).ok_or(ParamsError::Defaults)?,
         })
     }
 
@@ -516,6 +529,16 @@ impl App {
             config_warning: self.warning,
             first_move_pending: self.first_move,
             log: self.log,
+            grip: self.grip.commanded,
+            grip_target: self.grip.target,
+            grip_pulse: self.grip.ticks,
+            grip_moving: self.grip.is_moving(),
         }
+    }
+
+    /// The gripper's running calibration (its pulse limits are the board's
+    /// own clamp for the gripper's channel).
+    pub fn grip_cal(&self) -> &crate::servo::map::JointCal {
+        self.grip.map.cal()
     }
 }
