@@ -220,14 +220,14 @@ fn load_and_save_agree_on_which_copy_is_in_use() {
 /// copy is complete. The configuration's slots are never written.
 #[test]
 fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
-    use touch_arm::config::poses::{self, Poses, POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
+    use touch_arm::config::poses::{self, Pose, Poses, POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
     let mut one = Poses::EMPTY;
-    assert!(one.set(1, Some([9000, 9000, -9000])));
+    assert!(one.set(1, Some(Pose { joints: [9000, 9000, -9000], grip: Some(0) })));
     let mut two = one;
-    assert!(two.set(3, Some([4500, 10_000, -12_000])));
+    assert!(two.set(3, Some(Pose { joints: [4500, 10_000, -12_000], grip: None })));
     let mut moved = two;
     // One angle one hundredth of a degree apart: a record differing in a byte.
-    assert!(moved.set(3, Some([4501, 10_000, -12_000])));
+    assert!(moved.set(3, Some(Pose { joints: [4500, 10_000, -12_000], grip: Some(1) })));
     let sets = [Poses::EMPTY, one, two, moved];
     #[derive(Clone, Copy, Debug)]
     enum P {
@@ -306,6 +306,70 @@ fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
     }
     eprintln!("{cases} torn pose saves");
     assert!(cases > 10_000);
+}
+
+/// The pose record's layout (version 2, the gripper's angle per pose) and
+/// its migration: a version-1 record (three joints per pose, CRC at 57), as
+/// the firmware before the gripper wrote it, loads with no gripper angle,
+/// and the next save writes version 2; and what decode refuses.
+#[test]
+fn pose_records_of_version_1_load_without_a_gripper_angle() {
+    use touch_arm::config::crc::crc16;
+    use touch_arm::config::poses::{self, Pose, Poses, POSE_RECORD_LEN, POSE_RECORD_LEN_V1, POSE_SLOT_A};
+    // Version 1 written out here: magic, version, seq 7, slot 2 used with
+    // (30, 120, -150) deg, the others unused, CRC of bytes 0..57.
+    let mut v1 = vec![b'T', b'P', 1, 7, 0];
+    for k in 0..4 {
+        if k == 1 {
+            v1.push(1);
+            for v in [3000i32, 12_000, -15_000] {
+                v1.extend_from_slice(&v.to_le_bytes());
+            }
+        } else {
+            v1.extend_from_slice(&[0; 13]);
+        }
+    }
+    let crc = crc16(&v1);
+    v1.extend_from_slice(&crc.to_le_bytes());
+    assert_eq!(v1.len(), POSE_RECORD_LEN_V1);
+    let mut e = SimEeprom::new();
+    e.mem[POSE_SLOT_A as usize..POSE_SLOT_A as usize + v1.len()].copy_from_slice(&v1);
+    let l = poses::load(&mut e);
+    let old = Pose { joints: [3000, 12_000, -15_000], grip: None };
+    assert_eq!((l.source, l.seq, l.poses.get(2)), (Source::SlotA, 7, Some(old)));
+    // The next save writes version 2 (to B first), keeping the old pose as it was.
+    let mut next = l.poses;
+    assert!(next.set(1, Some(Pose { joints: [9000, 9000, -9000], grip: Some(4500) })));
+    assert_eq!(poses::save(&mut e, &next), Ok(8));
+    let l = poses::load(&mut e);
+    assert_eq!((l.poses, l.seq, l.damaged), (next, 8, false));
+    let r = next.encode(8);
+    assert_eq!(&r[..3], b"TP\x02");
+    // Slot 1: flags 3 (used, with a gripper angle), the joints, 45 deg.
+    assert_eq!(r[5], 3);
+    assert_eq!(&r[18..22], &4500i32.to_le_bytes());
+    // Slot 2: flags 1 (used, no gripper angle), its gripper word 0.
+    assert_eq!((r[22], &r[35..39]), (1, &[0u8; 4][..]));
+    assert_eq!(Poses::decode(&r), Ok((8, next)));
+    // A gripper word without its flag, an unknown flag, a gripper beyond
+    // 360 deg: refused even under a valid CRC.
+    let reseal = |mut b: [u8; POSE_RECORD_LEN]| {
+        let crc = crc16(&b[..POSE_RECORD_LEN - 2]);
+        b[POSE_RECORD_LEN - 2..].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let mut bad = r;
+    bad[35] = 1;
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[5] = 7;
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[18..22].copy_from_slice(&36_001i32.to_le_bytes());
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[2] = 3;
+    assert_eq!(Poses::decode(&bad), Err(RecordError::Version(3)));
 }
 
 /// The gripper's calibration (`config::grip`) is stored the same way: a

@@ -144,6 +144,14 @@ impl App {
     /// Checks state and limits and accepts a grip target (planned by
     /// [`App::finish_grip`]).
     pub(super) fn accept_grip(&mut self, target: f32, pose: Option<u8>) -> Result<(), Refusal> {
+        let target = self.check_grip(target)?;
+        self.grip_due(target, pose);
+        Ok(())
+    }
+
+    /// The grip target `target` would be, inside the limits, or why it is
+    /// refused (nothing changes).
+    pub(super) fn check_grip(&self, target: f32) -> Result<f32, Refusal> {
         if self.stopped {
             return Err(Refusal::Stopped);
         }
@@ -157,10 +165,19 @@ impl App {
         if !(target >= lo - HALF_CENTIDEG && target <= hi + HALF_CENTIDEG) {
             return Err(Refusal::GripLimit);
         }
-        self.busy = true;
         // max/min, not f32::clamp: its panic location would cost RAM.
-        self.grip.due = Some(GripDue { target: target.max(lo).min(hi), pose });
-        Ok(())
+        Ok(target.max(lo).min(hi))
+    }
+
+    /// A checked grip target, planned after this frame's pulses.
+    pub(super) fn grip_due(&mut self, target: f32, pose: Option<u8>) {
+        self.busy = true;
+        self.grip.due = Some(GripDue { target, pose });
+    }
+
+    /// The gripper's commanded angle, rad.
+    pub(super) fn grip_angle(&self) -> f32 {
+        self.grip.commanded
     }
 
     /// Plans this frame's grip target from the commanded angle at rest and
