@@ -85,6 +85,7 @@ struct GripDue {
 
 impl Grip {
     /// At rest at the open end of `cal`'s output window, no pulse yet.
+    #[inline(never)]
     pub(super) fn new(cal: &JointCal) -> Option<Grip> {
         let map = ServoMap::new(cal).ok()?;
         let open = map.output_window().0;
@@ -130,6 +131,10 @@ impl App {
     }
 
     /// `grip open|close|<deg>`: checked now, planned after the pulses.
+    // The gripper's commands are not inlined into `execute`: their locals
+    // would sit in its frame under the deepest path (a calibration slew's
+    // plan); measured with the stack test of `firmware_e2e.rs`.
+    #[inline(never)]
     pub(super) fn grip_command(&mut self, cmd: GripCmd) -> Result<Done, Refusal> {
         let (open, close) = self.grip.ends();
         let target = match cmd {
@@ -197,6 +202,13 @@ impl App {
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
+        self.report_grip(serial, &due, r);
+    }
+
+    /// The answer of a grip plan (not inlined: its line buffer is not on
+    /// the stack while the grip is planned).
+    #[inline(never)]
+    fn report_grip<U: SerialPort>(&mut self, serial: &mut U, due: &GripDue, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match (r, due.pose) {
             (Ok(()), None) => {
@@ -259,6 +271,7 @@ impl App {
 
     /// The gripper's pulse, through its map's clamping; a refused
     /// (non-finite) angle holds the previous pulse and latches STOP.
+    #[inline(never)]
     pub(super) fn write_grip<S: ServoOutputs>(&mut self, servos: &mut S) {
         match self.grip.map.angle_to_pulse(self.grip.commanded) {
             Ok(p) => {
@@ -282,6 +295,7 @@ impl App {
     }
 
     /// `cal set grip <field> <value>`.
+    #[inline(never)]
     pub(super) fn grip_cal_set(&mut self, field: JointField, value: i32) -> Result<Done, Refusal> {
         let mut next = *self.grip.map.cal();
         set_field(&mut next, field, value);
@@ -292,6 +306,7 @@ impl App {
     }
 
     /// `cal reset grip`.
+    #[inline(never)]
     pub(super) fn grip_reset(&mut self) -> Result<Done, Refusal> {
         self.replace_grip(&GRIP_DEFAULT).map(Done::CalReset)
     }

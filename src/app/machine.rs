@@ -41,6 +41,8 @@ impl App {
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
+        // The gripper after the joints' pulses, so its step does not delay them.
+        self.step_grip();
         self.write_grip(io.servos);
         // After the pulses: a plan may take most of the frame, and the next
         // period's pulses are already set if it takes a little longer. One
@@ -430,7 +432,6 @@ impl App {
                 n => Mode::Homing { frames_left: n - 1 },
             };
         }
-        self.step_grip();
         self.frame_pulses = None;
         if !self.track.is_done() {
             let f = self.track.frame_now();

@@ -33,12 +33,14 @@
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
 //!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
 //!    the previous pulse and latches STOP (`Refusal::Fault`).
+//!    Then the gripper: its angle at its own plan's t and its pulse
+//!    (`grip.rs`), after the joints' pulses so it does not delay them.
 //! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
 //!    commanded, and answered (`ok move`, `info touch …`); the move starts in
 //!    the next frame. A plan can take most of a frame; coming after the
 //!    pulses, it cannot delay them.
-//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
-//!    angles in centidegrees.
+//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>
+//!    <grip> <us>`, angles in centidegrees.
 //! 7. One line of a multi-line reply (`cal show`), if pending and the frame
 //!    is not busy.
 //!
@@ -445,6 +447,7 @@ impl App {
         let filter = TouchFilter::new(&params.filter).map_err(ParamsError::Filter)?;
         let config = Config::DEFAULT;
         let maps = build_maps(&config).ok_or(ParamsError::Defaults)?;
+        let grip = grip::Grip::new(&crate::config::grip::GRIP_DEFAULT).ok_or(ParamsError::Defaults)?;
         Ok(App {
             params: *params,
             geo,
@@ -483,7 +486,7 @@ impl App {
             wiring_unknown: false,
             contact: false,
             poses: crate::config::poses::Poses::EMPTY,
-            grip: grip::Grip::new(&crate::config::grip::GRIP_DEFAULT).ok_or(ParamsError::Defaults)?,
+            grip,
         })
     }
 
