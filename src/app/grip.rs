@@ -180,6 +180,14 @@ impl App {
         self.grip.due = Some(GripDue { target, pose });
     }
 
+    /// Drops a gripper target that a `pose go` left for the next frame
+    /// (its arm move was not planned).
+    pub(super) fn drop_pose_grip(&mut self) {
+        if self.grip.due.is_some_and(|d| d.pose.is_some()) {
+            self.grip.due = None;
+        }
+    }
+
     /// The gripper's commanded angle, rad.
     pub(super) fn grip_angle(&self) -> f32 {
         self.grip.commanded

@@ -309,7 +309,14 @@ impl App {
         }
         match due.answer {
             Answer::Nobody => {}
-            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done)),
+            Answer::Serial(done) => {
+                // A pose whose arm move cannot be planned moves nothing:
+                // its gripper target, due in the next frame, is dropped.
+                if r.is_err() {
+                    self.drop_pose_grip();
+                }
+                self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done))
+            }
             Answer::Touch(p) => self.report_touch(serial, &p, r),
             Answer::Screen(p, x_p, y_p) => {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
