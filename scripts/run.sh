@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's main job: set-up, build the firmware, run it in simavr, write out/.
-#   scripts/run.sh [--xy X,Y | --raw X,Y] [--lcd C] [--wiring a|b|c]   one touch, results in out/
+#   scripts/run.sh [--xy X,Y | --raw X,Y] [--lcd C] [--wiring a|b|c] [--grip open|close]
+#                                            one touch (and a grip after the move), results in out/
 #   scripts/run.sh --live [--port P]         the live bench at http://127.0.0.1:P/
 #                                            (default 8080; Ctrl-C stops it)
 set -euo pipefail

@@ -115,12 +115,14 @@ fn start_app() -> Option<&'static mut App> {
     Some(unsafe { (*core::ptr::addr_of_mut!(APP)).write(app) })
 }
 
-/// One 20 ms frame: the hardware clamp follows the calibration, then the
+/// One 20 ms frame: the hardware clamp follows the calibration (the
+/// gripper's too), then the
 /// app reads serial and touch and writes the servo pulses. Not inlined, so
 /// its large temporaries stay out of `main`'s frame.
 #[inline(never)]
 fn frame(app: &mut App, b: &mut Board) {
     b.pwm.set_limits(&tick_limits(app.config()));
+    b.pwm.set_grip_limits(TickLimits::of_joint(app.grip_cal()));
     // The measured wiring; none (not measured, or not identified) reads nothing.
     let wiring = app.config().wiring.map(TouchWiring::preset);
     let mut panel = b.bus.touch(&mut b.adc, wiring.as_ref());

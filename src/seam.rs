@@ -58,14 +58,20 @@ pub enum TouchError {
     Adc,
 }
 
-/// The three servo signal outputs (base, shoulder, elbow).
+/// The servo signal outputs: the three joints (base, shoulder, elbow) and
+/// the gripper.
 pub trait ServoOutputs {
     /// Commands the pulse widths for the next PWM period, in Timer5 ticks of
     /// 0.5 µs (the timer's resolution: 3000 = 1500 µs). The implementation
     /// clamps to its own configured limits as well, so no caller can drive a
     /// servo outside them.
     fn set_pulses(&mut self, ticks: &[u16; 3]);
-    /// Stops the pulses (servos go limp) until the next `set_pulses`.
+    /// Commands the gripper's pulse width for the next PWM period, in the
+    /// same ticks and under the same clamping; the gripper's output gets no
+    /// pulse before the first call (after `disable`, none until the next).
+    fn set_grip(&mut self, ticks: u16);
+    /// Stops every pulse (servos go limp) until the next `set_pulses` (the
+    /// gripper's until the next `set_grip`).
     fn disable(&mut self);
 }
 

@@ -54,7 +54,14 @@ impl Inputs {
     /// A command of the README's grammar, with arguments mostly plausible
     /// and sometimes out of range (the app must refuse those).
     pub fn command(&mut self) -> String {
-        match self.rng.below(20) {
+        match self.rng.below(23) {
+            20 => match self.rng.below(3) {
+                0 => "grip open".into(),
+                1 => "grip close".into(),
+                _ => format!("grip {}", self.decimal(-10.0, 100.0)),
+            },
+            21 => self.cal_set_grip(),
+            22 => format!("pose {} {}", self.pick(&["save", "go", "go", "clear"]), self.int(1, 4)),
             0..=3 => format!("move {} {}", self.int(0, 1023), self.int(0, 1023)),
             4..=7 => {
                 let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
@@ -71,6 +78,20 @@ impl Inputs {
             17 => format!("log {}", if self.rng.below(2) == 0 { "on" } else { "off" }),
             _ => self.cal_set(),
         }
+    }
+
+    /// A gripper calibration change around its defaults (0..90 deg over
+    /// 600..1500 us).
+    fn cal_set_grip(&mut self) -> String {
+        let (field, v) = match self.rng.below(6) {
+            0 => ("offset", self.decimal(550.0, 650.0)),
+            1 => ("scale", self.decimal(8.0, 12.0)),
+            2 => ("min_us", self.int(500, 700).to_string()),
+            3 => ("max_us", self.int(1300, 2000).to_string()),
+            4 => ("max_deg", self.decimal(40.0, 120.0)),
+            _ => ("max_speed", self.decimal(5.0, 400.0)),
+        };
+        format!("cal set grip {field} {v}")
     }
 
     fn cal_set(&mut self) -> String {

@@ -161,9 +161,11 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
             15 => s.press_raw(if k % 60 == 15 { slow.0 } else { normal.0 }, slow.1.max(normal.1)).unwrap(),
             _ => {}
         }
-        // The flood: more than a frame's worth of lines, half of them moves.
+        // The flood: more than a frame's worth of lines, half of them moves
+        // of the arm or the gripper (a grip runs beside the arm's move).
         for _ in 0..3 {
-            let line = match rng.below(6) {
+            let line = match rng.below(7) {
+                6 => format!("grip {}", rng.below(91)),
                 0 | 1 => {
                     format!("goto {} {} {}", 20 + rng.below(140), 40 + rng.below(100), -(20 + rng.below(140) as i64))
                 }

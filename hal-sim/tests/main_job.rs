@@ -212,3 +212,45 @@ fn main_job_re_plans_mid_move_under_the_law_asked() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--grip close`: the grip goes out after the move, and pulses.csv gains
+/// `grip_us`, the gripper's pulse of each row's period: 600 µs (open, the
+/// home pose's) until the grip, then up to 1500 µs (closed, the default
+/// calibration's 90°), never back, never outside 600..1500 µs, and the
+/// arm's columns as without it. The first grip runs at the slow preset:
+/// 4317 ms for 90° (scenario grip.scn).
+#[test]
+fn main_job_grips_after_the_move() {
+    let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{}-grip", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+        .args(["--xy", "0.4,0.6", "--grip", "close", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run touch-arm-sim");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}{stdout}", String::from_utf8_lossy(&out.stderr));
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["grip"], "close");
+    assert_eq!(summary["grip_reply"], "ok grip 9000 ts_ms 4317");
+    assert_eq!(summary["grip_ts_s"].as_f64(), Some(4.317));
+    assert_eq!(summary["grip_final_us"].as_f64(), Some(1500.0));
+    let csv = std::fs::read_to_string(dir.join("pulses.csv")).unwrap();
+    assert!(csv.starts_with("t_s,base_us,shoulder_us,elbow_us,grip_us\n"), "{}", &csv[..80]);
+    let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(rows.iter().all(|r| r.len() == 5), "a row without its gripper pulse");
+    let grip: Vec<f64> = rows.iter().map(|r| r[4]).collect();
+    assert_eq!(grip[0], 600.0);
+    assert_eq!(*grip.last().unwrap(), 1500.0);
+    assert!(grip.iter().all(|w| (600.0..=1500.0).contains(w) && (w * 2.0).fract() == 0.0));
+    assert!(grip.windows(2).all(|w| w[1] >= w[0] && w[1] - w[0] <= 8.5), "not smooth");
+    // The grip starts once the arm has arrived: the arm's pulses are final
+    // before the first gripper change.
+    let moved = grip.iter().position(|w| *w != 600.0).unwrap();
+    let finals: Vec<f64> = summary["final_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert!(rows[moved..].iter().all(|r| r[1..4] == finals[..]), "the arm moved during the grip");
+    // 4.317 s of motion: 216 frames of change at most, and most of them.
+    let changes = grip.windows(2).filter(|w| w[1] != w[0]).count();
+    assert!((150..=216).contains(&changes), "{changes} changes");
+    assert!(stdout.contains("firmware: ok grip 9000 ts_ms 4317; gripper pulse at the end 1500 us"), "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}

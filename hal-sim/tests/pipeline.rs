@@ -791,21 +791,27 @@ mod config {
     /// the configuration's CRC, and every value check.
     #[test]
     fn pose_record_layout_and_rejections() {
-        use touch_arm::config::poses::{Poses, POSE_RECORD_LEN, POSE_VERSION};
+        use touch_arm::config::poses::{Pose, Poses, POSE_RECORD_LEN, POSE_VERSION};
         let mut p = Poses::EMPTY;
-        assert!(p.set(2, Some([9000, -1, -36_000])));
-        assert!(!p.set(0, Some([0; 3])) && !p.set(5, None) && !p.set(1, Some([36_001, 0, 0])));
-        assert_eq!((p.get(1), p.get(2), p.get(0), p.get(5)), (None, Some([9000, -1, -36_000]), None, None));
+        let pose = Pose { joints: [9000, -1, -36_000], grip: Some(4500) };
+        let far = Pose { joints: [36_001, 0, 0], grip: None };
+        let far_grip = Pose { joints: [0; 3], grip: Some(-36_001) };
+        assert!(p.set(2, Some(pose)));
+        let zero = Pose { joints: [0; 3], grip: None };
+        assert!(!p.set(0, Some(zero)) && !p.set(5, None) && !p.set(1, Some(far)) && !p.set(1, Some(far_grip)));
+        assert_eq!((p.get(1), p.get(2), p.get(0), p.get(5)), (None, Some(pose), None, None));
         let r = p.encode(0x0102);
         assert_eq!(r.len(), POSE_RECORD_LEN);
         assert_eq!((&r[0..2], r[2], &r[3..5]), (&b"TP"[..], POSE_VERSION, &[0x02, 0x01][..]));
-        // Slot 1 unused (flag and zeros), slot 2 at 5 + 13.
-        assert_eq!(&r[5..18], &[0u8; 13]);
-        assert_eq!(r[18], 1);
-        assert_eq!(&r[19..23], &9000i32.to_le_bytes());
-        assert_eq!(&r[23..27], &(-1i32).to_le_bytes());
-        assert_eq!(&r[27..31], &(-36_000i32).to_le_bytes());
-        assert_eq!(&r[57..59], &crc16(&r[..57]).to_le_bytes());
+        // Slot 1 unused (flag and zeros), slot 2 at 5 + 17: flags 3 (used,
+        // with a gripper angle), the joints, the gripper.
+        assert_eq!(&r[5..22], &[0u8; 17]);
+        assert_eq!(r[22], 3);
+        assert_eq!(&r[23..27], &9000i32.to_le_bytes());
+        assert_eq!(&r[27..31], &(-1i32).to_le_bytes());
+        assert_eq!(&r[31..35], &(-36_000i32).to_le_bytes());
+        assert_eq!(&r[35..39], &4500i32.to_le_bytes());
+        assert_eq!(&r[73..75], &crc16(&r[..73]).to_le_bytes());
         assert_eq!(Poses::decode(&r), Ok((0x0102, p)));
         for i in 3..POSE_RECORD_LEN {
             let mut bad = r;
@@ -813,15 +819,16 @@ mod config {
             assert_eq!(Poses::decode(&bad), Err(RecordError::Crc), "byte {i}");
         }
         let mut v = r;
-        v[2] = 2;
-        assert_eq!(Poses::decode(&v), Err(RecordError::Version(2)));
+        v[2] = 3;
+        assert_eq!(Poses::decode(&v), Err(RecordError::Version(3)));
         let reseal = |mut r: [u8; POSE_RECORD_LEN]| {
-            let crc = crc16(&r[..57]);
-            r[57..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..73]);
+            r[73..].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        // A flag of 2, an unused slot with an angle, an angle past 360°.
-        for (at, bytes) in [(5usize, vec![2u8]), (6, vec![1]), (19, 36_001i32.to_le_bytes().to_vec())] {
+        // A flag of 2 (a gripper angle in an unused slot), an unused slot
+        // with an angle, an angle past 360°.
+        for (at, bytes) in [(5usize, vec![2u8]), (6, vec![1]), (23, 36_001i32.to_le_bytes().to_vec())] {
             let mut bad = r;
             bad[at..at + bytes.len()].copy_from_slice(&bytes);
             assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid), "at {at}");
@@ -1223,6 +1230,13 @@ mod command {
             ("cal set touch invert_y 1", t(TouchField::InvertY, 1)),
             ("log on", C::Log(true)),
             ("log off", C::Log(false)),
+            ("grip open", C::Grip(GripCmd::Open)),
+            ("grip close", C::Grip(GripCmd::Close)),
+            ("grip 45.5", C::Grip(GripCmd::Centideg(4550))),
+            ("grip -360", C::Grip(GripCmd::Centideg(-36_000))),
+            ("cal reset grip", C::CalResetGrip),
+            ("cal set grip max_deg 60", C::CalSet(CalSet::Grip { field: JointField::MaxDeg, value: 6000 })),
+            ("cal set grip min_us 700", C::CalSet(CalSet::Grip { field: JointField::MinUs, value: 700 })),
             // Lenient whitespace.
             ("  move\t12    34  ", C::Move { x: 12, y: 34 }),
             ("status\r\n", C::Status),
@@ -1298,6 +1312,12 @@ mod command {
             (b"cal set base min_us 1500.5", E::BadNumber),
             (b"cal set base min_us 499", E::OutOfRange),
             (b"cal set base max_us 2501", E::OutOfRange),
+            (b"grip", E::MissingArgument),
+            (b"grip shut", E::BadNumber),
+            (b"grip open now", E::ExtraArgument),
+            (b"grip 360.01", E::OutOfRange),
+            (b"cal reset base", E::ExtraArgument),
+            (b"cal set grip max_us 2501", E::OutOfRange),
             (b"cal set base scale 100.01", E::OutOfRange),
             (b"cal set base max_speed -1", E::OutOfRange),
             (b"cal set touch x_min 1024", E::OutOfRange),

@@ -4,7 +4,9 @@
 //! point of a pose save loads the poses before it or the new ones.
 //!
 //! Default servo calibration: 10 µs per degree, base and shoulder 600 µs at
-//! 0°, elbow 2400 µs at 0°: (30, 120, −150)° is 900, 1800, 900 µs.
+//! 0°, elbow 2400 µs at 0°: (30, 120, −150)° is 900, 1800, 900 µs; the
+//! gripper's 600 µs at 0° (open, where it starts), 10 µs per degree: 45° is
+//! 1050 µs.
 
 use hal_sim::firmware::{self, Session};
 use hal_sim::panel::PanelWiring;
@@ -29,23 +31,38 @@ fn go(s: &mut Session, cmd: &str, want: &str) {
 }
 
 const LIST_EMPTY: &str = "ok pose list 1 empty 2 empty 3 empty 4 empty";
-const LIST_SAVED: &str = "ok pose list 1 empty 2 30.00 120.00 -150.00 3 empty 4 empty";
+const LIST_SAVED: &str = "ok pose list 1 empty 2 30.00 120.00 -150.00 grip 0.00 3 empty 4 empty";
 
+/// The pose holds the gripper's angle too: after the power cycle the
+/// gripper starts open (600 µs) and `pose go` closes it to 45° (1050 µs)
+/// with the arm's move; the grip is planned a frame after the arm's, and
+/// its first grip after power-up runs slow (1.5708/2 rad at 0.735 rad/s:
+/// 2.15868 s), longer than the arm's 1.43912 s: the wait covers it.
 #[test]
 fn a_pose_saved_on_the_chip_survives_a_power_cycle_and_is_reached() {
     let mut s = boot(None);
     assert_eq!(s.command("pose list").unwrap(), LIST_EMPTY);
     go(&mut s, "goto 30 120 -150", "ok goto ");
+    assert!(s.command("grip 45").unwrap().starts_with("ok grip 4500 ts_ms "));
+    s.run_for(2.5).unwrap();
     assert_eq!(s.command("pose save 2").unwrap(), "ok pose save 2 seq 1");
     let ee = s.avr.eeprom().unwrap();
 
     let mut s = boot(Some(&ee));
-    assert_eq!(s.command("pose list").unwrap(), LIST_SAVED);
+    assert_eq!(
+        s.command("pose list").unwrap(),
+        "ok pose list 1 empty 2 30.00 120.00 -150.00 grip 45.00 3 empty 4 empty"
+    );
+    assert_eq!(s.grip_pulse_ticks().last().unwrap().1, 1200, "open after the power cycle");
     go(&mut s, "pose go 2", "ok pose go 2 ts_ms ");
+    s.run_for(1.0).unwrap();
     let last = s.last_pulses();
     for (j, want) in [900.0, 1800.0, 900.0].iter().enumerate() {
         assert!((last[j].unwrap() - want).abs() <= 0.25, "joint {j}: {:?}", last);
     }
+    let grip: Vec<u16> = s.grip_pulse_ticks().into_iter().map(|(_, t)| t).collect();
+    assert_eq!(*grip.last().unwrap(), 2100, "the gripper at 45 deg = 1050 us");
+    assert!(grip.windows(2).all(|w| w[1] >= w[0]), "the gripper went back on its way");
 }
 
 /// The save is cut by taking the EEPROM as it is every 100 cycles of the

@@ -43,7 +43,11 @@ struct Tally {
 /// The pulse window of joint `j` (angle and pulse limits), widened by the
 /// 1 µs of rounding.
 fn window(c: &Config, j: usize) -> (f64, f64) {
-    let k = &c.joints[j];
+    cal_window(&c.joints[j])
+}
+
+/// [`window`] of one calibration (a joint's or the gripper's).
+fn cal_window(k: &touch_arm::servo::map::JointCal) -> (f64, f64) {
     let (a, b) = (
         k.offset_us as f64 + k.us_per_rad as f64 * k.min_rad as f64,
         k.offset_us as f64 + k.us_per_rad as f64 * k.max_rad as f64,
@@ -59,6 +63,7 @@ struct Run {
     sent: u64,
     answered: u64,
     prev_pulses: Option<[u16; 3]>,
+    prev_grip: Option<u16>,
     prev_state: State,
 }
 
@@ -76,6 +81,7 @@ impl Run {
             sent: 0,
             answered: 0,
             prev_pulses: None,
+            prev_grip: None,
             prev_state: State::Off,
         }
     }
@@ -127,9 +133,27 @@ impl Run {
                 }
             }
         }
+        // The gripper: inside its window, no faster than its speed limit,
+        // frozen while stopped.
+        let grip = self.sim.servos.grip_pulse();
+        if let Some(g) = grip {
+            let k = *self.sim.app.grip_cal();
+            let (lo, hi) = cal_window(&k);
+            let us = f64::from(g) * 0.5;
+            assert!(us >= lo && us <= hi, "{}: gripper pulse {us} outside [{lo}, {hi}] ({k:?})", ctx());
+            if let Some(q) = self.prev_grip {
+                let step = (f64::from(g) - f64::from(q)).abs() * 0.5;
+                let max = k.max_speed_rad_s as f64 * (k.us_per_rad as f64).abs() * FRAME_S as f64;
+                assert!(step <= max + 1.0, "{}: gripper pulse stepped {step} us > {max:.2} + 1", ctx());
+                if st.state == State::Stopped && self.prev_state == State::Stopped {
+                    assert_eq!(g, q, "{}: the gripper moved while stopped", ctx());
+                }
+            }
+        }
         if st.state == State::Stopped {
             self.t.frames_stopped += 1;
         }
+        self.prev_grip = grip;
         self.prev_pulses = pulses;
         self.prev_state = st.state;
     }

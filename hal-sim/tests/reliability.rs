@@ -54,6 +54,10 @@ fn the_longest_status_fits_its_line() {
                             config_warning: Some(warning),
                             first_move_pending: true,
                             log: true,
+                            grip: widest,
+                            grip_target: widest,
+                            grip_pulse: Some(4999),
+                            grip_moving: true,
                         };
                         let mut line = Line::new();
                         status_line(&s, &mut line);
@@ -62,6 +66,7 @@ fn the_longest_status_fits_its_line() {
                         let tail = format!(" refused {}\r\n", refusal.reason().as_str());
                         assert!(text.ends_with(&tail), "{text:?}");
                         assert!(text.contains(" q -36000 -36000 -36000 target -36000 -36000 -36000 "), "{text:?}");
+                        assert!(text.contains(" grip -36000"), "{text:?}");
                         if text.len() > longest.0 {
                             longest = (text.len(), text);
                         }

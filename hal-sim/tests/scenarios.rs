@@ -33,6 +33,7 @@ scenarios!(
     cal_slew,
     eeprom_corrupt,
     flood,
+    grip,
     home_pulse_window,
     idle_noise,
     law_switch,

@@ -220,14 +220,14 @@ fn load_and_save_agree_on_which_copy_is_in_use() {
 /// copy is complete. The configuration's slots are never written.
 #[test]
 fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
-    use touch_arm::config::poses::{self, Poses, POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
+    use touch_arm::config::poses::{self, Pose, Poses, POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
     let mut one = Poses::EMPTY;
-    assert!(one.set(1, Some([9000, 9000, -9000])));
+    assert!(one.set(1, Some(Pose { joints: [9000, 9000, -9000], grip: Some(0) })));
     let mut two = one;
-    assert!(two.set(3, Some([4500, 10_000, -12_000])));
+    assert!(two.set(3, Some(Pose { joints: [4500, 10_000, -12_000], grip: None })));
     let mut moved = two;
     // One angle one hundredth of a degree apart: a record differing in a byte.
-    assert!(moved.set(3, Some([4501, 10_000, -12_000])));
+    assert!(moved.set(3, Some(Pose { joints: [4500, 10_000, -12_000], grip: Some(1) })));
     let sets = [Poses::EMPTY, one, two, moved];
     #[derive(Clone, Copy, Debug)]
     enum P {
@@ -306,4 +306,192 @@ fn a_power_loss_at_any_byte_of_a_pose_save_loads_the_old_or_the_new_poses() {
     }
     eprintln!("{cases} torn pose saves");
     assert!(cases > 10_000);
+}
+
+/// The pose record's layout (version 2, the gripper's angle per pose) and
+/// its migration: a version-1 record (three joints per pose, CRC at 57), as
+/// the firmware before the gripper wrote it, loads with no gripper angle,
+/// and the next save writes version 2; and what decode refuses.
+#[test]
+fn pose_records_of_version_1_load_without_a_gripper_angle() {
+    use touch_arm::config::crc::crc16;
+    use touch_arm::config::poses::{self, Pose, Poses, POSE_RECORD_LEN, POSE_RECORD_LEN_V1, POSE_SLOT_A};
+    // Version 1 written out here: magic, version, seq 7, slot 2 used with
+    // (30, 120, -150) deg, the others unused, CRC of bytes 0..57.
+    let mut v1 = vec![b'T', b'P', 1, 7, 0];
+    for k in 0..4 {
+        if k == 1 {
+            v1.push(1);
+            for v in [3000i32, 12_000, -15_000] {
+                v1.extend_from_slice(&v.to_le_bytes());
+            }
+        } else {
+            v1.extend_from_slice(&[0; 13]);
+        }
+    }
+    let crc = crc16(&v1);
+    v1.extend_from_slice(&crc.to_le_bytes());
+    assert_eq!(v1.len(), POSE_RECORD_LEN_V1);
+    let mut e = SimEeprom::new();
+    e.mem[POSE_SLOT_A as usize..POSE_SLOT_A as usize + v1.len()].copy_from_slice(&v1);
+    let l = poses::load(&mut e);
+    let old = Pose { joints: [3000, 12_000, -15_000], grip: None };
+    assert_eq!((l.source, l.seq, l.poses.get(2)), (Source::SlotA, 7, Some(old)));
+    // The next save writes version 2 (to B first), keeping the old pose as it was.
+    let mut next = l.poses;
+    assert!(next.set(1, Some(Pose { joints: [9000, 9000, -9000], grip: Some(4500) })));
+    assert_eq!(poses::save(&mut e, &next), Ok(8));
+    let l = poses::load(&mut e);
+    assert_eq!((l.poses, l.seq, l.damaged), (next, 8, false));
+    let r = next.encode(8);
+    assert_eq!(&r[..3], b"TP\x02");
+    // Slot 1: flags 3 (used, with a gripper angle), the joints, 45 deg.
+    assert_eq!(r[5], 3);
+    assert_eq!(&r[18..22], &4500i32.to_le_bytes());
+    // Slot 2: flags 1 (used, no gripper angle), its gripper word 0.
+    assert_eq!((r[22], &r[35..39]), (1, &[0u8; 4][..]));
+    assert_eq!(Poses::decode(&r), Ok((8, next)));
+    // A gripper word without its flag, an unknown flag, a gripper beyond
+    // 360 deg: refused even under a valid CRC.
+    let reseal = |mut b: [u8; POSE_RECORD_LEN]| {
+        let crc = crc16(&b[..POSE_RECORD_LEN - 2]);
+        b[POSE_RECORD_LEN - 2..].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let mut bad = r;
+    bad[35] = 1;
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[5] = 7;
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[18..22].copy_from_slice(&36_001i32.to_le_bytes());
+    assert_eq!(Poses::decode(&reseal(bad)), Err(RecordError::Invalid));
+    let mut bad = r;
+    bad[2] = 3;
+    assert_eq!(Poses::decode(&bad), Err(RecordError::Version(3)));
+}
+
+/// The gripper's calibration (`config::grip`) is stored the same way: a
+/// power loss at any byte of its save, with every kind of value in the torn
+/// byte, from blank, equal, unequal, corrupt and uncommitted copies, loads
+/// the calibration before the save or the new one, and the new one once the
+/// first copy is complete. Neither the configuration's nor the poses' slots
+/// are written.
+#[test]
+fn a_power_loss_at_any_byte_of_a_grip_save_loads_the_old_or_the_new_calibration() {
+    use touch_arm::config::grip::{self, GRIP_DEFAULT, GRIP_RECORD_LEN, GRIP_SLOT_A, GRIP_SLOT_B};
+    use touch_arm::servo::map::JointCal;
+    let wide = JointCal { max_us: 2400, max_rad: std::f32::consts::PI, ..GRIP_DEFAULT };
+    // One pulse limit a microsecond apart: a record differing in a byte.
+    let nudged = JointCal { max_us: 1501, ..GRIP_DEFAULT };
+    let slow = JointCal { max_speed_rad_s: 1.0, offset_us: 650.0, ..GRIP_DEFAULT };
+    let sets = [GRIP_DEFAULT, wide, nudged, slow];
+    #[derive(Clone, Copy, Debug)]
+    enum P {
+        Blank,
+        Valid(usize, u16),
+        Corrupt(usize, u16),
+        Uncommitted(usize, u16),
+    }
+    let fill = |e: &mut SimEeprom, at: u16, p: P| {
+        let bytes = match p {
+            P::Blank => vec![0xFF; GRIP_RECORD_LEN],
+            P::Valid(k, seq) => grip::encode(&sets[k], seq).to_vec(),
+            P::Corrupt(k, seq) => {
+                let mut r = grip::encode(&sets[k], seq);
+                r[14] ^= 0x10;
+                r.to_vec()
+            }
+            P::Uncommitted(k, seq) => {
+                let mut r = grip::encode(&sets[k], seq);
+                r[0] = UNCOMMITTED;
+                r.to_vec()
+            }
+        };
+        e.mem[at as usize..at as usize + GRIP_RECORD_LEN].copy_from_slice(&bytes);
+    };
+    use P::*;
+    let priors = [
+        (Blank, Blank),
+        (Valid(1, 4), Valid(1, 4)),
+        (Valid(2, 4), Valid(1, 4)),
+        (Valid(1, 9), Valid(2, 8)),
+        (Valid(1, 0xFFFF), Valid(2, 0)),
+        (Valid(2, 5), Corrupt(1, 6)),
+        (Corrupt(1, 6), Valid(2, 5)),
+        (Valid(1, 5), Uncommitted(3, 6)),
+        (Uncommitted(3, 6), Valid(1, 5)),
+    ];
+    let mut cases = 0u64;
+    for (pa, pb) in priors {
+        let mut prior = SimEeprom::new();
+        fill(&mut prior, GRIP_SLOT_A, pa);
+        fill(&mut prior, GRIP_SLOT_B, pb);
+        let before = grip::load(&mut prior.clone());
+        for new in &sets {
+            let mut dry = prior.clone();
+            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+            let seq = grip::save(&mut rec, new).expect("a save without power loss succeeds");
+            let writes = rec.writes;
+            assert!(writes.iter().all(|(a, _)| *a >= GRIP_SLOT_A), "a configuration or pose byte written");
+            let slot_of = |a: u16| if a >= GRIP_SLOT_B { GRIP_SLOT_B } else { GRIP_SLOT_A };
+            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+            for cut in 0..=writes.len() {
+                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                let old_byte = prior.mem[addr as usize];
+                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                    let mut e = prior.clone();
+                    e.power_loss_after(cut);
+                    e.torn_value = torn;
+                    let _ = grip::save(&mut e, new);
+                    e.restore_power();
+                    let l = grip::load(&mut e);
+                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                    let is_new = (l.cal, l.seq) == (*new, seq) && l.source != Source::Defaults;
+                    let is_old = (l.cal, l.seq, l.source) == (before.cal, before.seq, before.source);
+                    assert!(is_new || is_old, "{ctx}: loaded {l:?}");
+                    if cut >= first_len {
+                        assert_eq!((l.cal, l.seq), (*new, seq), "{ctx}: the first copy was complete");
+                    }
+                    let again = grip::save(&mut e, &sets[1]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                    let l = grip::load(&mut e);
+                    assert_eq!((l.cal, l.seq, l.damaged), (sets[1], again, false), "{ctx}");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{cases} torn grip saves");
+    assert!(cases > 5_000);
+}
+
+/// The gripper record's layout: the documented offsets, the defaults
+/// round-trip bit for bit, and what load refuses.
+#[test]
+fn the_grip_record_round_trips_and_refuses_what_it_should() {
+    use touch_arm::config::grip::{self, GRIP_DEFAULT, GRIP_RECORD_LEN, GRIP_SLOT_A};
+    let r = grip::encode(&GRIP_DEFAULT, 0x1234);
+    assert_eq!(&r[..5], &[b'T', b'G', 1, 0x34, 0x12]);
+    assert_eq!(&r[5..9], &600.0f32.to_le_bytes());
+    assert_eq!(&r[13..17], &[0x58, 0x02, 0xDC, 0x05], "600 and 1500 us");
+    assert_eq!(grip::decode(&r), Ok((0x1234, GRIP_DEFAULT)));
+    let mut bad = r;
+    bad[2] = 2;
+    assert_eq!(grip::decode(&bad), Err(RecordError::Version(2)));
+    let mut bad = r;
+    bad[GRIP_RECORD_LEN - 1] ^= 1;
+    assert_eq!(grip::decode(&bad), Err(RecordError::Crc));
+    // A valid CRC over an invalid calibration (min_us above max_us).
+    let inverted = touch_arm::servo::map::JointCal { min_us: 1600, ..GRIP_DEFAULT };
+    assert_eq!(grip::decode(&grip::encode(&inverted, 1)), Err(RecordError::Invalid));
+    // Never written: the defaults, not reported as damage; one copy damaged is.
+    let mut e = SimEeprom::new();
+    assert_eq!(
+        grip::load(&mut e),
+        grip::LoadedGrip { cal: GRIP_DEFAULT, source: Source::Defaults, seq: 0, damaged: false }
+    );
+    e.mem[GRIP_SLOT_A as usize..GRIP_SLOT_A as usize + GRIP_RECORD_LEN].copy_from_slice(&bad);
+    let l = grip::load(&mut e);
+    assert!(l.damaged && l.source == Source::Defaults);
 }

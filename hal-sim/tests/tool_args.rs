@@ -33,12 +33,15 @@ fn touch_arm_sim_rejects_bad_arguments_in_one_line() {
     fails(bin, &["--lcd"], "a value is required");
     fails(bin, &["--wiring", "d"], "unknown wiring \"d\" (a, b or c)");
     fails(bin, &["--wiring"], "a value is required");
+    fails(bin, &["--grip", "squeeze"], "invalid value 'squeeze'");
+    fails(bin, &["--grip"], "a value is required");
     let help = Command::new(bin).arg("--help").output().unwrap();
     assert!(help.status.success());
     let text = String::from_utf8_lossy(&help.stdout);
     assert!(text.contains("--xy <X,Y>") && text.contains("--raw <X,Y>") && text.contains("--out <DIR>"), "{text}");
     assert!(text.contains("--then <X2,Y2@MS>") && text.contains("--law <LAW>"), "{text}");
     assert!(text.contains("--lcd <CONTROLLER>") && text.contains("--wiring <WIRING>"), "{text}");
+    assert!(text.contains("--grip <open|close>"), "{text}");
 }
 
 #[test]

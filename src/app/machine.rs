@@ -41,9 +41,15 @@ impl App {
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
+        // The gripper after the joints' pulses, so its step does not delay them.
+        self.step_grip();
+        self.write_grip(io.servos);
         // After the pulses: a plan may take most of the frame, and the next
-        // period's pulses are already set if it takes a little longer.
+        // period's pulses are already set if it takes a little longer. One
+        // plan a frame: a grip waits for a frame without an arm plan.
+        let arm_planned = self.plan_due.is_some();
         self.finish_plan(io.serial);
+        self.finish_grip(io.serial, arm_planned);
         if self.log {
             self.send_telemetry(io.serial, now);
         }
@@ -64,6 +70,7 @@ impl App {
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
         self.poses = crate::config::poses::load(storage).poses;
+        self.grip_boot(storage, serial);
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {
@@ -302,7 +309,14 @@ impl App {
         }
         match due.answer {
             Answer::Nobody => {}
-            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done)),
+            Answer::Serial(done) => {
+                // A pose whose arm move cannot be planned moves nothing:
+                // its gripper target, due in the next frame, is dropped.
+                if r.is_err() {
+                    self.drop_pose_grip();
+                }
+                self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done))
+            }
             Answer::Touch(p) => self.report_touch(serial, &p, r),
             Answer::Screen(p, x_p, y_p) => {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
@@ -314,7 +328,7 @@ impl App {
     /// The plan of an accepted target under this move's limits.
     #[inline(never)]
     fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
-        let lim = self.plan_limits(&self.maps, self.move_percent());
+        let lim = self.plan_limits(self.maps.each_ref(), self.move_percent());
         // A new target while moving: a correction superposed on the move.
         if !self.track.is_done() {
             let slack = 1.0 / (1.0 - self.params.speed_margin);
@@ -343,7 +357,7 @@ impl App {
         new_maps: Option<&[ServoMap; JOINTS]>,
         pct: u8,
     ) -> Result<MoveInfo, Refusal> {
-        let lim = self.plan_limits(new_maps.unwrap_or(&self.maps), pct);
+        let lim = self.plan_limits(new_maps.unwrap_or(&self.maps).each_ref(), pct);
         self.start_fresh(start, target, new_maps, &lim)
     }
 
@@ -398,7 +412,7 @@ impl App {
 
     /// Limits for a move under `maps`: `pct` % of every joint's max speed
     /// and its max acceleration, both less the safety margin.
-    fn plan_limits(&self, maps: &[ServoMap; JOINTS], pct: u8) -> PlanLimits<f32> {
+    pub(super) fn plan_limits(&self, maps: [&ServoMap; JOINTS], pct: u8) -> PlanLimits<f32> {
         let keep = 1.0 - self.params.speed_margin;
         let share = f32::from(pct) * 0.01 * keep;
         let mut speed = [0.0f32; JOINTS];
@@ -477,9 +491,10 @@ impl App {
         self.pulses = Some(out);
     }
 
-    fn latch_fault(&mut self) {
+    pub(super) fn latch_fault(&mut self) {
         self.stopped = true;
         self.track.halt();
+        self.halt_grip();
         self.last_refusal = Some(Refusal::Fault);
     }
 
@@ -487,6 +502,7 @@ impl App {
     pub(super) fn stop(&mut self) {
         self.stopped = true;
         self.track.halt();
+        self.halt_grip();
     }
 
     pub(super) fn resume(&mut self) {

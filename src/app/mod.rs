@@ -33,12 +33,14 @@
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
 //!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
 //!    the previous pulse and latches STOP (`Refusal::Fault`).
+//!    Then the gripper: its angle at its own plan's t and its pulse
+//!    (`grip.rs`), after the joints' pulses so it does not delay them.
 //! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
 //!    commanded, and answered (`ok move`, `info touch …`); the move starts in
 //!    the next frame. A plan can take most of a frame; coming after the
 //!    pulses, it cannot delay them.
-//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`,
-//!    angles in centidegrees.
+//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>
+//!    <grip> <us>`, angles in centidegrees.
 //! 7. One line of a multi-line reply (`cal show`), if pending and the frame
 //!    is not busy.
 //!
@@ -64,6 +66,7 @@
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
 
+mod grip;
 mod machine;
 mod poses;
 mod recalibrate;
@@ -317,6 +320,15 @@ pub struct Status {
     pub first_move_pending: bool,
     /// Per-frame telemetry is on (`log on`).
     pub log: bool,
+    /// Gripper angle commanded in the last frame, rad.
+    pub grip: f32,
+    /// Target of the gripper's current or last move, rad.
+    pub grip_target: f32,
+    /// The gripper's pulse written in the last frame, ticks (`None` before
+    /// the first).
+    pub grip_pulse: Option<u16>,
+    /// A grip move is running.
+    pub grip_moving: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -414,6 +426,8 @@ pub struct App {
     contact: bool,
     /// The saved poses (`poses.rs`), loaded at boot.
     poses: crate::config::poses::Poses,
+    /// The gripper (`grip.rs`): calibration, angle and move.
+    grip: grip::Grip,
 }
 
 /// Servo maps of a configuration.
@@ -433,6 +447,7 @@ impl App {
         let filter = TouchFilter::new(&params.filter).map_err(ParamsError::Filter)?;
         let config = Config::DEFAULT;
         let maps = build_maps(&config).ok_or(ParamsError::Defaults)?;
+        let grip = grip::Grip::new(&crate::config::grip::GRIP_DEFAULT).ok_or(ParamsError::Defaults)?;
         Ok(App {
             params: *params,
             geo,
@@ -471,6 +486,7 @@ impl App {
             wiring_unknown: false,
             contact: false,
             poses: crate::config::poses::Poses::EMPTY,
+            grip,
         })
     }
 
@@ -516,6 +532,16 @@ impl App {
             config_warning: self.warning,
             first_move_pending: self.first_move,
             log: self.log,
+            grip: self.grip.commanded,
+            grip_target: self.grip.target,
+            grip_pulse: self.grip.ticks,
+            grip_moving: self.grip.is_moving(),
         }
+    }
+
+    /// The gripper's running calibration (its pulse limits are the board's
+    /// own clamp for the gripper's channel).
+    pub fn grip_cal(&self) -> &crate::servo::map::JointCal {
+        self.grip.map.cal()
     }
 }

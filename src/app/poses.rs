@@ -2,18 +2,22 @@
 //! kept in RAM from boot, every change stored at once in the EEPROM
 //! (`config::poses`: two copies, the configuration's CRC, tear-proof).
 //!
-//! A pose is the pose commanded when it was saved, in centidegrees;
-//! `pose go` is the `goto` of those angles, so it goes through the same
-//! state checks, joint limits, planner and refusals as every target
-//! (a touch included), and its reply is `goto`'s. Saving is refused while
-//! the arm moves or homes (no pose is held then); while STOP is latched the
-//! held pose is saved.
+//! A pose is the pose commanded when it was saved, the gripper's angle
+//! included, in centidegrees; `pose go` is the `goto` of those angles and
+//! the `grip` of the gripper's, so it goes through the same state checks,
+//! joint and gripper limits, planner and refusals as every target (a touch
+//! included), and its reply is `goto`'s. Both are checked before either
+//! moves; the gripper's plan follows in the next frame (one plan a frame,
+//! `grip.rs`), and should it fail a `warn pose <n> grip <reason>` line says
+//! so. A pose saved before the gripper existed leaves the gripper as it is.
+//! Saving is refused while the arm or the gripper moves or the arm homes
+//! (no pose is held then); while STOP is latched the held pose is saved.
 
 use super::refusal::Refusal;
 use super::text::Line;
 use super::{App, Mode};
 use crate::config::poses::{self, Pose};
-use crate::math::units::rad_to_centideg;
+use crate::math::units::{centideg_to_rad, rad_to_centideg};
 use crate::protocol::command::PoseCmd;
 use crate::seam::Storage;
 
@@ -23,7 +27,7 @@ impl App {
         match cmd {
             PoseCmd::List => Ok(PoseDone::List),
             PoseCmd::Go(n) => match self.poses.get(n) {
-                Some(p) => self.move_to_angles(&p).map(|()| PoseDone::Went(n)),
+                Some(p) => self.pose_go(n, &p),
                 None => Ok(PoseDone::Empty(n)),
             },
             PoseCmd::Save(n) => {
@@ -33,7 +37,13 @@ impl App {
                 if matches!(self.mode, Mode::Homing { .. } | Mode::Boot) {
                     return Err(Refusal::Homing);
                 }
-                let held: Pose = self.commanded.map(rad_to_centideg);
+                if self.grip.is_moving() {
+                    return Err(Refusal::GripBusy);
+                }
+                let held = Pose {
+                    joints: self.commanded.map(rad_to_centideg),
+                    grip: Some(rad_to_centideg(self.grip_angle())),
+                };
                 Ok(PoseDone::Stored(n, true, self.store_pose(storage, n, Some(held))))
             }
             PoseCmd::Clear(n) => {
@@ -43,6 +53,20 @@ impl App {
                 Ok(PoseDone::Stored(n, false, self.store_pose(storage, n, None)))
             }
         }
+    }
+
+    /// `pose go <n>`: the gripper's target checked, then the arm's accepted,
+    /// then the gripper's (a gripper already there is left alone).
+    fn pose_go(&mut self, n: u8, p: &Pose) -> Result<PoseDone, Refusal> {
+        let grip = match p.grip {
+            Some(c) if c != rad_to_centideg(self.grip_angle()) => Some(self.check_grip(centideg_to_rad(c))?),
+            _ => None,
+        };
+        self.move_to_angles(&p.joints)?;
+        if let Some(g) = grip {
+            self.grip_due(g, Some(n));
+        }
+        Ok(PoseDone::Went(n))
     }
 
     /// Slot `n` := `pose`, stored; the RAM copy changes only once stored.
@@ -56,16 +80,20 @@ impl App {
         Ok(seq)
     }
 
-    /// `ok pose list` and each slot: `<n> <base> <shoulder> <elbow>` in
-    /// degrees with two decimals, or `<n> empty`.
+    /// `ok pose list` and each slot: `<n> <base> <shoulder> <elbow> grip
+    /// <gripper>` in degrees with two decimals (no `grip …` for a pose saved
+    /// before the gripper existed), or `<n> empty`.
     pub(super) fn pose_list(&self, r: &mut Line) {
         r.str(t!("ok pose list"));
         for (k, slot) in self.poses.slots.iter().enumerate() {
             r.bytes(b" ").u32(k as u32 + 1);
             match slot {
                 Some(p) => {
-                    for v in p {
-                        r.bytes(b" ").centi(*v);
+                    for v in p.joints {
+                        r.bytes(b" ").centi(v);
+                    }
+                    if let Some(g) = p.grip {
+                        r.word(t!("grip")).bytes(b" ").centi(g);
                     }
                 }
                 None => {

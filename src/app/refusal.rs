@@ -33,11 +33,17 @@ pub enum Refusal {
     Fault,
     /// The calibration change would put the held pose outside the limits.
     HeldPoseOutside,
+    /// The gripper's target angle is outside its configured limits (refused,
+    /// never clamped).
+    GripLimit,
+    /// The gripper is moving: a new grip target (or its calibration, or a
+    /// pose save) waits until it rests.
+    GripBusy,
 }
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 15] = [
+    pub const ALL: [Refusal; 17] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -53,6 +59,8 @@ impl Refusal {
         Refusal::NotFinite,
         Refusal::Fault,
         Refusal::HeldPoseOutside,
+        Refusal::GripLimit,
+        Refusal::GripBusy,
     ];
 
     /// Text of the `err <reason>` reply.
@@ -73,6 +81,8 @@ impl Refusal {
             Refusal::NotFinite => t!("not finite"),
             Refusal::Fault => t!("fault: setpoint refused, stopped"),
             Refusal::HeldPoseOutside => t!("held pose outside new limits"),
+            Refusal::GripLimit => t!("grip limit"),
+            Refusal::GripBusy => t!("busy gripping"),
         }
     }
 }

@@ -51,7 +51,11 @@ pub(super) enum Done {
     CalSet(Option<f32>),
     CalReset(Option<f32>),
     CalInvalid(ConfigError),
-    CalSaved(Result<u16, SaveError>),
+    /// The configuration's sequence number, and the gripper record's if it
+    /// was stored too.
+    CalSaved(Result<(u16, Option<u16>), SaveError>),
+    /// A `grip` line, answered once planned (`App::finish_grip`).
+    GripDue,
     /// Lines the port lost.
     Lost(u16),
     /// A `pose` command.
@@ -152,6 +156,8 @@ impl App {
             }
             Command::CalSave => self.cal_save(storage),
             Command::Pose(p) => self.pose(p, storage).map(Done::Pose),
+            Command::Grip(g) => self.grip_command(g),
+            Command::CalResetGrip => self.grip_reset(),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -159,6 +165,9 @@ impl App {
     fn cal_set(&mut self, set: &CalSet) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
+        }
+        if let CalSet::Grip { field, value } = *set {
+            return self.grip_cal_set(field, value);
         }
         let mut next = self.config;
         if let Err(e) = next.apply(set) {
@@ -172,7 +181,8 @@ impl App {
             return Err(Refusal::Busy);
         }
         let config = self.config;
-        Ok(Done::CalSaved(self.save_config(storage, &config)))
+        let saved = self.save_config(storage, &config).and_then(|seq| Ok((seq, self.save_grip(storage)?)));
+        Ok(Done::CalSaved(saved))
     }
 
     /// The one reply line of a command (see [`Done`]).
@@ -181,7 +191,7 @@ impl App {
         let mut reply = Line::new();
         let r = &mut reply;
         match *done {
-            Done::Nothing => return,
+            Done::Nothing | Done::GripDue => return,
             Done::Bad(e) => {
                 r.str(t!("err ")).str(e.reason());
             }
@@ -224,8 +234,11 @@ impl App {
                 r.str(t!("err "));
                 config_error(&e, r);
             }
-            Done::CalSaved(Ok(seq)) => {
+            Done::CalSaved(Ok((seq, grip))) => {
                 r.str(t!("ok cal save seq")).num(i32::from(seq));
+                if let Some(g) = grip {
+                    r.word(t!("grip_seq")).num(i32::from(g));
+                }
             }
             Done::CalSaved(Err(SaveError::Storage(_))) => {
                 r.str(t!("err save failed: storage"));
@@ -308,8 +321,14 @@ fn slew_suffix(slew: Option<f32>, reply: &mut Line) {
 
 /// `<joint> <reason>` or `<reason>` of an invalid calibration change.
 fn config_error(e: &ConfigError, line: &mut Line) {
-    if let ConfigError::Joint(j, _) = e {
-        line.str(j.name()).str(t!(" "));
+    match e {
+        ConfigError::Joint(j, _) => {
+            line.str(j.name()).str(t!(" "));
+        }
+        ConfigError::Grip(_) => {
+            line.str(t!("grip "));
+        }
+        ConfigError::Touch(_) => {}
     }
     line.str(e.reason());
 }

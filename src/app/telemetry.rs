@@ -10,7 +10,7 @@ use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
 /// `cal show` lines before its final `ok` line.
-const CAL_SHOW_LINES: u8 = 4;
+const CAL_SHOW_LINES: u8 = 5;
 
 impl App {
     /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
@@ -43,9 +43,10 @@ impl App {
         }
     }
 
-    /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us>`: the clock, the
-    /// commanded angles in centidegrees and the pulses written this frame
-    /// (µs, `.5` for a half: the timer's resolution).
+    /// `t <ms> <base> <shoulder> <elbow> <us> <us> <us> <grip> <us>`: the
+    /// clock, the commanded angles in centidegrees and the pulses written
+    /// this frame (µs, `.5` for a half: the timer's resolution), then the
+    /// gripper's angle and pulse (`-` before its first).
     #[inline(never)]
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
@@ -57,6 +58,13 @@ impl App {
         for t in pulses.iter() {
             line.bytes(b" ").ticks_us(*t);
         }
+        // The gripper's angle and pulse, appended (scripts read the first
+        // seven fields by position).
+        line.num(rad_to_centideg(self.grip.commanded)).bytes(b" ");
+        match self.grip.ticks {
+            Some(t) => line.ticks_us(t),
+            None => line.bytes(b"-"),
+        };
         self.emit(serial, &mut line);
     }
 
@@ -101,6 +109,10 @@ impl App {
             }
             return;
         }
+        if i == 4 {
+            self.grip_show_line(line);
+            return;
+        }
         if i == 3 {
             let t = &self.config.touch;
             line.str(t!("cal touch"));
@@ -124,7 +136,8 @@ impl App {
 
 /// `ok status <state> law <l> speed <s> q <3 cdeg> target <3 cdeg> pulses
 /// <3 us (.5 for a half) | - - -> progress <%> ts_ms <ms> [cond <c> alpha <cdeg>] [first_move_slow]
-/// [warn <w>] [refused <reason>]`; the reason, which may contain spaces, is last.
+/// [warn <w>] grip <cdeg> [refused <reason>]`; the
+/// reason, which may contain spaces, is last.
 pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
@@ -164,6 +177,11 @@ pub fn status_line(s: &Status, line: &mut Line) {
             crate::config::store::Warning::CopyDamaged => t!("copy_damaged"),
         });
     }
+    // The gripper's commanded angle after every older field, before the
+    // refusal reason, which stays last because it may contain spaces (its
+    // pulse is in the telemetry: with it the widest status would not fit the
+    // transmit ring).
+    line.word(t!("grip")).num(rad_to_centideg(s.grip));
     if let Some(r) = s.last_refusal {
         line.word(t!("refused")).word(r.reason());
     }

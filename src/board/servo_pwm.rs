@@ -246,6 +246,11 @@ impl crate::seam::ServoOutputs for ServoPwm {
         self.last_write = (self.ticks(), self.period_pending());
     }
 
+    /// Through `set`'s clamp to the gripper's window.
+    fn set_grip(&mut self, ticks: u16) {
+        self.set(GRIP_CHANNEL, ticks);
+    }
+
     fn disable(&mut self) {
         self.disable_all();
     }

@@ -1,8 +1,10 @@
 //! The settings a user can change and keep: their values and field vocabulary
 //! ([`settings`]) and the EEPROM record that stores them twice with a CRC
-//! ([`store`], [`crc`]); the saved poses, stored the same way ([`poses`]).
+//! ([`store`], [`crc`]); the saved poses and the gripper's calibration,
+//! stored the same way in their own records ([`poses`], [`grip`]).
 
 pub mod crc;
+pub mod grip;
 pub mod poses;
 pub mod settings;
 pub mod store;

@@ -118,13 +118,15 @@ pub enum ConfigError {
     Joint(Joint, JointCalError),
     /// The touch calibration is not acceptable.
     Touch(TouchCalError),
+    /// The gripper's calibration is inconsistent (`config::grip`).
+    Grip(JointCalError),
 }
 
 impl ConfigError {
     /// The reason as the `err` reply states it.
     pub fn reason(self) -> crate::text::Text {
         match self {
-            ConfigError::Joint(_, e) => e.reason(),
+            ConfigError::Joint(_, e) | ConfigError::Grip(e) => e.reason(),
             ConfigError::Touch(TouchCalError::OutOfRange) => t!("touch limit above 1023"),
             ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
             ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
@@ -176,20 +178,10 @@ impl Config {
     pub fn apply(&mut self, set: &CalSet) -> Result<(), ConfigError> {
         let mut next = *self;
         match *set {
-            CalSet::Joint { joint, field, value } => {
-                let cal = next.joint_mut(joint);
-                let v = value as f32;
-                match field {
-                    JointField::Offset => cal.offset_us = v / 100.0,
-                    JointField::Scale => cal.us_per_rad = v / 100.0 * deg_per_rad::<f32>(),
-                    JointField::MinUs => cal.min_us = value.clamp(0, u16::MAX as i32) as u16,
-                    JointField::MaxUs => cal.max_us = value.clamp(0, u16::MAX as i32) as u16,
-                    JointField::MinDeg => cal.min_rad = centideg_to_rad(value),
-                    JointField::MaxDeg => cal.max_rad = centideg_to_rad(value),
-                    JointField::MaxSpeed => cal.max_speed_rad_s = centideg_to_rad(value),
-                    JointField::MaxAccel => cal.max_accel_rad_s2 = centideg_to_rad(value),
-                }
-            }
+            CalSet::Joint { joint, field, value } => set_field(next.joint_mut(joint), field, value),
+            // Not part of the configuration record (`config::grip`): the app
+            // applies it with [`set_field`].
+            CalSet::Grip { .. } => {}
             CalSet::Touch { field, value } => {
                 let t = &mut next.touch;
                 match field {
@@ -210,17 +202,37 @@ impl Config {
 
     /// A joint field in the units of `cal set` (see [`JointField`]), for `cal show`.
     pub fn joint_field(&self, joint: Joint, field: JointField) -> i32 {
-        let c = self.joint(joint);
-        match field {
-            JointField::Offset => round_i32(c.offset_us * 100.0),
-            JointField::Scale => round_i32(c.us_per_rad * 100.0 / deg_per_rad::<f32>()),
-            JointField::MinUs => c.min_us as i32,
-            JointField::MaxUs => c.max_us as i32,
-            JointField::MinDeg => rad_to_centideg(c.min_rad),
-            JointField::MaxDeg => rad_to_centideg(c.max_rad),
-            JointField::MaxSpeed => rad_to_centideg(c.max_speed_rad_s),
-            JointField::MaxAccel => rad_to_centideg(c.max_accel_rad_s2),
-        }
+        field_value(self.joint(joint), field)
+    }
+}
+
+/// Sets one calibration field from its `cal set` value (see [`JointField`]
+/// for the units); the caller validates the result.
+pub fn set_field(cal: &mut JointCal, field: JointField, value: i32) {
+    let v = value as f32;
+    match field {
+        JointField::Offset => cal.offset_us = v / 100.0,
+        JointField::Scale => cal.us_per_rad = v / 100.0 * deg_per_rad::<f32>(),
+        JointField::MinUs => cal.min_us = value.clamp(0, u16::MAX as i32) as u16,
+        JointField::MaxUs => cal.max_us = value.clamp(0, u16::MAX as i32) as u16,
+        JointField::MinDeg => cal.min_rad = centideg_to_rad(value),
+        JointField::MaxDeg => cal.max_rad = centideg_to_rad(value),
+        JointField::MaxSpeed => cal.max_speed_rad_s = centideg_to_rad(value),
+        JointField::MaxAccel => cal.max_accel_rad_s2 = centideg_to_rad(value),
+    }
+}
+
+/// A calibration field in the units of `cal set` (see [`JointField`]), for `cal show`.
+pub fn field_value(c: &JointCal, field: JointField) -> i32 {
+    match field {
+        JointField::Offset => round_i32(c.offset_us * 100.0),
+        JointField::Scale => round_i32(c.us_per_rad * 100.0 / deg_per_rad::<f32>()),
+        JointField::MinUs => c.min_us as i32,
+        JointField::MaxUs => c.max_us as i32,
+        JointField::MinDeg => rad_to_centideg(c.min_rad),
+        JointField::MaxDeg => rad_to_centideg(c.max_rad),
+        JointField::MaxSpeed => rad_to_centideg(c.max_speed_rad_s),
+        JointField::MaxAccel => rad_to_centideg(c.max_accel_rad_s2),
     }
 }
 
@@ -348,6 +360,14 @@ pub enum CalSet {
         /// Which field.
         field: JointField,
         /// In hundredths of the field's unit, or whole µs for the pulse limits.
+        value: i32,
+    },
+    /// `cal set grip <field> <value>`: the gripper (`config::grip`), in
+    /// the joints' fields and units.
+    Grip {
+        /// Which field.
+        field: JointField,
+        /// As [`CalSet::Joint`]'s value.
         value: i32,
     },
     /// `cal set touch <field> <value>`.

@@ -17,6 +17,9 @@
 //! | `cal show` / `cal save` / `cal reset` | print / store to EEPROM / back to defaults (in RAM) |
 //! | `cal set <base\|shoulder\|elbow> <field> <value>` | see [`JointField`] |
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
+//! | `cal set grip <field> <value>` | the gripper, in the joints' fields ([`JointField`]) |
+//! | `cal reset grip` | the gripper's calibration back to its defaults (in RAM) |
+//! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
 //! | `log <on\|off>` | |
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //!
@@ -82,6 +85,22 @@ pub enum Command {
     Log(bool),
     /// `pose …`: the saved poses.
     Pose(PoseCmd),
+    /// `cal reset grip`: the gripper's calibration back to its defaults.
+    CalResetGrip,
+    /// `grip …`: move the gripper.
+    Grip(GripCmd),
+}
+
+/// A `grip` command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GripCmd {
+    /// `grip open`: to the gripper's lower angle limit.
+    Open,
+    /// `grip close`: to the gripper's upper angle limit.
+    Close,
+    /// `grip <deg>`: to this angle, hundredths of a degree, within
+    /// ±[`GOTO_MAX_CENTIDEG`] (the gripper's limits are the app's business).
+    Centideg(i32),
 }
 
 /// A `pose` command; slots are numbered 1..=[`POSES`].
@@ -257,7 +276,10 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
         let value = parse_int(t.arg()?, 0, field.max())? as u16;
         return Ok(CalSet::Touch { field, value });
     }
-    let joint = parse_joint(target).ok_or(CmdError::BadArgument)?;
+    let joint = match target {
+        b"grip" => None,
+        _ => Some(parse_joint(target).ok_or(CmdError::BadArgument)?),
+    };
     let name = t.arg()?;
     let field = JointField::ALL.iter().copied().find(|f| f.name().eq_bytes(name)).ok_or(CmdError::BadArgument)?;
     let tok = t.arg()?;
@@ -269,7 +291,10 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
         JointField::MaxSpeed => parse_centi(tok, 0, 360_000)?,
         JointField::MaxAccel => parse_centi(tok, 0, 6_000_000)?,
     };
-    Ok(CalSet::Joint { joint, field, value })
+    Ok(match joint {
+        Some(joint) => CalSet::Joint { joint, field, value },
+        None => CalSet::Grip { field, value },
+    })
 }
 
 /// Parses one line (without or with its terminator).
@@ -310,7 +335,11 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         b"cal" => match t.arg()? {
             b"show" => Command::CalShow,
             b"save" => Command::CalSave,
-            b"reset" => Command::CalReset,
+            b"reset" => match t.next() {
+                None => Command::CalReset,
+                Some(b"grip") => Command::CalResetGrip,
+                Some(_) => return Err(CmdError::ExtraArgument),
+            },
             b"set" => Command::CalSet(parse_cal_set(&mut t)?),
             _ => return Err(CmdError::BadArgument),
         },
@@ -325,6 +354,11 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
                 _ => return Err(CmdError::BadArgument),
             })
         }
+        b"grip" => Command::Grip(match t.arg()? {
+            b"open" => GripCmd::Open,
+            b"close" => GripCmd::Close,
+            tok => GripCmd::Centideg(parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?),
+        }),
         _ => return Err(CmdError::UnknownCommand),
     };
     t.end()?;

@@ -4,11 +4,13 @@
 //!
 //! Writes to the output directory (default `out/`):
 //! - `pulses.csv`: every measured servo pulse, `t_s,base_us,shoulder_us,elbow_us`
-//!   (µs to the timer's 0.5 µs tick);
+//!   (µs to the timer's 0.5 µs tick), with `--grip` one more column, `grip_us`:
+//!   the gripper's pulse of the same period (D11, Timer1, started with Timer5);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
 //!   final_pulses_us, arrival_s, law, ts_s, wiring}` for the point the arm ends on,
 //!   and with `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
-//!   `then_ts_s`, `then_reply`;
+//!   `then_ts_s`, `then_reply`; with `--grip` `grip`, `grip_reply`,
+//!   `grip_ts_s`, `grip_final_us`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
 //!   calibration) and angular velocity over time;
 //! - `effector.csv`: `t_s,x,y,z`, where the measured pulses put the effector
@@ -27,6 +29,10 @@
 //! calibration screen finds for it (swap, both inversions, the span
 //! mirrored), so the same map point is touched on every wiring. `summary.json`
 //! gains `wiring`, the one the firmware reported.
+//!
+//! `--grip open|close` sends `grip open` or `grip close` once the move has
+//! arrived and records the gripper's pulses until it rests (the first grip
+//! after power-up runs at the slow preset).
 //!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
@@ -74,6 +80,9 @@ struct Args {
     /// The motion law, sent over serial (`law <LAW>`) before the touch [default: the firmware's, zat]
     #[arg(long, value_name = "LAW", value_parser = ["zat", "zat-paper", "quintic", "cubic", "trapezoid", "linear"])]
     law: Option<String>,
+    /// A grip command sent after the move (`grip open` or `grip close`); pulses.csv gains grip_us
+    #[arg(long, value_name = "open|close", value_parser = ["open", "close"])]
+    grip: Option<String>,
 }
 
 /// `--then X2,Y2@MS`: where and when the second touch goes.
@@ -293,6 +302,19 @@ fn run(args: Args) -> Result<(), String> {
         second = Some((then, line2, t2 - t_confirm));
     }
     s.run_for((end_t + end_ts + 1.0 - s.avr.time_s()).max(0.0))?;
+    // The grip after the move: its reply, and its pulses until it rests.
+    let grip = match &args.grip {
+        Some(g) => {
+            let reply = s.command(&format!("grip {g}"))?;
+            if !reply.starts_with("ok grip ") {
+                return Err(format!("the firmware refused `grip {g}`: {reply}"));
+            }
+            let ts = reply_ts(&reply)?;
+            s.run_for(ts + 0.5)?;
+            Some((g.clone(), reply, ts))
+        }
+        None => None,
+    };
     let first_raw = raw;
     let raw = end_raw;
 
@@ -314,10 +336,38 @@ fn run(args: Args) -> Result<(), String> {
     let first_settled = (0..n).find(|&i| settled(i)).unwrap_or(n - 1);
     let arrival = trains[0][first_settled].0 - t_touch;
 
+    // The gripper's pulse of each row's period: its rise within a timer tick
+    // of the base's (both timers start on the same prescaler edge).
+    let grip_rows: Vec<Option<f64>> = if grip.is_some() {
+        let g = s.grip_pulse_ticks();
+        let per_tick = 1.0 / f64::from(firmware::CPU_HZ);
+        let mut k = 0;
+        trains[0]
+            .iter()
+            .take(n)
+            .map(|(t, _)| {
+                while k < g.len() && (g[k].0 as f64) * per_tick < t - 1e-3 {
+                    k += 1;
+                }
+                g.get(k).filter(|(c, _)| ((*c as f64) * per_tick - t).abs() <= 1e-3).map(|(_, w)| f64::from(*w) / 2.0)
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut csv = String::from("t_s,base_us,shoulder_us,elbow_us\n");
-    for ((b, s), e) in trains[0].iter().zip(&trains[1]).zip(&trains[2]).take(n) {
-        csv += &format!("{:.6},{:.1},{:.1},{:.1}\n", b.0, b.1, s.1, e.1);
+    let mut csv = String::from(if grip.is_some() {
+        "t_s,base_us,shoulder_us,elbow_us,grip_us\n"
+    } else {
+        "t_s,base_us,shoulder_us,elbow_us\n"
+    });
+    for (i, ((b, s), e)) in trains[0].iter().zip(&trains[1]).zip(&trains[2]).take(n).enumerate() {
+        csv += &format!("{:.6},{:.1},{:.1},{:.1}", b.0, b.1, s.1, e.1);
+        if grip.is_some() {
+            // Empty before the gripper's first pulse.
+            csv += &grip_rows.get(i).copied().flatten().map_or(",".to_string(), |w| format!(",{w:.1}"));
+        }
+        csv += "\n";
     }
     let csv_path = out.join("pulses.csv");
     std::fs::write(&csv_path, csv).map_err(|e| format!("{}: {e}", csv_path.display()))?;
@@ -343,6 +393,14 @@ fn run(args: Args) -> Result<(), String> {
             .set("then_confirmed_after_s", *after)
             .set("then_ts_s", end_ts)
             .set("then_reply", hal_sim::report::Val::Str(line2.clone())),
+        None => json,
+    };
+    let json = match &grip {
+        Some((g, reply, ts)) => json
+            .set("grip", hal_sim::report::Val::Str(g.clone()))
+            .set("grip_reply", hal_sim::report::Val::Str(reply.clone()))
+            .set("grip_ts_s", *ts)
+            .set("grip_final_us", grip_rows.iter().rev().find_map(|w| *w).unwrap_or(f64::NAN)),
         None => json,
     }
     .render();
@@ -442,6 +500,10 @@ fn run(args: Args) -> Result<(), String> {
         q[2].to_degrees()
     );
     println!("pulses target {:?} us, measured final {:?} us, settled {:.2} s after the touch", target, finals, arrival);
+    if let Some((_, reply, _)) = &grip {
+        let last = grip_rows.iter().rev().find_map(|w| *w).unwrap_or(f64::NAN);
+        println!("firmware: {reply}; gripper pulse at the end {last} us");
+    }
     println!(
         "wrote {}, {}, {}, {}, {}, {}",
         csv_path.display(),

@@ -58,8 +58,24 @@
 //! - `expect screen_warning "<text>"`: the warning line the screen shows
 //!   (`""` for none)
 //!
+//! The gripper (the fourth channel):
+//! - `expect grip_deg <deg> tol <deg>`: the app's commanded gripper angle
+//! - `expect grip_pulse <µs> tol <µs>`: the gripper pulse being output
+//! - `expect grip_servo_deg <deg> tol <deg>`: the twin gripper's shaft
+//! - `expect no_grip_pulses`: no gripper pulse in any frame run so far;
+//!   `expect first_grip_pulse <µs> at_frame <k>` (k counts frames since the
+//!   last boot)
+//! - `expect grip_still since <mark>`: its pulse never changed since the
+//!   frame before the mark
+//! - `expect grip_max_step_us <n> since <mark>`: its largest pulse change
+//!   between frames
+//! - `expect grip_speed_within <pct> since <mark>`: its commanded speed
+//!   (frame differences) ≤ pct % of its configured max speed
+//! - `expect grip_move_ms <ms> tol <ms> since <mark>`: its commanded angle
+//!   stops changing for good this long after the mark
+//!
 //! Every scenario also checks at its end that no pulse outside a servo's
-//! configured range was ever written.
+//! configured range (the gripper's included) was ever written.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -106,6 +122,15 @@ enum Expect {
     Refusal(String),
     NoRefusal,
     ScreenWarning(String),
+    GripDeg(f64, f64),
+    GripPulse(f64, f64),
+    GripServo(f64, f64),
+    NoGripPulses,
+    FirstGripPulse(u16, u64),
+    GripStill(String),
+    GripMaxStepUs(f64, String),
+    GripSpeedWithin(f64, String),
+    GripMoveMs(f64, f64, String),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -377,6 +402,35 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         "refusal" => Expect::Refusal(a.text()?),
         "no_refusal" => Expect::NoRefusal,
         "screen_warning" => Expect::ScreenWarning(a.text()?),
+        "grip_deg" => Expect::GripDeg(a.num()?, a.tol()?),
+        "grip_pulse" => Expect::GripPulse(a.num()?, a.tol()?),
+        "grip_servo_deg" => Expect::GripServo(a.num()?, a.tol()?),
+        "no_grip_pulses" => Expect::NoGripPulses,
+        "first_grip_pulse" => {
+            let p = a.int()?;
+            a.keyword("at_frame")?;
+            Expect::FirstGripPulse(p, a.int()?)
+        }
+        "grip_still" => {
+            a.keyword("since")?;
+            Expect::GripStill(a.word()?)
+        }
+        "grip_max_step_us" => {
+            let v = a.num()?;
+            a.keyword("since")?;
+            Expect::GripMaxStepUs(v, a.word()?)
+        }
+        "grip_speed_within" => {
+            let v = a.num()?;
+            a.keyword("since")?;
+            Expect::GripSpeedWithin(v, a.word()?)
+        }
+        "grip_move_ms" => {
+            let ms = a.num()?;
+            let tol = a.tol()?;
+            a.keyword("since")?;
+            Expect::GripMoveMs(ms, tol, a.word()?)
+        }
         _ => return Err(format!("unknown expectation {what:?}")),
     })
 }
@@ -491,6 +545,9 @@ impl Scenario {
         if let Some(v) = r.sim.servos.violations.first() {
             return Err(format!("a pulse outside the servo range was written: {v:?}"));
         }
+        if let Some(v) = r.sim.servos.grip_violations.first() {
+            return Err(format!("a gripper pulse outside its range was written: {v} ticks"));
+        }
         Ok(r.sim)
     }
 }
@@ -530,6 +587,14 @@ fn close3(name: &str, got: &[f64; 3], want: &[f64; 3], tol: f64) -> Result<(), S
         Err(format!("{name}: got {got:?}, want {want:?} ± {tol}"))
     } else {
         Ok(())
+    }
+}
+
+fn close1(name: &str, got: f64, want: f64, tol: f64) -> Result<(), String> {
+    if (got - want).abs().le(&tol) {
+        Ok(())
+    } else {
+        Err(format!("{name}: got {got}, want {want} ± {tol}"))
     }
 }
 
@@ -761,6 +826,80 @@ impl Runner {
                 let shown = touch_arm::ui::warning_line(sim.app.ui_model().warnings);
                 if shown.as_str() != text {
                     return Err(format!("screen warning {:?}, want {text:?}", shown.as_str()));
+                }
+            }
+            Expect::GripDeg(w, tol) => {
+                close1("commanded gripper angle (deg)", f64::from(st.grip).to_degrees(), *w, *tol)?
+            }
+            Expect::GripPulse(w, tol) => {
+                let p = sim.servos.grip_pulse().ok_or("no gripper pulse is being output")?;
+                close1("gripper pulse (us)", f64::from(p) / 2.0, *w, *tol)?
+            }
+            Expect::GripServo(w, tol) => close1("gripper shaft (deg)", sim.servos.grip_angle().to_degrees(), *w, *tol)?,
+            Expect::NoGripPulses => {
+                if let Some(r) = sim.history.iter().find(|r| r.grip_pulse.is_some()) {
+                    return Err(format!("gripper pulse in frame {}: {:?}", r.frame, r.grip_pulse));
+                }
+            }
+            Expect::FirstGripPulse(us, at) => {
+                let boot_start = sim.history.iter().rposition(|r| r.boot_frame == 0).ok_or("no frame run")?;
+                let first = sim.history[boot_start..]
+                    .iter()
+                    .find(|r| r.grip_pulse.is_some())
+                    .ok_or("no gripper pulse since the last boot")?;
+                if first.grip_pulse != Some(us * 2) || first.boot_frame != *at {
+                    return Err(format!(
+                        "first gripper pulse {:?} ticks at boot frame {}, want {us} µs at {at}",
+                        first.grip_pulse, first.boot_frame
+                    ));
+                }
+            }
+            Expect::GripStill(m) => {
+                let from = self.mark(&Some(m.clone()))?;
+                let w = self.window(from);
+                let first = w.first().ok_or("no frames")?;
+                if let Some(r) = w.iter().find(|r| r.grip_pulse != first.grip_pulse) {
+                    return Err(format!(
+                        "gripper pulse changed in frame {}: {:?} -> {:?}",
+                        r.frame, first.grip_pulse, r.grip_pulse
+                    ));
+                }
+            }
+            Expect::GripMaxStepUs(max, m) => {
+                let from = self.mark(&Some(m.clone()))?;
+                let worst = self
+                    .window(from)
+                    .windows(2)
+                    .filter_map(|p| Some((f64::from(p[0].grip_pulse?) - f64::from(p[1].grip_pulse?)).abs() / 2.0))
+                    .fold(0.0, f64::max);
+                if worst > *max {
+                    return Err(format!("largest gripper pulse step {worst} us > {max}"));
+                }
+            }
+            Expect::GripSpeedWithin(pct, m) => {
+                let from = self.mark(&Some(m.clone()))?;
+                let limit = f64::from(sim.app.grip_cal().max_speed_rad_s);
+                let worst = self
+                    .window(from)
+                    .windows(2)
+                    .filter(|p| p[1].boot_frame != 0)
+                    .map(|p| (f64::from(p[1].grip_commanded) - f64::from(p[0].grip_commanded)).abs() / FRAME_S / limit)
+                    .fold(0.0, f64::max);
+                if worst > pct / 100.0 * (1.0 + 1e-3) {
+                    return Err(format!("the gripper moved at {:.2} % of its max speed > {pct} %", worst * 100.0));
+                }
+            }
+            Expect::GripMoveMs(ms, tol, m) => {
+                let from = self.mark(&Some(m.clone()))?;
+                let h = &sim.history;
+                let last = h.last().ok_or("no frames")?.grip_commanded;
+                let arrive = h.iter().rposition(|r| r.grip_commanded != last).map_or(0, |i| i + 1);
+                if arrive < from {
+                    return Err("the gripper did not move after the mark".into());
+                }
+                let got = (arrive - from) as f64 * FRAME_MS as f64;
+                if !(got - ms).abs().le(tol) {
+                    return Err(format!("grip took {got} ms, want {ms} ± {tol}"));
                 }
             }
         }

@@ -1,8 +1,10 @@
-//! Three hobby servos: each turns toward the angle its pulse stands for (the
+//! Three hobby servos and the gripper's (the fourth channel, Timer1's OC1A
+//! on the chip): each turns toward the angle its pulse stands for (the
 //! inverse of its calibration), no faster than its speed limit, and ignores
 //! errors inside its deadband. Without pulses (power-up, `disable`) a servo
 //! stays where it is.
 
+use touch_arm::config::grip::GRIP_DEFAULT;
 use touch_arm::seam::ServoOutputs;
 use touch_arm::servo::map::{JointCal, ABS_MAX_US, ABS_MIN_US};
 
@@ -28,6 +30,10 @@ pub struct ServoSample {
     pub pulses: Option<[u16; 3]>,
     /// Shaft angles at the end of the period, rad (servo convention).
     pub angles: [f64; 3],
+    /// The gripper's pulse of the period, ticks (`None`: no pulse).
+    pub grip: Option<u16>,
+    /// The gripper's shaft angle at the end of the period, rad.
+    pub grip_angle: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -41,6 +47,13 @@ pub struct SimServos {
     pub history: Vec<ServoSample>,
     /// Every `set_pulses` value (ticks) outside a servo's configured pulse range.
     pub violations: Vec<[u16; 3]>,
+    /// The gripper servo's true calibration (its defaults unless a test
+    /// changes it).
+    pub grip_cal: JointCal,
+    grip_angle: f64,
+    grip_pulse: Option<u16>,
+    /// Every `set_grip` value (ticks) outside the gripper's pulse range.
+    pub grip_violations: Vec<u16>,
 }
 
 impl SimServos {
@@ -52,7 +65,22 @@ impl SimServos {
             pulses: None,
             history: Vec::new(),
             violations: Vec::new(),
+            grip_cal: GRIP_DEFAULT,
+            // Half open: unknown to the app, like the joints' shafts.
+            grip_angle: 0.5,
+            grip_pulse: None,
+            grip_violations: Vec::new(),
         }
+    }
+
+    /// The gripper's shaft angle, rad.
+    pub fn grip_angle(&self) -> f64 {
+        self.grip_angle
+    }
+
+    /// The gripper's pulse being output, ticks.
+    pub fn grip_pulse(&self) -> Option<u16> {
+        self.grip_pulse
     }
 
     pub fn angles(&self) -> [f64; 3] {
@@ -66,6 +94,7 @@ impl SimServos {
     /// Power cycle: the pulses stop, the shafts stay put.
     pub fn power_cycle(&mut self) {
         self.pulses = None;
+        self.grip_pulse = None;
     }
 
     /// The angle a pulse of `ticks` (0.5 µs) stands for, from the calibration in f64.
@@ -77,16 +106,31 @@ impl SimServos {
     pub fn advance(&mut self, dt: f64) {
         if let Some(p) = self.pulses {
             for ((a, cal), ticks) in self.angles.iter_mut().zip(self.cals.iter()).zip(p.iter()) {
-                let target = Self::pulse_angle(cal, *ticks);
-                let err = target - *a;
-                let err_us = err.abs() * (cal.us_per_rad as f64).abs();
-                if err_us > self.model.deadband_us {
-                    let step = self.model.max_speed_rad_s * dt;
-                    *a += err.clamp(-step, step);
-                }
+                self.model.turn(a, cal, *ticks, dt);
             }
         }
-        self.history.push(ServoSample { pulses: self.pulses, angles: self.angles });
+        if let Some(t) = self.grip_pulse {
+            self.model.turn(&mut self.grip_angle, &self.grip_cal, t, dt);
+        }
+        self.history.push(ServoSample {
+            pulses: self.pulses,
+            angles: self.angles,
+            grip: self.grip_pulse,
+            grip_angle: self.grip_angle,
+        });
+    }
+}
+
+impl ServoModel {
+    /// One servo's shaft `a` turning toward what `ticks` stands for for `dt`.
+    fn turn(&self, a: &mut f64, cal: &JointCal, ticks: u16, dt: f64) {
+        let target = SimServos::pulse_angle(cal, ticks);
+        let err = target - *a;
+        let err_us = err.abs() * (cal.us_per_rad as f64).abs();
+        if err_us > self.deadband_us {
+            let step = self.max_speed_rad_s * dt;
+            *a += err.clamp(-step, step);
+        }
     }
 }
 
@@ -103,8 +147,18 @@ impl ServoOutputs for SimServos {
         self.pulses = Some(*ticks);
     }
 
+    fn set_grip(&mut self, ticks: u16) {
+        let c = &self.grip_cal;
+        let t = u32::from(ticks);
+        if t < 2 * u32::from(c.min_us.max(ABS_MIN_US)) || t > 2 * u32::from(c.max_us.min(ABS_MAX_US)) {
+            self.grip_violations.push(ticks);
+        }
+        self.grip_pulse = Some(ticks);
+    }
+
     fn disable(&mut self) {
         self.pulses = None;
+        self.grip_pulse = None;
     }
 }
 

@@ -49,6 +49,12 @@ pub struct FrameRecord {
     pub pulses: Option<[u16; 3]>,
     /// Servo shaft angles at the end of the period, rad.
     pub servo: [f64; 3],
+    /// The gripper angle the app commanded, rad.
+    pub grip_commanded: f32,
+    /// The gripper's pulse after the frame, ticks.
+    pub grip_pulse: Option<u16>,
+    /// The gripper's shaft angle at the end of the period, rad.
+    pub grip_servo: f64,
 }
 
 pub struct Sim {
@@ -113,6 +119,9 @@ impl Sim {
             commanded: st.commanded,
             pulses: self.servos.pulses(),
             servo: self.servos.angles(),
+            grip_commanded: st.grip,
+            grip_pulse: self.servos.grip_pulse(),
+            grip_servo: self.servos.grip_angle(),
         });
         self.frames += 1;
         self.boot_frames += 1;
