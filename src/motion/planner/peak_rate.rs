@@ -374,7 +374,6 @@ fn acc_scan<R: Real>(shape: &Shape<R>, lo: R, hi: R, refine_first: bool) -> R {
             Some((tp, g3p)) if (g3p > R::ZERO) != (g3 > R::ZERO) && g3p != R::ZERO => {
                 best = best.max(hump_top(&at, (tp, g3p), (t, g3)));
             }
-            Some(_) => {}
             // |G″| falls at the first point: its hump is in the cell before.
             None if refine_first && (g2 > R::ZERO) != (g3 > R::ZERO) => {
                 best = best.max(acc_scan(shape, before, t, false));
