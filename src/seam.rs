@@ -67,6 +67,12 @@ pub trait ServoOutputs {
     fn set_pulses(&mut self, ticks: &[u16; 3]);
     /// Stops the pulses (servos go limp) until the next `set_pulses`.
     fn disable(&mut self);
+    /// Timer ticks (0.5 µs) left in the current PWM period, 0 once the next
+    /// one has started; `None` where the outputs keep no time (the host
+    /// twin). The app spreads long work (a path check) over frames by it.
+    fn period_ticks_left(&self) -> Option<u16> {
+        None
+    }
 }
 
 /// A monotonic millisecond clock.

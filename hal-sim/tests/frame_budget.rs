@@ -207,3 +207,52 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     assert_eq!(s.avr.uart_overruns(), 0, "the receive interrupt kept up");
     assert_eq!(s.avr.resets(), 0);
 }
+
+#[test]
+fn path_moves_and_their_checks_never_miss_a_pwm_period() {
+    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 19).expect("firmware ELF (cargo avr)");
+    s.run_for(1.5).unwrap();
+    assert_eq!(s.command("log on").unwrap(), "ok log on");
+    assert_eq!(s.command("speed fast").unwrap(), "ok speed fast");
+    // The first move after power-up is slow; out of the way first.
+    let first = s.command("goto 90 100 -100").unwrap();
+    assert!(first.starts_with("ok goto"), "{first}");
+    s.run_for(3.0).unwrap();
+    assert_eq!(s.command("path line").unwrap(), "ok path line");
+    // Line moves back and forth and circles, each checked over frames after
+    // its pulses, with telemetry every frame and a status line every other
+    // frame while the checks run and the arm moves.
+    // Each is decided and done within the 3 s before the next.
+    let moves = ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15"];
+    let out0 = s.avr.uart_output().len();
+    let w = measure(&mut s, 600, |s, k| {
+        if k % 150 == 0 {
+            s.avr.uart_send(format!("{}\n", moves[(k / 150) as usize % moves.len()]).as_bytes());
+        } else if k % 2 == 0 {
+            s.avr.uart_send(b"status\n");
+        }
+    });
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[out0..]).to_string();
+    let decided: Vec<&str> =
+        out.lines().filter(|l| l.starts_with("ok goto path line") || l.starts_with("ok circle")).collect();
+    let st = &w.stats;
+    println!(
+        "md: | path moves, 12 s: line and circle checks and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
+        w.moving_share * 100.0,
+        st.frames,
+        w.periods,
+        w.missed(),
+        st.overruns,
+        cycles(st.worst_pulse_ticks),
+        cycles(st.worst_app_ticks),
+        cycles(st.worst_ticks)
+    );
+    assert_eq!(decided.len(), moves.len(), "{decided:?}");
+    assert_eq!(w.missed(), 0, "missed PWM periods: {st:?}, {} periods", w.periods);
+    // The check stops before a unit could pass the period end: no frame
+    // overruns for it.
+    assert_eq!(st.overruns, 0, "{st:?}");
+    // Half of each 3 s goes to the check, the arm holding still.
+    assert!(w.moving_share > 0.2, "the arm moved in only {:.0} % of the frames", w.moving_share * 100.0);
+    assert_eq!(s.avr.resets(), 0);
+}

@@ -1090,8 +1090,8 @@ mod config {
 
 mod command {
     use super::*;
-    use touch_arm::config::settings::SpeedPreset;
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
+    use touch_arm::config::settings::{PathMode, SpeedPreset};
     use touch_arm::math::units::centideg_to_rad;
     use touch_arm::motion::plan::LawKind as Law;
     use touch_arm::protocol::command::*;
@@ -1139,6 +1139,11 @@ mod command {
             ("cal set touch invert_y 1", t(TouchField::InvertY, 1)),
             ("log on", C::Log(true)),
             ("log off", C::Log(false)),
+            ("path line", C::Path(PathMode::Line)),
+            ("path joint", C::Path(PathMode::Joint)),
+            ("circle 0.25", C::Circle { r_centi: 25 }),
+            ("circle 0.01", C::Circle { r_centi: 1 }),
+            ("circle 0.5", C::Circle { r_centi: 50 }),
             // Lenient whitespace.
             ("  move\t12    34  ", C::Move { x: 12, y: 34 }),
             ("status\r\n", C::Status),
@@ -1202,6 +1207,15 @@ mod command {
             (b"speed warp", E::BadArgument),
             (b"log maybe", E::BadArgument),
             (b"log", E::MissingArgument),
+            (b"path", E::MissingArgument),
+            (b"path curve", E::BadArgument),
+            (b"path line joint", E::ExtraArgument),
+            (b"circle", E::MissingArgument),
+            (b"circle 0", E::OutOfRange),
+            (b"circle 0.51", E::OutOfRange),
+            (b"circle -0.2", E::OutOfRange),
+            (b"circle 0.125", E::BadNumber),
+            (b"circle 0.2 0.3", E::ExtraArgument),
             (b"cal", E::MissingArgument),
             (b"cal load", E::BadArgument),
             (b"cal show all", E::ExtraArgument),

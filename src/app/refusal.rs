@@ -33,11 +33,27 @@ pub enum Refusal {
     Fault,
     /// The calibration change would put the held pose outside the limits.
     HeldPoseOutside,
+    /// A path (line or circle) from here is empty or runs through the base
+    /// axis, where the base would have to turn by half a turn at once.
+    PathShape,
+    /// A point of the path is out of the arm's reach.
+    PathUnreachable,
+    /// The path meets a singular pose (base axis, arm straight or folded).
+    PathSingular,
+    /// A joint would leave its angle limits somewhere along the path.
+    PathJointLimit(Joint),
+    /// The joints' speed and acceleration limits need a path move longer
+    /// than the longest move.
+    PathTooSlow,
+    /// The papers' own ζ-a-tₛ changes shape with tₛ: not offered for paths.
+    PathLaw,
+    /// STOP came while the path was being checked: the move never started.
+    PathStopped,
 }
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 15] = [
+    pub const ALL: [Refusal; 24] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -53,6 +69,15 @@ impl Refusal {
         Refusal::NotFinite,
         Refusal::Fault,
         Refusal::HeldPoseOutside,
+        Refusal::PathShape,
+        Refusal::PathUnreachable,
+        Refusal::PathSingular,
+        Refusal::PathJointLimit(Joint::Base),
+        Refusal::PathJointLimit(Joint::Shoulder),
+        Refusal::PathJointLimit(Joint::Elbow),
+        Refusal::PathTooSlow,
+        Refusal::PathLaw,
+        Refusal::PathStopped,
     ];
 
     /// Text of the `err <reason>` reply.
@@ -73,6 +98,15 @@ impl Refusal {
             Refusal::NotFinite => t!("not finite"),
             Refusal::Fault => t!("fault: setpoint refused, stopped"),
             Refusal::HeldPoseOutside => t!("held pose outside new limits"),
+            Refusal::PathShape => t!("path empty or through base axis"),
+            Refusal::PathUnreachable => t!("path leaves reach"),
+            Refusal::PathSingular => t!("path meets singular pose"),
+            Refusal::PathJointLimit(Joint::Base) => t!("path joint limit base"),
+            Refusal::PathJointLimit(Joint::Shoulder) => t!("path joint limit shoulder"),
+            Refusal::PathJointLimit(Joint::Elbow) => t!("path joint limit elbow"),
+            Refusal::PathTooSlow => t!("path needs ts above max"),
+            Refusal::PathLaw => t!("path: law zat-paper not offered"),
+            Refusal::PathStopped => t!("path check stopped"),
         }
     }
 }

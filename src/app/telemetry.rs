@@ -2,7 +2,7 @@
 //! `cal show` and the per-frame telemetry of `log on`.
 
 use super::text::{milli, Line};
-use super::{App, Pending, Status};
+use super::{App, MoveKind, Pending, Status};
 use crate::config::settings::{JointField, TouchField};
 use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
@@ -21,6 +21,15 @@ impl App {
         if with_condition {
             if let Some(t) = &m.touch {
                 line.word(t!("cond")).num(i32::from(t.condition.number()));
+            }
+        }
+        match m.kind {
+            MoveKind::Joint => {}
+            MoveKind::Line => {
+                line.word(t!("path line"));
+            }
+            MoveKind::Circle { r } => {
+                line.word(t!("r_milli")).num(milli(r));
             }
         }
         line.word(t!("ts_ms")).num(milli(m.ts));
@@ -128,6 +137,7 @@ impl App {
 pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
+    line.word(t!("path")).word(s.path.name());
     line.word(t!("q"));
     for q in s.commanded.iter() {
         line.num(rad_to_centideg(*q));

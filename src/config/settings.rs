@@ -8,6 +8,35 @@ use crate::motion::plan::LawKind;
 use crate::servo::map::{Joint, JointCal, JointCalError};
 use crate::touch::map::{Calibration, CalibrationError};
 
+/// How a joint target is reached: each joint by its own profile (the
+/// effector's path is whatever the joints make of it), or the effector along
+/// the straight segment, the IK solved every frame (`motion::path`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathMode {
+    /// Joint-space moves (the default).
+    Joint,
+    /// Straight-line moves of the effector.
+    Line,
+}
+
+impl PathMode {
+    /// Both modes, the default first.
+    pub const ALL: [PathMode; 2] = [PathMode::Joint, PathMode::Line];
+
+    /// The word of the serial protocol (`path joint|line`).
+    pub fn name(self) -> crate::text::Text {
+        match self {
+            PathMode::Joint => t!("joint"),
+            PathMode::Line => t!("line"),
+        }
+    }
+
+    /// The mode named `name` on the serial line.
+    pub fn from_name(name: &[u8]) -> Option<PathMode> {
+        PathMode::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
+    }
+}
+
 /// Raw ADC range accepted by `move` and the touch calibration.
 pub const RAW_MAX: i32 = 1023;
 /// How fast moves are planned: the move duration is chosen so that no joint

@@ -18,6 +18,8 @@
 //! | `cal set <base\|shoulder\|elbow> <field> <value>` | see [`JointField`] |
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
 //! | `log <on\|off>` | |
+//! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
+//! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
 //! Integers: optional sign, decimal digits. Decimals: optional sign, at least
@@ -28,7 +30,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
-use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
+use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchField, RAW_MAX};
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
 use crate::servo::map::Joint;
@@ -77,7 +79,19 @@ pub enum Command {
     CalReset,
     /// `log on|off`: per-frame telemetry.
     Log(bool),
+    /// `path joint|line`: how targets are reached.
+    Path(PathMode),
+    /// `circle <r>`: one turn of radius `r` hundredths of a workspace unit.
+    Circle {
+        /// Radius, hundredths of a workspace unit, 1..=[`CIRCLE_MAX_CENTI`].
+        r_centi: u16,
+    },
 }
+
+/// Largest `circle` radius, hundredths of a workspace unit (0.5: the lab
+/// note's circles are a fraction of the arm; larger ones leave the reach
+/// from most poses).
+pub const CIRCLE_MAX_CENTI: i32 = 50;
 
 /// Why a line was not a command; each has the reason the `err` reply gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -289,6 +303,8 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             b"off" => Command::Log(false),
             _ => return Err(CmdError::BadArgument),
         },
+        b"path" => Command::Path(PathMode::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"circle" => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
         b"cal" => match t.arg()? {
             b"show" => Command::CalShow,
             b"save" => Command::CalSave,
