@@ -222,22 +222,26 @@ fn path_moves_and_their_checks_never_miss_a_pwm_period() {
     // Line moves back and forth and circles, each checked over frames after
     // its pulses, with telemetry every frame and a status line every other
     // frame while the checks run and the arm moves.
-    // Each is decided and done within the 3 s before the next.
-    let moves = ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15"];
+    // Each is decided and done within the 3 s before the next; the last a
+    // lift (its own check, a scan point a unit), in the 4 s left.
+    let moves =
+        ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15", "path joint\nlift 0.2\ngoto 40 70 -110"];
     let out0 = s.avr.uart_output().len();
-    let w = measure(&mut s, 600, |s, k| {
-        if k % 150 == 0 {
-            s.avr.uart_send(format!("{}\n", moves[(k / 150) as usize % moves.len()]).as_bytes());
+    let w = measure(&mut s, 800, |s, k| {
+        if k % 150 == 0 && k < 750 {
+            s.avr.uart_send(format!("{}\n", moves[(k / 150) as usize]).as_bytes());
         } else if k % 2 == 0 {
             s.avr.uart_send(b"status\n");
         }
     });
     let out = String::from_utf8_lossy(&s.avr.uart_output()[out0..]).to_string();
-    let decided: Vec<&str> =
-        out.lines().filter(|l| l.starts_with("ok goto path line") || l.starts_with("ok circle")).collect();
+    let decided: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("ok goto path line") || l.starts_with("ok circle") || l.starts_with("ok goto lift"))
+        .collect();
     let st = &w.stats;
     println!(
-        "md: | path moves, 12 s: line and circle checks and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
+        "md: | path moves, 16 s: line, circle and lift checks and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
         w.moving_share * 100.0,
         st.frames,
         w.periods,

@@ -196,3 +196,181 @@ fn path_moves_are_refused_with_their_reason() {
     assert_eq!(s.command("path joint").unwrap(), "ok path joint");
     assert!(s.command("goto 40 70 -110").unwrap().starts_with("ok goto ts_ms "));
 }
+
+/// The host's f64 plan of the chip's `lift 0.2` from (90, 100, -100) to
+/// (40, 70, -110) at the fast preset: the same request and limits (angle
+/// limits of the default calibration, 98 % of the speed and acceleration).
+fn host_lift(h: f64) -> touch_arm::motion::lift::LiftPlan<f64> {
+    use touch_arm::geometry::ik::Branch;
+    use touch_arm::motion::lift::{LiftPlan, LiftRequest};
+    use touch_arm::motion::path::PathLimits;
+    let maps = firmware::default_servo_maps().unwrap();
+    let lim = PathLimits {
+        min: std::array::from_fn(|j| maps[j].angle_limits::<f64>().0),
+        max: std::array::from_fn(|j| maps[j].angle_limits::<f64>().1),
+        speed: std::array::from_fn(|j| maps[j].max_speed::<f64>() * 0.98),
+        accel: std::array::from_fn(|j| maps[j].max_accel::<f64>() * 0.98),
+        ts_max: 30.0,
+    };
+    let rad = |d: [f64; 3]| d.map(f64::to_radians);
+    let req = LiftRequest {
+        start: rad([90.0, 100.0, -100.0]),
+        target: rad([40.0, 70.0, -110.0]),
+        h,
+        links: links(),
+        branch: Branch::Minus,
+        ts_min: 0.5,
+    };
+    LiftPlan::new(&req, &lim).unwrap()
+}
+
+#[test]
+fn a_lift_passes_its_via_pose_at_tv_and_reaches_the_height() {
+    let mut s = start();
+    assert_eq!(s.command("lift 0.2").unwrap(), "ok lift 0.20");
+    let t0 = s.avr.time_s();
+    let (reply, decided) = path_command(&mut s, "goto 40 70 -110");
+    assert!(reply.starts_with("ok goto lift 0.20 ts_ms "), "{reply}");
+    eprintln!("md: lift check decided in {decided:.3} s ({:.0} frames): {reply}", decided / FRAME_S);
+    s.run_for(ts(&reply) + 0.3).unwrap();
+    let plan = host_lift(0.2);
+    assert!((ts(&reply) - plan.ts()).abs() <= 0.0005, "{reply} vs {}", plan.ts());
+    // The measured pulse train against the host's plan, every period: the
+    // move's first frame is some period after the reply; the alignment that
+    // fits best must fit within a tick (0.5 µs) everywhere.
+    let maps = firmware::default_servo_maps().unwrap();
+    let trains = s.pulse_ticks().map(|p| p.into_iter().filter(|(t, _)| *t >= t0).map(|(_, w)| w).collect::<Vec<_>>());
+    let n = trains.iter().map(Vec::len).min().unwrap();
+    let frames = (plan.ts() / FRAME_S).ceil() as usize + 1;
+    let predicted = |k: usize| -> [u16; 3] {
+        let q = plan.positions(k as f64 * FRAME_S);
+        std::array::from_fn(|j| maps[j].angle_to_pulse(q[j] as f32).unwrap().ticks)
+    };
+    let worst_at = |start: usize| -> i32 {
+        (0..frames)
+            .map(|k| {
+                let p = predicted(k);
+                (0..3).map(|j| (i32::from(trains[j][start + k]) - i32::from(p[j])).abs()).max().unwrap()
+            })
+            .max()
+            .unwrap()
+    };
+    let (start, worst) = (0..n - frames).map(|st| (st, worst_at(st))).min_by_key(|x| x.1).unwrap();
+    eprintln!("md: lift: measured pulses within {worst} tick(s) of the host plan at every period");
+    assert!(worst <= 1, "{worst} ticks");
+    // Through the via pose at t_v: the periods around t_v bracket the via
+    // pose's pulses, each within the pulse resolution of the plan there.
+    let tv = plan.tv();
+    let k = (tv / FRAME_S).floor() as usize;
+    let via: [u16; 3] = std::array::from_fn(|j| maps[j].angle_to_pulse(plan.via()[j] as f32).unwrap().ticks);
+    for j in 0..3 {
+        let (a, b) = (trains[j][start + k], trains[j][start + k + 1]);
+        // Linear between the two periods; the shapes' curvature over 20 ms
+        // adds at most α·dt²/8 (≈ 0.3 tick at the acceleration limit).
+        let w = (tv - k as f64 * FRAME_S) / FRAME_S;
+        let at_tv = f64::from(a) + (f64::from(b) - f64::from(a)) * w;
+        assert!((at_tv - f64::from(via[j])).abs() <= 1.5, "joint {j}: {at_tv} vs via {}", via[j]);
+    }
+    // Reaches the height: 0.2 above the higher end.
+    let path = measured_path(&s, t0);
+    let top = path.iter().map(|p| p[2]).fold(f64::MIN, f64::max);
+    let want = fk_deg([90.0, 100.0, -100.0])[2].max(fk_deg([40.0, 70.0, -110.0])[2]) + 0.2;
+    eprintln!("md: lift: the measured effector rises to {top:.4} (the via pose's height {want:.4})");
+    // Joint-space shapes: the effector passes the via pose at t_v but may
+    // rise above it on the way (the height is a floor, not a ceiling).
+    assert!((plan.via_point()[2] - want).abs() < 1e-12 && top >= want - 0.005, "{top} vs {want}");
+    // No velocity step at t_v: the per-period pulse step changes around t_v
+    // by no more than the acceleration limit allows (α·dt² in ticks) plus
+    // the roundings of two pulses.
+    let accel_ticks = 1000f64.to_radians() * FRAME_S * FRAME_S * 2.0 * 1800.0 / std::f64::consts::PI;
+    for (j, train) in trains.iter().enumerate() {
+        let w = &train[start + k - 2..start + k + 4];
+        let d: Vec<i32> = w.windows(2).map(|x| i32::from(x[1]) - i32::from(x[0])).collect();
+        let jump = d.windows(2).map(|x| (x[1] - x[0]).abs()).max().unwrap();
+        assert!(f64::from(jump) <= accel_ticks + 2.0, "joint {j}: step change {jump} ticks around t_v ({d:?})");
+    }
+    // Ends on the target at rest.
+    let end: [u16; 3] = std::array::from_fn(|j| *trains[j].last().unwrap());
+    assert_eq!(end, predicted(frames + 5));
+    assert!(s.command("status").unwrap().contains(" lift 0.20 "));
+    let used = s.stack_high_water().expect("stack painted at load");
+    eprintln!("md: stack high-water after a lift check and move: {used} B");
+    assert!(used <= firmware::budget("stack").unwrap() as usize, "{used} B");
+}
+
+#[test]
+fn lift_refusals_stop_and_the_line_exclusion() {
+    let mut s = start();
+    assert_eq!(s.command("lift 0.2").unwrap(), "ok lift 0.20");
+    // Lift and line exclude each other.
+    assert_eq!(s.command("path line").unwrap(), "err lift and path line exclusive");
+    assert_eq!(s.command("lift 0.6").unwrap(), "err out of range");
+    assert_eq!(s.command("lift 0").unwrap(), "err out of range");
+    // A via pose over the rim: from (90, 80, -20) (1.97 from the shoulder)
+    // 0.5 higher than the higher end is out of reach.
+    assert_eq!(s.command("lift off").unwrap(), "ok lift off");
+    let r = s.command("goto 90 80 -20").unwrap();
+    s.run_for(ts(&r) + 0.2).unwrap();
+    assert_eq!(s.command("lift 0.5").unwrap(), "ok lift 0.50");
+    let (reply, _) = path_command(&mut s, "goto 80 80 -20");
+    assert_eq!(reply, "err lift via pose unreachable");
+    // STOP while a lift is checked, then mid-lift: frozen, a new target
+    // refused while it runs.
+    assert_eq!(s.command("lift off").unwrap(), "ok lift off");
+    let r = s.command("goto 90 100 -100").unwrap();
+    s.run_for(ts(&r) + 0.2).unwrap();
+    assert_eq!(s.command("lift 0.2").unwrap(), "ok lift 0.20");
+    let from = s.avr.uart_output().len();
+    s.avr.uart_send(b"goto 40 70 -110\n");
+    s.run_for(0.1).unwrap();
+    assert_eq!(s.command("stop").unwrap(), "ok stop");
+    let (cancelled, _) = s.await_line(from, &["err"], 0.2).unwrap().expect("the cancelled move's reply");
+    assert_eq!(cancelled, "err path check stopped");
+    assert_eq!(s.command("resume").unwrap(), "ok resume");
+    let (reply, _) = path_command(&mut s, "goto 40 70 -110");
+    s.run_for(0.4 * ts(&reply)).unwrap();
+    assert_eq!(s.command("goto 90 100 -100").unwrap(), "err busy moving");
+    assert_eq!(s.command("stop").unwrap(), "ok stop");
+    s.run_for(0.1).unwrap();
+    let held = s.last_pulses();
+    s.run_for(1.0).unwrap();
+    assert_eq!(s.last_pulses(), held);
+    assert!(s.command("status").unwrap().starts_with("ok status stopped "));
+    // A joint limit where the two terms overshoot: some joint of this lift
+    // (h = 0.5) goes past both its ends and the via pose on its way; with
+    // its limit halfway into that overshoot the target and the via pose are
+    // inside, the move is not.
+    assert_eq!(s.command("resume").unwrap(), "ok resume");
+    assert_eq!(s.command("lift off").unwrap(), "ok lift off");
+    let r = s.command("goto 90 100 -100").unwrap();
+    s.run_for(ts(&r) + 0.2).unwrap();
+    let plan = host_lift(0.5);
+    let (start, target) = ([90.0f64, 100.0, -100.0].map(f64::to_radians), [40.0f64, 70.0, -110.0].map(f64::to_radians));
+    let names = ["base", "shoulder", "elbow"];
+    let mut found = None;
+    for j in 0..3 {
+        let qs: Vec<f64> = (0..=400).map(|i| plan.positions(plan.ts() * f64::from(i) / 400.0)[j]).collect();
+        let (lo, hi) = qs.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(*q), b.max(*q)));
+        let top = start[j].max(target[j]).max(plan.via()[j]);
+        let bottom = start[j].min(target[j]).min(plan.via()[j]);
+        if hi > top + 0.02 {
+            found = Some((j, "max_deg", (hi + top) / 2.0));
+        } else if lo < bottom - 0.02 {
+            found = Some((j, "min_deg", (lo + bottom) / 2.0));
+        }
+        eprintln!(
+            "lift 0.5: {} from {:.2}° to {:.2}° (ends and via {:.2}°..{:.2}°)",
+            names[j],
+            lo.to_degrees(),
+            hi.to_degrees(),
+            bottom.to_degrees(),
+            top.to_degrees()
+        );
+    }
+    let (j, field, limit) = found.expect("a joint overshoots");
+    let line = format!("cal set {} {field} {:.2}", names[j], limit.to_degrees());
+    assert_eq!(s.command(&line).unwrap(), "ok cal set", "{line}");
+    assert_eq!(s.command("lift 0.5").unwrap(), "ok lift 0.50");
+    let (reply, _) = path_command(&mut s, "goto 40 70 -110");
+    assert_eq!(reply, format!("err lift joint limit {}", names[j]));
+}

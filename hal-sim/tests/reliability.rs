@@ -26,7 +26,9 @@ fn the_longest_status_fits_its_line() {
     let mut longest = (0, String::new());
     for state in State::ALL {
         for law in LawKind::ALL {
-            for (speed, path) in SpeedPreset::ALL.into_iter().flat_map(|s| PathMode::ALL.map(|p| (s, p))) {
+            for (speed, (path, lift_centi)) in SpeedPreset::ALL.into_iter().flat_map(|s| {
+                [(PathMode::Joint, Some(50)), (PathMode::Joint, None), (PathMode::Line, None)].map(|p| (s, p))
+            }) {
                 for warning in Warning::ALL {
                     for refusal in Refusal::ALL {
                         let s = Status {
@@ -34,6 +36,7 @@ fn the_longest_status_fits_its_line() {
                             law,
                             speed,
                             path,
+                            lift_centi,
                             commanded: [widest; 3],
                             target: [widest; 3],
                             pulses: Some([2500; 3]),

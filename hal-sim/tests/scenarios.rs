@@ -37,6 +37,7 @@ scenarios!(
     home_pulse_window,
     idle_noise,
     law_switch,
+    lift,
     malformed,
     path_line,
     path_refusals,

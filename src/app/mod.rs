@@ -300,6 +300,9 @@ pub struct Status {
     pub speed: SpeedPreset,
     /// How targets are reached (`path joint|line`).
     pub path: PathMode,
+    /// Lift height of joint moves, hundredths of a workspace unit (`None`:
+    /// `lift off`).
+    pub lift_centi: Option<u8>,
     /// Pose commanded in the last frame, rad (base, shoulder, elbow).
     pub commanded: [f32; JOINTS],
     /// Target of the current or last move, rad.
@@ -363,6 +366,11 @@ enum MoveKind {
     Circle {
         /// Radius, arm units.
         r: f32,
+    },
+    /// Every joint through the via pose `h` (arm units) above the higher end.
+    Lift {
+        /// Lift height, arm units.
+        h: f32,
     },
 }
 
@@ -436,6 +444,9 @@ pub struct App {
     screen: screen::Screen,
     /// How targets are reached (`path joint|line`).
     path_mode: PathMode,
+    /// `lift <h>`: joint targets go through a via pose h (hundredths of a
+    /// workspace unit) above the higher end; `None`: `lift off`.
+    lift_centi: Option<u8>,
     /// The path move being checked or run (`path_move`).
     path: path_move::PathRun,
 }
@@ -493,6 +504,7 @@ impl App {
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
             path_mode: PathMode::Joint,
+            lift_centi: None,
             path: path_move::PathRun::Idle,
         })
     }
@@ -521,19 +533,18 @@ impl App {
 
     /// The snapshot a display draws from.
     pub fn status(&self) -> Status {
-        let progress = match &self.path {
-            path_move::PathRun::Running { plan, frame, .. } => {
-                (f32::from(*frame) * FRAME_S / plan.ts() * 100.0).min(100.0) as u8
-            }
-            path_move::PathRun::Checking { .. } => 0,
-            path_move::PathRun::Idle if self.track.is_done() => 100,
-            path_move::PathRun::Idle => (self.track.progress() * 100.0) as u8,
+        let progress = match self.path.progress() {
+            Some(p) => (p * 100.0) as u8,
+            None if self.path_busy() => 0,
+            None if self.track.is_done() => 100,
+            None => (self.track.progress() * 100.0) as u8,
         };
         Status {
             state: self.state(),
             law: self.config.law,
             speed: self.config.speed,
             path: self.path_mode,
+            lift_centi: self.lift_centi,
             commanded: self.commanded,
             target: self.last_move.target,
             pulses: self.pulses,

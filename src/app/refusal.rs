@@ -49,11 +49,20 @@ pub enum Refusal {
     PathLaw,
     /// STOP came while the path was being checked: the move never started.
     PathStopped,
+    /// The lift's via pose is out of the arm's reach.
+    LiftViaUnreachable,
+    /// A joint would leave its angle limits on the lift (at the via pose or
+    /// where the two terms overshoot).
+    LiftJointLimit(Joint),
+    /// The joints' limits need a lift longer than the longest move.
+    LiftTooSlow,
+    /// `lift` with `path line`, or `path line` with a lift: one at a time.
+    LiftWithLine,
 }
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 24] = [
+    pub const ALL: [Refusal; 30] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -78,6 +87,12 @@ impl Refusal {
         Refusal::PathTooSlow,
         Refusal::PathLaw,
         Refusal::PathStopped,
+        Refusal::LiftViaUnreachable,
+        Refusal::LiftJointLimit(Joint::Base),
+        Refusal::LiftJointLimit(Joint::Shoulder),
+        Refusal::LiftJointLimit(Joint::Elbow),
+        Refusal::LiftTooSlow,
+        Refusal::LiftWithLine,
     ];
 
     /// Text of the `err <reason>` reply.
@@ -96,7 +111,7 @@ impl Refusal {
             Refusal::SpeedLimit => t!("speed limit needs ts above max"),
             Refusal::Trajectory => t!("trajectory not admissible"),
             Refusal::NotFinite => t!("not finite"),
-            Refusal::Fault => t!("fault: setpoint refused, stopped"),
+            Refusal::Fault => t!("fault: bad setpoint, stopped"),
             Refusal::HeldPoseOutside => t!("held pose outside new limits"),
             Refusal::PathShape => t!("path empty or through base axis"),
             Refusal::PathUnreachable => t!("path leaves reach"),
@@ -107,6 +122,12 @@ impl Refusal {
             Refusal::PathTooSlow => t!("path needs ts above max"),
             Refusal::PathLaw => t!("path: law zat-paper not offered"),
             Refusal::PathStopped => t!("path check stopped"),
+            Refusal::LiftViaUnreachable => t!("lift via pose unreachable"),
+            Refusal::LiftJointLimit(Joint::Base) => t!("lift joint limit base"),
+            Refusal::LiftJointLimit(Joint::Shoulder) => t!("lift joint limit shoulder"),
+            Refusal::LiftJointLimit(Joint::Elbow) => t!("lift joint limit elbow"),
+            Refusal::LiftTooSlow => t!("lift needs ts above max"),
+            Refusal::LiftWithLine => t!("lift and path line exclusive"),
         }
     }
 }

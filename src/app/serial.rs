@@ -60,6 +60,7 @@ pub(super) enum Done {
     /// Lines the port lost.
     Lost(u16),
     Path(PathMode),
+    Lift(Option<u8>),
     /// A circle, once its check decided.
     Circled,
 }
@@ -145,10 +146,8 @@ impl App {
                 self.log = on;
                 Ok(Done::Log(on))
             }
-            Command::Path(m) => {
-                self.path_mode = m;
-                Ok(Done::Path(m))
-            }
+            Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
+            Command::Lift(h) => self.set_lift(h).map(|()| Done::Lift(h)),
             Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
@@ -220,6 +219,12 @@ impl App {
             }
             Done::Path(m) => {
                 r.str(t!("ok path ")).str(m.name());
+            }
+            Done::Lift(Some(h)) => {
+                r.str(t!("ok lift ")).centi(i32::from(h));
+            }
+            Done::Lift(None) => {
+                r.str(t!("ok lift off"));
             }
             Done::Circled => {
                 r.str(t!("ok circle"));

@@ -3,7 +3,7 @@
 
 use super::text::{milli, Line};
 use super::{App, MoveKind, Pending, Status};
-use crate::config::settings::{JointField, TouchField};
+use crate::config::settings::{JointField, PathMode, TouchField};
 use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
 use crate::seam::SerialPort;
@@ -29,7 +29,11 @@ impl App {
                 line.word(t!("path line"));
             }
             MoveKind::Circle { r } => {
-                line.word(t!("r_milli")).num(milli(r));
+                line.word(t!("r_milli")).num(milli(r / self.params.k));
+            }
+            MoveKind::Lift { h } => {
+                // Back to the hundredths it was given in.
+                line.word(t!("lift")).bytes(b" ").centi((h / self.params.k * 100.0 + 0.5) as i32);
             }
         }
         line.word(t!("ts_ms")).num(milli(m.ts));
@@ -137,7 +141,14 @@ impl App {
 pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
-    line.word(t!("path")).word(s.path.name());
+    // The defaults (joint moves, no lift) print nothing: the longest status
+    // must fit the transmit ring.
+    if s.path == PathMode::Line {
+        line.word(t!("path line"));
+    }
+    if let Some(h) = s.lift_centi {
+        line.word(t!("lift")).bytes(b" ").centi(i32::from(h));
+    }
     line.word(t!("q"));
     for q in s.commanded.iter() {
         line.num(rad_to_centideg(*q));

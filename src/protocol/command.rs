@@ -19,6 +19,7 @@
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
 //! | `log <on\|off>` | |
 //! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
+//! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
@@ -81,12 +82,18 @@ pub enum Command {
     Log(bool),
     /// `path joint|line`: how targets are reached.
     Path(PathMode),
+    /// `lift <h>` (hundredths of a workspace unit, 1..=[`LIFT_MAX_CENTI`])
+    /// or `lift off` (`None`).
+    Lift(Option<u8>),
     /// `circle <r>`: one turn of radius `r` hundredths of a workspace unit.
     Circle {
         /// Radius, hundredths of a workspace unit, 1..=[`CIRCLE_MAX_CENTI`].
         r_centi: u16,
     },
 }
+
+/// Largest `lift` height, hundredths of a workspace unit (issue #13: 0.5).
+pub const LIFT_MAX_CENTI: i32 = 50;
 
 /// Largest `circle` radius, hundredths of a workspace unit (0.5: the lab
 /// note's circles are a fraction of the arm; larger ones leave the reach
@@ -304,6 +311,10 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             _ => return Err(CmdError::BadArgument),
         },
         b"path" => Command::Path(PathMode::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"lift" => match t.arg()? {
+            b"off" => Command::Lift(None),
+            tok => Command::Lift(Some(parse_centi(tok, 1, LIFT_MAX_CENTI)? as u8)),
+        },
         b"circle" => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
         b"cal" => match t.arg()? {
             b"show" => Command::CalShow,
