@@ -39,6 +39,7 @@ scenarios!(
     law_switch,
     lift,
     malformed,
+    path_ik_range,
     path_line,
     path_refusals,
     powerup,

@@ -49,7 +49,7 @@
 use super::refusal::Refusal;
 use super::{Answer, App, MoveInfo, MoveKind, PlanDue, FRAME_S};
 use crate::config::settings::PathMode;
-use crate::geometry::ik::fk3_pose;
+use crate::geometry::ik::{fk3_pose, ik3};
 use crate::geometry::path::{Path, PathShapeError};
 use crate::math::real::Real;
 use crate::motion::lift::{LiftCheck, LiftError, LiftPlan, LiftRequest};
@@ -238,6 +238,12 @@ impl App {
     fn new_path_check(&self, due: &PlanDue) -> Result<PathCheck<f32>, Refusal> {
         let links = self.geo.links;
         let here = fk3_pose(&links, &self.commanded);
+        // A path's joints are the IK of its points: its first frame must be
+        // the pose held now, and a line's last the target asked for.
+        self.ik_keeps(&here, &self.commanded)?;
+        if due.kind == MoveKind::Line {
+            self.ik_keeps(&fk3_pose(&links, &due.target), &due.target)?;
+        }
         let [x, y, z] = here;
         let path = match due.kind {
             MoveKind::Circle { r } => {
@@ -257,6 +263,24 @@ impl App {
             return Err(Refusal::PathLaw);
         }
         self.new_check(&path)
+    }
+
+    /// The IK of the effector point `p` gives the pose `q` back. Not so when
+    /// `q` is on the other elbow branch, or a joint's calibration lets it
+    /// past the IK's range (a base beyond 180°, which the IK reads as the
+    /// same direction below −180°): the path's frames would start or end a
+    /// turn away, a jump. Refused instead (`path pose off IK range`).
+    fn ik_keeps(&self, p: &[f32; 3], q: &[f32; JOINTS]) -> Result<(), Refusal> {
+        /// Far above the FK-IK round trip's rounding, even next to the rim
+        /// (√ε of f32), far below any other solution of the same point.
+        const SAME_POSE_RAD: f32 = 2e-3;
+        let k = ik3(&self.geo.links, p[0], p[1], p[2], self.geo.branch).map_err(|_| Refusal::PathUnreachable)?;
+        let same = [k.th1, k.th2, k.th3].iter().zip(q.iter()).all(|(a, b)| (*a - *b).abs() <= SAME_POSE_RAD);
+        if same {
+            Ok(())
+        } else {
+            Err(Refusal::PathBranch)
+        }
     }
 
     /// The check of a lift by `h` (arm units) from the pose at rest to

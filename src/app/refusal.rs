@@ -49,6 +49,10 @@ pub enum Refusal {
     PathLaw,
     /// STOP came while the path was being checked: the move never started.
     PathStopped,
+    /// The pose held now (or a line's target pose) is not the IK's solution
+    /// of its effector point: on the other elbow branch, or a joint past the
+    /// IK's range; a path from it would start (or end) with a jump.
+    PathBranch,
     /// The lift's via pose is out of the arm's reach.
     LiftViaUnreachable,
     /// A joint would leave its angle limits on the lift (at the via pose or
@@ -62,7 +66,7 @@ pub enum Refusal {
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 30] = [
+    pub const ALL: [Refusal; 31] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -87,6 +91,7 @@ impl Refusal {
         Refusal::PathTooSlow,
         Refusal::PathLaw,
         Refusal::PathStopped,
+        Refusal::PathBranch,
         Refusal::LiftViaUnreachable,
         Refusal::LiftJointLimit(Joint::Base),
         Refusal::LiftJointLimit(Joint::Shoulder),
@@ -122,6 +127,7 @@ impl Refusal {
             Refusal::PathTooSlow => t!("path needs ts above max"),
             Refusal::PathLaw => t!("path: law zat-paper not offered"),
             Refusal::PathStopped => t!("path check stopped"),
+            Refusal::PathBranch => t!("path pose off IK range"),
             Refusal::LiftViaUnreachable => t!("lift via pose unreachable"),
             Refusal::LiftJointLimit(Joint::Base) => t!("lift joint limit base"),
             Refusal::LiftJointLimit(Joint::Shoulder) => t!("lift joint limit shoulder"),
