@@ -642,6 +642,7 @@ mod config {
         };
         c.speed = SpeedPreset::Fast;
         c.law = LawKind::Quintic;
+        c.lift_centi = Some(35);
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -702,7 +703,14 @@ mod config {
         // Version 2 appends the acceleration limits before the CRC.
         assert_eq!(&r[88..92], &c.joints[0].max_accel_rad_s2.to_le_bytes());
         assert_eq!(&r[96..100], &c.joints[2].max_accel_rad_s2.to_le_bytes());
-        assert_eq!(&r[100..102], &crc16(&r[..100]).to_le_bytes());
+        // Version 3 appends the path mode and the lift.
+        assert_eq!((r[100], r[101]), (PathMode::Joint.id(), 35));
+        assert_eq!(&r[102..104], &crc16(&r[..102]).to_le_bytes());
+        let mut line = c;
+        (line.path, line.lift_centi) = (PathMode::Line, None);
+        let l = line.encode(9);
+        assert_eq!((l[100], l[101]), (1, 0));
+        assert_eq!(Config::decode(&l).unwrap().config, line);
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
     }
@@ -724,6 +732,7 @@ mod config {
             for (w, d) in want.joints.iter_mut().zip(JointCal::DEFAULTS.iter()) {
                 w.max_accel_rad_s2 = d.max_accel_rad_s2;
             }
+            (want.path, want.lift_centi) = (PathMode::Joint, None);
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -746,6 +755,38 @@ mod config {
         assert_eq!((l.seq, l.warning), (6, None));
     }
 
+    /// A version-2 record (102 bytes, CRC of 0..100 at 100, written before
+    /// the path and lift settings) still loads, with joint moves and no lift;
+    /// the next save writes version 3.
+    #[test]
+    fn version_2_records_migrate_with_joint_moves_and_no_lift() {
+        let c = sample_config();
+        let v2 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..100].copy_from_slice(&c.encode(seq)[..100]);
+            r[2] = 2;
+            let crc = crc16(&r[..100]);
+            r[100..102].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let mut want = c;
+        want.lift_centi = None;
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            assert_eq!(Config::decode(&v2(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v2(41, tail);
+            bad[95] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v2(5, 0xFF)[..102]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.config), (Source::SlotA, 5, want));
+        assert_eq!(save(&mut ee, &l.config), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning), (6, None));
+        assert_eq!(record(&mut ee, SLOT_A_ADDR)[2], VERSION);
+    }
+
     #[test]
     fn decode_rejections() {
         let good = sample_config().encode(7);
@@ -754,8 +795,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 3;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(3)));
+        r[2] = 4;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(4)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -763,11 +804,13 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..100]);
-            r[100..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..102]);
+            r[102..].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08)] {
+        // Also: an unknown path mode, a lift over 0.5, a lift with path line
+        // (sample_config lifts by 0.35).
+        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08), (100, 2), (101, 51), (100, 1)] {
             let mut r = good;
             r[off] = val;
             assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
@@ -813,12 +856,19 @@ mod config {
                 invert_y: f[2],
             },
         );
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6)
-            .prop_map(|(joints, touch, s, l)| Config {
+        let path_lift = prop_oneof![
+            Just((PathMode::Line, None)),
+            Just((PathMode::Joint, None)),
+            (1u8..=50).prop_map(|h| (PathMode::Joint, Some(h))),
+        ];
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, path_lift)
+            .prop_map(|(joints, touch, s, l, (path, lift_centi))| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
                 law: LawKind::from_id(l).unwrap(),
+                path,
+                lift_centi,
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }
@@ -843,6 +893,11 @@ mod config {
 
     #[test]
     fn ids_and_names_round_trip() {
+        for p in PathMode::ALL {
+            assert_eq!(PathMode::from_id(p.id()), Some(p));
+            assert_eq!(PathMode::from_name(p.name().as_str().as_bytes()), Some(p));
+        }
+        assert_eq!(PathMode::from_id(2), None);
         for l in LawKind::ALL {
             assert_eq!(LawKind::from_id(l.id()), Some(l));
             assert_eq!(LawKind::from_name(l.name().as_str().as_bytes()), Some(l));

@@ -442,11 +442,6 @@ pub struct App {
     /// The target of this frame, planned after the pulses.
     plan_due: Option<PlanDue>,
     screen: screen::Screen,
-    /// How targets are reached (`path joint|line`).
-    path_mode: PathMode,
-    /// `lift <h>`: joint targets go through a via pose h (hundredths of a
-    /// workspace unit) above the higher end; `None`: `lift off`.
-    lift_centi: Option<u8>,
     /// The path move being checked or run (`path_move`).
     path: path_move::PathRun,
 }
@@ -503,8 +498,6 @@ impl App {
             deferred_touch: None,
             plan_due: None,
             screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
-            path_mode: PathMode::Joint,
-            lift_centi: None,
             path: path_move::PathRun::Idle,
         })
     }
@@ -543,8 +536,8 @@ impl App {
             state: self.state(),
             law: self.config.law,
             speed: self.config.speed,
-            path: self.path_mode,
-            lift_centi: self.lift_centi,
+            path: self.config.path,
+            lift_centi: self.config.lift_centi,
             commanded: self.commanded,
             target: self.last_move.target,
             pulses: self.pulses,

@@ -7,7 +7,8 @@
 //! higher end ([`crate::motion::lift`]: its own two time-scaled smooth stops,
 //! whatever the law), both shapes' G every frame (`lift_frame`). A lift and
 //! `path line` exclude each other (`lift and path line exclusive`): a line's
-//! effector goes straight, a lift's goes up.
+//! effector goes straight, a lift's goes up. Both are settings of the
+//! configuration, stored by `cal save` (record version 3).
 //!
 //! # The check, spread over frames
 //! A path's plan-time check ([`PathCheck`]: every point reachable, inside the
@@ -178,7 +179,7 @@ impl App {
     /// The kind of move a joint target makes under the `path` and `lift`
     /// settings (which exclude each other).
     pub(super) fn target_kind(&self) -> MoveKind {
-        match (self.path_mode, self.lift_centi) {
+        match (self.config.path, self.config.lift_centi) {
             (PathMode::Line, _) => MoveKind::Line,
             (PathMode::Joint, Some(h)) => MoveKind::Lift { h: f32::from(h) * 0.01 * self.params.k },
             (PathMode::Joint, None) => MoveKind::Joint,
@@ -187,20 +188,20 @@ impl App {
 
     /// `path joint|line`; `line` is refused while a lift is set.
     pub(super) fn set_path(&mut self, m: PathMode) -> Result<(), Refusal> {
-        if m == PathMode::Line && self.lift_centi.is_some() {
+        if m == PathMode::Line && self.config.lift_centi.is_some() {
             return Err(Refusal::LiftWithLine);
         }
-        self.path_mode = m;
+        self.config.path = m;
         Ok(())
     }
 
     /// `lift <h>|off`; a lift is refused under `path line` (a line's
     /// effector goes straight; a lift's joints go through the via pose).
     pub(super) fn set_lift(&mut self, h: Option<u8>) -> Result<(), Refusal> {
-        if h.is_some() && self.path_mode == PathMode::Line {
+        if h.is_some() && self.config.path == PathMode::Line {
             return Err(Refusal::LiftWithLine);
         }
-        self.lift_centi = h;
+        self.config.lift_centi = h;
         Ok(())
     }
 

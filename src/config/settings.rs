@@ -35,7 +35,23 @@ impl PathMode {
     pub fn from_name(name: &[u8]) -> Option<PathMode> {
         PathMode::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
     }
+
+    /// The byte stored in the EEPROM record: 0, 1. Never renumber.
+    pub fn id(self) -> u8 {
+        match self {
+            PathMode::Joint => 0,
+            PathMode::Line => 1,
+        }
+    }
+
+    /// The mode stored as `id`; `None` for an unknown byte.
+    pub fn from_id(id: u8) -> Option<PathMode> {
+        PathMode::ALL.iter().copied().find(|p| p.id() == id)
+    }
 }
+
+/// Largest lift, hundredths of a workspace unit (`lift 0.5`).
+pub const LIFT_MAX_CENTI: u8 = 50;
 
 /// Raw ADC range accepted by `move` and the touch calibration.
 pub const RAW_MAX: i32 = 1023;
@@ -133,6 +149,12 @@ pub struct Config {
     pub speed: SpeedPreset,
     /// The trajectory law of new moves.
     pub law: LawKind,
+    /// How targets are reached (`path joint|line`).
+    pub path: PathMode,
+    /// Lift of joint moves through a via pose, hundredths of a workspace
+    /// unit, 1..=[`LIFT_MAX_CENTI`] (`lift <h>`); `None`: `lift off`. Never
+    /// with [`PathMode::Line`].
+    pub lift_centi: Option<u8>,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -165,6 +187,8 @@ impl Config {
         touch: Calibration::DEFAULT,
         speed: SpeedPreset::Normal,
         law: LawKind::Zat,
+        path: PathMode::Joint,
+        lift_centi: None,
     };
 
     /// Checks every joint calibration and the touch calibration; the first

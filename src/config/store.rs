@@ -1,6 +1,6 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 2, little-endian, 102 bytes)
+//! # Record layout (version 3, little-endian, 104 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
@@ -12,11 +12,16 @@
 //! | 86 | 1  | speed preset id ([`SpeedPreset`]) |
 //! | 87 | 1  | motion law id ([`LawKind::id`]) |
 //! | 88 | 12 | 3 × joint `max_accel_rad_s2` f32 (version 2) |
-//! | 100 | 2 | CRC-16/CCITT-FALSE of bytes 0..100 |
+//! | 100 | 1 | path mode id ([`PathMode::id`]: 0 joint, 1 line) (version 3) |
+//! | 101 | 1 | lift, hundredths of a workspace unit, 1..=50; 0 = off; never with line (version 3) |
+//! | 102 | 2 | CRC-16/CCITT-FALSE of bytes 0..102 |
 //!
-//! A version-1 record (before acceleration limits) ends with its CRC of
-//! bytes 0..88 at 88; it is still read, with the default acceleration limits
-//! ([`JointCal::DEFAULTS`]), and the next save writes version 2.
+//! Older records are still read and the next save writes version 3: a
+//! version-2 record (before the path and lift settings) ends with its CRC of
+//! bytes 0..100 at 100 and loads with joint moves and no lift; a version-1
+//! record (before acceleration limits) ends with its CRC of bytes 0..88 at
+//! 88 and loads with the default acceleration limits ([`JointCal::DEFAULTS`])
+//! too.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -51,7 +56,7 @@
 //! defaults and a [`Warning`].
 
 use super::crc::crc16;
-use super::settings::{Config, ConfigError, SpeedPreset};
+use super::settings::{Config, ConfigError, PathMode, SpeedPreset, LIFT_MAX_CENTI};
 use crate::motion::plan::LawKind;
 use crate::seam::{Storage, StorageError};
 use crate::servo::map::JointCal;
@@ -60,9 +65,11 @@ use crate::touch::map::Calibration;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 102;
+pub const RECORD_LEN: usize = 104;
 /// A version-1 record's length (its CRC at 88).
 const RECORD_LEN_V1: usize = 90;
+/// A version-2 record's length (its CRC at 100).
+const RECORD_LEN_V2: usize = 102;
 /// EEPROM address of the first copy.
 pub const SLOT_A_ADDR: u16 = 0;
 /// Leaves room for the record to grow to 128 bytes.
@@ -70,9 +77,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; version 1 is still read (see the
-/// module doc), any other is not.
-pub const VERSION: u8 = 2;
+/// Layout version of the record written; versions 1 and 2 are still read
+/// (see the module doc), any other is not.
+pub const VERSION: u8 = 3;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -117,6 +124,7 @@ impl Config {
         for j in self.joints.iter() {
             w.put(&j.max_accel_rad_s2.to_le_bytes());
         }
+        w.put(&[self.path.id(), self.lift_centi.unwrap_or(0)]);
         let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
         if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
             dst.copy_from_slice(&crc.to_le_bytes());
@@ -124,9 +132,9 @@ impl Config {
         buf
     }
 
-    /// Parses and validates a record (version 2, or 1 with the default
-    /// acceleration limits). Checks, in order: magic, version, CRC, field
-    /// values.
+    /// Parses and validates a record (version 3; 2 with joint moves and no
+    /// lift; 1 also with the default acceleration limits). Checks, in order:
+    /// magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader { buf, pos: 0 };
         if r.take::<2>() != MAGIC {
@@ -135,6 +143,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            2 => RECORD_LEN_V2 - 2,
             1 => RECORD_LEN_V1 - 2,
             v => return Err(RecordError::Version(v)),
         };
@@ -164,10 +173,20 @@ impl Config {
         let (Some(speed), Some(law)) = (SpeedPreset::from_id(speed), LawKind::from_id(law)) else {
             return Err(RecordError::Invalid);
         };
-        if version == VERSION {
+        if version >= 2 {
             for j in joints.iter_mut() {
                 j.max_accel_rad_s2 = f32::from_le_bytes(r.take());
             }
+        }
+        let (mut path, mut lift_centi) = (PathMode::Joint, None);
+        if version >= 3 {
+            let [p, h] = r.take::<2>();
+            path = PathMode::from_id(p).ok_or(RecordError::Invalid)?;
+            lift_centi = match h {
+                0 => None,
+                h if h <= LIFT_MAX_CENTI && path == PathMode::Joint => Some(h),
+                _ => return Err(RecordError::Invalid),
+            };
         }
         let config = Config {
             joints,
@@ -182,6 +201,8 @@ impl Config {
             },
             speed,
             law,
+            path,
+            lift_centi,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })

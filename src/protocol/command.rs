@@ -93,7 +93,7 @@ pub enum Command {
 }
 
 /// Largest `lift` height, hundredths of a workspace unit (issue #13: 0.5).
-pub const LIFT_MAX_CENTI: i32 = 50;
+pub const LIFT_MAX_CENTI: i32 = crate::config::settings::LIFT_MAX_CENTI as i32;
 
 /// Largest `circle` radius, hundredths of a workspace unit (0.5: the lab
 /// note's circles are a fraction of the arm; larger ones leave the reach
