@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
 # The README's main job: set-up, build the firmware, run it in simavr, write out/.
-#   scripts/run.sh [--xy X,Y | --raw X,Y] [--lcd C] [--wiring a|b|c] [--grip open|close]
-#                                            one touch (and a grip after the move), results in out/
+#   scripts/run.sh [--xy X,Y | --raw X,Y]    one touch, results in out/
+#       [--lcd C] [--wiring a|b|c]           the simulated display controller and touch wiring
+#       [--grip open|close]                  a grip after the move
+#       [--law LAW] [--path joint|line | --lift H] [--then X2,Y2@MS]
+#                                            sent over serial before the touch:
+#                                            --path line: along the straight line;
+#                                            --lift H: through a via pose H higher
 #   scripts/run.sh --live [--port P]         the live bench at http://127.0.0.1:P/
 #                                            (default 8080; Ctrl-C stops it)
 set -euo pipefail

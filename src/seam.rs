@@ -73,6 +73,12 @@ pub trait ServoOutputs {
     /// Stops every pulse (servos go limp) until the next `set_pulses` (the
     /// gripper's until the next `set_grip`).
     fn disable(&mut self);
+    /// Timer ticks (0.5 µs) left in the current PWM period, 0 once the next
+    /// one has started; `None` where the outputs keep no time (the host
+    /// twin). The app spreads long work (a path check) over frames by it.
+    fn period_ticks_left(&self) -> Option<u16> {
+        None
+    }
 }
 
 /// A monotonic millisecond clock.

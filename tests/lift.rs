@@ -116,3 +116,49 @@ fn lift_refusals_say_why() {
     assert!(matches!(LiftPlan::new(&stretched, &lim), Err(LiftError::JointLimit { .. } | LiftError::ViaUnreachable)));
     assert_eq!(LiftError::<f64>::BadHeight.to_string(), "lift height must be in (0, 0.5]");
 }
+
+#[test]
+fn a_check_stepped_in_chunks_decides_what_the_one_shot_plan_does() {
+    use touch_arm::motion::lift::LiftCheck;
+    for (target, h) in TARGETS {
+        for lim in [limits(2.94, 17.1), limits(0.05, 17.1), limits(2.94, 0.2)] {
+            let whole = LiftPlan::new(&request(target, h), &lim);
+            for chunk in [1u16, 7, 40] {
+                let mut c = LiftCheck::new(&request(target, h), &lim).unwrap();
+                let mut units = 0u32;
+                let got = loop {
+                    units += u32::from(chunk);
+                    if let Some(r) = c.step(chunk) {
+                        break r;
+                    }
+                };
+                assert_eq!(got, whole, "chunk {chunk}");
+                // One unit per scan point (513), decided in the last one.
+                assert!(units >= 513 && units < 513 + u32::from(chunk), "{units} units in chunks of {chunk}");
+            }
+        }
+    }
+    // Refusals decide early: the first point past a joint's limit. The first
+    // target's shoulder goes from π/2 down to 0.9 through the via pose's
+    // 1.468, but the sum of the two terms first overshoots to 1.78 rad near
+    // 0.35·tₛ: with its limit at 1.7 the move is refused by t_v (point 256).
+    let mut narrow = limits(2.94, 17.1);
+    narrow.max[1] = 1.7;
+    let mut c = LiftCheck::new(&request(TARGETS[0].0, 0.2), &narrow).unwrap();
+    assert_eq!(c.step(257), Some(Err(LiftError::JointLimit { joint: 1 })));
+}
+
+#[test]
+fn the_via_frame_angles_are_the_positions() {
+    for (target, h) in TARGETS {
+        let plan = LiftPlan::new(&request(target, h), &limits(2.94, 17.1)).unwrap();
+        for i in 0..=200 {
+            let t = plan.ts() * f64::from(i) / 200.0;
+            let (a, p) = (plan.angles(t), plan.positions(t));
+            assert!((0..3).all(|j| (a[j] - p[j]).abs() < 1e-12), "t = {t}: {a:?} vs {p:?}");
+        }
+        assert_eq!(plan.angles(plan.ts()), target);
+        assert_eq!(plan.start(), &HOME);
+        assert_eq!(plan.target(), &target);
+    }
+}

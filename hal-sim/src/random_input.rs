@@ -54,14 +54,7 @@ impl Inputs {
     /// A command of the README's grammar, with arguments mostly plausible
     /// and sometimes out of range (the app must refuse those).
     pub fn command(&mut self) -> String {
-        match self.rng.below(23) {
-            20 => match self.rng.below(3) {
-                0 => "grip open".into(),
-                1 => "grip close".into(),
-                _ => format!("grip {}", self.decimal(-10.0, 100.0)),
-            },
-            21 => self.cal_set_grip(),
-            22 => format!("pose {} {}", self.pick(&["save", "go", "go", "clear"]), self.int(1, 4)),
+        match self.rng.below(26) {
             0..=3 => format!("move {} {}", self.int(0, 1023), self.int(0, 1023)),
             4..=7 => {
                 let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
@@ -76,6 +69,21 @@ impl Inputs {
             15 => "cal save".into(),
             16 => "cal reset".into(),
             17 => format!("log {}", if self.rng.below(2) == 0 { "on" } else { "off" }),
+            // Issue #13's path and lift moves (their checks span frames).
+            18 => format!("path {}", if self.rng.below(2) == 0 { "line" } else { "joint" }),
+            19 => match self.rng.below(3) {
+                0 => "lift off".into(),
+                _ => format!("lift {}", self.decimal(0.0, 0.6)),
+            },
+            20 => format!("circle {}", self.decimal(0.0, 0.6)),
+            // Issue #14's gripper and saved poses.
+            21 => match self.rng.below(3) {
+                0 => "grip open".into(),
+                1 => "grip close".into(),
+                _ => format!("grip {}", self.decimal(-10.0, 100.0)),
+            },
+            22 => self.cal_set_grip(),
+            23 => format!("pose {} {}", self.pick(&["save", "go", "go", "clear"]), self.int(1, 4)),
             _ => self.cal_set(),
         }
     }

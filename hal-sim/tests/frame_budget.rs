@@ -6,7 +6,9 @@
 //! frame runs for every period (`FRAME_STATS`, kept by `board::frame`). A
 //! frame whose plan runs past the period end (the plan comes after the
 //! pulses) is counted and reported, not missed: the next frame catches up
-//! (no serial line, no panel read, no plan; the module doc of `app`).
+//! (no serial line, no panel read, no plan; the module doc of `app`). The
+//! same with issue #13's path, circle and lift moves, whose checks run over
+//! frames after the pulses.
 //!
 //! `scripts/bench.sh` copies the lines this test prints after `md:` into
 //! BENCHMARKS.md ("Frame budget"); run it alone with
@@ -208,6 +210,19 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         cycles(st.worst_app_ticks),
         cycles(st.worst_ticks)
     );
+    let pw = path_moves_window();
+    let ps = &pw.stats;
+    println!(
+        "md: | path moves, 16 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
+        pw.moving_share * 100.0,
+        ps.frames,
+        pw.periods,
+        pw.missed(),
+        ps.overruns,
+        cycles(ps.worst_pulse_ticks),
+        cycles(ps.worst_app_ticks),
+        cycles(ps.worst_ticks)
+    );
     println!("md:");
     println!(
         "md: Cycles after the period start (one period is {PERIOD_CYCLES}). Of the {sent} lines of the flood {} were answered one by one and {lost} with `err input lost`; the receive interrupt lost {} bytes in hardware.",
@@ -224,4 +239,49 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     assert_eq!(answered, sent, "every line answered, one by one or as lost");
     assert_eq!(s.avr.uart_overruns(), 0, "the receive interrupt kept up");
     assert_eq!(s.avr.resets(), 0);
+    // With path moves: no period missed, and the check stops before a unit
+    // could pass the period end, so no frame ends late for it.
+    assert_eq!(pw.missed(), 0, "path moves: missed PWM periods: {ps:?}, {} periods", pw.periods);
+    assert_eq!(ps.overruns, 0, "path moves: {ps:?}");
+    // Half of each 3 s goes to the check, the arm holding still.
+    assert!(pw.moving_share > 0.2, "path moves: the arm moved in only {:.0} % of the frames", pw.moving_share * 100.0);
+}
+
+/// Path, circle and lift moves with their checks spread over frames (issue
+/// #13), telemetry and a status line every other frame: the window, every
+/// move decided and accepted. Its row goes into the busiest test's
+/// table (one test, so the table's lines come out in order).
+fn path_moves_window() -> Window {
+    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 19).expect("firmware ELF (cargo avr)");
+    s.run_for(1.5).unwrap();
+    assert_eq!(s.command("log on").unwrap(), "ok log on");
+    assert_eq!(s.command("speed fast").unwrap(), "ok speed fast");
+    // The first move after power-up is slow; out of the way first.
+    let first = s.command("goto 90 100 -100").unwrap();
+    assert!(first.starts_with("ok goto"), "{first}");
+    s.run_for(3.0).unwrap();
+    assert_eq!(s.command("path line").unwrap(), "ok path line");
+    // Line moves back and forth and circles, each checked over frames after
+    // its pulses, with telemetry every frame and a status line every other
+    // frame while the checks run and the arm moves.
+    // Each is decided and done within the 3 s before the next; the last a
+    // lift (its own check, a scan point a unit), in the 4 s left.
+    let moves =
+        ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15", "path joint\nlift 0.2\ngoto 40 70 -110"];
+    let out0 = s.avr.uart_output().len();
+    let w = measure(&mut s, 800, |s, k| {
+        if k % 150 == 0 && k < 750 {
+            s.avr.uart_send(format!("{}\n", moves[(k / 150) as usize]).as_bytes());
+        } else if k % 2 == 0 {
+            s.avr.uart_send(b"status\n");
+        }
+    });
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[out0..]).to_string();
+    let decided: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("ok goto path line") || l.starts_with("ok circle") || l.starts_with("ok goto lift"))
+        .collect();
+    assert_eq!(decided.len(), moves.len(), "{decided:?}");
+    assert_eq!(s.avr.resets(), 0);
+    w
 }

@@ -254,3 +254,70 @@ fn main_job_grips_after_the_move() {
     assert!(stdout.contains("firmware: ok grip 9000 ts_ms 4317; gripper pulse at the end 1500 us"), "{stdout}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Rows of effector.csv: (t, [x, y, z]).
+fn effector_rows(dir: &std::path::Path) -> Vec<(f64, [f64; 3])> {
+    let text = std::fs::read_to_string(dir.join("effector.csv")).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            (v[0], [v[1], v[2], v[3]])
+        })
+        .collect()
+}
+
+fn run_job(args: &[&str], tag: &str) -> (std::path::PathBuf, Value, String) {
+    let dir = std::env::temp_dir().join(format!("touch-arm-main-job-{tag}-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(args).arg("--out").arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    (dir, summary, String::from_utf8_lossy(&out.stdout).to_string())
+}
+
+#[test]
+fn main_job_path_line_and_lift() {
+    // --path line: the measured effector stays on the segment from the home
+    // pose's effector (0, 1, 1) to the target's, within 0.005.
+    let (dir, summary, stdout) = run_job(&["--xy", "0.6,0.3", "--path", "line"], "line");
+    assert!(stdout.contains("firmware: info touch ") && stdout.contains(" path line ts_ms "), "{stdout}");
+    assert_eq!(summary["path"], "line");
+    assert!(summary["lift_h"].is_null());
+    let rows = effector_rows(&dir);
+    let (a, b) = ([0.0, 1.0, 1.0], rows.last().unwrap().1);
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let dd: f64 = d.iter().map(|x| x * x).sum();
+    let worst = rows
+        .iter()
+        .map(|(_, p)| {
+            let s = ((0..3).map(|i| (p[i] - a[i]) * d[i]).sum::<f64>() / dd).clamp(0.0, 1.0);
+            (0..3).map(|i| (p[i] - a[i] - d[i] * s).powi(2)).sum::<f64>().sqrt()
+        })
+        .fold(0.0, f64::max);
+    assert!(worst <= 0.005, "{worst} off the segment");
+    std::fs::remove_dir_all(&dir).ok();
+    // --lift 0.2: the effector passes the via pose (0.2 above the higher end,
+    // halfway in base rotation and reach), marked in path.png.
+    let (dir, summary, stdout) = run_job(&["--xy", "0.6,0.3", "--lift", "0.2"], "lift");
+    assert!(stdout.contains(" lift 0.20 ts_ms "), "{stdout}");
+    assert_eq!(summary["lift_h"], 0.2);
+    let rows = effector_rows(&dir);
+    let b = rows.last().unwrap().1;
+    let base = (std::f64::consts::FRAC_PI_2 + b[1].atan2(b[0])) / 2.0;
+    let rho = (1.0 + b[0].hypot(b[1])) / 2.0;
+    let via = [rho * base.cos(), rho * base.sin(), 1f64.max(b[2]) + 0.2];
+    let nearest =
+        rows.iter().map(|(_, p)| (0..3).map(|i| (p[i] - via[i]).powi(2)).sum::<f64>().sqrt()).fold(f64::MAX, f64::min);
+    // Within a frame's travel of the via pose.
+    assert!(nearest <= 0.02, "{nearest} from the via pose {via:?}");
+    assert_eq!(&std::fs::read(dir.join("path.png")).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+    std::fs::remove_dir_all(&dir).ok();
+    // The options exclude each other and --then.
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+        .args(["--xy", "0.6,0.3", "--path", "line", "--lift", "0.2"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(["--lift", "0.55"]).output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("(0, 0.5]"));
+}

@@ -644,6 +644,7 @@ mod config {
         c.speed = SpeedPreset::Fast;
         c.law = LawKind::Quintic;
         c.wiring = Some(Wiring::C);
+        c.lift_centi = Some(35);
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -704,9 +705,15 @@ mod config {
         // Version 2 appends the acceleration limits before the CRC.
         assert_eq!(&r[88..92], &c.joints[0].max_accel_rad_s2.to_le_bytes());
         assert_eq!(&r[96..100], &c.joints[2].max_accel_rad_s2.to_le_bytes());
-        // Version 3 appends the measured touch wiring (c = 3).
-        assert_eq!(r[100], 3);
-        assert_eq!(&r[101..103], &crc16(&r[..101]).to_le_bytes());
+        // Version 3 appends the measured touch wiring (c = 3), version 4
+        // the path mode and the lift.
+        assert_eq!((r[100], r[101], r[102]), (3, PathMode::Joint.id(), 35));
+        assert_eq!(&r[103..105], &crc16(&r[..103]).to_le_bytes());
+        let mut line = c;
+        (line.path, line.lift_centi) = (PathMode::Line, None);
+        let l = line.encode(9);
+        assert_eq!((l[101], l[102]), (1, 0));
+        assert_eq!(Config::decode(&l).unwrap().config, line);
         let d = Config::decode(&r).unwrap();
         assert_eq!(d, Record { seq: 0x1234, config: c });
     }
@@ -728,8 +735,10 @@ mod config {
             for (w, d) in want.joints.iter_mut().zip(JointCal::DEFAULTS.iter()) {
                 w.max_accel_rad_s2 = d.max_accel_rad_s2;
             }
-            // No wiring before version 3: the firmware probes at boot.
+            // No wiring before version 3 (the firmware probes at boot), joint
+            // moves and no lift before version 4.
             want.wiring = None;
+            (want.path, want.lift_centi) = (PathMode::Joint, None);
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -754,7 +763,7 @@ mod config {
 
     /// A version-2 record (102 bytes, CRC of 0..100 at 100, written before
     /// the measured wiring) loads with every field but the wiring, which is
-    /// none; the next save writes version 3 with the wiring the probe found.
+    /// none; the next save writes version 4 with the wiring the probe found.
     #[test]
     fn version_2_records_migrate_without_a_wiring() {
         let c = sample_config();
@@ -764,7 +773,7 @@ mod config {
             r[2] = 2;
             let crc = crc16(&r[..100]);
             r[100..102].copy_from_slice(&crc.to_le_bytes());
-            let want = Config { wiring: None, ..c };
+            let want = Config { wiring: None, path: PathMode::Joint, lift_centi: None, ..c };
             assert_eq!(Config::decode(&r), Ok(Record { seq: 77, config: want }), "tail {tail:#x}");
             let mut bad = r;
             bad[60] ^= 1;
@@ -785,6 +794,38 @@ mod config {
         let l = load(&mut ee);
         assert_eq!((l.seq, l.warning, l.config), (10, None, found));
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
+    }
+
+    /// A version-3 record (103 bytes, CRC of 0..101 at 101, written before
+    /// the path and lift settings) still loads, with its wiring, joint moves
+    /// and no lift; the next save writes version 4.
+    #[test]
+    fn version_3_records_migrate_with_joint_moves_and_no_lift() {
+        let c = sample_config();
+        let v3 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..101].copy_from_slice(&c.encode(seq)[..101]);
+            r[2] = 3;
+            let crc = crc16(&r[..101]);
+            r[101..103].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let mut want = c;
+        want.lift_centi = None;
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            assert_eq!(Config::decode(&v3(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v3(41, tail);
+            bad[95] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v3(5, 0xFF)[..103]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.config), (Source::SlotA, 5, want));
+        assert_eq!(save(&mut ee, &l.config), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning), (6, None));
+        assert_eq!(record(&mut ee, SLOT_A_ADDR)[2], VERSION);
     }
 
     /// The poses' record (`config::poses`): explicit little-endian layout,
@@ -843,8 +884,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 4;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(4)));
+        r[2] = 5;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(5)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -852,12 +893,13 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..101]);
-            r[101..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..103]);
+            r[103..].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        // ... and an unknown wiring id.
-        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08), (100, 4)] {
+        // Also: an unknown wiring id, an unknown path mode, a lift over 0.5,
+        // a lift with path line (sample_config lifts by 0.35).
+        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08), (100, 4), (101, 2), (102, 51), (101, 1)] {
             let mut r = good;
             r[off] = val;
             assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
@@ -903,13 +945,20 @@ mod config {
                 invert_y: f[2],
             },
         );
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, 0u8..4)
-            .prop_map(|(joints, touch, s, l, w)| Config {
+        let path_lift = prop_oneof![
+            Just((PathMode::Line, None)),
+            Just((PathMode::Joint, None)),
+            (1u8..=50).prop_map(|h| (PathMode::Joint, Some(h))),
+        ];
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift))
+            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi)))| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
                 law: LawKind::from_id(l).unwrap(),
                 wiring: Wiring::from_id(w),
+                path,
+                lift_centi,
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }
@@ -934,6 +983,11 @@ mod config {
 
     #[test]
     fn ids_and_names_round_trip() {
+        for p in PathMode::ALL {
+            assert_eq!(PathMode::from_id(p.id()), Some(p));
+            assert_eq!(PathMode::from_name(p.name().as_str().as_bytes()), Some(p));
+        }
+        assert_eq!(PathMode::from_id(2), None);
         for l in LawKind::ALL {
             assert_eq!(LawKind::from_id(l.id()), Some(l));
             assert_eq!(LawKind::from_name(l.name().as_str().as_bytes()), Some(l));
@@ -1181,8 +1235,8 @@ mod config {
 
 mod command {
     use super::*;
-    use touch_arm::config::settings::SpeedPreset;
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
+    use touch_arm::config::settings::{PathMode, SpeedPreset};
     use touch_arm::math::units::centideg_to_rad;
     use touch_arm::motion::plan::LawKind as Law;
     use touch_arm::protocol::command::*;
@@ -1237,6 +1291,14 @@ mod command {
             ("cal reset grip", C::CalResetGrip),
             ("cal set grip max_deg 60", C::CalSet(CalSet::Grip { field: JointField::MaxDeg, value: 6000 })),
             ("cal set grip min_us 700", C::CalSet(CalSet::Grip { field: JointField::MinUs, value: 700 })),
+            ("path line", C::Path(PathMode::Line)),
+            ("path joint", C::Path(PathMode::Joint)),
+            ("circle 0.25", C::Circle { r_centi: 25 }),
+            ("lift 0.2", C::Lift(Some(20))),
+            ("lift 0.50", C::Lift(Some(50))),
+            ("lift off", C::Lift(None)),
+            ("circle 0.01", C::Circle { r_centi: 1 }),
+            ("circle 0.5", C::Circle { r_centi: 50 }),
             // Lenient whitespace.
             ("  move\t12    34  ", C::Move { x: 12, y: 34 }),
             ("status\r\n", C::Status),
@@ -1300,6 +1362,20 @@ mod command {
             (b"speed warp", E::BadArgument),
             (b"log maybe", E::BadArgument),
             (b"log", E::MissingArgument),
+            (b"path", E::MissingArgument),
+            (b"path curve", E::BadArgument),
+            (b"path line joint", E::ExtraArgument),
+            (b"circle", E::MissingArgument),
+            (b"lift", E::MissingArgument),
+            (b"lift on", E::BadNumber),
+            (b"lift 0", E::OutOfRange),
+            (b"lift 0.51", E::OutOfRange),
+            (b"lift off 1", E::ExtraArgument),
+            (b"circle 0", E::OutOfRange),
+            (b"circle 0.51", E::OutOfRange),
+            (b"circle -0.2", E::OutOfRange),
+            (b"circle 0.125", E::BadNumber),
+            (b"circle 0.2 0.3", E::ExtraArgument),
             (b"cal", E::MissingArgument),
             (b"cal load", E::BadArgument),
             (b"cal show all", E::ExtraArgument),

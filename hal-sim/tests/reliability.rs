@@ -6,7 +6,7 @@
 
 use touch_arm::app::text::{Line, LINE_CAP};
 use touch_arm::app::{status_line, Refusal, State, Status, TouchTarget};
-use touch_arm::config::settings::SpeedPreset;
+use touch_arm::config::settings::{PathMode, SpeedPreset};
 use touch_arm::config::store::{Source, Warning};
 use touch_arm::geometry::workspace::Condition;
 use touch_arm::motion::plan::LawKind;
@@ -26,13 +26,17 @@ fn the_longest_status_fits_its_line() {
     let mut longest = (0, String::new());
     for state in State::ALL {
         for law in LawKind::ALL {
-            for speed in SpeedPreset::ALL {
+            for (speed, (path, lift_centi)) in SpeedPreset::ALL.into_iter().flat_map(|s| {
+                [(PathMode::Joint, Some(50)), (PathMode::Joint, None), (PathMode::Line, None)].map(|p| (s, p))
+            }) {
                 for warning in Warning::ALL {
                     for refusal in Refusal::ALL {
                         let s = Status {
                             state,
                             law,
                             speed,
+                            path,
+                            lift_centi,
                             commanded: [widest; 3],
                             target: [widest; 3],
                             pulses: Some([2500; 3]),

@@ -1,10 +1,11 @@
 //! The frame: boot, touch, motion and servo output (the order is in the
 //! module doc of `app`).
 
+use super::path_move::PathRun;
 use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, Answer, App, Io, Mode, MoveInfo, PlanDue, TouchTarget};
+use super::{build_maps, Answer, App, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
@@ -36,7 +37,8 @@ impl App {
         }
         let now = io.clock.now_ms();
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
-        self.busy = core::mem::take(&mut self.late);
+        let catch_up = core::mem::take(&mut self.late);
+        self.busy = catch_up;
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -50,6 +52,8 @@ impl App {
         let arm_planned = self.plan_due.is_some();
         self.finish_plan(io.serial);
         self.finish_grip(io.serial, arm_planned);
+        // A path check takes what the period leaves (`path_move`).
+        self.step_path_check(io.servos, io.serial, catch_up);
         if self.log {
             self.send_telemetry(io.serial, now);
         }
@@ -281,9 +285,22 @@ impl App {
         r
     }
 
-    /// Checks state and limits and accepts the target: it is planned after
-    /// this frame's pulses (`finish_plan`).
+    /// A joint target, reached as the `path` setting says.
     fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+        self.accept(target, touch, self.target_kind())
+    }
+
+    /// Checks state and limits and accepts the target: it is planned (or a
+    /// path's check is set up) after this frame's pulses (`finish_plan`). A
+    /// path move starts from rest and nothing is superposed on one
+    /// (`path_move`): a path while anything moves, and any target while a
+    /// path move is checked or runs, is refused as busy.
+    pub(super) fn accept(
+        &mut self,
+        target: &[f32; JOINTS],
+        touch: Option<&TouchTarget>,
+        kind: MoveKind,
+    ) -> Result<(), Refusal> {
         if self.stopped {
             return Err(Refusal::Stopped);
         }
@@ -291,9 +308,12 @@ impl App {
             Mode::Run => {}
             _ => return Err(Refusal::Homing),
         }
+        if self.path_busy() || (kind != MoveKind::Joint && !self.track.is_done()) {
+            return Err(Refusal::Busy);
+        }
         self.check_limits(target)?;
         self.busy = true;
-        self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody });
+        self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody, kind });
         Ok(())
     }
 
@@ -303,7 +323,15 @@ impl App {
     #[inline(never)]
     fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(due) = self.plan_due.take() else { return };
-        let r = self.plan_target(&due.target, due.touch.as_ref());
+        let r = if due.kind == MoveKind::Joint {
+            self.plan_target(&due.target, due.touch.as_ref())
+        } else {
+            match self.begin_path_check(&due) {
+                // Answered when the check decides (`step_path_check`).
+                Ok(()) => return,
+                Err(e) => Err(e),
+            }
+        };
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
@@ -336,7 +364,9 @@ impl App {
             if let Some((ts, wait)) = self.track.replan(&r, &self.maps)? {
                 let end_velocity = [0.0; JOINTS];
                 let replan = Some(wait);
-                self.last_move = MoveInfo { target: *target, ts, replan, a: None, end_velocity, touch: touch.copied() };
+                let touch = touch.copied();
+                let kind = MoveKind::Joint;
+                self.last_move = MoveInfo { target: *target, ts, replan, a: None, end_velocity, touch, kind };
                 return Ok(());
             }
         }
@@ -383,12 +413,13 @@ impl App {
             a: planned.a,
             end_velocity: planned.end_velocity,
             touch: None,
+            kind: MoveKind::Joint,
         })
     }
 
     /// The speed preset's percentage for the next move: the slow preset at
     /// most before the first move has completed.
-    fn move_percent(&self) -> u8 {
+    pub(super) fn move_percent(&self) -> u8 {
         let pct = self.config.speed.percent();
         if self.first_move {
             pct.min(SpeedPreset::Slow.percent())
@@ -440,6 +471,9 @@ impl App {
             };
         }
         self.frame_pulses = None;
+        if self.step_path() {
+            return;
+        }
         if !self.track.is_done() {
             let f = self.track.frame_now();
             self.commanded = self.track.positions(&f);
@@ -503,6 +537,11 @@ impl App {
         self.stopped = true;
         self.track.halt();
         self.halt_grip();
+        // A running path move freezes on the previous frame's pose; a
+        // pending check is cancelled and answered after the pulses.
+        if matches!(self.path, PathRun::Running { .. }) {
+            self.path = PathRun::Idle;
+        }
     }
 
     pub(super) fn resume(&mut self) {
@@ -510,6 +549,6 @@ impl App {
     }
 
     pub(super) fn is_moving(&self) -> bool {
-        !self.track.is_done()
+        !self.track.is_done() || self.path_busy()
     }
 }

@@ -38,10 +38,14 @@
 //! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
 //!    commanded, and answered (`ok move`, `info touch …`); the move starts in
 //!    the next frame. A plan can take most of a frame; coming after the
-//!    pulses, it cannot delay them.
-//! 6. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>
+//!    pulses, it cannot delay them. A path target (`path line`, `circle`)
+//!    only has its check set up here.
+//! 6. Path check: a pending path move's plan-time check runs as many units
+//!    as the PWM period still has room for at their worst (none in a
+//!    catch-up frame), and answers once it decides (`path_move`).
+//! 7. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>
 //!    <grip> <us>`, angles in centidegrees.
-//! 7. One line of a multi-line reply (`cal show`), if pending and the frame
+//! 8. One line of a multi-line reply (`cal show`), if pending and the frame
 //!    is not busy.
 //!
 //! # States
@@ -62,12 +66,15 @@
 //!   steps; under the linear law or the papers' ζ-a-tₛ (whose profiles start
 //!   with a velocity or change shape with tₛ) it re-plans from the commanded
 //!   pose at rest.
+//! - **checking**: a path move's check runs over frames; the arm holds
+//!   still, and a new target is refused as busy until it decides.
 //! - **stopped**: `stop` latches; the pose of the previous frame is held
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
 
 mod grip;
 mod machine;
+mod path_move;
 mod poses;
 mod recalibrate;
 pub mod refusal;
@@ -77,7 +84,7 @@ mod telemetry;
 pub mod text;
 mod wiring;
 
-use crate::config::settings::{Config, SpeedPreset};
+use crate::config::settings::{Config, PathMode, SpeedPreset};
 use crate::config::store::{Source, Warning};
 use crate::geometry::ik::{Branch, Links, LinksError};
 use crate::geometry::pose::ArmGeometry;
@@ -247,11 +254,15 @@ pub enum State {
     Moving,
     /// Halted by STOP where it was; only RESUME (or `resume`) moves again.
     Stopped,
+    /// A path move's plan-time check runs, a bounded part per frame; the
+    /// arm holds still until it decides.
+    Checking,
 }
 
 impl State {
     /// Every state, for tests that go through them all.
-    pub const ALL: [State; 5] = [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped];
+    pub const ALL: [State; 6] =
+        [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped, State::Checking];
 
     /// The word `status` prints for the state.
     pub fn name(self) -> crate::text::Text {
@@ -261,6 +272,7 @@ impl State {
             State::Holding => t!("holding"),
             State::Moving => t!("moving"),
             State::Stopped => t!("stopped"),
+            State::Checking => t!("checking"),
         }
     }
 }
@@ -291,6 +303,11 @@ pub struct Status {
     pub law: LawKind,
     /// The speed preset new moves use.
     pub speed: SpeedPreset,
+    /// How targets are reached (`path joint|line`).
+    pub path: PathMode,
+    /// Lift height of joint moves, hundredths of a workspace unit (`None`:
+    /// `lift off`).
+    pub lift_centi: Option<u8>,
     /// Pose commanded in the last frame, rad (base, shoulder, elbow).
     pub commanded: [f32; JOINTS],
     /// Target of the current or last move, rad.
@@ -349,6 +366,26 @@ struct MoveInfo {
     a: Option<AChoice<f32>>,
     end_velocity: [f32; JOINTS],
     touch: Option<TouchTarget>,
+    kind: MoveKind,
+}
+
+/// What kind of move a target makes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum MoveKind {
+    /// Joint-space (the planner and the servo track).
+    Joint,
+    /// The effector along the straight segment.
+    Line,
+    /// One turn of radius `r` (arm units) from where the effector is.
+    Circle {
+        /// Radius, arm units.
+        r: f32,
+    },
+    /// Every joint through the via pose `h` (arm units) above the higher end.
+    Lift {
+        /// Lift height, arm units.
+        h: f32,
+    },
 }
 
 /// A target accepted in this frame's serial or touch step: it is planned
@@ -358,6 +395,7 @@ struct PlanDue {
     target: [f32; JOINTS],
     touch: Option<TouchTarget>,
     answer: Answer,
+    kind: MoveKind,
 }
 
 /// Who hears how a due plan went.
@@ -428,6 +466,8 @@ pub struct App {
     poses: crate::config::poses::Poses,
     /// The gripper (`grip.rs`): calibration, angle and move.
     grip: grip::Grip,
+    /// The path move being checked or run (`path_move`).
+    path: path_move::PathRun,
 }
 
 /// Servo maps of a configuration.
@@ -470,6 +510,7 @@ impl App {
                 a: None,
                 end_velocity: [0.0; JOINTS],
                 touch: None,
+                kind: MoveKind::Joint,
             },
             last_refusal: None,
             source: Source::Defaults,
@@ -487,6 +528,7 @@ impl App {
             contact: false,
             poses: crate::config::poses::Poses::EMPTY,
             grip,
+            path: path_move::PathRun::Idle,
         })
     }
 
@@ -506,18 +548,26 @@ impl App {
             Mode::Boot => State::Off,
             _ if self.stopped => State::Stopped,
             Mode::Homing { .. } => State::Homing,
-            Mode::Run if !self.track.is_done() => State::Moving,
+            Mode::Run if matches!(self.path, path_move::PathRun::Checking { .. }) => State::Checking,
+            Mode::Run if !self.track.is_done() || self.path_busy() => State::Moving,
             Mode::Run => State::Holding,
         }
     }
 
     /// The snapshot a display draws from.
     pub fn status(&self) -> Status {
-        let progress = if self.track.is_done() { 100 } else { (self.track.progress() * 100.0) as u8 };
+        let progress = match self.path.progress() {
+            Some(p) => (p * 100.0) as u8,
+            None if self.path_busy() => 0,
+            None if self.track.is_done() => 100,
+            None => (self.track.progress() * 100.0) as u8,
+        };
         Status {
             state: self.state(),
             law: self.config.law,
             speed: self.config.speed,
+            path: self.config.path,
+            lift_centi: self.config.lift_centi,
             commanded: self.commanded,
             target: self.last_move.target,
             pulses: self.pulses,

@@ -39,11 +39,40 @@ pub enum Refusal {
     /// The gripper is moving: a new grip target (or its calibration, or a
     /// pose save) waits until it rests.
     GripBusy,
+    /// A path (line or circle) from here is empty or runs through the base
+    /// axis, where the base would have to turn by half a turn at once.
+    PathShape,
+    /// A point of the path is out of the arm's reach.
+    PathUnreachable,
+    /// The path meets a singular pose (base axis, arm straight or folded).
+    PathSingular,
+    /// A joint would leave its angle limits somewhere along the path.
+    PathJointLimit(Joint),
+    /// The joints' speed and acceleration limits need a path move longer
+    /// than the longest move.
+    PathTooSlow,
+    /// The papers' own ζ-a-tₛ changes shape with tₛ: not offered for paths.
+    PathLaw,
+    /// STOP came while the path was being checked: the move never started.
+    PathStopped,
+    /// The pose held now (or a line's target pose) is not the IK's solution
+    /// of its effector point: on the other elbow branch, or a joint past the
+    /// IK's range; a path from it would start (or end) with a jump.
+    PathBranch,
+    /// The lift's via pose is out of the arm's reach.
+    LiftViaUnreachable,
+    /// A joint would leave its angle limits on the lift (at the via pose or
+    /// where the two terms overshoot).
+    LiftJointLimit(Joint),
+    /// The joints' limits need a lift longer than the longest move.
+    LiftTooSlow,
+    /// `lift` with `path line`, or `path line` with a lift: one at a time.
+    LiftWithLine,
 }
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 17] = [
+    pub const ALL: [Refusal; 33] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -61,6 +90,22 @@ impl Refusal {
         Refusal::HeldPoseOutside,
         Refusal::GripLimit,
         Refusal::GripBusy,
+        Refusal::PathShape,
+        Refusal::PathUnreachable,
+        Refusal::PathSingular,
+        Refusal::PathJointLimit(Joint::Base),
+        Refusal::PathJointLimit(Joint::Shoulder),
+        Refusal::PathJointLimit(Joint::Elbow),
+        Refusal::PathTooSlow,
+        Refusal::PathLaw,
+        Refusal::PathStopped,
+        Refusal::PathBranch,
+        Refusal::LiftViaUnreachable,
+        Refusal::LiftJointLimit(Joint::Base),
+        Refusal::LiftJointLimit(Joint::Shoulder),
+        Refusal::LiftJointLimit(Joint::Elbow),
+        Refusal::LiftTooSlow,
+        Refusal::LiftWithLine,
     ];
 
     /// Text of the `err <reason>` reply.
@@ -79,10 +124,26 @@ impl Refusal {
             Refusal::SpeedLimit => t!("speed limit needs ts above max"),
             Refusal::Trajectory => t!("trajectory not admissible"),
             Refusal::NotFinite => t!("not finite"),
-            Refusal::Fault => t!("fault: setpoint refused, stopped"),
+            Refusal::Fault => t!("fault: bad setpoint, stopped"),
             Refusal::HeldPoseOutside => t!("held pose outside new limits"),
             Refusal::GripLimit => t!("grip limit"),
             Refusal::GripBusy => t!("busy gripping"),
+            Refusal::PathShape => t!("path empty or through base axis"),
+            Refusal::PathUnreachable => t!("path leaves reach"),
+            Refusal::PathSingular => t!("path meets singular pose"),
+            Refusal::PathJointLimit(Joint::Base) => t!("path joint limit base"),
+            Refusal::PathJointLimit(Joint::Shoulder) => t!("path joint limit shoulder"),
+            Refusal::PathJointLimit(Joint::Elbow) => t!("path joint limit elbow"),
+            Refusal::PathTooSlow => t!("path needs ts above max"),
+            Refusal::PathLaw => t!("path: law zat-paper not offered"),
+            Refusal::PathStopped => t!("path check stopped"),
+            Refusal::PathBranch => t!("path pose off IK range"),
+            Refusal::LiftViaUnreachable => t!("lift via pose unreachable"),
+            Refusal::LiftJointLimit(Joint::Base) => t!("lift joint limit base"),
+            Refusal::LiftJointLimit(Joint::Shoulder) => t!("lift joint limit shoulder"),
+            Refusal::LiftJointLimit(Joint::Elbow) => t!("lift joint limit elbow"),
+            Refusal::LiftTooSlow => t!("lift needs ts above max"),
+            Refusal::LiftWithLine => t!("lift and path line exclusive"),
         }
     }
 }

@@ -237,6 +237,8 @@ impl App {
             State::Off | State::Homing => UiState::PowerUp,
             State::Stopped => UiState::Stopped,
             State::Moving => UiState::Moving { progress: f32::from(st.progress) / 100.0 },
+            // STOP stays on the screen while a path is checked.
+            State::Checking => UiState::Moving { progress: 0.0 },
             State::Holding => match self.screen.refusal {
                 Some(r) => UiState::Refused(r),
                 None if st.touch_target.is_none() && st.first_move_pending => UiState::Idle,

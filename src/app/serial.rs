@@ -6,6 +6,12 @@
 //! malformed, over-long or out-of-range line is answered with `err` and
 //! changes nothing.
 //!
+//! A path move (`move`/`goto` under `path line`, `circle`) is answered when
+//! its check decides, some frames later (`path_move`): `ok move … path line
+//! ts_ms …`, `ok circle r_milli … ts_ms …` or `err path …`; lines sent
+//! meanwhile are taken and answered in between (`stop` cancels the check:
+//! `ok stop`, then the move's `err path check stopped`).
+//!
 //! Flow control, so nothing is lost silently and nothing blocks the frame:
 //! - at most one line is taken per frame, and only while the port has room
 //!   for the longest reply ([`LINE_CAP`]); until then the bytes wait in the
@@ -24,7 +30,7 @@ use super::telemetry::status_line;
 use super::text::{Line, LINE_CAP};
 use super::{Answer, App, Io, Pending};
 use crate::config::settings::CalSet;
-use crate::config::settings::{Config, ConfigError, SpeedPreset};
+use crate::config::settings::{Config, ConfigError, PathMode, SpeedPreset};
 use crate::config::store::{self, SaveError};
 use crate::motion::plan::LawKind;
 use crate::protocol::command::{parse, CmdError, Command};
@@ -60,6 +66,10 @@ pub(super) enum Done {
     Lost(u16),
     /// A `pose` command.
     Pose(PoseDone),
+    Path(PathMode),
+    Lift(Option<u8>),
+    /// A circle, once its check decided.
+    Circled,
 }
 
 impl App {
@@ -143,6 +153,9 @@ impl App {
                 self.log = on;
                 Ok(Done::Log(on))
             }
+            Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
+            Command::Lift(h) => self.set_lift(h).map(|()| Done::Lift(h)),
+            Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
                 self.pending = Some(Pending::CalShow(0));
@@ -221,6 +234,19 @@ impl App {
             }
             Done::Log(on) => {
                 r.str(if on { t!("ok log on") } else { t!("ok log off") });
+            }
+            Done::Path(m) => {
+                r.str(t!("ok path ")).str(m.name());
+            }
+            Done::Lift(Some(h)) => {
+                r.str(t!("ok lift ")).centi(i32::from(h));
+            }
+            Done::Lift(None) => {
+                r.str(t!("ok lift off"));
+            }
+            Done::Circled => {
+                r.str(t!("ok circle"));
+                self.describe_move(r, false);
             }
             Done::CalSet(slew) => {
                 r.str(t!("ok cal set"));

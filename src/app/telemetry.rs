@@ -2,8 +2,8 @@
 //! `cal show` and the per-frame telemetry of `log on`.
 
 use super::text::{milli, Line};
-use super::{App, Pending, Status};
-use crate::config::settings::{JointField, TouchField};
+use super::{App, MoveKind, Pending, Status};
+use crate::config::settings::{JointField, PathMode, TouchField};
 use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
 use crate::seam::SerialPort;
@@ -21,6 +21,19 @@ impl App {
         if with_condition {
             if let Some(t) = &m.touch {
                 line.word(t!("cond")).num(i32::from(t.condition.number()));
+            }
+        }
+        match m.kind {
+            MoveKind::Joint => {}
+            MoveKind::Line => {
+                line.word(t!("path line"));
+            }
+            MoveKind::Circle { r } => {
+                line.word(t!("r_milli")).num(milli(r / self.params.k));
+            }
+            MoveKind::Lift { h } => {
+                // Back to the hundredths it was given in.
+                line.word(t!("lift")).bytes(b" ").centi((h / self.params.k * 100.0 + 0.5) as i32);
             }
         }
         line.word(t!("ts_ms")).num(milli(m.ts));
@@ -141,6 +154,14 @@ impl App {
 pub fn status_line(s: &Status, line: &mut Line) {
     line.str(t!("ok status ")).str(s.state.name());
     line.word(t!("law")).word(s.law.name()).word(t!("speed")).word(s.speed.name());
+    // The defaults (joint moves, no lift) print nothing: the longest status
+    // must fit the transmit ring.
+    if s.path == PathMode::Line {
+        line.word(t!("path line"));
+    }
+    if let Some(h) = s.lift_centi {
+        line.word(t!("lift")).bytes(b" ").centi(i32::from(h));
+    }
     line.word(t!("q"));
     for q in s.commanded.iter() {
         line.num(rad_to_centideg(*q));

@@ -36,6 +36,7 @@ use touch_arm::geometry::path::Path;
 use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
 use touch_arm::motion::laws::Law;
+use touch_arm::motion::lift::{LiftCheck, LiftPlan, LiftRequest};
 use touch_arm::motion::path::{path_angles, Pace, PathArm, PathCheck, PathLimits, PathRequest};
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
@@ -511,6 +512,7 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
         c
     };
     b.run_mut("path_check_unit", at, |c| c.step(1).is_some());
+    lift_frames(b, maps, &lim);
     let p = ViaParams { q0: 0.0f32, theta_v: 0.0, sf: 0.0, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: 3.0 };
     let (Ok(gv), Ok(g)) = (
         Shape::new(&ShapeParams { ts: p.tv, a: p.av, n: p.nv }),
@@ -532,6 +534,26 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
             to_ticks(&q, maps)
         },
     );
+}
+
+/// A lift's check unit and its frame on the chip (own function: the path
+/// frame's row is sensitive to what shares its caller's frame).
+#[inline(never)]
+fn lift_frames(b: &mut Bench, maps: &[TickMap; JOINTS], lim: &PathLimits<f32>) {
+    let Ok(links) = Links::new(1.0f32, 1.0) else { halt() };
+    // One unit of a lift's check (a scan point: both shapes with their
+    // derivatives, three joints) across its 513 points, and the lift's frame
+    // on the chip (`LiftPlan::angles`, both shapes' G, three pulses).
+    let lreq = LiftRequest { start: START, target: TARGET, h: 0.2, links, branch: Branch::Minus, ts_min: 0.5 };
+    let lat = |i: usize| {
+        let Ok(mut c) = LiftCheck::new(&lreq, lim) else { halt() };
+        let _ = c.step((i as u16) * 36);
+        c
+    };
+    b.run_mut("lift_check_unit", lat, |c| c.step(1).is_some());
+    let Ok(lift) = LiftPlan::new(&lreq, lim) else { halt() };
+    let lts = lift.ts();
+    b.run("lift_frame", |i| spread(i, 0.0, lts), |&t| to_ticks(&lift.angles(t), maps));
 }
 
 /// Map a touch, solve the pose, plan the move from the start pose: the

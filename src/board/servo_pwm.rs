@@ -254,4 +254,12 @@ impl crate::seam::ServoOutputs for ServoPwm {
     fn disable(&mut self) {
         self.disable_all();
     }
+
+    /// From Timer5's count, as `frame::FrameBudget` reads it for drawing.
+    fn period_ticks_left(&self) -> Option<u16> {
+        if self.period_pending() {
+            return Some(0);
+        }
+        Some(TIMER5_TOP - self.ticks().min(TIMER5_TOP))
+    }
 }

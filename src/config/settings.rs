@@ -9,6 +9,51 @@ use crate::servo::map::{Joint, JointCal, JointCalError};
 use crate::touch::map::{Calibration, CalibrationError};
 use crate::touch::wiring::Wiring;
 
+/// How a joint target is reached: each joint by its own profile (the
+/// effector's path is whatever the joints make of it), or the effector along
+/// the straight segment, the IK solved every frame (`motion::path`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PathMode {
+    /// Joint-space moves (the default).
+    Joint,
+    /// Straight-line moves of the effector.
+    Line,
+}
+
+impl PathMode {
+    /// Both modes, the default first.
+    pub const ALL: [PathMode; 2] = [PathMode::Joint, PathMode::Line];
+
+    /// The word of the serial protocol (`path joint|line`).
+    pub fn name(self) -> crate::text::Text {
+        match self {
+            PathMode::Joint => t!("joint"),
+            PathMode::Line => t!("line"),
+        }
+    }
+
+    /// The mode named `name` on the serial line.
+    pub fn from_name(name: &[u8]) -> Option<PathMode> {
+        PathMode::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
+    }
+
+    /// The byte stored in the EEPROM record: 0, 1. Never renumber.
+    pub fn id(self) -> u8 {
+        match self {
+            PathMode::Joint => 0,
+            PathMode::Line => 1,
+        }
+    }
+
+    /// The mode stored as `id`; `None` for an unknown byte.
+    pub fn from_id(id: u8) -> Option<PathMode> {
+        PathMode::ALL.iter().copied().find(|p| p.id() == id)
+    }
+}
+
+/// Largest lift, hundredths of a workspace unit (`lift 0.5`).
+pub const LIFT_MAX_CENTI: u8 = 50;
+
 /// Raw ADC range accepted by `move` and the touch calibration.
 pub const RAW_MAX: i32 = 1023;
 /// How fast moves are planned: the move duration is chosen so that no joint
@@ -108,6 +153,12 @@ pub struct Config {
     /// The panel's wiring as measured (`touch::wiring`); `None` until a
     /// probe has identified one (the firmware then probes at boot).
     pub wiring: Option<Wiring>,
+    /// How targets are reached (`path joint|line`).
+    pub path: PathMode,
+    /// Lift of joint moves through a via pose, hundredths of a workspace
+    /// unit, 1..=[`LIFT_MAX_CENTI`] (`lift <h>`); `None`: `lift off`. Never
+    /// with [`PathMode::Line`].
+    pub lift_centi: Option<u8>,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -143,6 +194,8 @@ impl Config {
         speed: SpeedPreset::Normal,
         law: LawKind::Zat,
         wiring: None,
+        path: PathMode::Joint,
+        lift_centi: None,
     };
 
     /// Checks every joint calibration and the touch calibration; the first

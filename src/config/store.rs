@@ -1,6 +1,6 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 3, little-endian, 103 bytes)
+//! # Record layout (version 4, little-endian, 105 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
@@ -13,15 +13,19 @@
 //! | 87 | 1  | motion law id ([`LawKind::id`]) |
 //! | 88 | 12 | 3 × joint `max_accel_rad_s2` f32 (version 2) |
 //! | 100 | 1 | touch wiring id ([`Wiring::id`]; 0 = none identified yet) (version 3) |
-//! | 101 | 2 | CRC-16/CCITT-FALSE of bytes 0..101 |
+//! | 101 | 1 | path mode id ([`PathMode::id`]: 0 joint, 1 line) (version 4) |
+//! | 102 | 1 | lift, hundredths of a workspace unit, 1..=50; 0 = off; never with line (version 4) |
+//! | 103 | 2 | CRC-16/CCITT-FALSE of bytes 0..103 |
 //!
-//! Older records are still read, and the next save writes version 3:
+//! Older records are still read, and the next save writes version 4:
+//! - version 3 (before the path and lift settings) ends with its CRC of
+//!   bytes 0..101 at 101; it reads with joint moves and no lift;
 //! - version 2 (before the measured wiring) ends with its CRC of bytes
-//!   0..100 at 100; it reads with no wiring, so the firmware probes the panel
-//!   at boot;
+//!   0..100 at 100; it reads with no wiring either, so the firmware probes
+//!   the panel at boot;
 //! - version 1 (before acceleration limits) ends with its CRC of bytes 0..88
 //!   at 88; it reads with the default acceleration limits
-//!   ([`JointCal::DEFAULTS`]) and no wiring.
+//!   ([`JointCal::DEFAULTS`]) too.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -56,7 +60,7 @@
 //! defaults and a [`Warning`].
 
 use super::crc::crc16;
-use super::settings::{Config, ConfigError, SpeedPreset};
+use super::settings::{Config, ConfigError, PathMode, SpeedPreset, LIFT_MAX_CENTI};
 use crate::motion::plan::LawKind;
 use crate::seam::{Storage, StorageError};
 use crate::servo::map::JointCal;
@@ -66,7 +70,9 @@ use crate::touch::wiring::Wiring;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 103;
+pub const RECORD_LEN: usize = 105;
+/// A version-3 record's length (its CRC at 101).
+const RECORD_LEN_V3: usize = 103;
 /// A version-2 record's length (its CRC at 100).
 const RECORD_LEN_V2: usize = 102;
 /// A version-1 record's length (its CRC at 88).
@@ -78,9 +84,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; versions 1 and 2 are still read
+/// Layout version of the record written; versions 1 to 3 are still read
 /// (see the module doc), any other is not.
-pub const VERSION: u8 = 3;
+pub const VERSION: u8 = 4;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -125,7 +131,7 @@ impl Config {
         for j in self.joints.iter() {
             w.put(&j.max_accel_rad_s2.to_le_bytes());
         }
-        w.put(&[self.wiring.map_or(0, Wiring::id)]);
+        w.put(&[self.wiring.map_or(0, Wiring::id), self.path.id(), self.lift_centi.unwrap_or(0)]);
         let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
         if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
             dst.copy_from_slice(&crc.to_le_bytes());
@@ -133,9 +139,9 @@ impl Config {
         buf
     }
 
-    /// Parses and validates a record (version 3; 2 without a wiring; 1
-    /// without a wiring and with the default acceleration limits). Checks, in
-    /// order: magic, version, CRC, field values.
+    /// Parses and validates a record (version 4; 3 with joint moves and no
+    /// lift; 2 also without a wiring; 1 also with the default acceleration
+    /// limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader { buf, pos: 0 };
         if r.take::<2>() != MAGIC {
@@ -144,6 +150,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            3 => RECORD_LEN_V3 - 2,
             2 => RECORD_LEN_V2 - 2,
             1 => RECORD_LEN_V1 - 2,
             v => return Err(RecordError::Version(v)),
@@ -180,12 +187,22 @@ impl Config {
             }
         }
         let wiring = match version {
-            VERSION => match r.take::<1>() {
+            VERSION | 3 => match r.take::<1>() {
                 [0] => None,
                 [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
             },
             _ => None,
         };
+        let (mut path, mut lift_centi) = (PathMode::Joint, None);
+        if version == VERSION {
+            let [p, h] = r.take::<2>();
+            path = PathMode::from_id(p).ok_or(RecordError::Invalid)?;
+            lift_centi = match h {
+                0 => None,
+                h if h <= LIFT_MAX_CENTI && path == PathMode::Joint => Some(h),
+                _ => return Err(RecordError::Invalid),
+            };
+        }
         let config = Config {
             joints,
             touch: Calibration {
@@ -200,6 +217,8 @@ impl Config {
             speed,
             law,
             wiring,
+            path,
+            lift_centi,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })

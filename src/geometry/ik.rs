@@ -194,8 +194,10 @@ pub fn ik2<R: Real>(links: &Links<R>, x: R, y: R, branch: Branch) -> Result<Join
 
 /// [`ik2`] for finite (x, y) whose direction `phi` = atan2(y, x) ∈ (−π, π]
 /// the caller already has (the pose chain derives it from the base angle α,
-/// saving an arctangent).
-#[inline]
+/// saving an arctangent). Always inlined: the path frame's [`ik3`] is
+/// shared by the library's callers, and a call to this body cost it some
+/// 100 cycles (BENCHMARKS.md `path_frame`, issue #13's 16 000).
+#[inline(always)]
 pub(crate) fn ik2_toward<R: Real>(
     links: &Links<R>,
     x: R,
@@ -281,6 +283,7 @@ pub fn fk2<R: Real>(links: &Links<R>, q2: R, q3: R) -> (R, R) {
 /// 3-DoF IK (lab note): `θ1 = atan2(y_e, x_e)`, then the planar IK on
 /// `(√(x_e² + y_e²), z_e)` gives `θ2, θ3`. Straight above the base
 /// (x_e = y_e = 0) θ1 is free; it is then 0.
+#[inline]
 pub fn ik3<R: Real>(links: &Links<R>, x_e: R, y_e: R, z_e: R, branch: Branch) -> Result<JointAngles3<R>, IkError<R>> {
     if !(x_e.is_finite() && y_e.is_finite() && z_e.is_finite()) {
         return Err(IkError::NotFinite);
@@ -291,7 +294,11 @@ pub fn ik3<R: Real>(links: &Links<R>, x_e: R, y_e: R, z_e: R, branch: Branch) ->
         // x_e² overflowed: far beyond any arm.
         return Err(IkError::Unreachable { c: rho });
     }
-    let planar = ik2(links, rho, z_e, branch)?;
+    // ik2's body: its direction, then the planar IK toward it (here, not a
+    // call to ik2, which the lift's via pose shares).
+    let phi = z_e.atan2(rho);
+    let phi = if phi.le_num(-R::PI) { R::PI } else { phi };
+    let planar = ik2_toward(links, rho, z_e, phi, branch)?;
     Ok(JointAngles3 { th1, th2: planar.q2, th3: planar.q3 })
 }
 
@@ -310,4 +317,15 @@ pub fn base_angle<R: Real>(x_e: R, y_e: R) -> R {
 pub fn fk3<R: Real>(links: &Links<R>, th1: R, th2: R, th3: R) -> (R, R, R) {
     let (rho, z) = fk2(links, th2, th3);
     (rho * th1.cos(), rho * th1.sin(), z)
+}
+
+/// [`fk3`] of a pose (θ1, θ2, θ3) by reference, as `[x, y, z]`: the chip's
+/// form. `fk3`'s four arguments and returned tuple put one argument on the
+/// AVR's stack, which LLVM miscompiles (the post-link lint in
+/// `hal-sim/tests/firmware_elf.rs` caught it: a path move from the wrong
+/// start).
+#[inline(never)]
+pub fn fk3_pose<R: Real>(links: &Links<R>, q: &[R; 3]) -> [R; 3] {
+    let (rho, z) = fk2(links, q[1], q[2]);
+    [rho * q[0].cos(), rho * q[0].sin(), z]
 }

@@ -18,7 +18,7 @@
 
 use core::fmt;
 
-use crate::geometry::ik::{fk3, ik2, Branch, Links};
+use crate::geometry::ik::{fk3_pose, ik2, Branch, Links};
 use crate::math::real::Real;
 use crate::motion::path::{PathLimits, JOINT_NAMES};
 use crate::motion::plan::JOINTS;
@@ -113,8 +113,8 @@ fn reference<R: Real>(t: f64) -> Result<Shape<R>, LiftError<R>> {
 /// The via pose's joint angles and effector point for a request.
 fn via_pose<R: Real>(r: &LiftRequest<R>) -> Result<([R; JOINTS], [R; 3]), LiftError<R>> {
     let (s, e) = (&r.start, &r.target);
-    let (xa, ya, za) = fk3(&r.links, s[0], s[1], s[2]);
-    let (xb, yb, zb) = fk3(&r.links, e[0], e[1], e[2]);
+    let [xa, ya, za] = fk3_pose(&r.links, s);
+    let [xb, yb, zb] = fk3_pose(&r.links, e);
     let (rho_a, rho_b) = ((xa * xa + ya * ya).sqrt(), (xb * xb + yb * yb).sqrt());
     let base = (s[0] + e[0]) * R::HALF;
     let rho = (rho_a + rho_b) * R::HALF;
@@ -123,10 +123,27 @@ fn via_pose<R: Real>(r: &LiftRequest<R>) -> Result<([R; JOINTS], [R; 3]), LiftEr
     Ok(([base, q.q2, q.q3], [rho * base.cos(), rho * base.sin(), z]))
 }
 
-impl<R: Real> LiftPlan<R> {
-    /// Plans the lift: the via pose, S_v per joint, the angle limits on a scan
-    /// of the normalized move, and the shortest duration (at least `ts_min`)
-    /// whose peaks keep every joint within its speed and acceleration limits.
+/// A lift's plan worked out a bounded amount at a time
+/// ([`LiftCheck::step`]: one scan point a unit), so the chip can spread it
+/// over frames; [`LiftPlan::new`] runs one to the end. The same result
+/// either way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LiftCheck<R> {
+    /// The plan at tₛ = 1 s until decided.
+    plan: LiftPlan<R>,
+    lim: PathLimits<R>,
+    ts_min: R,
+    /// The next scan point.
+    i: u16,
+    /// Peak speed and acceleration per joint so far, at tₛ = 1 s.
+    v: [R; JOINTS],
+    a: [R; JOINTS],
+    /// Decided: the duration, or the refusal.
+    outcome: Option<Result<R, LiftError<R>>>,
+}
+
+impl<R: Real> LiftCheck<R> {
+    /// The via pose and S_v per joint; the scan is to come.
     pub fn new(r: &LiftRequest<R>, lim: &PathLimits<R>) -> Result<Self, LiftError<R>> {
         let finite = r.start.iter().chain(r.target.iter()).all(|v| v.is_finite()) && r.ts_min.is_finite();
         if !(finite && r.h.is_positive() && r.h <= R::lit(LIFT_MAX)) {
@@ -140,31 +157,72 @@ impl<R: Real> LiftPlan<R> {
             *s = (via[j] - rr * r.target[j]) / (R::ONE - rr);
         }
         // At tₛ = 1 s: the peaks per unit of time.
-        let mut plan = LiftPlan { gv, g, ts: R::ONE, start: r.start, sv, target: r.target, via, via_point };
-        let (mut v, mut a) = ([R::ZERO; JOINTS], [R::ZERO; JOINTS]);
-        for i in 0..=LIFT_SCAN {
-            let t = R::from_u16(i) / R::from_u16(LIFT_SCAN);
-            let s = plan.samples(t);
-            for j in 0..JOINTS {
-                if !(lim.min[j] <= s[j].s && s[j].s <= lim.max[j]) {
-                    return Err(LiftError::JointLimit { joint: j as u8 });
-                }
-                v[j] = v[j].max(s[j].v.abs());
-                a[j] = a[j].max(s[j].acc.abs());
+        let plan = LiftPlan { gv, g, ts: R::ONE, start: r.start, sv, target: r.target, via, via_point };
+        let zero = [R::ZERO; JOINTS];
+        Ok(LiftCheck { plan, lim: *lim, ts_min: r.ts_min, i: 0, v: zero, a: zero, outcome: None })
+    }
+
+    /// Does up to `units` scan points (each: both shapes with their
+    /// derivatives, three joints); the plan or the refusal once decided,
+    /// and from then on.
+    pub fn step(&mut self, units: u16) -> Option<Result<LiftPlan<R>, LiftError<R>>> {
+        for _ in 0..units {
+            if self.outcome.is_some() {
+                break;
             }
+            self.outcome = self.visit();
         }
-        let mut ts = r.ts_min;
+        let plan = self.plan;
+        self.outcome.map(|r| {
+            r.map(|ts| {
+                let mut p = plan;
+                p.ts = ts;
+                p
+            })
+        })
+    }
+
+    /// One scan point; the outcome after the last.
+    fn visit(&mut self) -> Option<Result<R, LiftError<R>>> {
+        let (lim, i) = (&self.lim, self.i);
+        let s = self.plan.samples(R::from_u16(i) / R::from_u16(LIFT_SCAN));
+        for (j, sj) in s.iter().enumerate() {
+            if !(lim.min[j] <= sj.s && sj.s <= lim.max[j]) {
+                return Some(Err(LiftError::JointLimit { joint: j as u8 }));
+            }
+            self.v[j] = self.v[j].max(sj.v.abs());
+            self.a[j] = self.a[j].max(sj.acc.abs());
+        }
+        if i < LIFT_SCAN {
+            self.i = i + 1;
+            return None;
+        }
+        let mut ts = self.ts_min;
         for j in 0..JOINTS {
-            ts = ts.max(v[j] / lim.speed[j]).max((a[j] / lim.accel[j]).sqrt());
+            ts = ts.max(self.v[j] / lim.speed[j]).max((self.a[j] / lim.accel[j]).sqrt());
         }
         if !ts.is_finite() {
-            return Err(LiftError::BadHeight);
+            return Some(Err(LiftError::BadHeight));
         }
         if lim.ts_max < ts {
-            return Err(LiftError::TooSlow { ts_min: ts });
+            return Some(Err(LiftError::TooSlow { ts_min: ts }));
         }
-        plan.ts = ts;
-        Ok(plan)
+        Some(Ok(ts))
+    }
+}
+
+impl<R: Real> LiftPlan<R> {
+    /// Plans the lift: the via pose, S_v per joint, the angle limits on a scan
+    /// of the normalized move, and the shortest duration (at least `ts_min`)
+    /// whose peaks keep every joint within its speed and acceleration limits
+    /// ([`LiftCheck`] run to the end).
+    pub fn new(r: &LiftRequest<R>, lim: &PathLimits<R>) -> Result<Self, LiftError<R>> {
+        let mut check = LiftCheck::new(r, lim)?;
+        loop {
+            if let Some(r) = check.step(u16::MAX) {
+                return r;
+            }
+        }
     }
 
     /// Duration tₛ, s.
@@ -228,5 +286,32 @@ impl<R: Real> LiftPlan<R> {
     /// Joint angles at time t.
     pub fn positions(&self, t: R) -> [R; JOINTS] {
         self.samples(t).map(|s| s.s)
+    }
+
+    /// Joint angles at time t from both shapes' G alone (the via frame: no
+    /// derivatives); [`LiftPlan::positions`]' values.
+    pub fn angles(&self, t: R) -> [R; JOINTS] {
+        if self.ts <= t {
+            return self.target;
+        }
+        let (kv, k) = (R::lit(VIA_REF_T) * R::TWO / self.ts, R::lit(MAIN_REF_T) / self.ts);
+        let (gv, g) = (self.gv.g(t * kv), self.g.g(t * k));
+        let mut out = self.start;
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = self.start[j] + (self.sv[j] - self.start[j]) * gv + (self.target[j] - self.sv[j]) * g;
+        }
+        out
+    }
+
+    /// The pose the move starts from at rest, rad.
+    #[inline]
+    pub fn start(&self) -> &[R; JOINTS] {
+        &self.start
+    }
+
+    /// The target, rad.
+    #[inline]
+    pub fn target(&self) -> &[R; JOINTS] {
+        &self.target
     }
 }

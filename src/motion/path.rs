@@ -415,7 +415,9 @@ pub struct PathCheck<R> {
     /// Already lengthened once (the second scan decides).
     slowed: bool,
     scan: Scan<R>,
-    outcome: Option<Result<PathPlan<R>, PathError<R>>>,
+    /// Decided: `Ok` means the plan is the path, this law and the scan's
+    /// peaks (not a copy of them: the chip keeps a check in its static RAM).
+    outcome: Option<Result<(), PathError<R>>>,
 }
 
 impl<R: Real> PathCheck<R> {
@@ -446,15 +448,15 @@ impl<R: Real> PathCheck<R> {
             }
         }
         self.outcome
+            .map(|r| r.map(|()| PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks: self.scan.peaks }))
     }
 
     /// After a complete scan: the plan, a refusal, or (slowing down, once)
     /// `None` and a new scan at the shortest admissible duration.
-    fn decide(&mut self) -> Option<Result<PathPlan<R>, PathError<R>>> {
-        let peaks = self.scan.peaks;
-        let (f, joint, accel) = stretch(&peaks, &self.c.lim);
+    fn decide(&mut self) -> Option<Result<(), PathError<R>>> {
+        let (f, joint, accel) = stretch(&self.scan.peaks, &self.c.lim);
         if f <= R::ONE {
-            return Some(Ok(PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks }));
+            return Some(Ok(()));
         }
         let ts = self.law.duration();
         let ts_min = ts * f;

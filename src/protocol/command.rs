@@ -22,6 +22,9 @@
 //! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
 //! | `log <on\|off>` | |
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
+//! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
+//! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
+//! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
 //! Integers: optional sign, decimal digits. Decimals: optional sign, at least
@@ -33,7 +36,7 @@
 //! error is reported.
 
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
-use crate::config::settings::{CalSet, JointField, SpeedPreset, TouchField, RAW_MAX};
+use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchField, RAW_MAX};
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
 use crate::servo::map::Joint;
@@ -83,6 +86,16 @@ pub enum Command {
     CalReset,
     /// `log on|off`: per-frame telemetry.
     Log(bool),
+    /// `path joint|line`: how targets are reached.
+    Path(PathMode),
+    /// `lift <h>` (hundredths of a workspace unit, 1..=[`LIFT_MAX_CENTI`])
+    /// or `lift off` (`None`).
+    Lift(Option<u8>),
+    /// `circle <r>`: one turn of radius `r` hundredths of a workspace unit.
+    Circle {
+        /// Radius, hundredths of a workspace unit, 1..=[`CIRCLE_MAX_CENTI`].
+        r_centi: u16,
+    },
     /// `pose …`: the saved poses.
     Pose(PoseCmd),
     /// `cal reset grip`: the gripper's calibration back to its defaults.
@@ -115,6 +128,14 @@ pub enum PoseCmd {
     /// `pose list`: every slot.
     List,
 }
+
+/// Largest `lift` height, hundredths of a workspace unit (issue #13: 0.5).
+pub const LIFT_MAX_CENTI: i32 = crate::config::settings::LIFT_MAX_CENTI as i32;
+
+/// Largest `circle` radius, hundredths of a workspace unit (0.5: the lab
+/// note's circles are a fraction of the arm; larger ones leave the reach
+/// from most poses).
+pub const CIRCLE_MAX_CENTI: i32 = 50;
 
 /// Why a line was not a command; each has the reason the `err` reply gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -332,6 +353,12 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             b"off" => Command::Log(false),
             _ => return Err(CmdError::BadArgument),
         },
+        b"path" => Command::Path(PathMode::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        b"lift" => match t.arg()? {
+            b"off" => Command::Lift(None),
+            tok => Command::Lift(Some(parse_centi(tok, 1, LIFT_MAX_CENTI)? as u8)),
+        },
+        b"circle" => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
         b"cal" => match t.arg()? {
             b"show" => Command::CalShow,
             b"save" => Command::CalSave,

@@ -54,6 +54,11 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
         "path_check_unit",
         "one unit of a path's plan-time check (`PathCheck::step(1)`: a visit, law + IK + joint rates; or the search for a critical instant)",
     ),
+    (
+        "lift_check_unit",
+        "one unit of a lift's check (`LiftCheck::step(1)`: a scan point, both shapes with their derivatives, 3 joints)",
+    ),
+    ("lift_frame", "lift frame on the chip: `LiftPlan::angles` (both shapes' G, 3 joints), 3 pulses (`TickMap`)"),
     ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
     (
         "app_replan",

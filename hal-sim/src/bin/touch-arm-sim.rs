@@ -8,7 +8,8 @@
 //!   the gripper's pulse of the same period (D11, Timer1, started with Timer5);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
 //!   final_pulses_us, arrival_s, law, ts_s, wiring}` for the point the arm ends on,
-//!   and with `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
+//!   `path` (joint or line) and `lift_h` (null without a lift), and with
+//!   `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
 //!   `then_ts_s`, `then_reply`; with `--grip` `grip`, `grip_reply`,
 //!   `grip_ts_s`, `grip_final_us`;
 //! - `angles.png`: each joint's angle (from the pulses through the default
@@ -16,9 +17,16 @@
 //! - `effector.csv`: `t_s,x,y,z`, where the measured pulses put the effector
 //!   (through the default calibration and the forward kinematics);
 //! - `path.png`: top and side views of that effector path, start and target
-//!   marked, and the joint angles;
+//!   (and with `--lift` the via pose) marked, and the joint angles;
 //! - `screen.png`: the final screen, decoded from the firmware's LCD bus writes,
 //!   at the panel's size.
+//!
+//! `--path line` sends `path line` over serial before the touch (the effector
+//! moves along the straight segment); `--lift H` sends `lift H` (the move
+//! passes the via pose H above the higher end, marked `via` in `path.png`).
+//! Both are answered when the firmware's check decides, some frames after
+//! the touch; they exclude each other and `--then` (nothing is superposed on
+//! a path or lift move).
 //!
 //! `--lcd` chooses the display controller simulated around the same ELF
 //! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot),
@@ -83,6 +91,23 @@ struct Args {
     /// A grip command sent after the move (`grip open` or `grip close`); pulses.csv gains grip_us
     #[arg(long, value_name = "open|close", value_parser = ["open", "close"])]
     grip: Option<String>,
+    /// How the target is reached, sent over serial (`path <PATH>`) before the touch [default: joint]
+    #[arg(long, value_name = "PATH", value_parser = ["joint", "line"], conflicts_with_all = ["then", "lift"])]
+    path: Option<String>,
+    /// Lift by H (workspace units, 0 < H <= 0.5, two decimals at most) through a via pose, sent over serial (`lift H`) before the touch
+    #[arg(long, value_name = "H", value_parser = lift_height, conflicts_with = "then")]
+    lift: Option<u8>,
+}
+
+/// `--lift H`: hundredths of a workspace unit, 1..=50 (what the firmware's
+/// `lift` takes).
+fn lift_height(s: &str) -> Result<u8, String> {
+    let h: f64 = s.trim().parse().map_err(|_| format!("H must be a number, got {s:?}"))?;
+    let centi = (h * 100.0).round();
+    if !(h > 0.0 && h <= 0.5) || (h * 100.0 - centi).abs() > 1e-9 {
+        return Err(format!("H must be in (0, 0.5] with at most two decimals, got {s}"));
+    }
+    Ok(centi as u8)
 }
 
 /// `--then X2,Y2@MS`: where and when the second touch goes.
@@ -247,10 +272,26 @@ fn run(args: Args) -> Result<(), String> {
         }
         None => "zat".to_string(),
     };
+    let path = args.path.clone().unwrap_or_else(|| "joint".to_string());
+    if path != "joint" {
+        let reply = s.command(&format!("path {path}"))?;
+        if reply != format!("ok path {path}") {
+            return Err(format!("the firmware refused `path {path}`: {reply}"));
+        }
+    }
+    let lift = args.lift.map(|c| f64::from(c) / 100.0);
+    if let Some(h) = lift {
+        let reply = s.command(&format!("lift {h:.2}"))?;
+        if reply != format!("ok lift {h:.2}") {
+            return Err(format!("the firmware refused `lift {h:.2}`: {reply}"));
+        }
+    }
+    // A path or lift move is answered when its check decides, some frames on.
+    let deferred = path != "joint" || lift.is_some();
     let t_touch = s.avr.time_s();
     let from = s.avr.uart_output().len();
     s.press_raw(raw.0, raw.1)?;
-    let first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
+    let mut first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
     // The second touch needs the finger lifted at once; otherwise it rests
     // as long as a tap does.
     if then.is_none() {
@@ -259,6 +300,9 @@ fn run(args: Args) -> Result<(), String> {
     s.release();
     if then.is_none() {
         s.run_for(0.2)?;
+    }
+    if first.is_none() && deferred {
+        first = s.await_line(from, &TOUCH_REPLIES, 5.0)?;
     }
     let text = s.avr.uart_output_string();
     let line = first.as_ref().map(|(l, _)| l.clone());
@@ -385,7 +429,9 @@ fn run(args: Args) -> Result<(), String> {
         .set("arrival_s", arrival)
         .set("law", hal_sim::report::Val::Str(law))
         .set("ts_s", ts)
-        .set("wiring", hal_sim::report::Val::Str(found.clone()));
+        .set("wiring", hal_sim::report::Val::Str(found.clone()))
+        .set("path", hal_sim::report::Val::Str(path))
+        .set("lift_h", hal_sim::report::Val::Raw(lift.map_or("null".to_string(), hal_sim::report::num)));
     let json = match &second {
         Some((then, line2, after)) => json
             .set("first_raw", hal_sim::report::Val::Raw(format!("[{}, {}]", first_raw.0, first_raw.1)))
@@ -445,23 +491,18 @@ fn run(args: Args) -> Result<(), String> {
     let (tx, ty, tz) = touch_arm::geometry::ik::fk3(&links, q[0], q[1], q[2]);
     let col = |k: usize| eff.iter().map(|p| p[k]).collect::<Vec<f64>>();
     let (ex, ey, ez) = (col(0), col(1), col(2));
+    let (mut top_marks, mut side_marks) = (
+        vec![("start", start[0], start[1]), ("target", tx, ty), ("base", 0.0, 0.0)],
+        vec![("start", start[0], start[2]), ("target", tx, tz)],
+    );
+    if let Some(h) = lift {
+        let v = via_point(&start, &[tx, ty, tz], h * firmware::host_geometry()?.k);
+        top_marks.push(("via", v[0], v[1]));
+        side_marks.push(("via", v[0], v[2]));
+    }
     let views = [
-        plot::View {
-            title: "top view",
-            xlabel: "x",
-            ylabel: "y",
-            x: &ex,
-            y: &ey,
-            marks: vec![("start", start[0], start[1]), ("target", tx, ty), ("base", 0.0, 0.0)],
-        },
-        plot::View {
-            title: "side view",
-            xlabel: "x",
-            ylabel: "z",
-            x: &ex,
-            y: &ez,
-            marks: vec![("start", start[0], start[2]), ("target", tx, tz)],
-        },
+        plot::View { title: "top view", xlabel: "x", ylabel: "y", x: &ex, y: &ey, marks: top_marks },
+        plot::View { title: "side view", xlabel: "x", ylabel: "z", x: &ex, y: &ez, marks: side_marks },
     ];
     let path_png = out.join("path.png");
     plot::path_figure(
@@ -514,6 +555,16 @@ fn run(args: Args) -> Result<(), String> {
         screen.display()
     );
     Ok(())
+}
+
+/// The via pose's effector point of a lift by `h` (arm units) from the
+/// effector `a` to `b` (motion::lift, docs/method.md §8.2): h above the
+/// higher end, halfway in base rotation and in reach.
+fn via_point(a: &[f64; 3], b: &[f64; 3], h: f64) -> [f64; 3] {
+    let (rho_a, rho_b) = (a[0].hypot(a[1]), b[0].hypot(b[1]));
+    let base = (a[1].atan2(a[0]) + b[1].atan2(b[0])) / 2.0;
+    let rho = (rho_a + rho_b) / 2.0;
+    [rho * base.cos(), rho * base.sin(), a[2].max(b[2]) + h]
 }
 
 /// The firmware's first line and what it said about the display.

@@ -30,7 +30,7 @@
 //! - `eeprom corrupt <addr> <byte>`; `eeprom powerloss_after <bytes>`
 //!
 //! Expectations (`tol` is an absolute tolerance in the value's unit):
-//! - `expect state <off|homing|holding|moving|stopped>`
+//! - `expect state <off|homing|holding|moving|stopped|checking>`
 //! - `expect angles_deg <b> <s> <e> tol <deg>`: the app's commanded pose
 //! - `expect target_deg <b> <s> <e> tol <deg>`: the app's current target
 //! - `expect servo_deg <b> <s> <e> tol <deg>`: the twin servos' shafts
@@ -54,6 +54,12 @@
 //!   same normalized progress at every frame (within t)
 //! - `expect move_ms <ms> tol <ms> since <mark>`: the commanded pose stops
 //!   changing for good this long after the mark
+//! - `expect on_segment since <mark> tol <t>`: the effector of every commanded
+//!   pose (FK, arm units) since the mark lies within t of the segment from
+//!   the one before the mark to the last one (a `path line` move)
+//! - `expect on_circle <r> since <mark> tol <t>`: ... within t of the circle of
+//!   radius r (arm units) in the vertical plane through the base axis and the
+//!   pose before the mark, which is its point farthest out (a `circle`)
 //! - `expect refusal "<reason>"` / `expect no_refusal`
 //! - `expect screen_warning "<text>"`: the warning line the screen shows
 //!   (`""` for none)
@@ -119,6 +125,8 @@ enum Expect {
     PeakSpeedAtLeast(f64, String),
     Synchronized(String, f64),
     MoveMs(f64, f64, String),
+    OnSegment(String, f64),
+    OnCircle(f64, String, f64),
     Refusal(String),
     NoRefusal,
     ScreenWarning(String),
@@ -340,6 +348,7 @@ fn parse_state(w: &str) -> Result<State, String> {
         "holding" => State::Holding,
         "moving" => State::Moving,
         "stopped" => State::Stopped,
+        "checking" => State::Checking,
         _ => return Err(format!("unknown state {w:?}")),
     })
 }
@@ -398,6 +407,17 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
             let tol = a.tol()?;
             a.keyword("since")?;
             Expect::MoveMs(ms, tol, a.word()?)
+        }
+        "on_segment" => {
+            a.keyword("since")?;
+            let m = a.word()?;
+            Expect::OnSegment(m, a.tol()?)
+        }
+        "on_circle" => {
+            let r = a.num()?;
+            a.keyword("since")?;
+            let m = a.word()?;
+            Expect::OnCircle(r, m, a.tol()?)
         }
         "refusal" => Expect::Refusal(a.text()?),
         "no_refusal" => Expect::NoRefusal,
@@ -811,6 +831,37 @@ impl Runner {
                     return Err(format!("move took {got} ms, want {ms} ± {tol}"));
                 }
             }
+            Expect::OnSegment(m, tol) => {
+                let w = self.window(self.mark(&Some(m.clone()))?);
+                let fk = commanded_fk(sim, w)?;
+                let (a, b) = (fk[0], fk[fk.len() - 1]);
+                let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+                let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                for (p, r) in fk.iter().zip(w) {
+                    let s = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / dd).clamp(0.0, 1.0);
+                    let e = dist(p, &[a[0] + d[0] * s, a[1] + d[1] * s, a[2] + d[2] * s]);
+                    if e > *tol {
+                        return Err(format!("effector {p:?} is {e:.6} off the segment in frame {}", r.frame));
+                    }
+                }
+            }
+            Expect::OnCircle(radius, m, tol) => {
+                let w = self.window(self.mark(&Some(m.clone()))?);
+                let fk = commanded_fk(sim, w)?;
+                let a = fk[0];
+                let rho = (a[0] * a[0] + a[1] * a[1]).sqrt();
+                let f = (rho - radius) / rho;
+                let c = [a[0] * f, a[1] * f, a[2]];
+                for (p, r) in fk.iter().zip(w) {
+                    // In the plane (the top view's direction of the centre)
+                    // and at the radius from the centre.
+                    let off_plane = (p[0] * c[1] - p[1] * c[0]).abs() / (c[0] * c[0] + c[1] * c[1]).sqrt();
+                    let e = (dist(p, &c) - radius).abs().max(off_plane);
+                    if e > *tol {
+                        return Err(format!("effector {p:?} is {e:.6} off the circle in frame {}", r.frame));
+                    }
+                }
+            }
             Expect::Refusal(text) => {
                 let r = st.last_refusal.map(|r| r.reason().as_str());
                 if r != Some(text.as_str()) {
@@ -932,6 +983,27 @@ pub fn run_file(path: &Path) -> Result<Sim, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let sc = Scenario::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     sc.run().map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// FK (arm units) of the commanded pose of every record.
+fn commanded_fk(sim: &Sim, w: &[FrameRecord]) -> Result<Vec<[f64; 3]>, String> {
+    let p = &sim.setup.params;
+    let links =
+        touch_arm::geometry::ik::Links::new(f64::from(p.l2), f64::from(p.l3)).map_err(|e| format!("links: {e:?}"))?;
+    if w.is_empty() {
+        return Err("no frames".into());
+    }
+    Ok(w.iter()
+        .map(|r| {
+            let q = r.commanded.map(f64::from);
+            let (x, y, z) = touch_arm::geometry::ik::fk3(&links, q[0], q[1], q[2]);
+            [x, y, z]
+        })
+        .collect())
+}
+
+fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 #[cfg(test)]
