@@ -323,3 +323,47 @@ fn the_track_keeps_its_pulses_across_a_re_plan() {
     }
     assert_eq!(t.positions(&last), fourth);
 }
+
+/// A correction that waits for the older term while the newer one ends
+/// first starts alone: its first frame is the pulses of the pose reached,
+/// not the pulses the track's first move started from (the long random run
+/// found a 377.5 µs step there when the older term's duration was a whole
+/// number of frames).
+#[test]
+fn a_waiting_correction_that_starts_alone_keeps_the_pulses() {
+    let maps = JointCal::DEFAULTS.map(|c| ServoMap::new(&c).unwrap());
+    let start = [1.5707964f32, 1.5707964, -1.5707964];
+    let target = [0.6f32, 2.2, -2.4];
+    // 2 s: the older term ends on a frame boundary (100 frames).
+    let law = scaling_law(LawKind::Zat, 2.0f32).unwrap();
+    let plan = MultiPlan::with_law(&start, &target, &law).unwrap();
+    let lim = PlanLimits { speed: [1.47f32; 3], accel: [17.1; 3], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+    let mut t = ServoTrack::new(&plan, &maps, 0.02).unwrap();
+    for _ in 0..10 {
+        t.advance();
+    }
+    // A small correction (short: it ends long before the older term) ...
+    let near = [0.62f32, 2.18, -2.38];
+    t.replan(&Replan { target: &near, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps).unwrap().unwrap();
+    t.advance();
+    // ... and one that waits for the older term to end.
+    let third = [0.7f32, 2.1, -2.3];
+    let (_, wait) =
+        t.replan(&Replan { target: &third, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps).unwrap().unwrap();
+    assert!(wait > 0);
+    let mut prev = t.frame_now().pulses;
+    let mut frames = 0;
+    while !t.is_done() {
+        let f = t.frame_now();
+        for j in 0..JOINTS {
+            let step = (i32::from(f.pulses[j]) - i32::from(prev[j])).abs();
+            // 1.47 rad/s at 572.96 µs/rad is 16.8 µs (34 ticks) a frame.
+            assert!(step <= 36, "frame {frames}: joint {j} steps {step} ticks: {prev:?} -> {:?}", f.pulses);
+        }
+        prev = f.pulses;
+        t.advance();
+        frames += 1;
+    }
+    let want: Vec<u16> = third.iter().zip(maps.iter()).map(|(q, m)| m.angle_to_pulse(*q).unwrap().ticks).collect();
+    assert_eq!(prev.to_vec(), want);
+}

@@ -375,6 +375,21 @@ impl ServoTrack {
                     k += 1;
                 }
             }
+            // A correction left alone before its start (it waited for an
+            // older term that has ended) starts from the pose the terms
+            // reached, not from the first move's start: the single-term
+            // path reads its start pulses from here.
+            if self.motion.len() == 1 {
+                let [s0, s1, s2] = &self.spans[0];
+                let [b0, b1, b2] = self.base;
+                let [l0, l1, l2] = self.lo;
+                let [h0, h1, h2] = self.hi;
+                self.start_ticks = [
+                    ticks(b0 - s0.at(ONE_Q30), l0, h0),
+                    ticks(b1 - s1.at(ONE_Q30), l1, h1),
+                    ticks(b2 - s2.at(ONE_Q30), l2, h2),
+                ];
+            }
         }
     }
 
