@@ -42,6 +42,7 @@ scenarios!(
     powerup,
     refusals,
     replan,
+    screen_more,
     screen_warnings,
     speed_bound,
     stop_mid_move,

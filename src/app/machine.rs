@@ -322,6 +322,14 @@ impl App {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
                 self.report_touch(serial, &p, r);
             }
+            Answer::ScreenPose(n) => {
+                // As `pose go` over serial: a failed arm plan moves nothing.
+                if r.is_err() {
+                    self.drop_pose_grip();
+                }
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, 0.0, 0.0));
+                self.report_screen_pose(serial, n, r);
+            }
         }
     }
 
