@@ -1,8 +1,10 @@
 //! The touch screen, when the app runs one (`AppParams::screen`): a confirmed
 //! touch is routed by what the screen shows (the map sends the arm, STOP and
-//! RESUME latch, the speed buttons set the preset, Calibrate starts the
-//! crosshair flow), and the app draws its state through the UI after each
-//! frame. Without a screen the whole panel is the workspace, as in the paper.
+//! RESUME latch, the speed buttons set the preset, More and Back turn the
+//! page, a pose button is `pose go <n>` and Grip `grip open|close` through
+//! the same app paths as the serial commands, Calibrate starts the crosshair
+//! flow), and the app draws its state through the UI after each frame.
+//! Without a screen the whole panel is the workspace, as in the paper.
 
 use crate::config::settings::SpeedPreset;
 use crate::config::store;
@@ -241,8 +243,9 @@ impl App {
         self.emit(serial, &mut line);
     }
 
-    /// Whether a confirmed touch would plan a move (a map point on the main
-    /// screen, or any touch without a screen).
+    /// Whether a confirmed touch would plan a move (a map point, a pose
+    /// button or Grip on the screen, or any touch without a screen): in a
+    /// busy frame it waits for the next, as a map touch does.
     pub(super) fn touch_plans(&self, p: &TouchPoint) -> bool {
         if !self.params.screen {
             return true;
@@ -251,7 +254,7 @@ impl App {
             Ok((x, y)) if self.screen.calibration.is_none() => self.screen.ui.hit_panel(x, y),
             _ => None,
         };
-        matches!(hit, Some(Hit::Map { .. }))
+        matches!(hit, Some(Hit::Map { .. } | Hit::Pose(_) | Hit::Grip))
     }
 
     /// The words the screen uses for a refused map point.
