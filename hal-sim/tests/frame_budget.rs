@@ -139,7 +139,7 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     assert_eq!(s.command("log on").unwrap(), "ok log on");
     assert_eq!(s.command("speed fast").unwrap(), "ok speed fast");
     let out0 = s.avr.uart_output().len();
-    // Map points in all four conditions, and the speed buttons (a redraw).
+    // Map points in all four conditions, and the buttons (redraws).
     let targets: Vec<(f64, f64)> = [(0.7f32, 0.3f32), (-0.3, 0.5), (0.2, 0.6), (-0.8, 0.15)]
         .iter()
         .map(|&(x, y)| firmware::map_touch(x, y).unwrap().0)
@@ -149,6 +149,8 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         let n = touch_arm::ui::Layout::QVGA.normal();
         pixel_raw(n.x + 30, n.y + 20)
     });
+    let centre = |a: touch_arm::ui::draw::Area| pixel_raw(a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let (key, grip) = (centre(touch_arm::ui::Layout::QVGA.page_key()), centre(touch_arm::ui::Layout::QVGA.grip()));
     let mut rng = Rng::new(3);
     let mut sent = 0u64;
     let w = measure(&mut s, 600, |s, k| {
@@ -160,7 +162,13 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
                 s.press_raw(x, y).unwrap();
             }
             10 | 20 => s.release(),
-            15 => s.press_raw(if k % 60 == 15 { slow.0 } else { normal.0 }, slow.1.max(normal.1)).unwrap(),
+            // The buttons in turn: Slow, Normal, More (the page change: the
+            // largest redraw after a full one), Grip (a grip beside the
+            // arm's move), Back.
+            15 => {
+                let (x, y) = [slow, normal, key, grip, key][(k / 30) as usize % 5];
+                s.press_raw(x, y).unwrap()
+            }
             _ => {}
         }
         // The flood: more than a frame's worth of lines, half of them moves
@@ -200,7 +208,7 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         cycles(b.worst_ticks)
     );
     println!(
-        "md: | busiest, 12 s: a touch every 0.6 s, speed buttons, telemetry, 150 lines/s at full baud (moving in {:.0} % of the frames), then 1 s without input | {} | {} | {} | {} | {} | {} | {} |",
+        "md: | busiest, 12 s: a touch every 0.6 s, the speed, More, Grip and Back buttons, telemetry, 150 lines/s at full baud (moving in {:.0} % of the frames), then 1 s without input | {} | {} | {} | {} | {} | {} | {} |",
         w.moving_share * 100.0,
         st.frames,
         w.periods,

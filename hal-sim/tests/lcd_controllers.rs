@@ -16,7 +16,8 @@ use hal_sim::lcd_bus::Chip;
 use hal_sim::panel::PanelWiring;
 use touch_arm::config::settings::Config;
 use touch_arm::geometry::workspace::condition;
-use touch_arm::ui::{warn, Layout, Ui, UiConfig, UiModel, UiState};
+use touch_arm::ui::draw::Area;
+use touch_arm::ui::{warn, Layout, Page, Ui, UiConfig, UiModel, UiState};
 
 const CPU_HZ: f64 = 16e6;
 
@@ -121,6 +122,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
             joints: deg.map(|d| d.to_radians() as f32),
             speed: Config::DEFAULT.speed,
             warnings: warn::DEFAULT_SETTINGS,
+            page: Page::Main,
+            grip_closed: false,
         };
         assert_screen(&s, &host_screen(lay, &model), &format!("lcd_{name}_after_touch"));
     }
@@ -144,6 +147,8 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
         joints: home,
         speed: Config::DEFAULT.speed,
         warnings: warn::DEFAULT_SETTINGS,
+        page: Page::Main,
+        grip_closed: false,
     };
     assert_screen(&s, &host_screen(Layout::QVGA, &idle), "lcd_unknown_idle");
     // Fully usable over serial.
@@ -155,5 +160,95 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
     let want = [600.0 + 300.0, 600.0 + 1200.0, 2400.0 - 600.0];
     for (j, got) in s.last_pulses().into_iter().enumerate() {
         assert!((got.unwrap() - want[j]).abs() <= 1.0, "joint {j}: {got:?} µs, want {}", want[j]);
+    }
+}
+
+/// Presses the centre of `a` on `lay` for 0.3 s, releases, and returns the
+/// serial lines the press produced, after 0.7 s more (the sliced redraw
+/// finished).
+fn press(s: &mut Session, lay: &Layout, a: Area) -> Vec<String> {
+    let before = s.avr.uart_output_string().len();
+    let (rx, ry) = firmware::raw_at_centre(lay, a).unwrap();
+    s.press_raw(rx, ry).unwrap();
+    s.run_for(0.3).unwrap();
+    s.release();
+    s.run_for(0.7).unwrap();
+    s.avr.uart_output_string()[before..].lines().map(str::to_string).collect()
+}
+
+/// `ts_ms` of a reply line.
+fn ts_s(line: &str) -> f64 {
+    let ms: f64 = line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse().unwrap();
+    ms / 1000.0
+}
+
+/// The More page on the chip, 320×240 (ILI9341) and 480×320 (ILI9486): More
+/// opens it and the decoded picture is the host's rendering of it; Grip
+/// closes the gripper through `grip close`'s path (same first-grip plan at
+/// the slow preset, ends on 1500 µs) and its label turns to Open; pose 1
+/// (saved over serial at home) brings the arm and the gripper back exactly
+/// as `pose go 1`; Back restores the main page.
+#[test]
+fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
+    for chip in [Chip::Ili9341, Chip::Ili9486] {
+        let name = chip.name();
+        let lay = chip.layout();
+        let mut s = boot(chip);
+        // Pose 1 = home (90°, 90°, −90°), gripper open; then somewhere else.
+        assert!(s.command("pose save 1").unwrap().starts_with("ok pose save 1"), "{name}");
+        let reply = s.command("goto 30 120 -60").unwrap();
+        s.run_for(ts_s(&reply) + 0.3).unwrap();
+
+        let lines = press(&mut s, &lay, lay.page_key());
+        assert_eq!(lines, ["info screen page more"], "{name}");
+        let mut more = UiModel {
+            state: UiState::Holding,
+            touch: None,
+            target: None,
+            condition: None,
+            alpha: f32::NAN,
+            joints: [30.0f32, 120.0, -60.0].map(f32::to_radians),
+            speed: Config::DEFAULT.speed,
+            warnings: warn::DEFAULT_SETTINGS,
+            page: Page::More,
+            grip_closed: false,
+        };
+        assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more"));
+
+        // Grip: exactly `grip close` after power-up (grip_firmware.rs).
+        let t0 = s.avr.cycles();
+        let lines = press(&mut s, &lay, lay.grip());
+        assert_eq!(lines, ["info screen grip 9000 ts_ms 4317"], "{name}");
+        s.run_for(4.0).unwrap();
+        let grip: Vec<u16> = s.grip_pulse_ticks().into_iter().filter(|(c, _)| *c > t0).map(|(_, t)| t).collect();
+        assert!(grip.windows(2).all(|w| w[1] >= w[0]), "{name}: the gripper closes monotonically");
+        assert_eq!(*grip.last().unwrap(), 3000, "{name}: closed at 1500 us");
+        assert!(grip.iter().all(|t| (1200..=3000).contains(t)), "{name}: inside its window");
+        more.grip_closed = true;
+        assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more_closed"));
+
+        // Pose 1: the arm home and the gripper open again.
+        let lines = press(&mut s, &lay, lay.pose(0));
+        let went = lines
+            .iter()
+            .find(|l| l.starts_with("info screen pose go 1 ts_ms"))
+            .unwrap_or_else(|| panic!("{name}: {lines:?}"));
+        s.run_for(ts_s(went) + 5.0).unwrap();
+        for (j, got) in s.last_pulses().into_iter().enumerate() {
+            assert!((got.unwrap() - 1500.0).abs() <= 1.0, "{name} joint {j}: {got:?} us, want 1500 (home)");
+        }
+        assert_eq!(s.grip_pulse_ticks().last().unwrap().1, 1200, "{name}: the pose's open gripper");
+        // An empty slot is refused as over serial.
+        assert_eq!(press(&mut s, &lay, lay.pose(3)), ["err screen pose go 4 empty"], "{name}");
+
+        // Back: the main page as the host draws it.
+        assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page main"], "{name}");
+        let main = UiModel {
+            page: Page::Main,
+            grip_closed: false,
+            joints: [90.0f32, 90.0, -90.0].map(f32::to_radians),
+            ..more
+        };
+        assert_screen(&s, &host_screen(lay, &main), &format!("lcd_{name}_back"));
     }
 }

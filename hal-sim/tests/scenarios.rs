@@ -47,6 +47,7 @@ scenarios!(
     powerup,
     refusals,
     replan,
+    screen_more,
     screen_warnings,
     speed_bound,
     stop_mid_move,

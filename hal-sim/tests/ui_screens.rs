@@ -21,11 +21,11 @@ use touch_arm::touch::map::{Calibration, CalibrationError};
 use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
-use touch_arm::ui::layout::Layout;
+use touch_arm::ui::layout::{Layout, GUARD};
 use touch_arm::ui::ws_view::{base_area, marker_r};
 use touch_arm::ui::{
-    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Redrawn, Refusal, Ui, UiConfig, UiModel,
-    UiState,
+    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Page, Redrawn, Refusal, Ui, UiConfig,
+    UiModel, UiState,
 };
 
 fn snapshot(fb: &Framebuffer, name: &str) {
@@ -84,6 +84,8 @@ fn moving_model() -> UiModel {
         joints: [0.896, 0.7, 1.4],
         speed: SpeedPreset::Normal,
         warnings: 0,
+        page: Page::Main,
+        grip_closed: false,
     }
 }
 
@@ -100,7 +102,8 @@ fn crop(fb: &Framebuffer, a: Area) -> Vec<Rgb565> {
 
 /// `s` drawn on its own at `(x, y)` in `style`, cropped to its cells.
 fn text_alone(s: &[u8], x: i16, y: i16, style: &TextStyle) -> (Vec<Rgb565>, Area) {
-    let mut fb = Framebuffer::landscape();
+    // Black, as `Framebuffer::landscape`, and large enough for 480×320.
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
     text(&mut fb, x, y, s, style).unwrap();
     let (w, h) = style.extent(s.len());
     let a = Area::new(x, y, w, h);
@@ -227,16 +230,43 @@ fn check_mappings_and_tiling(lay: &Layout) {
     assert_eq!(lay.ws_point_to_pixel(0.0, 1.01), None);
     // The map keeps one scale on both axes.
     assert_eq!((ws.w, ws.h), (2 * lay.scale(), lay.scale()));
-    let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
-    let mut regions = vec![ws, lay.stop(), lay.headline(), lay.detail(), lay.info(), lay.warn(), lay.joints()];
-    regions.extend([lay.slow(), lay.normal(), lay.fast(), lay.calibrate()]);
-    regions.extend(lay.gaps());
-    for a in regions {
-        for p in rect(a).points() {
-            owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
+    // Each page's regions, buttons and gaps tile the screen: every pixel is
+    // painted by exactly one of them in a full redraw.
+    for page in [Page::Main, Page::More] {
+        let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
+        let mut regions = vec![ws, lay.stop(), lay.headline(), lay.page_key()];
+        match page {
+            Page::Main => regions.extend([
+                lay.detail(),
+                lay.info(),
+                lay.warn(),
+                lay.joints(),
+                lay.slow(),
+                lay.normal(),
+                lay.fast(),
+            ]),
+            Page::More => {
+                regions.extend([lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate()])
+            }
+        }
+        regions.extend(lay.gaps(page));
+        for a in regions {
+            for p in rect(a).points() {
+                owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
+            }
+        }
+        assert!(owner.iter().all(|&n| n == 1), "{page:?}: regions must tile the screen exactly");
+    }
+    // The More page's buttons: 8-px gaps between all of them and towards the
+    // map's column, none beside the map or STOP, none under 54×40.
+    let buttons = [lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate(), lay.page_key()];
+    for (i, a) in buttons.iter().enumerate() {
+        assert!(a.w >= 54 && a.h >= 40, "{a:?} is comfortably large");
+        assert!(a.y >= lay.headline().bottom(), "{a:?} is below the headline, away from the map and STOP");
+        for b in &buttons[i + 1..] {
+            assert!(a.inflate(GUARD - 1).intersect(b).is_none(), "{a:?} and {b:?} are 8 px apart");
         }
     }
-    assert!(owner.iter().all(|&n| n == 1), "regions must tile the screen exactly");
 }
 
 #[test]
@@ -262,19 +292,35 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
         (L.normal(), big.normal()),
         (L.fast(), big.fast()),
         (L.calibrate(), big.calibrate()),
+        (L.page_key(), big.page_key()),
+        (L.pose(0), big.pose(0)),
+        (L.pose(3), big.pose(3)),
+        (L.grip(), big.grip()),
     ] {
         assert!(b.w > a.w && b.h > a.h, "{a:?} -> {b:?}");
     }
     assert_eq!((big.stop().w, big.stop().h), (152, 160));
-    assert_eq!(big.gaps()[0].w, 8);
-    assert_eq!(big.gaps()[1].h, 8);
+    assert_eq!(big.gaps(Page::Main)[0].w, 8);
+    assert_eq!(big.gaps(Page::Main)[1].h, 8);
+    assert_eq!((big.pose(0).w, big.pose(0).h), (74, 52));
     // STOP's guard band: beside and below STOP, not beside the map.
     assert_eq!(big.stop_hit(), Area::new(320, 0, 160, 168));
     // The labels fit their buttons (3× text: 18 px per character).
-    for (a, label) in [(big.slow(), "Slow"), (big.normal(), "Normal"), (big.fast(), "Fast"), (big.calibrate(), "Calib")]
-    {
-        let ink = 18 * label.len() as u16 - 3;
-        assert!(ink <= a.w, "{label}: {ink} px in {}", a.w);
+    for lay in [L, big] {
+        let (cw, gap) = (6 * u16::from(lay.text_scale()), u16::from(lay.text_scale()));
+        for (a, label) in [
+            (lay.slow(), "Slow"),
+            (lay.normal(), "Normal"),
+            (lay.fast(), "Fast"),
+            (lay.calibrate(), "Calib"),
+            (lay.page_key(), "More"),
+            (lay.page_key(), "Back"),
+            (lay.grip(), "Close"),
+            (lay.pose(0), "1"),
+        ] {
+            let ink = cw * label.len() as u16 - gap;
+            assert!(ink <= a.w, "{label}: {ink} px in {}", a.w);
+        }
     }
     // The hit test follows the layout.
     let mut ui = Ui::with_layout(&CONFIG, big);
@@ -287,7 +333,7 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
         (big.slow(), Hit::Speed(SpeedPreset::Slow)),
         (big.normal(), Hit::Speed(SpeedPreset::Normal)),
         (big.fast(), Hit::Speed(SpeedPreset::Fast)),
-        (big.calibrate(), Hit::Calibrate),
+        (big.page_key(), Hit::Page),
     ] {
         let (x, y) = centre(a);
         assert_eq!(ui.hit(x, y), Some(hit));
@@ -520,7 +566,7 @@ fn hits_map_to_buttons_and_workspace_points() {
     assert_eq!(ui.hit(30, 220), Some(Hit::Speed(SpeedPreset::Slow)));
     assert_eq!(ui.hit(120, 220), Some(Hit::Speed(SpeedPreset::Normal)));
     assert_eq!(ui.hit(200, 220), Some(Hit::Speed(SpeedPreset::Fast)));
-    assert_eq!(ui.hit(280, 220), Some(Hit::Calibrate));
+    assert_eq!(ui.hit(280, 220), Some(Hit::Page));
     // Gaps, guard band and status area do nothing.
     for (x, y) in [(75, 220), (164, 220), (244, 220), (100, 122), (100, 160), (100, 198), (-1, 5), (320, 5)] {
         assert_eq!(ui.hit(x, y), None, "({x},{y})");
@@ -646,6 +692,109 @@ fn partial_redraws_write_only_the_changed_regions() {
     assert_eq!(fb, full(&m));
 }
 
+/// The More page on `lay`: opened from the main page, it repaints what lies
+/// under the map (the map is untouched) and leaves the same picture as a
+/// full draw; its buttons hit as drawn; the Grip label follows the gripper;
+/// Back restores the main page.
+fn more_page(lay: Layout, name: &str) {
+    let mut ui = Ui::with_layout(&CONFIG, lay);
+    let (w, h) = (lay.width().into(), lay.height().into());
+    let mut fb = Framebuffer::new(w, h, Rgb565::BLACK);
+    let full_of = |m: &UiModel| {
+        let mut fb = Framebuffer::new(w, h, Rgb565::BLACK);
+        Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
+        fb
+    };
+    let main = moving_model();
+    ui.draw(&main, &mut fb).unwrap();
+    let mut more = main;
+    more.page = Page::More;
+    // Before the More page is on the glass, its buttons do not answer (the
+    // main page's do).
+    assert_eq!(ui.hit(lay.pose(0).x + 4, lay.pose(0).y + 4), None, "the main page's status lines");
+    let mut c = Counting::new(&mut fb);
+    let r = ui.draw(&more, &mut c).unwrap();
+    assert_eq!(r, Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::GAPS | Redrawn::ROW2));
+    // The map, STOP and the headline stay: only the guard bands and what
+    // lies under the headline are painted.
+    let head_end = lay.headline().bottom();
+    let under = Area::new(0, head_end, lay.width(), lay.height() - head_end as u16);
+    let gaps = lay.gaps(Page::More);
+    assert_only_in(&c, &[under, gaps[0], gaps[1]], "page change");
+    assert!(fb == full_of(&more), "{name}: the page change equals a full draw of the More page");
+    snapshot(&fb, name);
+    // A full draw of the More page reports its regions.
+    let mut scratch = Framebuffer::new(w, h, Rgb565::BLACK);
+    assert_eq!(Ui::with_layout(&CONFIG, lay).draw_full(&more, &mut scratch).unwrap(), Redrawn(Redrawn::ALL_MORE));
+    // Labels: Close while the gripper is open, the page key says Back.
+    let style = TextStyle::opaque(lay.text_scale(), theme::WHITE, theme::BUTTON_ON);
+    let ink = |a: Area, s: &str, style: &TextStyle| {
+        let (tw, th) = style.extent(s.len());
+        let x = a.x + (a.w - (tw - u16::from(style.gap))) as i16 / 2;
+        let y = a.y + (a.h - th) as i16 / 2;
+        (x, y)
+    };
+    let (gx, gy) = ink(lay.grip(), "Close", &style);
+    assert_text_at(&fb, b"Close", gx, gy, &style);
+    let key_style = TextStyle::opaque(lay.text_scale(), theme::TEXT, theme::BUTTON);
+    let (kx, ky) = ink(lay.page_key(), "Back", &key_style);
+    assert_text_at(&fb, b"Back", kx, ky, &key_style);
+    for (n, label) in [(0u8, "1"), (3, "4")] {
+        let (x, y) = ink(lay.pose(n), label, &key_style);
+        assert_text_at(&fb, label.as_bytes(), x, y, &key_style);
+    }
+    // Hits follow the More page.
+    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    for (a, hit) in [
+        (lay.pose(0), Hit::Pose(1)),
+        (lay.pose(1), Hit::Pose(2)),
+        (lay.pose(2), Hit::Pose(3)),
+        (lay.pose(3), Hit::Pose(4)),
+        (lay.grip(), Hit::Grip),
+        (lay.calibrate(), Hit::Calibrate),
+        (lay.page_key(), Hit::Page),
+        (lay.stop(), Hit::Stop),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit), "{name}: {a:?}");
+    }
+    // Gaps between the poses, the band under them, the empty bottom row
+    // right of Calib: nothing.
+    for g in lay.gaps(Page::More).iter().skip(2).filter(|g| !g.is_empty()) {
+        let (x, y) = centre(*g);
+        assert_eq!(ui.hit(x, y), None, "{name}: gap {g:?}");
+    }
+    // The gripper closes: only Grip is repainted, and now says Open.
+    let mut closed = more;
+    closed.grip_closed = true;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&closed, &mut c).unwrap(), Redrawn(Redrawn::ROW2));
+    assert_only_in(&c, &[lay.grip()], "grip label");
+    let (gx, gy) = ink(lay.grip(), "Open", &style);
+    assert_text_at(&fb, b"Open", gx, gy, &style);
+    assert!(fb == full_of(&closed));
+    // Progress and joints are not on the More page: no repaint for them.
+    let mut later = closed;
+    later.state = UiState::Moving { progress: 0.9 };
+    later.joints[1] = 0.1;
+    let mut c = Counting::new(&mut fb);
+    assert!(ui.draw(&later, &mut c).unwrap().is_empty());
+    assert_eq!(c.total_writes(), 0);
+    // Back: the main page again, as a full draw would paint it.
+    let mut back = later;
+    back.page = Page::Main;
+    ui.draw(&back, &mut fb).unwrap();
+    assert!(fb == full_of(&back), "{name}: back on the main page");
+    let (x, y) = centre(lay.slow());
+    assert_eq!(ui.hit(x, y), Some(Hit::Speed(SpeedPreset::Slow)));
+}
+
+#[test]
+fn the_more_page_holds_the_poses_grip_and_calib_on_both_sizes() {
+    more_page(Layout::QVGA, "more_page");
+    more_page(Layout::HVGA, "hvga_more_page");
+}
+
 /// Uniform in [0, 1), for model fields.
 fn unit(rng: &mut Rng) -> f32 {
     rng.uniform() as f32
@@ -690,6 +839,10 @@ fn random_redraws(lay: Layout, steps: usize) {
             3 => m.joints[rng.below(3) as usize] = unit(&mut rng) * 3.0 - 1.0,
             4 => m.speed = SpeedPreset::ALL[rng.below(3) as usize],
             5 => m.warnings = rng.below(32) as u8,
+            7 if rng.below(3) == 0 => {
+                m.page = if m.page == Page::Main { Page::More } else { Page::Main };
+                m.grip_closed = rng.below(2) == 0;
+            }
             6 => {
                 m.condition = [None, Some(Condition::C1), Some(Condition::C4)][rng.below(3) as usize];
                 m.alpha = unit(&mut rng) * 3.0;

@@ -78,9 +78,19 @@ pub(super) struct Grip {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct GripDue {
     target: f32,
-    /// `None`: a `grip` line (its reply); `Some(n)`: `pose go n` (answered
-    /// by the arm's plan; a failed grip plan is a `warn` line).
-    pose: Option<u8>,
+    who: GripWho,
+}
+
+/// Who asked for a grip.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum GripWho {
+    /// A `grip` line: its reply.
+    Serial,
+    /// `pose go n` (from serial or the screen): answered by the arm's plan;
+    /// a failed grip plan is a `warn` line.
+    Pose(u8),
+    /// The screen's Grip button: `info screen grip …` / `err screen grip …`.
+    Screen,
 }
 
 impl Grip {
@@ -142,15 +152,15 @@ impl App {
             GripCmd::Close => close,
             GripCmd::Centideg(c) => centideg_to_rad(c),
         };
-        self.accept_grip(target, None)?;
+        self.accept_grip(target, GripWho::Serial)?;
         Ok(Done::GripDue)
     }
 
     /// Checks state and limits and accepts a grip target (planned by
     /// [`App::finish_grip`]).
-    pub(super) fn accept_grip(&mut self, target: f32, pose: Option<u8>) -> Result<(), Refusal> {
+    fn accept_grip(&mut self, target: f32, who: GripWho) -> Result<(), Refusal> {
         let target = self.check_grip(target)?;
-        self.grip_due(target, pose);
+        self.grip_due(target, who);
         Ok(())
     }
 
@@ -175,15 +185,39 @@ impl App {
     }
 
     /// A checked grip target, planned after this frame's pulses.
-    pub(super) fn grip_due(&mut self, target: f32, pose: Option<u8>) {
+    fn grip_due(&mut self, target: f32, who: GripWho) {
         self.busy = true;
-        self.grip.due = Some(GripDue { target, pose });
+        self.grip.due = Some(GripDue { target, who });
+    }
+
+    /// A `pose go <n>`'s checked gripper target.
+    pub(super) fn pose_grip_due(&mut self, target: f32, n: u8) {
+        self.grip_due(target, GripWho::Pose(n));
+    }
+
+    /// The screen's Grip button: closes an open gripper and opens a closed
+    /// one (the target of its last move decides: nearer the closed end is
+    /// closed), by the same checks and planner as `grip open|close`.
+    #[inline(never)]
+    pub(super) fn screen_grip(&mut self) -> Result<(), Refusal> {
+        let (open, close) = self.grip.ends();
+        let target = if self.grip_closed() { open } else { close };
+        self.accept_grip(target, GripWho::Screen)
+    }
+
+    /// The gripper is closed or closing: its last target is nearer the
+    /// closed end of its window than the open one.
+    pub(super) fn grip_closed(&self) -> bool {
+        let (open, close) = self.grip.ends();
+        let t = self.grip.target;
+        let (to_open, to_close) = (t - open, close - t);
+        to_close.abs() < to_open.abs()
     }
 
     /// Drops a gripper target that a `pose go` left for the next frame
     /// (its arm move was not planned).
     pub(super) fn drop_pose_grip(&mut self) {
-        if self.grip.due.is_some_and(|d| d.pose.is_some()) {
+        if self.grip.due.is_some_and(|d| matches!(d.who, GripWho::Pose(_))) {
             self.grip.due = None;
         }
     }
@@ -218,18 +252,27 @@ impl App {
     #[inline(never)]
     fn report_grip<U: SerialPort>(&mut self, serial: &mut U, due: &GripDue, r: Result<(), Refusal>) {
         let mut line = Line::new();
-        match (r, due.pose) {
-            (Ok(()), None) => {
+        match (r, due.who) {
+            (Ok(()), GripWho::Serial) => {
                 line.str(t!("ok grip")).num(crate::math::units::rad_to_centideg(due.target));
                 line.word(t!("ts_ms")).num(super::text::milli(self.grip.ts));
                 serial.write(line.finish());
             }
-            (Err(e), None) => {
+            (Err(e), GripWho::Serial) => {
                 line.str(t!("err ")).str(e.reason());
                 serial.write(line.finish());
             }
-            (Ok(()), Some(_)) => {}
-            (Err(e), Some(n)) => {
+            (Ok(()), GripWho::Screen) => {
+                line.str(t!("info screen grip")).num(crate::math::units::rad_to_centideg(due.target));
+                line.word(t!("ts_ms")).num(super::text::milli(self.grip.ts));
+                self.emit(serial, &mut line);
+            }
+            (Err(e), GripWho::Screen) => {
+                line.str(t!("err screen grip")).word(e.reason());
+                self.emit(serial, &mut line);
+            }
+            (Ok(()), GripWho::Pose(_)) => {}
+            (Err(e), GripWho::Pose(n)) => {
                 line.str(t!("warn pose")).num(i32::from(n)).word(t!("grip")).word(e.reason());
                 self.emit(serial, &mut line);
             }

@@ -335,7 +335,12 @@ impl App {
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
-        match due.answer {
+        self.answer_plan(serial, &due.answer, r);
+    }
+
+    /// Tells whoever asked for a move how its plan (or its path check) went.
+    pub(super) fn answer_plan<U: SerialPort>(&mut self, serial: &mut U, answer: &Answer, r: Result<(), Refusal>) {
+        match *answer {
             Answer::Nobody => {}
             Answer::Serial(done) => {
                 // A pose whose arm move cannot be planned moves nothing:
@@ -349,6 +354,14 @@ impl App {
             Answer::Screen(p, x_p, y_p) => {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
                 self.report_touch(serial, &p, r);
+            }
+            Answer::ScreenPose(n) => {
+                // As `pose go` over serial: a failed arm plan moves nothing.
+                if r.is_err() {
+                    self.drop_pose_grip();
+                }
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, 0.0, 0.0));
+                self.report_screen_pose(serial, n, r);
             }
         }
     }

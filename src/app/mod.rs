@@ -409,6 +409,9 @@ enum Answer {
     Touch(TouchPoint),
     /// A touch on the screen's map (workspace point for the refusal words).
     Screen(TouchPoint, f32, f32),
+    /// The screen's pose button `n`: `info screen pose go <n> …` /
+    /// `err screen pose go <n> …`.
+    ScreenPose(u8),
 }
 
 /// Lines still to send of a multi-line reply.

@@ -48,7 +48,7 @@
 //!   would be a jump or a second move.
 
 use super::refusal::Refusal;
-use super::{Answer, App, MoveInfo, MoveKind, PlanDue, FRAME_S};
+use super::{App, MoveInfo, MoveKind, PlanDue, FRAME_S};
 use crate::config::settings::PathMode;
 use crate::geometry::ik::{fk3_pose, ik3};
 use crate::geometry::path::{Path, PathShapeError};
@@ -339,7 +339,7 @@ impl App {
         let PathRun::Checking { due, .. } = self.path else { return };
         if self.stopped {
             self.path = PathRun::Idle;
-            self.answer_path(serial, &due.answer, Err(Refusal::PathStopped));
+            self.answer_plan(serial, &due.answer, Err(Refusal::PathStopped));
             return;
         }
         if catch_up {
@@ -351,7 +351,7 @@ impl App {
             self.path = PathRun::Idle;
             self.last_refusal = Some(e);
         }
-        self.answer_path(serial, &due.answer, r);
+        self.answer_plan(serial, &due.answer, r);
     }
 
     /// The check's units the period has room for, in place; the plan or the
@@ -402,19 +402,6 @@ impl App {
         };
         self.path = PathRun::Running { run: *run, ticks: [b, s, e], frame: 0 };
         Ok(())
-    }
-
-    /// Tells the requester how the check went.
-    fn answer_path<U: SerialPort>(&mut self, serial: &mut U, answer: &Answer, r: Result<(), Refusal>) {
-        match *answer {
-            Answer::Nobody => {}
-            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(super::serial::Done::Refused, |()| done)),
-            Answer::Touch(p) => self.report_touch(serial, &p, r),
-            Answer::Screen(p, x_p, y_p) => {
-                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
-                self.report_touch(serial, &p, r);
-            }
-        }
     }
 
     /// The path frame (the law's progress, the path's point, its IK) or the

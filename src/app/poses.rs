@@ -64,7 +64,7 @@ impl App {
         };
         self.move_to_angles(&p.joints)?;
         if let Some(g) = grip {
-            self.grip_due(g, Some(n));
+            self.pose_grip_due(g, n);
         }
         Ok(PoseDone::Went(n))
     }

@@ -1,19 +1,23 @@
 //! The touch screen, when the app runs one (`AppParams::screen`): a confirmed
 //! touch is routed by what the screen shows (the map sends the arm, STOP and
-//! RESUME latch, the speed buttons set the preset, Calibrate starts the
-//! crosshair flow), and the app draws its state through the UI after each
-//! frame. Without a screen the whole panel is the workspace, as in the paper.
+//! RESUME latch, the speed buttons set the preset, More and Back turn the
+//! page, a pose button is `pose go <n>` and Grip `grip open|close` through
+//! the same app paths as the serial commands, Calibrate starts the crosshair
+//! flow), and the app draws its state through the UI after each frame.
+//! Without a screen the whole panel is the workspace, as in the paper.
 
 use crate::config::settings::SpeedPreset;
 use crate::config::store;
+use crate::protocol::command::PoseCmd;
 use crate::seam::SerialPort;
 use crate::seam::Storage;
 use crate::touch::filter::TouchPoint;
 use crate::ui::{
-    self, CalibrationEvent, CalibrationFlow, Canvas, DrawBudget, Drawn, Hit, Layout, Redrawn, Ui, UiConfig, UiModel,
-    UiState, Unlimited,
+    self, CalibrationEvent, CalibrationFlow, Canvas, DrawBudget, Drawn, Hit, Layout, Page, Redrawn, Ui, UiConfig,
+    UiModel, UiState, Unlimited,
 };
 
+use super::poses::PoseDone;
 use super::refusal::Refusal;
 use super::text::Line;
 use super::{Answer, App, State};
@@ -26,11 +30,14 @@ pub(super) struct Screen {
     pub(super) touched: Option<(f32, f32)>,
     /// Why the last map touch was refused, until the next accepted one.
     pub(super) refusal: Option<ui::Refusal>,
+    /// The button set shown; changed only by the page key (see
+    /// `ui::layout`).
+    pub(super) page: Page,
 }
 
 impl Screen {
     pub(super) fn new(reach: &UiConfig) -> Screen {
-        Screen { ui: Ui::new(reach), calibration: None, touched: None, refusal: None }
+        Screen { ui: Ui::new(reach), calibration: None, touched: None, refusal: None, page: Page::Main }
     }
 }
 
@@ -45,6 +52,10 @@ enum ScreenEvent {
     Resume,
     Speed(SpeedPreset),
     Calibrate(Result<(), Refusal>),
+    Page(Page),
+    /// A pose button refused at once (a refusal, or an empty slot: `None`).
+    Pose(u8, Option<Refusal>),
+    Grip(Refusal),
 }
 
 /// The arm's reach drawn on the map: the IK annulus divided by the scale.
@@ -124,9 +135,63 @@ impl App {
                 self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
                 ScreenEvent::Calibrate(Ok(()))
             }
+            Some(Hit::Page) => {
+                self.screen.page = match self.screen.page {
+                    Page::Main => Page::More,
+                    Page::More => Page::Main,
+                };
+                ScreenEvent::Page(self.screen.page)
+            }
+            Some(Hit::Pose(n)) => self.screen_pose(n, storage),
+            Some(Hit::Grip) => match self.screen_grip() {
+                // Answered once planned (`finish_grip`).
+                Ok(()) => {
+                    self.screen.refusal = None;
+                    ScreenEvent::Nothing
+                }
+                Err(e) => {
+                    self.screen.refusal = Some(self.ui_refusal(e, 0.0, 0.0));
+                    ScreenEvent::Grip(e)
+                }
+            },
             // Guard bands and gaps between buttons: deliberately nothing.
             None => ScreenEvent::Nothing,
         }
+    }
+
+    /// A pose button: exactly `pose go <n>` (same checks, planner and
+    /// refusals), answered once planned (`finish_plan`).
+    #[inline(never)]
+    fn screen_pose<E: Storage>(&mut self, n: u8, storage: &mut E) -> ScreenEvent {
+        match self.pose(PoseCmd::Go(n), storage) {
+            Ok(PoseDone::Went(_)) => {
+                self.screen.refusal = None;
+                self.answer_due(Answer::ScreenPose(n));
+                ScreenEvent::Nothing
+            }
+            Ok(_) => ScreenEvent::Pose(n, None),
+            Err(e) => {
+                self.screen.refusal = Some(self.ui_refusal(e, 0.0, 0.0));
+                ScreenEvent::Pose(n, Some(e))
+            }
+        }
+    }
+
+    /// `info screen pose go <n> …` once a screen pose's move is planned, or
+    /// `err screen pose go <n> <reason>`.
+    #[inline(never)]
+    pub(super) fn report_screen_pose<U: SerialPort>(&mut self, serial: &mut U, n: u8, r: Result<(), Refusal>) {
+        let mut line = Line::new();
+        match r {
+            Ok(()) => {
+                line.str(t!("info screen pose go")).num(i32::from(n));
+                self.describe_move(&mut line, false);
+            }
+            Err(e) => {
+                line.str(t!("err screen pose go")).num(i32::from(n)).word(e.reason());
+            }
+        }
+        self.emit(serial, &mut line);
     }
 
     /// The line a screen event sends (its buffer is not on the stack while
@@ -161,12 +226,26 @@ impl App {
             ScreenEvent::Calibrate(Err(r)) => {
                 line.str(t!("err screen calibrate")).word(r.reason());
             }
+            ScreenEvent::Page(p) => {
+                line.str(match p {
+                    Page::Main => t!("info screen page main"),
+                    Page::More => t!("info screen page more"),
+                });
+            }
+            ScreenEvent::Pose(n, None) => {
+                line.str(t!("err screen pose go")).num(i32::from(n)).str(t!(" empty"));
+            }
+            ScreenEvent::Pose(n, Some(r)) => return self.report_screen_pose(serial, n, Err(r)),
+            ScreenEvent::Grip(r) => {
+                line.str(t!("err screen grip")).word(r.reason());
+            }
         }
         self.emit(serial, &mut line);
     }
 
-    /// Whether a confirmed touch would plan a move (a map point on the main
-    /// screen, or any touch without a screen).
+    /// Whether a confirmed touch would plan a move (a map point, a pose
+    /// button or Grip on the screen, or any touch without a screen): in a
+    /// busy frame it waits for the next, as a map touch does.
     pub(super) fn touch_plans(&self, p: &TouchPoint) -> bool {
         if !self.params.screen {
             return true;
@@ -175,7 +254,7 @@ impl App {
             Ok((x, y)) if self.screen.calibration.is_none() => self.screen.ui.hit_panel(x, y),
             _ => None,
         };
-        matches!(hit, Some(Hit::Map { .. }))
+        matches!(hit, Some(Hit::Map { .. } | Hit::Pose(_) | Hit::Grip))
     }
 
     /// The words the screen uses for a refused map point.
@@ -192,7 +271,7 @@ impl App {
                 }
             }
             Refusal::OutsideCalibration | Refusal::OutsideWorkspace => ui::Refusal::OffMap,
-            Refusal::Busy | Refusal::Homing | Refusal::Stopped => ui::Refusal::Busy,
+            Refusal::Busy | Refusal::Homing | Refusal::Stopped | Refusal::GripBusy => ui::Refusal::Busy,
             _ => ui::Refusal::JointLimit,
         }
     }
@@ -267,6 +346,8 @@ impl App {
             joints: st.commanded,
             speed: st.speed,
             warnings,
+            page: self.screen.page,
+            grip_closed: self.grip_closed(),
         }
     }
 }

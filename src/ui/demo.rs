@@ -5,7 +5,7 @@
 
 use super::calibration::{cal_point, CalibrationFlow};
 use super::layout::Layout;
-use super::model::{warn, Refusal, UiModel, UiState};
+use super::model::{warn, Page, Refusal, UiModel, UiState};
 use super::screen::UiConfig;
 use crate::config::settings::SpeedPreset;
 use crate::geometry::workspace::Condition;
@@ -15,7 +15,7 @@ use crate::touch::map::Calibration;
 pub const CONFIG: UiConfig = UiConfig { reach_min: 0.3, reach_max: 0.9 };
 
 /// Steps of the script.
-pub const STEPS: u8 = 16;
+pub const STEPS: u8 = 19;
 
 /// What step `k` draws.
 pub enum Screen {
@@ -36,12 +36,15 @@ fn moving(progress: f32) -> UiModel {
         joints: [0.896_055, 0.7, 1.4],
         speed: SpeedPreset::Normal,
         warnings: 0,
+        page: Page::Main,
+        grip_closed: false,
     }
 }
 
 /// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
 /// a refused touch, STOP, a preset change with a warning, two calibration
-/// screens, and a full redraw back on the main screen.
+/// screens, a full redraw back on the main screen, the More page (poses and
+/// Grip) and its Grip button turning to Open, and the main page again.
 pub fn screen(k: u8, lay: &Layout) -> Screen {
     let mut m = moving(0.0);
     match k {
@@ -76,6 +79,10 @@ pub fn screen(k: u8, lay: &Layout) -> Screen {
             m.touch = None;
             m.target = None;
             m.condition = None;
+            if k == 16 || k == 17 {
+                m.page = Page::More;
+                m.grip_closed = k == 17;
+            }
         }
     }
     Screen::Main(m)

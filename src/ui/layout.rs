@@ -17,13 +17,31 @@
 //!  +----------------------------------+  +---------------+ s = 120
 //!  guard band (touches ignored; next to STOP they count as STOP)   128
 //!  headline  (2×)                                          148
-//!  detail: hint (2×) or progress bar                       168
-//!  zone + direction (1×)          | warning (1×)           182
-//!  joint angles (1×)                                       196
-//!  +------+ +--------+ +------+    +---------+             200
-//!  | Slow | | Normal | | Fast |    |  Calib  |
-//!  +------+ +--------+ +------+    +---------+             240
+//!  Main page:                          More page:
+//!  detail: hint (2×) or progress bar   +----+ +----+ +----+ +----+    +------+ 152
+//!  zone + direction (1×) | warning     | 1  | | 2  | | 3  | | 4  |    | Grip |
+//!  joints (1×)                   196   +----+ +----+ +----+ +----+    +------+ 192
+//!  +------+ +--------+ +------+    +---------+   +----------+          +------+ 200
+//!  | Slow | | Normal | | Fast |    |  More   |   |  Calib   |          | Back |
+//!  +------+ +--------+ +------+    +---------+   +----------+          +------+ 240
 //! ```
+//!
+//! **Pages.** The bottom row has no room for more buttons at 320×240, so
+//! the fourth button, *More*, turns the status lines under the headline
+//! into a second row: the four saved poses (54×40 each, 74×52 at 480×320)
+//! and Grip in STOP's column, with Calib (half the map's width) and *Back*
+//! in the bottom row. Every button stays at least 54×40 pixels with 8-pixel
+//! gaps, STOP and the headline (which says what the arm does and why a
+//! press was refused) are on both pages. The page changes only when the
+//! user presses More or Back: not after an action (Grip and a pose are used
+//! together: "go to the cup, close, go to the mouth") and never on a timer,
+//! since a page that turned by itself could put a different button under a
+//! finger already on its way (a pose, which moves the arm, where a speed
+//! button was). While a page change is being drawn, only STOP answers.
+//! Saving a pose stays a serial command (`pose save <n>`): a screen save
+//! would overwrite a carer's preset with one mis-aimed press, and there is
+//! no room for a confirmation step that a user with limited hand use could
+//! not also hit by mistake.
 //!
 //! **Panel coordinates** are what the touch pipeline produces from a raw
 //! reading with the calibration (SPEC §2): `(x_p, y_p)` over the *whole* glass,
@@ -50,6 +68,7 @@
 //! starts motion, is hit only inside its own drawn box.
 
 use super::draw::Area;
+use super::model::Page;
 
 /// The guard band between the map and everything else, and between
 /// buttons, pixels (both sizes).
@@ -197,41 +216,100 @@ impl Layout {
         2 * self.s - 2 * GUARD - 2 * self.side_w()
     }
 
-    /// Speed preset button Slow.
+    /// Speed preset button Slow (main page).
     pub const fn slow(&self) -> Area {
         Area::new(0, self.buttons_y(), self.side_w(), self.button_h)
     }
 
-    /// Speed preset button Normal.
+    /// Speed preset button Normal (main page).
     pub const fn normal(&self) -> Area {
         Area::new((self.side_w() + GUARD) as i16, self.buttons_y(), self.normal_w(), self.button_h)
     }
 
-    /// Speed preset button Fast.
+    /// Speed preset button Fast (main page).
     pub const fn fast(&self) -> Area {
         let x = self.side_w() + GUARD + self.normal_w() + GUARD;
         Area::new(x as i16, self.buttons_y(), self.side_w(), self.button_h)
     }
 
-    /// Opens the touch calibration (in STOP's column).
-    pub const fn calibrate(&self) -> Area {
+    /// The page key in STOP's column, bottom row: More on the main page,
+    /// Back on the More page.
+    pub const fn page_key(&self) -> Area {
         Area::new(self.right_x(), self.buttons_y(), self.right_w(), self.button_h)
     }
 
-    /// Pixels no region paints: the guard bands and button gaps (a full
-    /// redraw fills them with the background).
-    pub const fn gaps(&self) -> [Area; 6] {
-        let joints_end = self.joints().bottom();
+    /// Top of the More page's upper row: one guard band above the bottom row.
+    const fn row2_y(&self) -> i16 {
+        self.buttons_y() - (GUARD + self.button_h) as i16
+    }
+
+    /// Width of a pose button: four in the map's width, 8 px apart.
+    const fn pose_w(&self) -> u16 {
+        (2 * self.s - 3 * GUARD) / 4
+    }
+
+    /// Pose button `n` (0..=3 for poses 1–4; larger is clamped to the last)
+    /// on the More page.
+    pub const fn pose(&self, n: u8) -> Area {
+        let i = if n > 3 { 3 } else { n as u16 };
+        Area::new((i * (self.pose_w() + GUARD)) as i16, self.row2_y(), self.pose_w(), self.button_h)
+    }
+
+    /// The Grip button (More page): STOP's column, beside the poses, the
+    /// headline and a guard band between it and STOP.
+    pub const fn grip(&self) -> Area {
+        Area::new(self.right_x(), self.row2_y(), self.right_w(), self.button_h)
+    }
+
+    /// Opens the touch calibration (More page, bottom row, left half of the
+    /// map's width: far from Back).
+    pub const fn calibrate(&self) -> Area {
+        Area::new(0, self.buttons_y(), (2 * self.s - GUARD) / 2, self.button_h)
+    }
+
+    /// Pixels no region of `page` paints: the guard bands and button gaps
+    /// (a full redraw fills them with the background; the main page needs
+    /// six, the rest are empty).
+    pub const fn gaps(&self, page: Page) -> [Area; 9] {
         let by = self.buttons_y();
         let bh = self.button_h;
-        [
-            Area::new((2 * self.s) as i16, 0, GUARD, self.s),
-            Area::new(0, self.s as i16, self.w, GUARD),
-            Area::new(0, joints_end, self.w, (by - joints_end) as u16),
-            Area::new(self.side_w() as i16, by, GUARD, bh),
-            Area::new(self.fast().x - GUARD as i16, by, GUARD, bh),
-            Area::new((2 * self.s) as i16, by, GUARD, bh),
-        ]
+        let col = Area::new((2 * self.s) as i16, by, GUARD, bh);
+        let guard_right = Area::new((2 * self.s) as i16, 0, GUARD, self.s);
+        let below_map = Area::new(0, self.s as i16, self.w, GUARD);
+        let none = Area::new(0, 0, 0, 0);
+        match page {
+            Page::Main => {
+                let joints_end = self.joints().bottom();
+                [
+                    guard_right,
+                    below_map,
+                    Area::new(0, joints_end, self.w, (by - joints_end) as u16),
+                    Area::new(self.side_w() as i16, by, GUARD, bh),
+                    Area::new(self.fast().x - GUARD as i16, by, GUARD, bh),
+                    col,
+                    none,
+                    none,
+                    none,
+                ]
+            }
+            Page::More => {
+                let head_end = self.headline().bottom();
+                let r2 = self.row2_y();
+                let pw = self.pose_w();
+                let cal_end = self.calibrate().right();
+                [
+                    guard_right,
+                    below_map,
+                    Area::new(0, head_end, self.w, (r2 - head_end) as u16),
+                    Area::new(pw as i16, r2, GUARD, bh),
+                    Area::new((2 * pw + GUARD) as i16, r2, GUARD, bh),
+                    Area::new((3 * pw + 2 * GUARD) as i16, r2, GUARD, bh),
+                    Area::new((4 * pw + 3 * GUARD) as i16, r2, self.right_x() as u16 - 4 * pw - 3 * GUARD, bh),
+                    Area::new(0, r2 + bh as i16, self.w, GUARD),
+                    Area::new(cal_end, by, (self.right_x() - cal_end) as u16, bh),
+                ]
+            }
+        }
     }
 
     /// `v` (a length or position on the 320-wide reference screen) scaled to

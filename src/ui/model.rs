@@ -18,6 +18,17 @@ pub enum Refusal {
     Busy,
 }
 
+/// Which set of buttons the screen shows below the headline (see
+/// [`crate::ui::layout`]): STOP is on both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Page {
+    /// The map's status lines and Slow | Normal | Fast | More.
+    #[default]
+    Main,
+    /// The saved poses 1–4 and Grip in a row, Calib and Back below.
+    More,
+}
+
 /// The arm's state as the user should understand it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum UiState {
@@ -74,6 +85,10 @@ pub struct UiModel {
     pub speed: SpeedPreset,
     /// [`warn`] bits.
     pub warnings: u8,
+    /// The button set shown.
+    pub page: Page,
+    /// The gripper is closed or closing (the Grip button then says Open).
+    pub grip_closed: bool,
 }
 
 impl UiModel {
@@ -88,6 +103,8 @@ impl UiModel {
             joints: [f32::NAN; 3],
             speed,
             warnings: 0,
+            page: Page::Main,
+            grip_closed: false,
         }
     }
 }

@@ -13,7 +13,7 @@ use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::Layout;
-use super::model::{warn, Refusal, UiModel, UiState};
+use super::model::{warn, Page, Refusal, UiModel, UiState};
 use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
@@ -42,16 +42,23 @@ impl Redrawn {
     pub const WARN: u16 = 1 << 6;
     /// [`Layout::joints`].
     pub const JOINTS: u16 = 1 << 7;
-    /// The three speed preset buttons.
+    /// The bottom row under the map: the three speed presets (main page) or
+    /// Calib (More page).
     pub const SPEED: u16 = 1 << 8;
-    /// The Calib button.
-    pub const CALIBRATE: u16 = 1 << 9;
+    /// The page key in STOP's column: More or Back.
+    pub const PAGE_KEY: u16 = 1 << 9;
     /// Guard bands and gaps (full redraws only).
     pub const GAPS: u16 = 1 << 10;
     /// The calibration screen (all of it, or the parts that changed).
     pub const CALIBRATION: u16 = 1 << 11;
-    /// A full redraw of the main screen (the map repaint covers the markers).
+    /// The More page's upper row: poses 1–4 and Grip.
+    pub const ROW2: u16 = 1 << 12;
+    /// A full redraw of the main page (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
+    /// A full redraw of the More page: the status lines' place holds the
+    /// upper row.
+    pub const ALL_MORE: u16 =
+        Self::MAP | Self::STOP | Self::HEADLINE | Self::SPEED | Self::PAGE_KEY | Self::GAPS | Self::ROW2;
 
     /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
@@ -73,8 +80,14 @@ pub enum Hit {
     Resume,
     /// A speed preset button.
     Speed(SpeedPreset),
-    /// The Calib button.
+    /// The Calib button (More page).
     Calibrate,
+    /// The page key: More on the main page, Back on the More page.
+    Page,
+    /// Saved pose button `n` (1..=4, More page).
+    Pose(u8),
+    /// The Grip button (More page).
+    Grip,
     /// A point of the map, in workspace coordinates.
     Map {
         /// −1..=1, left → right.
@@ -153,6 +166,8 @@ struct View {
     touch: Option<Mark>,
     target: Option<Mark>,
     speed: SpeedPreset,
+    page: Page,
+    grip_closed: bool,
 }
 
 /// Filled pixels of a `bar_w`-pixel bar and the percentage shown.
@@ -223,6 +238,8 @@ impl View {
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
             speed: m.speed,
+            page: m.page,
+            grip_closed: m.grip_closed,
         }
     }
 
@@ -297,9 +314,10 @@ const S_INFO: u8 = BANDS + 5;
 const S_WARN: u8 = BANDS + 6;
 const S_JOINTS: u8 = BANDS + 7;
 const S_SPEED: u8 = BANDS + 8;
-const S_CALIBRATE: u8 = BANDS + 9;
+const S_KEY: u8 = BANDS + 9;
+const S_ROW2: u8 = BANDS + 10;
 /// Up to four marker boxes (old and new touch and target).
-const S_MARKERS: u8 = BANDS + 10;
+const S_MARKERS: u8 = BANDS + 11;
 const S_END: u8 = S_MARKERS + 4;
 const _: () = assert!(S_END <= 64);
 
@@ -476,18 +494,23 @@ impl Ui {
     fn steps_to(&self, target: &Shown) -> u64 {
         let (old, v) = match (&self.shown, target) {
             (Shown::Main(o), Shown::Main(v)) => (o, v),
-            (_, Shown::Main(_)) => return (1 << (S_CALIBRATE + 1)) - 1,
+            (_, Shown::Main(_)) => return (1 << (S_ROW2 + 1)) - 1,
             _ => return 1,
         };
         let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
-        bit(old.stop_shown != v.stop_shown, S_STOP)
+        let markers = if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 };
+        // A new page: its gaps and everything from the detail line down
+        // (STOP, the headline and the map as usual).
+        let page = if old.page != v.page { (1 << S_GAPS) | ((1 << (S_ROW2 + 1)) - (1 << S_DETAIL)) } else { 0 };
+        page | bit(old.stop_shown != v.stop_shown, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
             | bit(old.detail != v.detail, S_DETAIL)
             | bit(old.zone != v.zone, S_INFO)
             | bit(old.warning != v.warning, S_WARN)
             | bit(old.joints != v.joints, S_JOINTS)
-            | bit(old.speed != v.speed, S_SPEED)
-            | if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 }
+            | bit(old.speed != v.speed && v.page == Page::Main, S_SPEED)
+            | bit(old.grip_closed != v.grip_closed && v.page == Page::More, S_ROW2)
+            | markers
     }
 
     /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
@@ -516,6 +539,11 @@ impl Ui {
     fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
         let lay = &self.layout;
         let ws = lay.ws();
+        // The gaps and everything from the detail line down are new with a
+        // new page.
+        let page_step = k == S_GAPS || (S_DETAIL..=S_ROW2).contains(&k);
+        let old = old.filter(|o| o.page == v.page || !page_step);
+        let main = v.page == Page::Main;
         match k {
             _ if k < BANDS && old.is_none() => {
                 let top = u16::from(k) * BAND_ROWS;
@@ -531,9 +559,7 @@ impl Ui {
                 return Ok(Redrawn::MAP);
             }
             S_GAPS if old.is_none() => {
-                for g in lay.gaps() {
-                    fill(d, g, theme::BG)?;
-                }
+                draw_gaps(d, lay, v.page)?;
                 return Ok(Redrawn::GAPS);
             }
             S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown) => {
@@ -544,7 +570,7 @@ impl Ui {
                 draw_headline(d, lay, v.headline)?;
                 return Ok(Redrawn::HEADLINE);
             }
-            S_DETAIL if old.is_none_or(|o| o.detail != v.detail) => {
+            S_DETAIL if main && old.is_none_or(|o| o.detail != v.detail) => {
                 match (old.map(|o| o.detail), v.detail) {
                     (Some(Detail::Progress { px: a, percent: pa }), Detail::Progress { px: b, percent: pb }) => {
                         update_progress(d, lay, a, b)?;
@@ -556,25 +582,34 @@ impl Ui {
                 }
                 return Ok(Redrawn::DETAIL);
             }
-            S_INFO if old.is_none_or(|o| o.zone != v.zone) => {
+            S_INFO if main && old.is_none_or(|o| o.zone != v.zone) => {
                 draw_info(d, lay, v.zone)?;
                 return Ok(Redrawn::INFO);
             }
-            S_WARN if old.is_none_or(|o| o.warning != v.warning) => {
+            S_WARN if main && old.is_none_or(|o| o.warning != v.warning) => {
                 draw_warning(d, lay, v.warning)?;
                 return Ok(Redrawn::WARN);
             }
-            S_JOINTS if old.is_none_or(|o| o.joints != v.joints) => {
+            S_JOINTS if main && old.is_none_or(|o| o.joints != v.joints) => {
                 draw_joints(d, lay, &v.joints)?;
                 return Ok(Redrawn::JOINTS);
             }
-            S_SPEED if old.is_none_or(|o| o.speed != v.speed) => {
+            S_SPEED if main && old.is_none_or(|o| o.speed != v.speed) => {
                 draw_speed(d, lay, v.speed)?;
                 return Ok(Redrawn::SPEED);
             }
-            S_CALIBRATE if old.is_none() => {
+            S_SPEED if old.is_none() => {
                 button(d, lay.calibrate(), t!("Calib"), &label_style(lay, theme::TEXT, theme::BUTTON))?;
-                return Ok(Redrawn::CALIBRATE);
+                return Ok(Redrawn::SPEED);
+            }
+            S_KEY if old.is_none() => {
+                let label = if main { t!("More") } else { t!("Back") };
+                button(d, lay.page_key(), label, &label_style(lay, theme::TEXT, theme::BUTTON))?;
+                return Ok(Redrawn::PAGE_KEY);
+            }
+            S_ROW2 if !main && old.is_none_or(|o| o.grip_closed != v.grip_closed) => {
+                draw_row2(d, lay, v.grip_closed, old.is_none())?;
+                return Ok(Redrawn::ROW2);
             }
             _ if k >= S_MARKERS => {
                 if let Some(o) = old {
@@ -636,17 +671,34 @@ impl Ui {
         } else if lay.stop_hit().contains(x, y) {
             return Some(Hit::Stop);
         }
-        view?;
+        let view = view?;
         if let Some((x_p, y_p)) = lay.ws_pixel_to_point(x, y) {
             return Some(Hit::Map { x_p, y_p });
         }
-        let buttons = [
-            (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
-            (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
-            (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
-            (lay.calibrate(), Hit::Calibrate),
-        ];
-        buttons.iter().find(|(a, _)| a.contains(x, y)).map(|&(_, h)| h)
+        // A page change being drawn: the glass is part old, part new page,
+        // so no button below the map counts until it is done.
+        if matches!(self.pass, Some(Pass { target: Shown::Main(t), .. }) if t.page != view.page) {
+            return None;
+        }
+        if lay.page_key().contains(x, y) {
+            return Some(Hit::Page);
+        }
+        let find = |buttons: &[(Area, Hit)]| buttons.iter().find(|(a, _)| a.contains(x, y)).map(|&(_, h)| h);
+        match view.page {
+            Page::Main => find(&[
+                (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
+                (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
+                (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
+            ]),
+            Page::More => find(&[
+                (lay.pose(0), Hit::Pose(1)),
+                (lay.pose(1), Hit::Pose(2)),
+                (lay.pose(2), Hit::Pose(3)),
+                (lay.pose(3), Hit::Pose(4)),
+                (lay.grip(), Hit::Grip),
+                (lay.calibrate(), Hit::Calibrate),
+            ]),
+        }
     }
 
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
@@ -671,6 +723,16 @@ impl Ui {
     ) -> Result<Drawn, D::Error> {
         self.run(Shown::Calibration(calibration::view(flow)), d, budget)
     }
+}
+
+/// The guard bands and gaps of `page` (out of line: the nine areas are not
+/// in the frame of the steps that call deeper, the map's bands).
+#[inline(never)]
+fn draw_gaps<D: Canvas>(d: &mut D, lay: &Layout, page: Page) -> Result<(), D::Error> {
+    for g in lay.gaps(page) {
+        fill(d, g, theme::BG)?;
+    }
+    Ok(())
 }
 
 fn draw_stop<D: Canvas>(d: &mut D, lay: &Layout, stop: bool) -> Result<(), D::Error> {
@@ -743,6 +805,20 @@ fn draw_joints<D: Canvas>(d: &mut D, lay: &Layout, joints: &[Option<i16>; 3]) ->
     line.str(t!("   Shoulder ")).deg(joints[1]);
     line.str(t!("   Elbow ")).deg(joints[2]);
     text_box(d, lay.joints(), line.as_bytes(), &SMALL_STYLE)
+}
+
+/// The More page's upper row: poses 1–4 (only when `all`: their labels
+/// never change) and Grip, labelled with what a press does.
+fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, grip_closed: bool, all: bool) -> Result<(), D::Error> {
+    let style = label_style(lay, theme::TEXT, theme::BUTTON);
+    if all {
+        let labels = [t!("1"), t!("2"), t!("3"), t!("4")];
+        for (n, label) in (0u8..).zip(labels) {
+            button(d, lay.pose(n), label, &style)?;
+        }
+    }
+    let grip = if grip_closed { t!("Open") } else { t!("Close") };
+    button(d, lay.grip(), grip, &label_style(lay, theme::WHITE, theme::BUTTON_ON))
 }
 
 fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {

@@ -19,6 +19,11 @@
 //! - `panel noise <σ counts>` / `panel spikes <probability>`
 //! - `touch xy <x_p> <y_p> [force <f>]` / `touch raw <x> <y> [force <f>]`:
 //!   the finger goes down (and stays until `release` or another `touch`).
+//!   `touch button <name> [force <f>]`: on the centre of a button of the
+//!   320×240 screen, read through the default calibration: `stop` (also
+//!   RESUME), `slow`, `normal`, `fast`, `more` / `back` (the page key),
+//!   `grip`, `calib`, `pose1`…`pose4` (the last three and the poses are on
+//!   the More page; on the main page the same place is the status lines).
 //! - `release`
 //! - `run <duration>`; `run_until <state> within <duration>`: runs at least
 //!   one frame (so a line just sent is read), then until the state holds
@@ -492,7 +497,11 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
                 let (x, y) = (a.num()?, a.num()?);
                 Step::TouchRaw(x, y, force(a)?)
             }
-            w => return Err(format!("touch needs xy or raw, got {w:?}")),
+            "button" => {
+                let (x, y) = button_raw(&a.word()?)?;
+                Step::TouchRaw(x, y, force(a)?)
+            }
+            w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
         },
         "release" => Step::Release,
         "run" => Step::Run(a.duration()?),
@@ -1004,6 +1013,27 @@ fn commanded_fk(sim: &Sim, w: &[FrameRecord]) -> Result<Vec<[f64; 3]>, String> {
 
 fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The raw reading of a touch on the centre of the named button (see the
+/// module doc), 320×240 screen, default calibration.
+fn button_raw(name: &str) -> Result<(f64, f64), String> {
+    let lay = touch_arm::ui::Layout::QVGA;
+    let area = match name {
+        "stop" => lay.stop(),
+        "slow" => lay.slow(),
+        "normal" => lay.normal(),
+        "fast" => lay.fast(),
+        "more" | "back" => lay.page_key(),
+        "grip" => lay.grip(),
+        "calib" => lay.calibrate(),
+        "pose1" => lay.pose(0),
+        "pose2" => lay.pose(1),
+        "pose3" => lay.pose(2),
+        "pose4" => lay.pose(3),
+        _ => return Err(format!("unknown button {name:?}")),
+    };
+    crate::firmware::raw_at_centre(&lay, area).ok_or_else(|| format!("button {name:?} has no raw reading"))
 }
 
 #[cfg(test)]
