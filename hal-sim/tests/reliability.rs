@@ -39,7 +39,7 @@ fn the_longest_status_fits_its_line() {
                             lift_centi,
                             commanded: [widest; 3],
                             target: [widest; 3],
-                            pulses: Some([2500; 3]),
+                            pulses: Some([4999; 3]),
                             progress: 100,
                             ts: 30.0,
                             a: Some(AChoice { a: 29.0, kind: AKind::MonotoneLimit }),

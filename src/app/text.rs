@@ -4,9 +4,8 @@
 use crate::math::units::round_i32;
 
 /// Longest line the app writes, terminator included: the longest `status`
-/// (every optional field, the widest values and the longest words; tested):
-/// the whole transmit ring since the gripper's fields joined it.
-pub const LINE_CAP: usize = 256;
+/// (every optional field, the widest values and the longest words; tested).
+pub const LINE_CAP: usize = 272;
 const _: () = assert!(LINE_CAP <= crate::protocol::rx_loss::TX_BUFFER);
 
 /// One output line (the serial replies and logs).

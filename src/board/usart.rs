@@ -33,13 +33,13 @@ const UBRR_115200_U2X: u16 = 16;
 /// One 10-bit frame at 117 647 baud is 85 µs.
 const FRAME_US: u32 = 90;
 
-/// A byte ring of `N` (a power of two up to 256) with free-running `u8`
-/// indices and a fill count, shared between an interrupt and the main code.
+/// A byte ring of `N` (a power of two) with a free-running `u16` head and
+/// a fill count, shared between an interrupt and the main code.
 /// Cells inside the interrupt mutex: no RefCell, so no borrow panic path.
 struct Ring<const N: usize> {
     buf: [Cell<u8>; N],
     /// Next slot to write.
-    head: Cell<u8>,
+    head: Cell<u16>,
     /// Bytes held.
     len: Cell<u16>,
 }
@@ -91,8 +91,8 @@ impl<const N: usize> Ring<N> {
     }
 }
 
-const _: () = assert!(RX_BUFFER.is_power_of_two() && RX_BUFFER <= 256);
-const _: () = assert!(TX_BUFFER.is_power_of_two() && TX_BUFFER <= 256);
+const _: () = assert!(RX_BUFFER.is_power_of_two() && RX_BUFFER <= 1 << 15);
+const _: () = assert!(TX_BUFFER.is_power_of_two() && TX_BUFFER <= 1 << 15);
 
 /// The receive side: the ring and the line count of what it dropped.
 struct Rx {

@@ -11,8 +11,9 @@ use crate::seam::RxLoss;
 /// terminator, 11 ms of continuous input at 115200 baud.
 pub const RX_BUFFER: usize = 128;
 /// Transmit buffer of USART0, bytes: room for the longest reply
-/// (`app::text::LINE_CAP`).
-pub const TX_BUFFER: usize = 256;
+/// (`app::text::LINE_CAP`: the `status` with every field of the gripper,
+/// the path and lift settings grew past 256) and a telemetry line beside it.
+pub const TX_BUFFER: usize = 512;
 /// Bytes one 20 ms frame brings or sends at 115200 baud 8N1 (10 bits each).
 pub const BYTES_PER_FRAME: usize = 230;
 
