@@ -124,6 +124,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
             warnings: warn::DEFAULT_SETTINGS,
             page: Page::Main,
             grip_closed: false,
+            path_line: false,
+            lift: false,
         };
         assert_screen(&s, &host_screen(lay, &model), &format!("lcd_{name}_after_touch"));
     }
@@ -149,6 +151,8 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
         warnings: warn::DEFAULT_SETTINGS,
         page: Page::Main,
         grip_closed: false,
+        path_line: false,
+        lift: false,
     };
     assert_screen(&s, &host_screen(Layout::QVGA, &idle), "lcd_unknown_idle");
     // Fully usable over serial.
@@ -187,7 +191,9 @@ fn ts_s(line: &str) -> f64 {
 /// closes the gripper through `grip close`'s path (same first-grip plan at
 /// the slow preset, ends on 1500 µs) and its label turns to Open; pose 1
 /// (saved over serial at home) brings the arm and the gripper back exactly
-/// as `pose go 1`; Back restores the main page.
+/// as `pose go 1`; Line and Lift are `path line|joint` and `lift 0.20|off`
+/// (refused together) and drawn on as the host draws them; Back restores
+/// the main page.
 #[test]
 fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
     for chip in [Chip::Ili9341, Chip::Ili9486] {
@@ -212,6 +218,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             warnings: warn::DEFAULT_SETTINGS,
             page: Page::More,
             grip_closed: false,
+            path_line: false,
+            lift: false,
         };
         assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more"));
 
@@ -226,6 +234,20 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         assert!(grip.iter().all(|t| (1200..=3000).contains(t)), "{name}: inside its window");
         more.grip_closed = true;
         assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more_closed"));
+
+        // The toggles: `path line|joint` and `lift 0.20|off`, refused
+        // together as over serial, each drawn highlighted while on.
+        assert_eq!(press(&mut s, &lay, lay.line_toggle()), ["info screen path line"], "{name}");
+        more.path_line = true;
+        assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more_line"));
+        let lines = press(&mut s, &lay, lay.lift_toggle());
+        assert_eq!(lines, ["err screen lift lift and path line exclusive"], "{name}");
+        assert_eq!(press(&mut s, &lay, lay.line_toggle()), ["info screen path joint"], "{name}");
+        assert_eq!(press(&mut s, &lay, lay.lift_toggle()), ["info screen lift 0.20"], "{name}");
+        more.path_line = false;
+        more.lift = true;
+        assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more_lift"));
+        assert_eq!(press(&mut s, &lay, lay.lift_toggle()), ["info screen lift off"], "{name}");
 
         // Pose 1: the arm home and the gripper open again.
         let lines = press(&mut s, &lay, lay.pose(0));
@@ -246,6 +268,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         let main = UiModel {
             page: Page::Main,
             grip_closed: false,
+            path_line: false,
+            lift: false,
             joints: [90.0f32, 90.0, -90.0].map(f32::to_radians),
             ..more
         };

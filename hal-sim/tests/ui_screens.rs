@@ -86,6 +86,8 @@ fn moving_model() -> UiModel {
         warnings: 0,
         page: Page::Main,
         grip_closed: false,
+        path_line: false,
+        lift: false,
     }
 }
 
@@ -246,7 +248,8 @@ fn check_mappings_and_tiling(lay: &Layout) {
                 lay.fast(),
             ]),
             Page::More => {
-                regions.extend([lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate()])
+                regions.extend([lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate()]);
+                regions.extend([lay.line_toggle(), lay.lift_toggle()]);
             }
         }
         regions.extend(lay.gaps(page));
@@ -259,7 +262,17 @@ fn check_mappings_and_tiling(lay: &Layout) {
     }
     // The More page's buttons: 8-px gaps between all of them and towards the
     // map's column, none beside the map or STOP, none under 54×40.
-    let buttons = [lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate(), lay.page_key()];
+    let buttons = [
+        lay.pose(0),
+        lay.pose(1),
+        lay.pose(2),
+        lay.pose(3),
+        lay.grip(),
+        lay.calibrate(),
+        lay.line_toggle(),
+        lay.lift_toggle(),
+        lay.page_key(),
+    ];
     for (i, a) in buttons.iter().enumerate() {
         assert!(a.w >= 54 && a.h >= 40, "{a:?} is comfortably large");
         assert!(a.y >= lay.headline().bottom(), "{a:?} is below the headline, away from the map and STOP");
@@ -296,6 +309,8 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
         (L.pose(0), big.pose(0)),
         (L.pose(3), big.pose(3)),
         (L.grip(), big.grip()),
+        (L.line_toggle(), big.line_toggle()),
+        (L.lift_toggle(), big.lift_toggle()),
     ] {
         assert!(b.w > a.w && b.h > a.h, "{a:?} -> {b:?}");
     }
@@ -303,6 +318,12 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
     assert_eq!(big.gaps(Page::Main)[0].w, 8);
     assert_eq!(big.gaps(Page::Main)[1].h, 8);
     assert_eq!((big.pose(0).w, big.pose(0).h), (74, 52));
+    // The toggles fill the room between Calib and Back: 54 px wide at
+    // 320×240 (the smallest button), 74 at 480×320.
+    assert_eq!(L.line_toggle(), Area::new(124, 200, 54, 40));
+    assert_eq!(L.lift_toggle(), Area::new(186, 200, 54, 40));
+    assert_eq!(big.line_toggle(), Area::new(164, 268, 74, 52));
+    assert_eq!(big.lift_toggle(), Area::new(246, 268, 74, 52));
     // STOP's guard band: beside and below STOP, not beside the map.
     assert_eq!(big.stop_hit(), Area::new(320, 0, 160, 168));
     // The labels fit their buttons (3× text: 18 px per character).
@@ -317,6 +338,8 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
             (lay.page_key(), "Back"),
             (lay.grip(), "Close"),
             (lay.pose(0), "1"),
+            (lay.line_toggle(), "Line"),
+            (lay.lift_toggle(), "Lift"),
         ] {
             let ink = cw * label.len() as u16 - gap;
             assert!(ink <= a.w, "{label}: {ink} px in {}", a.w);
@@ -694,7 +717,8 @@ fn partial_redraws_write_only_the_changed_regions() {
 
 /// The More page on `lay`: opened from the main page, it repaints what lies
 /// under the map (the map is untouched) and leaves the same picture as a
-/// full draw; its buttons hit as drawn; the Grip label follows the gripper;
+/// full draw; its buttons hit as drawn; the Grip label follows the gripper
+/// and each toggle's highlight its setting, repainting only that button;
 /// Back restores the main page.
 fn more_page(lay: Layout, name: &str) {
     let mut ui = Ui::with_layout(&CONFIG, lay);
@@ -709,12 +733,14 @@ fn more_page(lay: Layout, name: &str) {
     ui.draw(&main, &mut fb).unwrap();
     let mut more = main;
     more.page = Page::More;
+    // `path line` set: the Line toggle shows on, Lift off.
+    more.path_line = true;
     // Before the More page is on the glass, its buttons do not answer (the
     // main page's do).
     assert_eq!(ui.hit(lay.pose(0).x + 4, lay.pose(0).y + 4), None, "the main page's status lines");
     let mut c = Counting::new(&mut fb);
     let r = ui.draw(&more, &mut c).unwrap();
-    assert_eq!(r, Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::GAPS | Redrawn::ROW2));
+    assert_eq!(r, Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::GAPS | Redrawn::ROW2 | Redrawn::TOGGLES));
     // The map, STOP and the headline stay: only the guard bands and what
     // lies under the headline are painted.
     let head_end = lay.headline().bottom();
@@ -743,6 +769,11 @@ fn more_page(lay: Layout, name: &str) {
         let (x, y) = ink(lay.pose(n), label, &key_style);
         assert_text_at(&fb, label.as_bytes(), x, y, &key_style);
     }
+    // Line highlighted (on), Lift plain (off).
+    let (x, y) = ink(lay.line_toggle(), "Line", &style);
+    assert_text_at(&fb, b"Line", x, y, &style);
+    let (x, y) = ink(lay.lift_toggle(), "Lift", &key_style);
+    assert_text_at(&fb, b"Lift", x, y, &key_style);
     // Hits follow the More page.
     let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
     for (a, hit) in [
@@ -752,14 +783,16 @@ fn more_page(lay: Layout, name: &str) {
         (lay.pose(3), Hit::Pose(4)),
         (lay.grip(), Hit::Grip),
         (lay.calibrate(), Hit::Calibrate),
+        (lay.line_toggle(), Hit::Line),
+        (lay.lift_toggle(), Hit::Lift),
         (lay.page_key(), Hit::Page),
         (lay.stop(), Hit::Stop),
     ] {
         let (x, y) = centre(a);
         assert_eq!(ui.hit(x, y), Some(hit), "{name}: {a:?}");
     }
-    // Gaps between the poses, the band under them, the empty bottom row
-    // right of Calib: nothing.
+    // Gaps between the poses, the band under them, the gaps between Calib,
+    // the toggles and Back: nothing.
     for g in lay.gaps(Page::More).iter().skip(2).filter(|g| !g.is_empty()) {
         let (x, y) = centre(*g);
         assert_eq!(ui.hit(x, y), None, "{name}: gap {g:?}");
@@ -773,6 +806,25 @@ fn more_page(lay: Layout, name: &str) {
     let (gx, gy) = ink(lay.grip(), "Open", &style);
     assert_text_at(&fb, b"Open", gx, gy, &style);
     assert!(fb == full_of(&closed));
+    // Line off: only Line is repainted, plain; then Lift on: only Lift,
+    // highlighted.
+    let mut joint = closed;
+    joint.path_line = false;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&joint, &mut c).unwrap(), Redrawn(Redrawn::TOGGLES));
+    assert_only_in(&c, &[lay.line_toggle()], "line toggle");
+    let (x, y) = ink(lay.line_toggle(), "Line", &key_style);
+    assert_text_at(&fb, b"Line", x, y, &key_style);
+    assert!(fb == full_of(&joint), "{name}: line off");
+    let mut lifted = joint;
+    lifted.lift = true;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&lifted, &mut c).unwrap(), Redrawn(Redrawn::TOGGLES));
+    assert_only_in(&c, &[lay.lift_toggle()], "lift toggle");
+    let (x, y) = ink(lay.lift_toggle(), "Lift", &style);
+    assert_text_at(&fb, b"Lift", x, y, &style);
+    assert!(fb == full_of(&lifted), "{name}: lift on");
+    let closed = lifted;
     // Progress and joints are not on the More page: no repaint for them.
     let mut later = closed;
     later.state = UiState::Moving { progress: 0.9 };
@@ -790,7 +842,7 @@ fn more_page(lay: Layout, name: &str) {
 }
 
 #[test]
-fn the_more_page_holds_the_poses_grip_and_calib_on_both_sizes() {
+fn the_more_page_holds_the_poses_grip_calib_and_toggles_on_both_sizes() {
     more_page(Layout::QVGA, "more_page");
     more_page(Layout::HVGA, "hvga_more_page");
 }
@@ -842,6 +894,11 @@ fn random_redraws(lay: Layout, steps: usize) {
             7 if rng.below(3) == 0 => {
                 m.page = if m.page == Page::Main { Page::More } else { Page::Main };
                 m.grip_closed = rng.below(2) == 0;
+            }
+            7 => {
+                // Line and Lift, on either page (the main page ignores them).
+                m.path_line = rng.below(2) == 0;
+                m.lift = !m.path_line && rng.below(2) == 0;
             }
             6 => {
                 m.condition = [None, Some(Condition::C1), Some(Condition::C4)][rng.below(3) as usize];

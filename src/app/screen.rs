@@ -1,12 +1,13 @@
 //! The touch screen, when the app runs one (`AppParams::screen`): a confirmed
 //! touch is routed by what the screen shows (the map sends the arm, STOP and
 //! RESUME latch, the speed buttons set the preset, More and Back turn the
-//! page, a pose button is `pose go <n>` and Grip `grip open|close` through
-//! the same app paths as the serial commands, Calibrate starts the crosshair
+//! page, a pose button is `pose go <n>`, Grip `grip open|close`, the Line
+//! toggle `path line|joint` and the Lift toggle `lift 0.20|off` through the
+//! same app paths as the serial commands, Calibrate starts the crosshair
 //! flow), and the app draws its state through the UI after each frame.
 //! Without a screen the whole panel is the workspace, as in the paper.
 
-use crate::config::settings::SpeedPreset;
+use crate::config::settings::{PathMode, SpeedPreset};
 use crate::config::store;
 use crate::protocol::command::PoseCmd;
 use crate::seam::SerialPort;
@@ -56,7 +57,17 @@ enum ScreenEvent {
     /// A pose button refused at once (a refusal, or an empty slot: `None`).
     Pose(u8, Option<Refusal>),
     Grip(Refusal),
+    /// The Line toggle: the mode set, or the refusal of `path line`.
+    Path(Result<PathMode, Refusal>),
+    /// The Lift toggle: the height set (`None`: off), or the refusal.
+    Lift(Result<Option<u8>, Refusal>),
 }
+
+/// The height the Lift toggle sets, hundredths of a workspace unit: a fixed
+/// 0.20 (the config keeps no height while the lift is off, and a height the
+/// screen chose by itself would be one nobody set). Other heights are set
+/// over serial (`lift <h>`); the toggle then shows on and turns it off.
+pub const SCREEN_LIFT_CENTI: u8 = 20;
 
 /// The arm's reach drawn on the map: the IK annulus divided by the scale.
 pub(super) fn reach(l2: f32, l3: f32, k: f32) -> UiConfig {
@@ -154,8 +165,25 @@ impl App {
                     ScreenEvent::Grip(e)
                 }
             },
+            Some(Hit::Line) => self.screen_toggle(false),
+            Some(Hit::Lift) => self.screen_toggle(true),
             // Guard bands and gaps between buttons: deliberately nothing.
             None => ScreenEvent::Nothing,
+        }
+    }
+
+    /// The Line toggle (`lift` false) or the Lift toggle: exactly `path
+    /// line|joint` or `lift 0.20|off` (same refusal when the other is on).
+    /// Out of line: the touch's deepest path (a map point's plan) does not
+    /// carry its frame.
+    #[inline(never)]
+    fn screen_toggle(&mut self, lift: bool) -> ScreenEvent {
+        if lift {
+            let h = if self.config.lift_centi.is_some() { None } else { Some(SCREEN_LIFT_CENTI) };
+            ScreenEvent::Lift(self.set_lift(h).map(|()| h))
+        } else {
+            let m = if self.config.path == PathMode::Line { PathMode::Joint } else { PathMode::Line };
+            ScreenEvent::Path(self.set_path(m).map(|()| m))
         }
     }
 
@@ -238,6 +266,21 @@ impl App {
             ScreenEvent::Pose(n, Some(r)) => return self.report_screen_pose(serial, n, Err(r)),
             ScreenEvent::Grip(r) => {
                 line.str(t!("err screen grip")).word(r.reason());
+            }
+            ScreenEvent::Path(Ok(m)) => {
+                line.str(t!("info screen path")).word(m.name());
+            }
+            ScreenEvent::Path(Err(r)) => {
+                line.str(t!("err screen path line")).word(r.reason());
+            }
+            ScreenEvent::Lift(Ok(Some(h))) => {
+                line.str(t!("info screen lift ")).centi(i32::from(h));
+            }
+            ScreenEvent::Lift(Ok(None)) => {
+                line.str(t!("info screen lift off"));
+            }
+            ScreenEvent::Lift(Err(r)) => {
+                line.str(t!("err screen lift")).word(r.reason());
             }
         }
         self.emit(serial, &mut line);
@@ -348,6 +391,8 @@ impl App {
             warnings,
             page: self.screen.page,
             grip_closed: self.grip_closed(),
+            path_line: self.config.path == PathMode::Line,
+            lift: self.config.lift_centi.is_some(),
         }
     }
 }

@@ -38,13 +38,16 @@ fn moving(progress: f32) -> UiModel {
         warnings: 0,
         page: Page::Main,
         grip_closed: false,
+        path_line: false,
+        lift: false,
     }
 }
 
 /// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
 /// a refused touch, STOP, a preset change with a warning, two calibration
-/// screens, a full redraw back on the main screen, the More page (poses and
-/// Grip) and its Grip button turning to Open, and the main page again.
+/// screens, a full redraw back on the main screen, the More page (poses,
+/// Grip, Line on) and its Grip button turning to Open with Line off and Lift
+/// on, and the main page again.
 pub fn screen(k: u8, lay: &Layout) -> Screen {
     let mut m = moving(0.0);
     match k {
@@ -82,6 +85,10 @@ pub fn screen(k: u8, lay: &Layout) -> Screen {
             if k == 16 || k == 17 {
                 m.page = Page::More;
                 m.grip_closed = k == 17;
+                // Both toggles in both states: a full draw, then two toggle
+                // repaints.
+                m.path_line = k == 16;
+                m.lift = k == 17;
             }
         }
     }

@@ -21,16 +21,18 @@
 //!  detail: hint (2×) or progress bar   +----+ +----+ +----+ +----+    +------+ 152
 //!  zone + direction (1×) | warning     | 1  | | 2  | | 3  | | 4  |    | Grip |
 //!  joints (1×)                   196   +----+ +----+ +----+ +----+    +------+ 192
-//!  +------+ +--------+ +------+    +---------+   +----------+          +------+ 200
-//!  | Slow | | Normal | | Fast |    |  More   |   |  Calib   |          | Back |
-//!  +------+ +--------+ +------+    +---------+   +----------+          +------+ 240
+//!  +------+ +--------+ +------+    +---------+ +--------+ +----+ +----+ +------+ 200
+//!  | Slow | | Normal | | Fast |    |  More   | | Calib  | |Line| |Lift| | Back |
+//!  +------+ +--------+ +------+    +---------+ +--------+ +----+ +----+ +------+ 240
 //! ```
 //!
 //! **Pages.** The bottom row has no room for more buttons at 320×240, so
 //! the fourth button, *More*, turns the status lines under the headline
 //! into a second row: the four saved poses (54×40 each, 74×52 at 480×320)
-//! and Grip in STOP's column, with Calib (half the map's width) and *Back*
-//! in the bottom row. Every button stays at least 54×40 pixels with 8-pixel
+//! and Grip in STOP's column, with Calib (half the map's width), the two
+//! toggles *Line* (`path line` ↔ `path joint`) and *Lift* (`lift 0.20` ↔
+//! `lift off`), each highlighted while on, and *Back* in the bottom row.
+//! Every button stays at least 54×40 pixels with 8-pixel
 //! gaps, STOP and the headline (which says what the arm does and why a
 //! press was refused) are on both pages. The page changes only when the
 //! user presses More or Back: not after an action (Grip and a pose are used
@@ -267,10 +269,28 @@ impl Layout {
         Area::new(0, self.buttons_y(), (2 * self.s - GUARD) / 2, self.button_h)
     }
 
+    /// Width of a toggle: two share the room between Calib and Back, 8 px
+    /// from each other and from both (54 px at 320×240, 74 at 480×320).
+    const fn toggle_w(&self) -> u16 {
+        (self.right_x() as u16 - self.calibrate().right() as u16 - 3 * GUARD) / 2
+    }
+
+    /// The Line toggle (More page, bottom row right of Calib): `path line`
+    /// when highlighted, `path joint` otherwise.
+    pub const fn line_toggle(&self) -> Area {
+        Area::new(self.calibrate().right() + GUARD as i16, self.buttons_y(), self.toggle_w(), self.button_h)
+    }
+
+    /// The Lift toggle (More page, bottom row left of Back): a lift set
+    /// when highlighted, `lift off` otherwise.
+    pub const fn lift_toggle(&self) -> Area {
+        Area::new(self.line_toggle().right() + GUARD as i16, self.buttons_y(), self.toggle_w(), self.button_h)
+    }
+
     /// Pixels no region of `page` paints: the guard bands and button gaps
     /// (a full redraw fills them with the background; the main page needs
     /// six, the rest are empty).
-    pub const fn gaps(&self, page: Page) -> [Area; 9] {
+    pub const fn gaps(&self, page: Page) -> [Area; 11] {
         let by = self.buttons_y();
         let bh = self.button_h;
         let col = Area::new((2 * self.s) as i16, by, GUARD, bh);
@@ -290,6 +310,8 @@ impl Layout {
                     none,
                     none,
                     none,
+                    none,
+                    none,
                 ]
             }
             Page::More => {
@@ -297,6 +319,8 @@ impl Layout {
                 let r2 = self.row2_y();
                 let pw = self.pose_w();
                 let cal_end = self.calibrate().right();
+                let line_end = self.line_toggle().right();
+                let lift_end = self.lift_toggle().right();
                 [
                     guard_right,
                     below_map,
@@ -306,7 +330,9 @@ impl Layout {
                     Area::new((3 * pw + 2 * GUARD) as i16, r2, GUARD, bh),
                     Area::new((4 * pw + 3 * GUARD) as i16, r2, self.right_x() as u16 - 4 * pw - 3 * GUARD, bh),
                     Area::new(0, r2 + bh as i16, self.w, GUARD),
-                    Area::new(cal_end, by, (self.right_x() - cal_end) as u16, bh),
+                    Area::new(cal_end, by, GUARD, bh),
+                    Area::new(line_end, by, GUARD, bh),
+                    Area::new(lift_end, by, (self.right_x() - lift_end) as u16, bh),
                 ]
             }
         }

@@ -25,7 +25,8 @@ pub enum Page {
     /// The map's status lines and Slow | Normal | Fast | More.
     #[default]
     Main,
-    /// The saved poses 1–4 and Grip in a row, Calib and Back below.
+    /// The saved poses 1–4 and Grip in a row; Calib, the Line and Lift
+    /// toggles and Back below.
     More,
 }
 
@@ -89,6 +90,11 @@ pub struct UiModel {
     pub page: Page,
     /// The gripper is closed or closing (the Grip button then says Open).
     pub grip_closed: bool,
+    /// Targets are reached along a straight line (`path line`): the Line
+    /// toggle shown on.
+    pub path_line: bool,
+    /// Joint moves pass a via pose (`lift <h>`): the Lift toggle shown on.
+    pub lift: bool,
 }
 
 impl UiModel {
@@ -105,6 +111,8 @@ impl UiModel {
             warnings: 0,
             page: Page::Main,
             grip_closed: false,
+            path_line: false,
+            lift: false,
         }
     }
 }

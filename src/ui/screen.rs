@@ -53,12 +53,20 @@ impl Redrawn {
     pub const CALIBRATION: u16 = 1 << 11;
     /// The More page's upper row: poses 1–4 and Grip.
     pub const ROW2: u16 = 1 << 12;
+    /// The More page's toggles Line and Lift (only the one that changed).
+    pub const TOGGLES: u16 = 1 << 13;
     /// A full redraw of the main page (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
     /// A full redraw of the More page: the status lines' place holds the
     /// upper row.
-    pub const ALL_MORE: u16 =
-        Self::MAP | Self::STOP | Self::HEADLINE | Self::SPEED | Self::PAGE_KEY | Self::GAPS | Self::ROW2;
+    pub const ALL_MORE: u16 = Self::MAP
+        | Self::STOP
+        | Self::HEADLINE
+        | Self::SPEED
+        | Self::PAGE_KEY
+        | Self::GAPS
+        | Self::ROW2
+        | Self::TOGGLES;
 
     /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
@@ -88,6 +96,10 @@ pub enum Hit {
     Pose(u8),
     /// The Grip button (More page).
     Grip,
+    /// The Line toggle (More page): `path line` ↔ `path joint`.
+    Line,
+    /// The Lift toggle (More page): a lift ↔ `lift off`.
+    Lift,
     /// A point of the map, in workspace coordinates.
     Map {
         /// −1..=1, left → right.
@@ -167,8 +179,15 @@ struct View {
     target: Option<Mark>,
     speed: SpeedPreset,
     page: Page,
-    grip_closed: bool,
+    /// The More page's states, [`GRIP_CLOSED`] | [`PATH_LINE`] | [`LIFT`]:
+    /// one byte, since the renderer holds two views (what is shown and the
+    /// redraw's target) in the app's RAM.
+    more: u8,
 }
+
+const GRIP_CLOSED: u8 = 1 << 0;
+const PATH_LINE: u8 = 1 << 1;
+const LIFT: u8 = 1 << 2;
 
 /// Filled pixels of a `bar_w`-pixel bar and the percentage shown.
 fn progress_of(p: f32, bar_w: u16) -> (u16, u8) {
@@ -239,7 +258,9 @@ impl View {
             target: mark(m.target, MarkKind::Target),
             speed: m.speed,
             page: m.page,
-            grip_closed: m.grip_closed,
+            more: if m.grip_closed { GRIP_CLOSED } else { 0 }
+                | if m.path_line { PATH_LINE } else { 0 }
+                | if m.lift { LIFT } else { 0 },
         }
     }
 
@@ -316,8 +337,9 @@ const S_JOINTS: u8 = BANDS + 7;
 const S_SPEED: u8 = BANDS + 8;
 const S_KEY: u8 = BANDS + 9;
 const S_ROW2: u8 = BANDS + 10;
+const S_TOGGLES: u8 = BANDS + 11;
 /// Up to four marker boxes (old and new touch and target).
-const S_MARKERS: u8 = BANDS + 11;
+const S_MARKERS: u8 = BANDS + 12;
 const S_END: u8 = S_MARKERS + 4;
 const _: () = assert!(S_END <= 64);
 
@@ -494,14 +516,15 @@ impl Ui {
     fn steps_to(&self, target: &Shown) -> u64 {
         let (old, v) = match (&self.shown, target) {
             (Shown::Main(o), Shown::Main(v)) => (o, v),
-            (_, Shown::Main(_)) => return (1 << (S_ROW2 + 1)) - 1,
+            (_, Shown::Main(_)) => return (1 << (S_TOGGLES + 1)) - 1,
             _ => return 1,
         };
         let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
         let markers = if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 };
         // A new page: its gaps and everything from the detail line down
         // (STOP, the headline and the map as usual).
-        let page = if old.page != v.page { (1 << S_GAPS) | ((1 << (S_ROW2 + 1)) - (1 << S_DETAIL)) } else { 0 };
+        let page = if old.page != v.page { (1 << S_GAPS) | ((1 << (S_TOGGLES + 1)) - (1 << S_DETAIL)) } else { 0 };
+        let more = old.more ^ v.more;
         page | bit(old.stop_shown != v.stop_shown, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
             | bit(old.detail != v.detail, S_DETAIL)
@@ -509,7 +532,8 @@ impl Ui {
             | bit(old.warning != v.warning, S_WARN)
             | bit(old.joints != v.joints, S_JOINTS)
             | bit(old.speed != v.speed && v.page == Page::Main, S_SPEED)
-            | bit(old.grip_closed != v.grip_closed && v.page == Page::More, S_ROW2)
+            | bit(more & GRIP_CLOSED != 0 && v.page == Page::More, S_ROW2)
+            | bit(more & (PATH_LINE | LIFT) != 0 && v.page == Page::More, S_TOGGLES)
             | markers
     }
 
@@ -541,7 +565,7 @@ impl Ui {
         let ws = lay.ws();
         // The gaps and everything from the detail line down are new with a
         // new page.
-        let page_step = k == S_GAPS || (S_DETAIL..=S_ROW2).contains(&k);
+        let page_step = k == S_GAPS || (S_DETAIL..=S_TOGGLES).contains(&k);
         let old = old.filter(|o| o.page == v.page || !page_step);
         let main = v.page == Page::Main;
         match k {
@@ -607,9 +631,21 @@ impl Ui {
                 button(d, lay.page_key(), label, &label_style(lay, theme::TEXT, theme::BUTTON))?;
                 return Ok(Redrawn::PAGE_KEY);
             }
-            S_ROW2 if !main && old.is_none_or(|o| o.grip_closed != v.grip_closed) => {
-                draw_row2(d, lay, v.grip_closed, old.is_none())?;
+            S_ROW2 if !main && old.is_none_or(|o| (o.more ^ v.more) & GRIP_CLOSED != 0) => {
+                draw_row2(d, lay, v.more & GRIP_CLOSED != 0, old.is_none())?;
                 return Ok(Redrawn::ROW2);
+            }
+            S_TOGGLES if !main => {
+                // Only a toggle whose state changed (both in a full draw).
+                let changed = old.map_or(PATH_LINE | LIFT, |o| o.more ^ v.more);
+                let (line, lift) = (changed & PATH_LINE != 0, changed & LIFT != 0);
+                if line {
+                    draw_toggle(d, lay.line_toggle(), t!("Line"), v.more & PATH_LINE != 0, lay)?;
+                }
+                if lift {
+                    draw_toggle(d, lay.lift_toggle(), t!("Lift"), v.more & LIFT != 0, lay)?;
+                }
+                return Ok(if line || lift { Redrawn::TOGGLES } else { 0 });
             }
             _ if k >= S_MARKERS => {
                 if let Some(o) = old {
@@ -697,6 +733,8 @@ impl Ui {
                 (lay.pose(3), Hit::Pose(4)),
                 (lay.grip(), Hit::Grip),
                 (lay.calibrate(), Hit::Calibrate),
+                (lay.line_toggle(), Hit::Line),
+                (lay.lift_toggle(), Hit::Lift),
             ]),
         }
     }
@@ -819,6 +857,17 @@ fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, grip_closed: bool, all: bool) -
     }
     let grip = if grip_closed { t!("Open") } else { t!("Close") };
     button(d, lay.grip(), grip, &label_style(lay, theme::WHITE, theme::BUTTON_ON))
+}
+
+/// A toggle of the More page: highlighted while on, as the speed buttons
+/// show the preset.
+fn draw_toggle<D: Canvas>(d: &mut D, a: Area, label: Text, on: bool, lay: &Layout) -> Result<(), D::Error> {
+    let style = if on {
+        label_style(lay, theme::WHITE, theme::BUTTON_ON)
+    } else {
+        label_style(lay, theme::TEXT, theme::BUTTON)
+    };
+    button(d, a, label, &style)
 }
 
 fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {

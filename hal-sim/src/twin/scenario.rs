@@ -22,8 +22,9 @@
 //!   `touch button <name> [force <f>]`: on the centre of a button of the
 //!   320×240 screen, read through the default calibration: `stop` (also
 //!   RESUME), `slow`, `normal`, `fast`, `more` / `back` (the page key),
-//!   `grip`, `calib`, `pose1`…`pose4` (the last three and the poses are on
-//!   the More page; on the main page the same place is the status lines).
+//!   `grip`, `calib`, `line`, `lift`, `pose1`…`pose4` (the last five and
+//!   the poses are on the More page; on the main page the same place is the
+//!   status lines or Slow | Normal | Fast).
 //! - `release`
 //! - `run <duration>`; `run_until <state> within <duration>`: runs at least
 //!   one frame (so a line just sent is read), then until the state holds
@@ -1027,6 +1028,8 @@ fn button_raw(name: &str) -> Result<(f64, f64), String> {
         "more" | "back" => lay.page_key(),
         "grip" => lay.grip(),
         "calib" => lay.calibrate(),
+        "line" => lay.line_toggle(),
+        "lift" => lay.lift_toggle(),
         "pose1" => lay.pose(0),
         "pose2" => lay.pose(1),
         "pose3" => lay.pose(2),
