@@ -167,7 +167,31 @@ pub struct AdcCount {
     pub last_cycle: u64,
 }
 
+/// The `ts_ms` of a move reply (`ok goto … ts_ms 1234 …`), in seconds.
+pub fn reply_ts(line: &str) -> Result<f64, String> {
+    line.split_whitespace()
+        .skip_while(|w| *w != "ts_ms")
+        .nth(1)
+        .and_then(|v| v.parse::<f64>().ok())
+        .map(|ms| ms / 1000.0)
+        .ok_or_else(|| format!("no ts_ms in {line:?}"))
+}
+
 impl Session {
+    /// The product firmware homed, its slow first move after power-up done
+    /// (to 90° 100° −100°), at the fast preset: where the motion tests start.
+    pub fn start_moved_fast(seed: u64) -> Result<Session, String> {
+        let mut s = Session::start(&default_elf(), crate::panel::PanelWiring::A, seed)?;
+        s.run_for(1.5)?;
+        let fast = s.command("speed fast")?;
+        if fast != "ok speed fast" {
+            return Err(format!("speed fast: {fast}"));
+        }
+        let reply = s.command("goto 90 100 -100")?;
+        s.run_for(reply_ts(&reply)? + 0.2)?;
+        Ok(s)
+    }
+
     /// Loads the ELF with the panel wired as `wiring` (the firmware's wiring)
     /// and an ILI9341 on the shield.
     pub fn start(elf: &Path, wiring: crate::panel::PanelWiring, seed: u64) -> Result<Session, String> {

@@ -6,7 +6,6 @@
 //! drops it to zero.
 
 use hal_sim::firmware::{self, Session};
-use hal_sim::panel::PanelWiring;
 
 /// Frame period of the firmware (one servo PWM period), s.
 const FRAME_S: f64 = 0.02;
@@ -18,19 +17,12 @@ const ACCEL_RAD_S2: f64 = 1000.0 * std::f64::consts::PI / 180.0;
 
 /// The firmware homed, its slow first move done, at the fast preset.
 fn start() -> Session {
-    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 5).expect("firmware ELF (cargo avr)");
-    s.run_for(1.5).unwrap();
-    assert_eq!(s.command("speed fast").unwrap(), "ok speed fast");
-    let reply = s.command("goto 90 100 -100").unwrap();
-    s.run_for(ts(&reply) + 0.2).unwrap();
-    s
+    Session::start_moved_fast(5).expect("firmware ELF (cargo avr)")
 }
 
 /// `ts_ms` of a move reply, s.
 fn ts(reply: &str) -> f64 {
-    let w: Vec<&str> = reply.split_whitespace().collect();
-    let i = w.iter().position(|x| *x == "ts_ms").unwrap_or_else(|| panic!("no ts_ms in {reply:?}"));
-    w[i + 1].parse::<f64>().unwrap() / 1000.0
+    firmware::reply_ts(reply).unwrap()
 }
 
 /// Per joint, the pulse widths (µs) of every period from `t0` on.

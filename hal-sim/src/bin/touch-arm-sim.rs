@@ -215,16 +215,6 @@ fn off_map(line: Option<&str>) -> Option<String> {
     })
 }
 
-/// `ts_ms` of a move reply, in seconds.
-fn reply_ts(line: &str) -> Result<f64, String> {
-    line.split_whitespace()
-        .skip_while(|w| *w != "ts_ms")
-        .nth(1)
-        .and_then(|v| v.parse::<f64>().ok())
-        .map(|ms| ms / 1000.0)
-        .ok_or_else(|| format!("no ts_ms in {line:?}"))
-}
-
 /// The lines the firmware answers a confirmed press with.
 const TOUCH_REPLIES: [&str; 4] = ["info touch ", "err touch ", "info screen ", "err screen "];
 
@@ -326,7 +316,7 @@ fn run(args: Args) -> Result<(), String> {
     if line.starts_with("err") {
         return Err(format!("the firmware refused the touch: {line}"));
     }
-    let ts = reply_ts(&line)?;
+    let ts = firmware::reply_ts(&line)?;
     // The last touch decides where the arm ends up.
     let (mut end_raw, mut end_ts, mut end_t) = (raw, ts, t_confirm);
     let mut second = None;
@@ -342,7 +332,7 @@ fn run(args: Args) -> Result<(), String> {
         if !line2.starts_with("info touch ") {
             return Err(format!("the firmware refused the second touch: {line2}"));
         }
-        (end_raw, end_ts, end_t) = (then_raw, reply_ts(&line2)?, t2);
+        (end_raw, end_ts, end_t) = (then_raw, firmware::reply_ts(&line2)?, t2);
         second = Some((then, line2, t2 - t_confirm));
     }
     s.run_for((end_t + end_ts + 1.0 - s.avr.time_s()).max(0.0))?;
@@ -353,7 +343,7 @@ fn run(args: Args) -> Result<(), String> {
             if !reply.starts_with("ok grip ") {
                 return Err(format!("the firmware refused `grip {g}`: {reply}"));
             }
-            let ts = reply_ts(&reply)?;
+            let ts = firmware::reply_ts(&reply)?;
             s.run_for(ts + 0.5)?;
             Some((g.clone(), reply, ts))
         }
