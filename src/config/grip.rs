@@ -31,7 +31,9 @@
 //! poses' two 128-byte slots.
 
 use super::crc::crc16;
-use super::store::{pick_seq, write_both, RecordError, SaveError, Source, UNCOMMITTED};
+use super::store::{
+    next_write, pick_copy, seal, write_both, Reader, RecordError, SaveError, Source, Writer, UNCOMMITTED,
+};
 use crate::seam::Storage;
 use crate::servo::map::JointCal;
 
@@ -71,28 +73,13 @@ pub const GRIP_DEFAULT: JointCal = JointCal {
 /// Serializes `cal` with sequence number `seq`.
 pub fn encode(cal: &JointCal, seq: u16) -> [u8; GRIP_RECORD_LEN] {
     let mut buf = [0u8; GRIP_RECORD_LEN];
-    let mut at = 0;
-    let mut put = |bytes: &[u8]| {
-        if let Some(dst) = buf.get_mut(at..at + bytes.len()) {
-            dst.copy_from_slice(bytes);
-        }
-        at += bytes.len();
-    };
-    put(&GRIP_MAGIC);
-    put(&[GRIP_VERSION]);
-    put(&seq.to_le_bytes());
-    put(&cal.offset_us.to_le_bytes());
-    put(&cal.us_per_rad.to_le_bytes());
-    put(&cal.min_us.to_le_bytes());
-    put(&cal.max_us.to_le_bytes());
-    put(&cal.min_rad.to_le_bytes());
-    put(&cal.max_rad.to_le_bytes());
-    put(&cal.max_speed_rad_s.to_le_bytes());
-    put(&cal.max_accel_rad_s2.to_le_bytes());
-    let crc = crc16(buf.get(..CRC_AT).unwrap_or(&[]));
-    if let Some(dst) = buf.get_mut(CRC_AT..) {
-        dst.copy_from_slice(&crc.to_le_bytes());
-    }
+    let mut w = Writer::new(&mut buf);
+    w.put(&GRIP_MAGIC);
+    w.put(&[GRIP_VERSION]);
+    w.put(&seq.to_le_bytes());
+    w.put_joint(cal);
+    w.put(&cal.max_accel_rad_s2.to_le_bytes());
+    seal(&mut buf);
     buf
 }
 
@@ -110,27 +97,11 @@ pub fn decode(buf: &[u8; GRIP_RECORD_LEN]) -> Result<(u16, JointCal), RecordErro
     if crc16(body).to_le_bytes() != crc {
         return Err(RecordError::Crc);
     }
-    let mut at = 3;
-    let mut take = |n: usize| -> [u8; 4] {
-        let mut w = [0u8; 4];
-        if let (Some(dst), Some(src)) = (w.get_mut(..n), buf.get(at..at + n)) {
-            dst.copy_from_slice(src);
-        }
-        at += n;
-        w
-    };
-    let half = |w: [u8; 4]| u16::from_le_bytes([w[0], w[1]]);
-    let seq = half(take(2));
-    let cal = JointCal {
-        offset_us: f32::from_le_bytes(take(4)),
-        us_per_rad: f32::from_le_bytes(take(4)),
-        min_us: half(take(2)),
-        max_us: half(take(2)),
-        min_rad: f32::from_le_bytes(take(4)),
-        max_rad: f32::from_le_bytes(take(4)),
-        max_speed_rad_s: f32::from_le_bytes(take(4)),
-        max_accel_rad_s2: f32::from_le_bytes(take(4)),
-    };
+    let mut r = Reader::at(buf, 3);
+    let seq = u16::from_le_bytes(r.take());
+    let mut cal = GRIP_DEFAULT;
+    r.take_joint(&mut cal);
+    cal.max_accel_rad_s2 = f32::from_le_bytes(r.take());
     cal.validate().map_err(|_| RecordError::Invalid)?;
     Ok((seq, cal))
 }
@@ -162,11 +133,9 @@ pub fn load<S: Storage>(storage: &mut S) -> LoadedGrip {
     let b = read_slot(storage, GRIP_SLOT_B);
     let bad = |r: &Result<(u16, JointCal), RecordError>| matches!(r, Err(e) if *e != RecordError::NoMagic);
     let damaged = bad(&a) || bad(&b);
-    let found = |r: &(u16, JointCal), source| LoadedGrip { cal: r.1, source, seq: r.0, damaged };
-    match (pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)), &a, &b) {
-        (Some(Source::SlotA), Ok(ra), _) => found(ra, Source::SlotA),
-        (Some(Source::SlotB), _, Ok(rb)) => found(rb, Source::SlotB),
-        _ => LoadedGrip { cal: GRIP_DEFAULT, source: Source::Defaults, seq: 0, damaged },
+    match pick_copy(&a, &b) {
+        Some((source, seq, cal)) => LoadedGrip { cal, source, seq, damaged },
+        None => LoadedGrip { cal: GRIP_DEFAULT, source: Source::Defaults, seq: 0, damaged },
     }
 }
 
@@ -176,12 +145,7 @@ pub fn save<S: Storage>(storage: &mut S, cal: &JointCal) -> Result<u16, SaveErro
     cal.validate().map_err(|e| SaveError::Invalid(super::settings::ConfigError::Grip(e)))?;
     let a = read_slot(storage, GRIP_SLOT_A);
     let b = read_slot(storage, GRIP_SLOT_B);
-    let (newest, order) = match pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)) {
-        Some(Source::SlotA) => (a.map_or(0, |r| r.0), [GRIP_SLOT_B, GRIP_SLOT_A]),
-        Some(Source::SlotB) => (b.map_or(0, |r| r.0), [GRIP_SLOT_A, GRIP_SLOT_B]),
-        _ => (0, [GRIP_SLOT_A, GRIP_SLOT_B]),
-    };
-    let seq = newest.wrapping_add(1);
+    let (seq, order) = next_write(pick_copy(&a, &b).map(|(s, seq, _)| (s, seq)), [GRIP_SLOT_A, GRIP_SLOT_B]);
     write_both(storage, order, &encode(cal, seq))?;
     Ok(seq)
 }

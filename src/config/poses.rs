@@ -29,7 +29,7 @@
 //! configuration's two 128-byte slots.
 
 use super::crc::crc16;
-use super::store::{pick_seq, write_both, RecordError, SaveError, Source, UNCOMMITTED};
+use super::store::{next_write, pick_copy, seal, write_both, RecordError, SaveError, Source, Writer, UNCOMMITTED};
 use crate::seam::Storage;
 
 /// Saved poses at most.
@@ -105,33 +105,24 @@ impl Poses {
     /// Serializes with sequence number `seq`.
     pub fn encode(&self, seq: u16) -> [u8; POSE_RECORD_LEN] {
         let mut buf = [0u8; POSE_RECORD_LEN];
-        let mut at = 0;
-        let mut put = |bytes: &[u8]| {
-            if let Some(dst) = buf.get_mut(at..at + bytes.len()) {
-                dst.copy_from_slice(bytes);
-            }
-            at += bytes.len();
-        };
-        put(&POSE_MAGIC);
-        put(&[POSE_VERSION]);
-        put(&seq.to_le_bytes());
+        let mut w = Writer::new(&mut buf);
+        w.put(&POSE_MAGIC);
+        w.put(&[POSE_VERSION]);
+        w.put(&seq.to_le_bytes());
         for slot in self.slots.iter() {
             let flags = match slot {
                 None => 0,
                 Some(Pose { grip: None, .. }) => FLAG_USED,
                 Some(Pose { grip: Some(_), .. }) => FLAG_USED | FLAG_GRIP,
             };
-            put(&[flags]);
+            w.put(&[flags]);
             let (joints, grip) = slot.map_or(([0; 3], 0), |p| (p.joints, p.grip.unwrap_or(0)));
             for v in joints {
-                put(&v.to_le_bytes());
+                w.put(&v.to_le_bytes());
             }
-            put(&grip.to_le_bytes());
+            w.put(&grip.to_le_bytes());
         }
-        let crc = crc16(buf.get(..CRC_AT).unwrap_or(&[]));
-        if let Some(dst) = buf.get_mut(CRC_AT..) {
-            dst.copy_from_slice(&crc.to_le_bytes());
-        }
+        seal(&mut buf);
         buf
     }
 
@@ -209,11 +200,9 @@ pub fn load<S: Storage>(storage: &mut S) -> LoadedPoses {
     let a = read_slot(storage, POSE_SLOT_A);
     let b = read_slot(storage, POSE_SLOT_B);
     let damaged = a.is_err() || b.is_err();
-    let found = |r: &(u16, Poses), source| LoadedPoses { poses: r.1, source, seq: r.0, damaged };
-    match (pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)), &a, &b) {
-        (Some(Source::SlotA), Ok(ra), _) => found(ra, Source::SlotA),
-        (Some(Source::SlotB), _, Ok(rb)) => found(rb, Source::SlotB),
-        _ => LoadedPoses { poses: Poses::EMPTY, source: Source::Defaults, seq: 0, damaged },
+    match pick_copy(&a, &b) {
+        Some((source, seq, poses)) => LoadedPoses { poses, source, seq, damaged },
+        None => LoadedPoses { poses: Poses::EMPTY, source: Source::Defaults, seq: 0, damaged },
     }
 }
 
@@ -222,12 +211,7 @@ pub fn load<S: Storage>(storage: &mut S) -> LoadedPoses {
 pub fn save<S: Storage>(storage: &mut S, poses: &Poses) -> Result<u16, SaveError> {
     let a = read_slot(storage, POSE_SLOT_A);
     let b = read_slot(storage, POSE_SLOT_B);
-    let (newest, order) = match pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)) {
-        Some(Source::SlotA) => (a.map_or(0, |r| r.0), [POSE_SLOT_B, POSE_SLOT_A]),
-        Some(Source::SlotB) => (b.map_or(0, |r| r.0), [POSE_SLOT_A, POSE_SLOT_B]),
-        _ => (0, [POSE_SLOT_A, POSE_SLOT_B]),
-    };
-    let seq = newest.wrapping_add(1);
+    let (seq, order) = next_write(pick_copy(&a, &b).map(|(s, seq, _)| (s, seq)), [POSE_SLOT_A, POSE_SLOT_B]);
     write_both(storage, order, &poses.encode(seq))?;
     Ok(seq)
 }

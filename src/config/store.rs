@@ -100,18 +100,12 @@ impl Config {
     /// Serializes with sequence number `seq`.
     pub fn encode(&self, seq: u16) -> [u8; RECORD_LEN] {
         let mut buf = [0u8; RECORD_LEN];
-        let mut w = Writer { buf: &mut buf, pos: 0 };
+        let mut w = Writer::new(&mut buf);
         w.put(&MAGIC);
         w.put(&[VERSION]);
         w.put(&seq.to_le_bytes());
         for j in self.joints.iter() {
-            w.put(&j.offset_us.to_le_bytes());
-            w.put(&j.us_per_rad.to_le_bytes());
-            w.put(&j.min_us.to_le_bytes());
-            w.put(&j.max_us.to_le_bytes());
-            w.put(&j.min_rad.to_le_bytes());
-            w.put(&j.max_rad.to_le_bytes());
-            w.put(&j.max_speed_rad_s.to_le_bytes());
+            w.put_joint(j);
         }
         let t = &self.touch;
         for v in [t.x_min, t.x_max, t.y_min, t.y_max] {
@@ -132,10 +126,7 @@ impl Config {
             w.put(&j.max_accel_rad_s2.to_le_bytes());
         }
         w.put(&[self.wiring.map_or(0, Wiring::id), self.path.id(), self.lift_centi.unwrap_or(0)]);
-        let crc = crc16(buf.get(..CRC_OFFSET).unwrap_or(&[]));
-        if let Some(dst) = buf.get_mut(CRC_OFFSET..) {
-            dst.copy_from_slice(&crc.to_le_bytes());
-        }
+        seal(&mut buf);
         buf
     }
 
@@ -143,7 +134,7 @@ impl Config {
     /// lift; 2 also without a wiring; 1 also with the default acceleration
     /// limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
-        let mut r = Reader { buf, pos: 0 };
+        let mut r = Reader::at(buf, 0);
         if r.take::<2>() != MAGIC {
             return Err(RecordError::NoMagic);
         }
@@ -162,13 +153,7 @@ impl Config {
         let seq = u16::from_le_bytes(r.take());
         let mut joints = JointCal::DEFAULTS;
         for j in joints.iter_mut() {
-            j.offset_us = f32::from_le_bytes(r.take());
-            j.us_per_rad = f32::from_le_bytes(r.take());
-            j.min_us = u16::from_le_bytes(r.take());
-            j.max_us = u16::from_le_bytes(r.take());
-            j.min_rad = f32::from_le_bytes(r.take());
-            j.max_rad = f32::from_le_bytes(r.take());
-            j.max_speed_rad_s = f32::from_le_bytes(r.take());
+            r.take_joint(j);
         }
         let x_min = u16::from_le_bytes(r.take());
         let x_max = u16::from_le_bytes(r.take());
@@ -225,34 +210,80 @@ impl Config {
     }
 }
 
-struct Writer<'a> {
-    buf: &'a mut [u8; RECORD_LEN],
+/// Writes a record's fields in order, little-endian, for every record
+/// stored this way (configuration, poses, gripper); bytes past the end are
+/// dropped (each layout is sized so none are).
+pub(super) struct Writer<'a> {
+    buf: &'a mut [u8],
     pos: usize,
 }
 
-impl Writer<'_> {
-    fn put(&mut self, bytes: &[u8]) {
+impl<'a> Writer<'a> {
+    pub(super) fn new(buf: &'a mut [u8]) -> Self {
+        Writer { buf, pos: 0 }
+    }
+
+    pub(super) fn put(&mut self, bytes: &[u8]) {
         let end = self.pos + bytes.len();
         if let Some(dst) = self.buf.get_mut(self.pos..end) {
             dst.copy_from_slice(bytes);
         }
         self.pos = end;
     }
+
+    /// A joint's calibration up to its speed limit (24 bytes): the block
+    /// the configuration's version 1 has per joint; its acceleration limit
+    /// goes where each layout puts it.
+    pub(super) fn put_joint(&mut self, j: &JointCal) {
+        self.put(&j.offset_us.to_le_bytes());
+        self.put(&j.us_per_rad.to_le_bytes());
+        self.put(&j.min_us.to_le_bytes());
+        self.put(&j.max_us.to_le_bytes());
+        self.put(&j.min_rad.to_le_bytes());
+        self.put(&j.max_rad.to_le_bytes());
+        self.put(&j.max_speed_rad_s.to_le_bytes());
+    }
 }
 
-struct Reader<'a> {
-    buf: &'a [u8; RECORD_LEN],
+/// Ends a record: the CRC of all its bytes but the last two, in those two.
+pub(super) fn seal(buf: &mut [u8]) {
+    let at = buf.len().saturating_sub(2);
+    let crc = crc16(buf.get(..at).unwrap_or(&[]));
+    if let Some(dst) = buf.get_mut(at..) {
+        dst.copy_from_slice(&crc.to_le_bytes());
+    }
+}
+
+/// Reads what [`Writer`] wrote; bytes past the end read as zero.
+pub(super) struct Reader<'a> {
+    buf: &'a [u8],
     pos: usize,
 }
 
-impl Reader<'_> {
-    fn take<const K: usize>(&mut self) -> [u8; K] {
+impl<'a> Reader<'a> {
+    /// Reads `buf` from byte `pos` on.
+    pub(super) fn at(buf: &'a [u8], pos: usize) -> Self {
+        Reader { buf, pos }
+    }
+
+    pub(super) fn take<const K: usize>(&mut self) -> [u8; K] {
         let mut out = [0u8; K];
         if let Some(src) = self.buf.get(self.pos..self.pos + K) {
             out.copy_from_slice(src);
         }
         self.pos += K;
         out
+    }
+
+    /// [`Writer::put_joint`]'s block into `j` (its acceleration limit kept).
+    pub(super) fn take_joint(&mut self, j: &mut JointCal) {
+        j.offset_us = f32::from_le_bytes(self.take());
+        j.us_per_rad = f32::from_le_bytes(self.take());
+        j.min_us = u16::from_le_bytes(self.take());
+        j.max_us = u16::from_le_bytes(self.take());
+        j.min_rad = f32::from_le_bytes(self.take());
+        j.max_rad = f32::from_le_bytes(self.take());
+        j.max_speed_rad_s = f32::from_le_bytes(self.take());
     }
 }
 
@@ -361,6 +392,27 @@ pub fn pick_seq(a: Option<u16>, b: Option<u16>) -> Option<Source> {
     }
 }
 
+/// [`pick`] for a record read as (sequence number, value): the copy to use,
+/// with its slot and sequence number.
+pub(super) fn pick_copy<T: Copy, E>(a: &Result<(u16, T), E>, b: &Result<(u16, T), E>) -> Option<(Source, u16, T)> {
+    match (pick_seq(a.as_ref().ok().map(|r| r.0), b.as_ref().ok().map(|r| r.0)), a, b) {
+        (Some(Source::SlotA), Ok((seq, v)), _) => Some((Source::SlotA, *seq, *v)),
+        (Some(Source::SlotB), _, Ok((seq, v))) => Some((Source::SlotB, *seq, *v)),
+        _ => None,
+    }
+}
+
+/// How a save writes a pair of slots `[a, b]` when the copy in use (from
+/// [`pick`]) is `used` with its sequence number: the other slot first, and
+/// the new record's sequence number, one past the one in use.
+pub(super) fn next_write(used: Option<(Source, u16)>, [a, b]: [u16; 2]) -> (u16, [u16; 2]) {
+    match used {
+        Some((Source::SlotA, seq)) => (seq.wrapping_add(1), [b, a]),
+        Some((Source::SlotB, seq)) => (seq.wrapping_add(1), [a, b]),
+        _ => (1, [a, b]),
+    }
+}
+
 /// Reads both copies and picks the configuration to run with.
 pub fn load<S: Storage>(storage: &mut S) -> Loaded {
     let a = read_slot(storage, SLOT_A_ADDR);
@@ -427,14 +479,13 @@ pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveErr
     config.validate().map_err(SaveError::Invalid)?;
     let a = read_slot(storage, SLOT_A_ADDR);
     let b = read_slot(storage, SLOT_B_ADDR);
-    let (newest, first, second) = match pick(&a, &b) {
-        Some(Source::SlotA) => (a.map_or(0, |r| r.seq), SLOT_B_ADDR, SLOT_A_ADDR),
-        Some(Source::SlotB) => (b.map_or(0, |r| r.seq), SLOT_A_ADDR, SLOT_B_ADDR),
-        _ => (0, SLOT_A_ADDR, SLOT_B_ADDR),
+    let used = match pick(&a, &b) {
+        Some(Source::SlotA) => a.ok().map(|r| (Source::SlotA, r.seq)),
+        Some(Source::SlotB) => b.ok().map(|r| (Source::SlotB, r.seq)),
+        _ => None,
     };
-    let seq = newest.wrapping_add(1);
-    let record = config.encode(seq);
-    write_both(storage, [first, second], &record)?;
+    let (seq, order) = next_write(used, [SLOT_A_ADDR, SLOT_B_ADDR]);
+    write_both(storage, order, &config.encode(seq))?;
     Ok(seq)
 }
 
