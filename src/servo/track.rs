@@ -342,13 +342,19 @@ impl ServoTrack {
         }
         // Some joint over its speed limit (a NaN rate counts as too fast).
         out.too_fast = rate.abs().to_bits() > self.rate_limit.to_bits();
-        let wq = ONE_Q30 - unit_q30(g);
+        out.pulses = self.first_term_ticks(ONE_Q30 - unit_q30(g));
+        out
+    }
+
+    /// The pulses when the first term alone has `wq` (1 − g, Q30) of its
+    /// travel left.
+    #[inline(always)]
+    fn first_term_ticks(&self, wq: u32) -> [u16; JOINTS] {
         let [s0, s1, s2] = &self.spans[0];
         let [b0, b1, b2] = self.base;
         let [l0, l1, l2] = self.lo;
         let [h0, h1, h2] = self.hi;
-        out.pulses = [ticks(b0 - s0.at(wq), l0, h0), ticks(b1 - s1.at(wq), l1, h1), ticks(b2 - s2.at(wq), l2, h2)];
-        out
+        [ticks(b0 - s0.at(wq), l0, h0), ticks(b1 - s1.at(wq), l1, h1), ticks(b2 - s2.at(wq), l2, h2)]
     }
 
     /// This frame's output (each term at its clock).
@@ -380,15 +386,7 @@ impl ServoTrack {
             // reached, not from the first move's start: the single-term
             // path reads its start pulses from here.
             if self.motion.len() == 1 {
-                let [s0, s1, s2] = &self.spans[0];
-                let [b0, b1, b2] = self.base;
-                let [l0, l1, l2] = self.lo;
-                let [h0, h1, h2] = self.hi;
-                self.start_ticks = [
-                    ticks(b0 - s0.at(ONE_Q30), l0, h0),
-                    ticks(b1 - s1.at(ONE_Q30), l1, h1),
-                    ticks(b2 - s2.at(ONE_Q30), l2, h2),
-                ];
+                self.start_ticks = self.first_term_ticks(ONE_Q30);
             }
         }
     }
