@@ -4,7 +4,7 @@
 //! read ([`FRAME_STATS`]).
 
 use super::servo_pwm::ServoPwm;
-use crate::servo::map::TIMER5_TOP as TOP;
+use crate::seam::ServoOutputs;
 use crate::ui::DrawBudget;
 
 /// Timer ticks (0.5 µs = 8 cycles) a drawing operation may take per pixel,
@@ -37,10 +37,7 @@ impl<'a> FrameBudget<'a> {
 
     /// Ticks left before the next period starts (0 once it has).
     fn left(&self) -> u32 {
-        if self.pwm.period_pending() {
-            return 0;
-        }
-        u32::from(TOP - self.pwm.ticks().min(TOP))
+        u32::from(self.pwm.period_ticks_left().unwrap_or(0))
     }
 }
 
