@@ -249,18 +249,26 @@ proptest! {
     }
 }
 
-/// The servo track across a re-plan: the re-plan frame's pulses are the
-/// running move's, bit for bit, the running term's clock goes on, and the
-/// motion ends on the map's own pulses of the new target; a second re-plan
-/// while both run waits for the older to end, a third replaces it.
-#[test]
-fn the_track_keeps_its_pulses_across_a_re_plan() {
+/// The servo track tests' move: from the home pose to (0.6, 2.2, −2.4) rad
+/// in 2 s (100 frames) under the default maps, and the limits a re-plan
+/// plans under.
+fn track_move() -> ([ServoMap; JOINTS], MultiPlan<f32>, PlanLimits<f32>) {
     let maps = JointCal::DEFAULTS.map(|c| ServoMap::new(&c).unwrap());
     let start = [1.5707964f32, 1.5707964, -1.5707964];
     let target = [0.6f32, 2.2, -2.4];
     let law = scaling_law(LawKind::Zat, 2.0f32).unwrap();
     let plan = MultiPlan::with_law(&start, &target, &law).unwrap();
     let lim = PlanLimits { speed: [1.47f32; 3], accel: [17.1; 3], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+    (maps, plan, lim)
+}
+
+/// The servo track across a re-plan: the re-plan frame's pulses are the
+/// running move's, bit for bit, the running term's clock goes on, and the
+/// motion ends on the map's own pulses of the new target; a second re-plan
+/// while both run waits for the older to end, a third replaces it.
+#[test]
+fn the_track_keeps_its_pulses_across_a_re_plan() {
+    let (maps, plan, lim) = track_move();
     let new_target = [1.2f32, 1.9, -1.0];
     let replan = Replan { target: &new_target, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 };
     for at in [1u16, 17, 50, 99] {
@@ -331,13 +339,8 @@ fn the_track_keeps_its_pulses_across_a_re_plan() {
 /// number of frames).
 #[test]
 fn a_waiting_correction_that_starts_alone_keeps_the_pulses() {
-    let maps = JointCal::DEFAULTS.map(|c| ServoMap::new(&c).unwrap());
-    let start = [1.5707964f32, 1.5707964, -1.5707964];
-    let target = [0.6f32, 2.2, -2.4];
-    // 2 s: the older term ends on a frame boundary (100 frames).
-    let law = scaling_law(LawKind::Zat, 2.0f32).unwrap();
-    let plan = MultiPlan::with_law(&start, &target, &law).unwrap();
-    let lim = PlanLimits { speed: [1.47f32; 3], accel: [17.1; 3], ts_min: 0.5, zat_ts_min: 1.2, ts_max: 30.0, n: 2.0 };
+    // The older term ends on a frame boundary (100 frames).
+    let (maps, plan, lim) = track_move();
     let mut t = ServoTrack::new(&plan, &maps, 0.02).unwrap();
     for _ in 0..10 {
         t.advance();
