@@ -18,7 +18,7 @@ if [ "${1:-}" = "--live" ]; then
     shift
     echo "== the live bench: the firmware in simavr, paced to real time"
     # cargo run replaces itself with the bench, so Ctrl-C reaches it directly.
-    exec cargo run --release -q -p hal-sim --bin touch-arm-live -- "$@"
+    exec cargo run --release -q -p touch-arm-bench --bin touch-arm-live -- "$@"
 fi
 echo "== running the firmware in simavr"
-cargo run --release -q -p hal-sim --bin touch-arm-sim -- "$@"
+cargo run --release -q -p touch-arm-bench --bin touch-arm-sim -- "$@"

@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # libudev-dev: ravedude's serial-port discovery links libudev.
-# chromium: the live bench's page test (hal-sim/tests/live_page.rs).
+# chromium: the live bench's page test (hal-sim/bench/tests/live_page.rs).
 APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core chromium)
 RAVEDUDE_VERSION=0.2.2
 TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
@@ -59,10 +59,10 @@ else
     done
 fi
 
-# Playwright (playwright-core, pinned in hal-sim/tests/browser/package-lock.json)
+# Playwright (playwright-core, pinned in hal-sim/bench/tests/browser/package-lock.json)
 # drives Debian's chromium in the live page test; npm installs it into that
 # folder's node_modules/. Node.js and npm come with the machine.
-BROWSER_DIR=hal-sim/tests/browser
+BROWSER_DIR=hal-sim/bench/tests/browser
 want=$(sed -n 's/.*"playwright-core": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/package.json")
 have=$(sed -n 's/^ *"version": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/node_modules/playwright-core/package.json" 2>/dev/null | head -1 || true)
 if [ "$want" != "$have" ]; then

@@ -2,7 +2,7 @@
 //! rate) against references: the SPEC's G and G′ in f64 (`reference::zat`) on
 //! dense grids, bisection, and the classic laws' closed forms; and the app's
 //! text formatting. The app's commands and refusals run on the host twin in
-//! `hal-sim/tests/app_commands.rs`.
+//! `hal-sim/twin/tests/app_commands.rs`.
 
 use proptest::prelude::*;
 use reference::zat::Zat;

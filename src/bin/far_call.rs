@@ -3,7 +3,7 @@
 //!
 //! A code pointer is a 16-bit word address; the linker must answer each one
 //! that names code past 0x20000 with a `jmp` trampoline in low flash (see
-//! `hal-sim/src/elf/code_pointers.rs`). The two functions below live in
+//! `xtask/src/elf/code_pointers.rs`). The two functions below live in
 //! `.far_text`, which `.cargo/config.toml` places at 0x20000. The firmware
 //! prints each pointer it calls through (the word address it holds) and
 //! each result; the simavr test `far_call` checks both against the host and

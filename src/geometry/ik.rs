@@ -322,7 +322,7 @@ pub fn fk3<R: Real>(links: &Links<R>, th1: R, th2: R, th3: R) -> (R, R, R) {
 /// [`fk3`] of a pose (θ1, θ2, θ3) by reference, as `[x, y, z]`: the chip's
 /// form. `fk3`'s four arguments and returned tuple put one argument on the
 /// AVR's stack, which LLVM miscompiles (the post-link lint in
-/// `hal-sim/tests/firmware_elf.rs` caught it: a path move from the wrong
+/// `xtask/tests/firmware_elf.rs` caught it: a path move from the wrong
 /// start).
 #[inline(never)]
 pub fn fk3_pose<R: Real>(links: &Links<R>, q: &[R; 3]) -> [R; 3] {

@@ -104,7 +104,7 @@ struct Joint<R> {
 
 /// What every check of one correction reads, by reference: as six
 /// arguments LLVM passed one on the stack on the AVR, which it miscompiles
-/// there (the post-link lint in `hal-sim/tests/firmware_elf.rs`).
+/// there (the post-link lint in `xtask/tests/firmware_elf.rs`).
 struct Check<'a, R> {
     joints: [Joint<R>; JOINTS],
     coarse: Coarse<R>,
