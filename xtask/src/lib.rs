@@ -4,4 +4,5 @@
 //! (`bench_report`), and `avr-run` (a firmware under simavr until `done`).
 
 pub mod bench_report;
+pub mod cli;
 pub mod elf;

@@ -1,60 +1,15 @@
 //! `bench-report`: writes BENCHMARKS.md from one bench run. `scripts/bench.sh`
 //! runs the bench firmware and the display and stack tests in simavr, keeps
-//! their output and calls this; the figures and the document come from
-//! `xtask::bench_report`.
+//! their output and calls this (also `cargo xtask bench-report`); the figures
+//! and the document come from `xtask::bench_report`.
 
-use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use touch_arm_rig::firmware;
-use xtask::bench_report::{render, BenchOutput, Budgets, Inputs, Sizes, UiOutput};
-
-/// Writes BENCHMARKS.md from a bench run's output.
-#[derive(Parser)]
-#[command(name = "bench-report")]
-struct Args {
-    /// The bench firmware's UART output (`avr-run bench.elf`).
-    #[arg(long)]
-    bench_output: PathBuf,
-    /// The `ui_firmware` and `firmware_e2e stack_stays_within_budget` test
-    /// output (`--nocapture`): draw times, bus speed, stacks.
-    #[arg(long)]
-    ui_output: PathBuf,
-    /// The product firmware [default: target/avr-none/release/touch-arm.elf, or TOUCH_ARM_ELF].
-    #[arg(long)]
-    firmware: Option<PathBuf>,
-    /// The bench firmware [default: target/avr-none/release/bench.elf, or TOUCH_ARM_BENCH_ELF].
-    #[arg(long)]
-    bench_elf: Option<PathBuf>,
-    /// Where to write.
-    #[arg(long, short, default_value = "BENCHMARKS.md")]
-    out: PathBuf,
-}
-
-fn read(path: &Path) -> Result<String, String> {
-    std::fs::read(path)
-        .map(|b| String::from_utf8_lossy(&b).into_owned())
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn run(args: &Args) -> Result<(), String> {
-    let memory_x = read(&firmware::workspace_root().join("memory.x"))?;
-    let inputs = Inputs {
-        bench: BenchOutput::parse(&read(&args.bench_output)?),
-        ui: UiOutput::parse(&read(&args.ui_output)?),
-        product: Sizes(firmware::section_sizes(&args.firmware.clone().unwrap_or_else(firmware::default_elf))?),
-        bench_elf: Sizes(firmware::section_sizes(&args.bench_elf.clone().unwrap_or_else(firmware::bench_elf))?),
-        budgets: Budgets::parse(&memory_x)?,
-    };
-    let text = render(&inputs)?;
-    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    println!("wrote {}", args.out.display());
-    Ok(())
-}
+use xtask::cli::{bench_report, BenchReportArgs};
 
 fn main() -> ExitCode {
-    match run(&Args::parse()) {
+    match bench_report(&BenchReportArgs::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("bench-report: {e}");

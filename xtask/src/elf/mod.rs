@@ -11,6 +11,7 @@
 //! firmware. `Image` is the little view of the ELF they share.
 
 pub mod avr_insn;
+pub mod checks;
 pub mod code_pointers;
 pub mod stack_args;
 
