@@ -22,6 +22,7 @@ pub struct Panel<'a> {
 pub enum PlotError {
     /// Neither .png nor .svg.
     UnknownFormat,
+    /// The embedded font did not register with plotters.
     NoFont,
     Empty,
     Draw(String),
@@ -31,7 +32,7 @@ impl std::fmt::Display for PlotError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             PlotError::UnknownFormat => write!(f, "plot output must end in .png or .svg"),
-            PlotError::NoFont => write!(f, "no TrueType font found (install fonts-dejavu-core)"),
+            PlotError::NoFont => write!(f, "the embedded font (DejaVu Sans) did not load"),
             PlotError::Empty => write!(f, "nothing to plot"),
             PlotError::Draw(e) => write!(f, "plot failed: {e}"),
         }
@@ -40,24 +41,14 @@ impl std::fmt::Display for PlotError {
 
 impl std::error::Error for PlotError {}
 
-const FONT_PATHS: &[&str] = &[
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-];
+/// DejaVu Sans, embedded so the plots draw their text on every OS without a
+/// font installed (assets/LICENSE-DejaVu.txt: free to redistribute).
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// plotters' ab_glyph backend needs the font bytes registered once per process.
 fn ensure_font() -> Result<(), PlotError> {
-    static FONT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *FONT.get_or_init(|| {
-        FONT_PATHS.iter().any(|p| {
-            std::fs::read(p).ok().is_some_and(|bytes| {
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
-            })
-        })
-    });
-    if ok {
+    static REGISTERED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    if *REGISTERED.get_or_init(|| register_font("sans-serif", FontStyle::Normal, FONT).is_ok()) {
         Ok(())
     } else {
         Err(PlotError::NoFont)
@@ -264,4 +255,17 @@ fn draw_view<DB: DrawingBackend>(
             .map_err(|e| err(&e))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The embedded font is a TrueType file (sfnt version 1.0) and plotters
+    /// takes it, so no system font is needed.
+    #[test]
+    fn embedded_font_is_truetype_and_registers() {
+        assert_eq!(&FONT[..4], &[0, 1, 0, 0]);
+        assert!(ensure_font().is_ok());
+    }
 }
