@@ -15,7 +15,7 @@ use touch_arm::motion::scaled::ScaledZat;
 use touch_arm::motion::via::{iterate_paper, via_shape_for, Continuity, ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
-use touch_arm::servo::map::JointCal;
+use touch_arm::servo::map::{JointCal, ELBOW_BRANCH};
 use touch_arm::touch::map::Calibration;
 
 use crate::args::{parse_pair, parse_raw, parse_triple};
@@ -37,17 +37,19 @@ pub struct Cli {
 pub enum Cmd {
     /// Map a touch to the normalized workspace: JSON {x_p, y_p, clamped, condition, alpha_deg}
     Map(MapArgs),
-    /// 2-link inverse kinematics (3-DoF with --z): JSON {reachable, singular, q2, q3} or {reachable, singular, th1, th2, th3}
+    /// 2-link inverse kinematics (3-DoF with --z): JSON {branch, reachable, singular, q2, q3} or {branch, reachable, singular, th1, th2, th3}
     ///
     /// Edge conventions: at the shoulder itself with l2 = l3 the arm is reachable but folded
     /// (q3 = π, −π on the minus branch) and q2 is undefined: `reachable: true, singular: true,
     /// q2: null`. A point out of reach has `reachable: false` and null joint angles, except θ1
-    /// of the 3-DoF form, which is defined anyway (0 straight above the base).
+    /// of the 3-DoF form, which is defined anyway (0 straight above the base). The solution is on
+    /// the firmware's elbow branch (minus, elbow up) unless `--branch plus`; `branch` names it.
     Ik(IkArgs),
-    /// Touch → condition, α, transform, IK: JSON {x_p, y_p, condition, alpha_deg, reach, height, reachable, singular, q2, q3, s2, s3, sa}
+    /// Touch → condition, α, transform, IK: JSON {x_p, y_p, condition, alpha_deg, reach, height, branch, reachable, singular, q2, q3, s2, s3, sa}
     ///
     /// Out of reach: `reachable: false`, null q and s. At the shoulder with l2 = l3 (the bottom
-    /// centre): `reachable: true, singular: true`, q3 = ±π, q2 and s2 null.
+    /// centre): `reachable: true, singular: true`, q3 = ±π, q2 and s2 null. On the firmware's
+    /// elbow branch (minus, elbow up) unless `--branch plus`; `branch` names it.
     Plan(PlanArgs),
     /// ζ-a-tₛ trajectory: CSV t,s,v,acc,jerk; --info: JSON {zeta, zeta_infinite, u_min, admissible, a_smooth_stop, end_velocity, monotone}
     ///
@@ -397,13 +399,31 @@ pub struct MapArgs {
     pub touch: TouchArg,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug, Default)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BranchArg {
     /// q3 = +acos(c)
-    #[default]
     Plus,
-    /// q3 = −acos(c)
+    /// q3 = −acos(c): the elbow-up pose the firmware uses
     Minus,
+}
+
+impl BranchArg {
+    /// The firmware's branch (`touch_arm::servo::map::ELBOW_BRANCH`, the one
+    /// its servo calibration assumes): what `ik` and `plan` solve on unless
+    /// `--branch` says otherwise, so their angles are the ones the arm takes.
+    pub const FIRMWARE: BranchArg = match ELBOW_BRANCH {
+        Branch::Plus => BranchArg::Plus,
+        Branch::Minus => BranchArg::Minus,
+    };
+
+    /// The branch's name in the output (`"plus"`/`"minus"`), as `--branch`
+    /// takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BranchArg::Plus => "plus",
+            BranchArg::Minus => "minus",
+        }
+    }
 }
 
 impl From<BranchArg> for Branch {
@@ -423,8 +443,8 @@ pub struct LinkArgs {
     /// Forearm length l3
     #[arg(long, default_value_t = 1.0)]
     pub l3: f64,
-    /// Elbow branch
-    #[arg(long, value_enum, default_value_t = BranchArg::Plus)]
+    /// Elbow branch [default: the firmware's, minus (elbow up)]
+    #[arg(long, value_enum, default_value_t = BranchArg::FIRMWARE, hide_default_value = true)]
     pub branch: BranchArg,
 }
 
@@ -553,6 +573,7 @@ fn cmd_ik(a: &IkArgs) -> Result<String, String> {
     if let Some(z) = a.z {
         let r = ik_report(ik3(&l, a.x, a.y, z, branch).map(|q| (q.th2, q.th3)), branch)?;
         return Ok(Json::new()
+            .set("branch", Val::Str(a.links.branch.name().into()))
             .set("reachable", r.reachable)
             .set("singular", r.singular)
             // The direction of (x_e, y_e), reachable or not.
@@ -571,6 +592,7 @@ fn cmd_ik(a: &IkArgs) -> Result<String, String> {
     });
     let r = ik_report(q, branch)?;
     Ok(Json::new()
+        .set("branch", Val::Str(a.links.branch.name().into()))
         .set("reachable", r.reachable)
         .set("singular", r.singular)
         .set("q2", r.shoulder)
@@ -603,6 +625,7 @@ fn cmd_plan(a: &PlanArgs) -> Result<String, String> {
         .set("alpha_deg", target.alpha_deg())
         .set("reach", target.reach)
         .set("height", target.height)
+        .set("branch", Val::Str(a.links.branch.name().into()))
         .set("reachable", r.reachable)
         .set("singular", r.singular)
         .set("q2", r.shoulder)
@@ -895,7 +918,7 @@ fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
         PathKind::Circle(ci) => Path::circle(&ci.center, ci.radius),
     };
     let path = path.map_err(|e| touch_arm::motion::path::PathError::<f64>::Shape(e).to_string())?;
-    let links = links(&LinkArgs { l2: c.l2, l3: c.l3, branch: BranchArg::Minus })?;
+    let links = links(&LinkArgs { l2: c.l2, l3: c.l3, branch: BranchArg::FIRMWARE })?;
     let d = JointCal::DEFAULTS;
     let speed = c.max_speed.unwrap_or(f64::from(d[0].max_speed_rad_s));
     let accel = c.max_accel.unwrap_or(f64::from(d[0].max_accel_rad_s2));
@@ -911,7 +934,7 @@ fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
     };
     let pace = if c.slow_down { Pace::SlowDown } else { Pace::Refuse };
     let req = PathRequest { path, law: path_law(c.law), ts: c.ts, pace, samples: PATH_SCAN, refine: REFINE_FULL };
-    PathPlan::new(&req, &PathArm { links, branch: Branch::Minus }, &lim).map_err(|e| e.to_string())
+    PathPlan::new(&req, &PathArm { links, branch: ELBOW_BRANCH }, &lim).map_err(|e| e.to_string())
 }
 
 /// A JSON array of numbers.

@@ -96,14 +96,23 @@ fn ik_matches_forward_kinematics_for_both_branches() {
         let y = 1.2 * q2.sin() + 0.8 * (q2 + q3).sin();
         assert!((x - 0.7).abs() < 1e-12 && (y - 0.9).abs() < 1e-12, "{branch}: ({x}, {y})");
         assert_eq!(q3 > 0.0, branch == "plus");
+        assert_eq!(v["branch"], branch);
     }
 }
 
 #[test]
 fn ik_known_values_and_unreachable() {
+    // (1, 1) with l2 = l3 = 1: the firmware's branch (minus, elbow up, the
+    // default) raises the upper arm straight up, q2 = π/2, and bends the
+    // forearm down to horizontal, q3 = −π/2; the plus branch mirrors it about
+    // the line to the target: q2 = 0, q3 = +π/2.
     let v = json(&["ik", "--x", "1", "--y", "1"]);
-    assert!(f(&v, "q2").abs() < 1e-15 && (f(&v, "q3") - PI / 2.0).abs() < 1e-15);
+    assert_eq!(v["branch"], "minus");
+    assert!((f(&v, "q2") - PI / 2.0).abs() < 1e-15 && (f(&v, "q3") + PI / 2.0).abs() < 1e-15, "{v}");
     assert_eq!(v["singular"], false);
+    let v = json(&["ik", "--x", "1", "--y", "1", "--branch", "plus"]);
+    assert_eq!(v["branch"], "plus");
+    assert!(f(&v, "q2").abs() < 1e-15 && (f(&v, "q3") - PI / 2.0).abs() < 1e-15, "{v}");
     let v = json(&["ik", "--x", "2.5", "--y", "0"]);
     assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
     assert!(v["q2"].is_null() && v["q3"].is_null());
@@ -123,10 +132,12 @@ fn ik_at_the_shoulder_is_folded_with_no_shoulder_angle() {
     let v = json(&["ik", "--x", "0", "--y", "0", "--l2", "1", "--l3", "0.5"]);
     assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
     assert!(v["q3"].is_null());
-    // 3-DoF: straight above the base θ1 is free (0 by convention).
+    // 3-DoF: straight above the base θ1 is free (0 by convention); folded
+    // on the default (firmware's, minus) branch, θ3 = −π.
     let v = json(&["ik", "--x", "0", "--y", "0", "--z", "0"]);
     assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(true)));
-    assert_eq!((f(&v, "th1"), f(&v, "th3")), (0.0, PI));
+    assert_eq!(v["branch"], "minus");
+    assert_eq!((f(&v, "th1"), f(&v, "th3")), (0.0, -PI));
     assert!(v["th2"].is_null());
 }
 
@@ -167,12 +178,34 @@ fn plan_normalized_joint_values() {
 }
 
 #[test]
+fn ik_and_plan_default_to_the_firmwares_branch() {
+    // The default is the branch the firmware solves on and its servo
+    // calibration assumes: the plan's angles for a point are the core's
+    // pose for it on ELBOW_BRANCH.
+    use touch_arm::geometry::ik::{Branch, Links};
+    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+    use touch_arm::servo::map::ELBOW_BRANCH;
+    let name = if ELBOW_BRANCH == Branch::Minus { "minus" } else { "plus" };
+    let v = json(&["plan", "--xy", "0.3,0.6", "--k", "1.2"]);
+    assert_eq!(v["branch"], name);
+    let geo = ArmGeometry { k: 1.2, links: Links::new(1.0, 1.0).unwrap(), branch: ELBOW_BRANCH };
+    let pose = pose_for_point(&geo, 0.3, 0.6).unwrap();
+    assert_eq!((f(&v, "q2"), f(&v, "q3")), (pose.q2, pose.q3));
+    let v = json(&["ik", "--x", "0.7", "--y", "0.9"]);
+    assert_eq!(v["branch"], name);
+}
+
+#[test]
 fn plan_unreachable_and_singular_points() {
-    // The bottom centre with l2 = l3 is the shoulder: folded, no q2.
+    // The bottom centre with l2 = l3 is the shoulder: folded, no q2; on the
+    // default (firmware's, minus) branch q3 = −π.
     let v = json(&["plan", "--xy", "0,0"]);
     assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(true), &Value::Bool(true)), "{v}");
     assert!(v["q2"].is_null() && v["s2"].is_null(), "{v}");
-    assert_eq!((f(&v, "q3"), f(&v, "s3")), (PI, 1.0));
+    assert_eq!(v["branch"], "minus");
+    assert_eq!((f(&v, "q3"), f(&v, "s3")), (-PI, -1.0));
+    let v = json(&["plan", "--xy", "0,0", "--branch", "plus"]);
+    assert_eq!((v["branch"].as_str(), f(&v, "q3"), f(&v, "s3")), (Some("plus"), PI, 1.0));
     let v = json(&["plan", "--xy", "1,1", "--k", "2"]);
     assert_eq!((&v["reachable"], &v["singular"]), (&Value::Bool(false), &Value::Bool(false)));
     assert!(v["q2"].is_null() && v["s3"].is_null());

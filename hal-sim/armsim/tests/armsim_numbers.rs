@@ -16,6 +16,7 @@ use touch_arm::motion::laws::{Law, LawParams, LawPlan};
 use touch_arm::motion::via::{ViaParams, ViaPlan};
 use touch_arm::motion::zat::{smooth_stop_a, u_min, zeta, ZatParams, ZatPlan};
 use touch_arm::motion::Sample;
+use touch_arm::servo::map::ELBOW_BRANCH;
 
 /// 2^e for every exponent, subnormals included, and the doubles either side.
 fn powers_of_two() -> Vec<f64> {
@@ -64,11 +65,13 @@ fn armsim(args: &[String]) -> String {
 
 /// The joint angles the IK reports: none out of reach, and at the singular
 /// point (the shoulder, or a target so close that r² underflows) the folded
-/// elbow q3 = π without q2.
+/// elbow without q2: q3 = −π on the firmware's branch (minus, armsim's
+/// default), +π on the plus branch.
 fn reported(r: Result<(f64, f64), IkError<f64>>) -> (Option<f64>, Option<f64>) {
+    let folded = if ELBOW_BRANCH == Branch::Minus { -PI } else { PI };
     match r {
         Ok((q2, q3)) => (Some(q2), Some(q3)),
-        Err(IkError::Singular) => (None, Some(PI)),
+        Err(IkError::Singular) => (None, Some(folded)),
         Err(_) => (None, None),
     }
 }
@@ -203,7 +206,7 @@ fn workspace_points() -> Vec<(f64, f64)> {
 
 #[test]
 fn map_and_plan_json_read_back_exactly() {
-    let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).unwrap(), branch: Branch::Plus };
+    let geo = ArmGeometry { k: 1.0, links: Links::new(1.0, 1.0).unwrap(), branch: ELBOW_BRANCH };
     for (x, y) in workspace_points() {
         let xy = format!("{},{}", arg(x), arg(y));
         let p = WorkspacePoint::new(x, y).unwrap();
@@ -245,7 +248,7 @@ fn ik_json_reads_back_exactly() {
     // Reachable targets in the square of side 2 (q2, q3 vary), and the
     // fragile values as 3-DoF targets (θ1 is defined even out of reach).
     for (x, y) in workspace_points() {
-        let (q2, q3) = reported(ik2(&links, x, y, Branch::Plus).map(|q| (q.q2, q.q3)));
+        let (q2, q3) = reported(ik2(&links, x, y, ELBOW_BRANCH).map(|q| (q.q2, q.q3)));
         let out = armsim(&strs(&["ik", "--x", &arg(x), "--y", &arg(y)]));
         check_json(&out, &[("q2", q2), ("q3", q3)], &format!("ik {x:e} {y:e}"));
     }
@@ -253,7 +256,7 @@ fn ik_json_reads_back_exactly() {
     for (i, &x) in far.iter().enumerate().step_by(3) {
         let y = -far[far.len() - 1 - i];
         let out = armsim(&strs(&["ik", "--x", &arg(x), "--y", &arg(y), "--z", "0.5"]));
-        let (th2, th3) = reported(ik3(&links, x, y, 0.5, Branch::Plus).map(|q| (q.th2, q.th3)));
+        let (th2, th3) = reported(ik3(&links, x, y, 0.5, ELBOW_BRANCH).map(|q| (q.th2, q.th3)));
         check_json(&out, &[("th1", Some(base_angle(x, y))), ("th2", th2), ("th3", th3)], &format!("ik3 {x:e} {y:e}"));
     }
 }
