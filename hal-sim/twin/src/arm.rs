@@ -15,6 +15,7 @@ pub struct Effector {
     pub xyz: [f64; 3],
 }
 
+/// The end effector the joint `angles` (base, shoulder, elbow; rad) put at, for links `links`.
 pub fn effector(links: &Links<f64>, angles: &[f64; 3]) -> Effector {
     let [base, q2, q3] = *angles;
     let (reach, height) = fk2(links, q2, q3);

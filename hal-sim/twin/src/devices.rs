@@ -10,6 +10,7 @@ use touch_arm::seam::{Clock, RxLoss, SerialPort, StorageError};
 /// Millisecond clock set by the runner.
 #[derive(Debug, Clone, Default)]
 pub struct SimClock {
+    /// Milliseconds since power-up; the runner advances it by one frame per step.
     pub ms: u32,
 }
 
@@ -22,6 +23,7 @@ impl Clock for SimClock {
 /// The ATmega2560's 4 KiB EEPROM (erased = 0xFF) with fault injection.
 #[derive(Debug, Clone)]
 pub struct SimEeprom {
+    /// The cells, one byte per address (4 KiB).
     pub mem: Vec<u8>,
     /// Bytes that may still be written before the power fails.
     power_budget: Option<usize>,
@@ -40,6 +42,7 @@ impl Default for SimEeprom {
 }
 
 impl SimEeprom {
+    /// An erased EEPROM (every cell 0xFF) with the power on.
     pub fn new() -> Self {
         SimEeprom {
             mem: vec![0xFF; EEPROM_SIZE as usize],
@@ -63,11 +66,13 @@ impl SimEeprom {
         self.power_budget = Some(n);
     }
 
+    /// Powers the EEPROM again after [`SimEeprom::power_loss_after`]: writes land from now on.
     pub fn restore_power(&mut self) {
         self.power_budget = None;
         self.dead = false;
     }
 
+    /// The power failed (a write ran past the budget of [`SimEeprom::power_loss_after`]) and is not back.
     pub fn is_dead(&self) -> bool {
         self.dead
     }
@@ -154,6 +159,7 @@ impl Default for SimSerial {
 }
 
 impl SimSerial {
+    /// Queues `bytes` as if a host had sent them: the app reads them on its next polls.
     pub fn send(&mut self, bytes: &[u8]) {
         self.input.extend(bytes.iter().copied());
     }

@@ -35,14 +35,17 @@ impl Framebuffer {
         Self::new(320, 240, Rgb565::BLACK)
     }
 
+    /// A `width × height` framebuffer, every pixel `fill`.
     pub fn new(width: u32, height: u32, fill: Rgb565) -> Self {
         Self { width, height, pixels: vec![fill; (width * height) as usize] }
     }
 
+    /// Width, pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height, pixels.
     pub fn height(&self) -> u32 {
         self.height
     }
@@ -52,16 +55,19 @@ impl Framebuffer {
         inside.then(|| y as usize * self.width as usize + x as usize)
     }
 
+    /// The colour at (x, y); `None` outside the buffer.
     pub fn pixel(&self, x: i32, y: i32) -> Option<Rgb565> {
         self.index(x, y).map(|i| self.pixels[i])
     }
 
+    /// Sets (x, y) to `c`; a point outside the buffer is ignored, as a clipped draw is.
     pub fn set_pixel(&mut self, x: i32, y: i32, c: Rgb565) {
         if let Some(i) = self.index(x, y) {
             self.pixels[i] = c;
         }
     }
 
+    /// Every pixel, row-major from the top-left.
     pub fn pixels(&self) -> &[Rgb565] {
         &self.pixels
     }
@@ -121,18 +127,23 @@ impl DrawTarget for Framebuffer {
 /// test can tell exactly which pixels a draw touched and how it would load a
 /// real bus (one address window per `fill_*` call).
 pub struct Counting<'a, D> {
+    /// The wrapped target, which receives every draw unchanged.
     pub inner: &'a mut D,
     width: u32,
     height: u32,
     writes: Vec<u16>,
     /// Writes that fell outside the target.
     pub outside: usize,
+    /// `fill_solid` calls: one address window each on a real bus.
     pub fill_solid_calls: usize,
+    /// `fill_contiguous` calls: one address window each on a real bus.
     pub fill_contiguous_calls: usize,
+    /// `draw_iter` calls: a window per pixel on a real bus, the slow path.
     pub draw_iter_calls: usize,
 }
 
 impl<'a, D: DrawTarget<Color = Rgb565> + OriginDimensions> Counting<'a, D> {
+    /// Starts counting draws to `inner`, all counters at zero.
     pub fn new(inner: &'a mut D) -> Self {
         let s = inner.size();
         Self {

@@ -67,6 +67,7 @@ pub fn default_servo_maps() -> Result<[touch_arm::servo::map::ServoMap; 3], Stri
 /// default calibration gives those angles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HostTarget {
+    /// The pose of the point: condition, base angle α and the planar IK angles.
     pub pose: touch_arm::geometry::pose::Pose<f64>,
     /// Joint angles, rad: base α, shoulder q2, elbow q3.
     pub q: [f64; 3],

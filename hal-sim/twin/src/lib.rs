@@ -5,6 +5,8 @@
 //! references of the firmware's chain. No simulator of the chip: the simavr
 //! rig (`touch-arm-rig`) builds on this crate.
 
+#![deny(missing_docs)]
+
 pub mod arm;
 pub mod devices;
 pub mod display;

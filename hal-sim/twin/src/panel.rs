@@ -28,7 +28,9 @@ use super::rng::Rng;
 /// State of one panel pin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Drive {
+    /// Output high (Vcc).
     High,
+    /// Output low (ground).
     Low,
     /// Input, high impedance (the ADC input draws no current).
     Float,
@@ -37,19 +39,28 @@ pub enum Drive {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// One of the panel's four terminals: the ends of the X plate (XP, XM) and of the Y plate (YP, YM).
 pub enum Pin {
+    /// X plate, plus end.
     Xp,
+    /// X plate, minus end.
     Xm,
+    /// Y plate, plus end.
     Yp,
+    /// Y plate, minus end.
     Ym,
 }
 
 /// How the firmware has configured the four panel pins.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PanelPins {
+    /// How XP is driven.
     pub xp: Drive,
+    /// How XM is driven.
     pub xm: Drive,
+    /// How YP is driven.
     pub yp: Drive,
+    /// How YM is driven.
     pub ym: Drive,
 }
 
@@ -78,7 +89,9 @@ pub struct Contact {
 pub struct PanelModel {
     /// Plate resistances, Ω (typical panels: a few hundred).
     pub rx: f64,
+    /// The Y plate's resistance, Ω.
     pub ry: f64,
+    /// The finger's contact between the plates; `None`: not touched.
     pub contact: Option<Contact>,
 }
 
@@ -218,6 +231,7 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
 /// points land on it, and ADC noise.
 #[derive(Debug, Clone)]
 pub struct SimPanel {
+    /// The plates and the present contact.
     pub model: PanelModel,
     /// The panel's true response: screen point → raw channels (as read).
     pub cal: Calibration,
@@ -231,6 +245,7 @@ pub struct SimPanel {
 }
 
 impl SimPanel {
+    /// An untouched panel with the default calibration and no noise; `seed` drives the noise and glitches once they are set.
     pub fn new(seed: u64) -> Self {
         SimPanel {
             model: PanelModel::default(),
@@ -263,6 +278,7 @@ impl SimPanel {
         self.touch_raw(rx, ry, force)
     }
 
+    /// Lifts the finger: no contact until the next touch.
     pub fn release(&mut self) {
         self.model.contact = None;
     }

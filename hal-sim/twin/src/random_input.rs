@@ -12,6 +12,7 @@ use crate::rng::Rng;
 
 /// The generator. The same seed gives the same inputs.
 pub struct Inputs {
+    /// The seeded generator every draw comes from (tests may draw from it directly).
     pub rng: Rng,
 }
 
@@ -24,11 +25,14 @@ const TERMINATORS: [&[u8]; 3] = [b"\n", b"\r", b"\r\n"];
 /// answered (it is not empty).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SerialLine {
+    /// The line's bytes, terminator included.
     pub bytes: Vec<u8>,
+    /// The app must reply to it: the line is not empty.
     pub answered: bool,
 }
 
 impl Inputs {
+    /// A generator whose inputs follow from `seed` alone.
     pub fn new(seed: u64) -> Self {
         Inputs { rng: Rng::new(seed) }
     }

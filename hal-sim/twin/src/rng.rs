@@ -4,11 +4,13 @@
 //! core crate's tests use proptest's).
 
 #[derive(Debug, Clone)]
+/// The generator: xorshift64* state, never zero.
 pub struct Rng {
     state: u64,
 }
 
 impl Rng {
+    /// A generator whose sequence follows from `seed` alone (any seed, 0 included).
     pub fn new(seed: u64) -> Self {
         // A zero state would stay zero; splitmix the seed into a non-zero one.
         let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -18,6 +20,7 @@ impl Rng {
         Rng { state: if z == 0 { 1 } else { z } }
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         let mut x = self.state;
         x ^= x >> 12;

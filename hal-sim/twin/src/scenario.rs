@@ -530,6 +530,7 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
 }
 
 impl Scenario {
+    /// Parses a scenario file's text: its setup directives, then the steps; `Err` names the line that is wrong.
     pub fn parse(text: &str) -> Result<Scenario, String> {
         let mut steps = Vec::new();
         let mut setup_done = false;

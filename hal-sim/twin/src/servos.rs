@@ -37,13 +37,16 @@ pub struct ServoSample {
 }
 
 #[derive(Debug, Clone)]
+/// The three joint servos and the gripper as the app's servo outputs drive them: pulses in, shaft angles out, every out-of-range pulse recorded.
 pub struct SimServos {
     /// The servos' true pulse ↔ angle relation (fixed: a `cal set` in the app
     /// does not change the hardware).
     pub cals: [JointCal; 3],
+    /// How fast the shafts follow their pulses.
     pub model: ServoModel,
     angles: [f64; 3],
     pulses: Option<[u16; 3]>,
+    /// One sample per servo period: pulses and shaft angles.
     pub history: Vec<ServoSample>,
     /// Every `set_pulses` value (ticks) outside a servo's configured pulse range.
     pub violations: Vec<[u16; 3]>,
@@ -57,6 +60,7 @@ pub struct SimServos {
 }
 
 impl SimServos {
+    /// Servos with true calibrations `cals` and dynamics `model`, their shafts at `initial` (rad), no pulse yet.
     pub fn new(cals: &[JointCal; 3], model: &ServoModel, initial: &[f64; 3]) -> Self {
         SimServos {
             cals: *cals,
@@ -83,10 +87,12 @@ impl SimServos {
         self.grip_pulse
     }
 
+    /// The joints' shaft angles now, rad (servo convention).
     pub fn angles(&self) -> [f64; 3] {
         self.angles
     }
 
+    /// The joints' pulses being output, ticks; `None` before the first.
     pub fn pulses(&self) -> Option<[u16; 3]> {
         self.pulses
     }

@@ -13,12 +13,15 @@ use crate::display::Framebuffer;
 /// Everything a simulation starts from.
 #[derive(Debug, Clone)]
 pub struct SimSetup {
+    /// The app's parameters (`AppParams::DEFAULT` unless a scenario changes them).
     pub params: AppParams,
     /// The servos' true calibration.
     pub servo_cals: [JointCal; 3],
+    /// How fast the shafts follow their pulses.
     pub servo_model: ServoModel,
     /// Shaft angles at power-up (unknown to the app), rad.
     pub servo_initial: [f64; 3],
+    /// Seeds the panel's noise.
     pub seed: u64,
 }
 
@@ -41,6 +44,7 @@ pub struct FrameRecord {
     pub frame: u64,
     /// Frame number since the last (re)boot.
     pub boot_frame: u64,
+    /// The app's state after the frame.
     pub state: State,
     /// Pose the app commanded, rad.
     pub commanded: [f32; 3],
@@ -57,14 +61,23 @@ pub struct FrameRecord {
     pub grip_servo: f64,
 }
 
+/// The app running on the host twin, frame by frame: the app and every simulated part it talks to through the seam traits, with a record of each frame.
 pub struct Sim {
+    /// What the simulation was started from (kept for reboots).
     pub setup: SimSetup,
+    /// The app under test.
     pub app: App,
+    /// The touch panel the app reads.
     pub panel: SimPanel,
+    /// The servos the app drives.
     pub servos: SimServos,
+    /// The clock, one frame per step.
     pub clock: SimClock,
+    /// The EEPROM the app's settings live in (survives reboots).
     pub eeprom: SimEeprom,
+    /// The serial port: what tests send and what the app printed.
     pub serial: SimSerial,
+    /// One record per frame run.
     pub history: Vec<FrameRecord>,
     /// The screen, redrawn after every frame when the app runs one
     /// (`AppParams::screen`), as the firmware does.
@@ -74,6 +87,7 @@ pub struct Sim {
 }
 
 impl Sim {
+    /// Boots the app from `setup`: parts at power-up, no frame run yet; `Err` if the app refuses the parameters.
     pub fn new(setup: &SimSetup) -> Result<Sim, String> {
         let app = App::new(&setup.params).map_err(|e| format!("app parameters: {e:?}"))?;
         Ok(Sim {
@@ -128,6 +142,7 @@ impl Sim {
         self.clock.ms = self.clock.ms.wrapping_add(FRAME_MS);
     }
 
+    /// Runs `n` frames.
     pub fn run_frames(&mut self, n: u64) {
         for _ in 0..n {
             self.step();
@@ -139,6 +154,7 @@ impl Sim {
         self.run_frames(ms.div_ceil(FRAME_MS as u64));
     }
 
+    /// Sends `line` and a newline over the serial port, as a host would.
     pub fn send_line(&mut self, line: &str) {
         self.serial.send(line.as_bytes());
         self.serial.send(b"\n");
