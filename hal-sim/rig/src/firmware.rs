@@ -15,6 +15,7 @@ pub use hal_sim::host::{
 
 /// ATmega2560 on the Mega 2560 board.
 pub const MCU: &str = "atmega2560";
+/// The Mega's crystal: 16 MHz.
 pub const CPU_HZ: u32 = 16_000_000;
 
 /// The workspace root (where memory.x and target/ live).
@@ -156,6 +157,7 @@ pub const GRIPPER_PIN: crate::avr::Pin = crate::avr::Pin::of(mega::GRIPPER);
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
+    /// The simavr core running the firmware.
     pub avr: Avr,
     /// The display controller as the firmware's bus writes leave it.
     pub lcd: crate::lcd_bus::LcdBus,
@@ -167,8 +169,11 @@ pub struct Session {
 /// the cycles of the first and the last.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct AdcCount {
+    /// Conversions started.
     pub conversions: u64,
+    /// CPU cycle of the first.
     pub first_cycle: u64,
+    /// CPU cycle of the last.
     pub last_cycle: u64,
 }
 
@@ -250,6 +255,7 @@ impl Session {
         self.panel.borrow_mut().panel.touch_xy(x_p, y_p, 1.0)
     }
 
+    /// Lifts the finger from the panel.
     pub fn release(&mut self) {
         self.panel.borrow_mut().panel.release();
     }

@@ -106,6 +106,7 @@ impl Model {
         }
     }
 
+    /// The bus counters of the model, whichever it is.
     pub fn stats(&self) -> &BusStats {
         match self {
             Model::Dcs(m) => &m.stats,
@@ -177,8 +178,11 @@ impl Model {
 /// Counters of what went over the bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct BusStats {
+    /// Command bytes (RS low) written.
     pub commands: u64,
+    /// Parameter bytes of commands written.
     pub params: u64,
+    /// Pixels written to the GRAM.
     pub pixels: u64,
     /// Pixels addressed outside the column/page space (dropped).
     pub pixels_clipped: u64,
@@ -198,17 +202,21 @@ pub struct BusStats {
     pub undriven_writes: u64,
     /// WR strobes with CS high (ignored by the controller).
     pub deselected_writes: u64,
+    /// Hardware resets (RESET pulled low).
     pub hardware_resets: u64,
     /// Cycles between consecutive bytes of one RAMWR pixel stream, summed,
     /// and how many such gaps (gaps over 400 cycles, e.g. a new window, are
     /// left out).
     pub stream_gap_cycles: u64,
+    /// The number of gaps summed in `stream_gap_cycles`.
     pub stream_gaps: u64,
     /// Smallest gap seen between two WR rising edges.
     pub min_gap_cycles: Option<u64>,
+    /// CPU cycle of the first WR strobe.
     pub first_write_cycle: Option<u64>,
     /// When the first pixel reached the GRAM (boot time to first pixel).
     pub first_pixel_cycle: Option<u64>,
+    /// CPU cycle of the last WR strobe.
     pub last_write_cycle: Option<u64>,
 }
 
@@ -222,10 +230,15 @@ impl BusStats {
 /// Which MCU pins carry the bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BusPins {
+    /// Read strobe (RD, active low).
     pub rd: Pin,
+    /// Write strobe (WR, active low; the controller latches on the rising edge).
     pub wr: Pin,
+    /// Register select (RS, D/CX): low for a command, high for data.
     pub rs: Pin,
+    /// Chip select (CS, active low).
     pub cs: Pin,
+    /// Reset (RST, active low).
     pub rst: Pin,
     /// D0..D7.
     pub data: [Pin; 8],
@@ -411,6 +424,7 @@ impl LcdBus {
         self.lcd.borrow()
     }
 
+    /// The bus counters so far.
     pub fn stats(&self) -> BusStats {
         *self.lcd.borrow().stats()
     }

@@ -5,6 +5,8 @@
 //! Builds simavr from C: the crates that need no chip (the twin `hal-sim`,
 //! `armsim`) do not depend on this one.
 
+#![deny(missing_docs)]
+
 pub mod avr;
 pub mod firmware;
 pub mod lcd_bus;

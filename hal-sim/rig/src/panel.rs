@@ -13,9 +13,13 @@ use touch_arm::touch::filter::ADC_MAX;
 /// terminal that sits on an analog pin.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PanelWiring {
+    /// XP's pin and its ADC channel (`None`: a digital pin).
     pub xp: (Pin, Option<u8>),
+    /// XM's pin and its ADC channel.
     pub xm: (Pin, Option<u8>),
+    /// YP's pin and its ADC channel.
     pub yp: (Pin, Option<u8>),
+    /// YM's pin and its ADC channel.
     pub ym: (Pin, Option<u8>),
 }
 
@@ -61,7 +65,9 @@ impl PanelWiring {
 
 /// The panel as the simulated ADC sees it.
 pub struct PanelOnPins {
+    /// Which pins carry the terminals.
     pub wiring: PanelWiring,
+    /// The twin's panel model behind them.
     pub panel: SimPanel,
 }
 

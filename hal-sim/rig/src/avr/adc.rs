@@ -19,6 +19,7 @@ use super::Shared;
 /// What one ADC input pin carries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AdcInput {
+    /// A voltage, mV: simavr converts it against the reference in use.
     Millivolts(u32),
     /// A 10-bit conversion result; converted to the millivolts that make
     /// simavr return exactly this value under the reference in use.
@@ -28,10 +29,15 @@ pub enum AdcInput {
 /// The mux selection of one conversion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AdcMux {
+    /// One input against ground: ADC channel 0..=15.
     Single(u8),
+    /// A differential pair with its gain.
     Differential {
+        /// The positive input's channel.
         pos: u8,
+        /// The negative input's channel.
         neg: u8,
+        /// The amplifier's gain (1, 10 or 200).
         gain: u8,
     },
     /// Internal sources simavr handles itself (bandgap, GND, temperature...):
@@ -42,7 +48,9 @@ pub enum AdcMux {
 /// One conversion as the harness saw it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct AdcConversion {
+    /// CPU cycle at which simavr sampled the input.
     pub cycle: u64,
+    /// The input the conversion selected.
     pub mux: AdcMux,
     /// Reference voltage of the conversion.
     pub vref_mv: u32,
@@ -53,14 +61,17 @@ pub struct AdcConversion {
 /// Every port's registers at the moment of a conversion.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PortsSnapshot {
+    /// Each port's registers, in the core's port order.
     pub ports: Vec<PortState>,
 }
 
 impl PortsSnapshot {
+    /// The registers of `port` ('A'..'L'); `None` if the core has no such port.
     pub fn get(&self, port: char) -> Option<PortState> {
         self.ports.iter().copied().find(|p| p.name == port)
     }
 
+    /// The logic level of `pin` (PINx bit); `None` if its port does not exist.
     pub fn level(&self, pin: Pin) -> Option<bool> {
         self.get(pin.port).map(|p| p.level(pin.bit))
     }
@@ -69,13 +80,17 @@ impl PortsSnapshot {
 /// Passed to the ADC handler for each input a conversion samples.
 #[derive(Debug)]
 pub struct AdcRequest<'a> {
+    /// CPU cycle of the conversion.
     pub cycle: u64,
     /// ADC input number 0..=15 (ADC8..15 sit on port K).
     pub channel: u8,
+    /// Reference voltage of the conversion, mV.
     pub vref_mv: u32,
+    /// The ports as the conversion found them: how the firmware drives the pins around the sampled one.
     pub ports: &'a PortsSnapshot,
 }
 
+/// The test's model of what an ADC input carries: called for every conversion, it returns the input's value.
 pub type AdcHandler = Box<dyn FnMut(&AdcRequest<'_>) -> AdcInput>;
 
 pub(crate) struct AdcState {

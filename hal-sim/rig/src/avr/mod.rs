@@ -94,29 +94,41 @@ pub enum HaltReason {
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]
+/// Where and why the firmware stopped.
 pub struct Halt {
+    /// Why it stopped.
     pub reason: HaltReason,
     /// Byte address.
     pub pc: u32,
+    /// CPU cycle of the stop.
     pub cycle: u64,
     /// The (mangled) ELF symbol containing `pc`, if any.
     pub function: Option<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]
+/// Why an [`Avr`] call failed.
 pub enum Error {
+    /// simavr could not read or load the ELF.
     Load(String),
+    /// simavr has no core for this MCU name.
     UnknownMcu(String),
     /// The core lacks this peripheral or port.
     Missing(String),
+    /// A memory access outside the core's SRAM or flash.
     OutOfRange {
+        /// First address asked for.
         addr: u32,
+        /// Bytes asked for.
         len: usize,
     },
+    /// The ELF has no symbol of this name.
     NoSymbol(String),
+    /// The firmware stopped (crash, `sleep` with interrupts off, a panic).
     Halted(Halt),
     /// `run_until`'s condition did not become true within the budget.
     Timeout {
+        /// The cycle budget that ran out.
         cycles: u64,
     },
 }
@@ -146,9 +158,11 @@ impl std::error::Error for Error {}
 /// Core state as seen between instructions.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Status {
+    /// Executing instructions.
     Running,
     /// `sleep` with interrupts enabled (waits for an interrupt).
     Sleeping,
+    /// Stopped for good: see the [`Halt`].
     Halted(Halt),
 }
 
@@ -156,8 +170,11 @@ pub enum Status {
 /// byte addresses, SRAM symbols carry the 0x800000 data-segment offset.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Symbol {
+    /// The symbol's name as the ELF spells it (mangled for Rust).
     pub name: String,
+    /// Its address (see the type's note on the data-segment offset).
     pub addr: u32,
+    /// Its size, bytes.
     pub size: u32,
 }
 
@@ -223,6 +240,7 @@ pub struct StackPaint {
     pub from: u16,
     /// One past the last painted byte.
     pub to: u16,
+    /// The byte written to every painted cell.
     pub pattern: u8,
 }
 
@@ -374,6 +392,7 @@ impl Avr {
 
     // ---- time and execution ------------------------------------------------
 
+    /// The core's clock, Hz (16 MHz on the Mega).
     pub fn frequency(&self) -> u32 {
         unsafe { (*self.avr).frequency }
     }
@@ -393,10 +412,12 @@ impl Avr {
         self.cycles() as f64 / f64::from(self.frequency())
     }
 
+    /// `cycles` at the core's clock, in µs.
     pub fn cycles_to_us(&self, cycles: u64) -> f64 {
         cycles as f64 * 1e6 / f64::from(self.frequency())
     }
 
+    /// The whole cycles nearest `us` µs at the core's clock.
     pub fn us_to_cycles(&self, us: f64) -> u64 {
         (us * f64::from(self.frequency()) / 1e6).round() as u64
     }
@@ -412,6 +433,7 @@ impl Avr {
         u16::from_le_bytes([d[0x5d], d[0x5e]])
     }
 
+    /// The core's state now: running, sleeping or halted.
     pub fn status(&self) -> Status {
         if let Some(h) = &self.halt {
             return Status::Halted(h.clone());
@@ -568,6 +590,7 @@ impl Avr {
         &self.shared().uart.tx_cycles
     }
 
+    /// Everything the firmware sent on USART0 so far, as text (invalid UTF-8 replaced).
     pub fn uart_output_string(&self) -> String {
         String::from_utf8_lossy(self.uart_output()).into_owned()
     }
@@ -587,6 +610,7 @@ impl Avr {
         unsafe { uart::arm_pump(self.avr, shared) };
     }
 
+    /// How bytes queued for USART0 are delivered to the firmware (see [`RxPacing`]).
     pub fn set_uart_rx_pacing(&mut self, pacing: RxPacing) {
         self.shared_mut().uart.pacing = pacing;
     }
@@ -607,6 +631,7 @@ impl Avr {
         self.shared().ports.iter().position(|p| p.name == port).ok_or_else(|| Error::Missing(format!("port {port}")))
     }
 
+    /// The registers of `port` ('A'..'L') now; `Error::Missing` if the core has no such port.
     pub fn port_state(&self, port: char) -> Result<PortState, Error> {
         let i = self.port_index(port)?;
         Ok(unsafe { self.shared().ports[i].state(self.avr) })
@@ -617,6 +642,7 @@ impl Avr {
         PortsSnapshot { ports: self.shared().ports.iter().map(|p| unsafe { p.state(self.avr) }).collect() }
     }
 
+    /// The logic level of `pin` now (its PINx bit).
     pub fn pin_level(&self, pin: Pin) -> Result<bool, Error> {
         Ok(self.port_state(pin.port)?.level(pin.bit))
     }
@@ -773,6 +799,7 @@ impl Avr {
         self.shared_mut().adc.handler = Some(Box::new(handler));
     }
 
+    /// Removes the ADC handler: inputs read as simavr's default from now on.
     pub fn clear_adc_handler(&mut self) {
         self.shared_mut().adc.handler = None;
     }
@@ -843,10 +870,12 @@ impl Avr {
         Ok(())
     }
 
+    /// Every symbol of the loaded ELF.
     pub fn symbols(&self) -> &[Symbol] {
         &self.symbols
     }
 
+    /// The symbol named `name`, if the ELF has one.
     pub fn symbol(&self, name: &str) -> Option<&Symbol> {
         self.symbols.iter().find(|s| s.name == name)
     }

@@ -19,11 +19,14 @@ use super::Shared;
 /// One GPIO pin, e.g. `Pin::new('L', 3)` for PL3 (OC5A, Arduino D46).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Pin {
+    /// Port letter, 'A'..'L'.
     pub port: char,
+    /// Bit within the port, 0..=7.
     pub bit: u8,
 }
 
 impl Pin {
+    /// Pin `bit` of port `port`.
     pub const fn new(port: char, bit: u8) -> Self {
         Self { port, bit }
     }
@@ -37,8 +40,11 @@ impl Pin {
 /// Register view of one port.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PortState {
+    /// Port letter, 'A'..'L'.
     pub name: char,
+    /// PORTx: output levels, or the pull-ups of inputs.
     pub port: u8,
+    /// DDRx: 1 for an output pin.
     pub ddr: u8,
     /// PINx as simavr holds it: outputs mirror PORT, inputs hold what was
     /// last driven from outside (or the pull-up level).
@@ -46,6 +52,7 @@ pub struct PortState {
 }
 
 impl PortState {
+    /// Bit `bit` of the port is an output.
     pub fn is_output(&self, bit: u8) -> bool {
         self.ddr >> bit & 1 == 1
     }
@@ -71,18 +78,23 @@ impl PortState {
 /// A level change of a watched pin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Edge {
+    /// CPU cycle of the change.
     pub cycle: u64,
+    /// The level after the change.
     pub high: bool,
 }
 
 /// A complete high pulse (rising edge followed by a falling edge).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
+    /// CPU cycle of the rising edge.
     pub rise_cycle: u64,
+    /// Cycles from the rising to the falling edge.
     pub width_cycles: u64,
 }
 
 impl Pulse {
+    /// The width in µs at `cpu_hz`.
     pub fn width_us(&self, cpu_hz: u32) -> f64 {
         self.width_cycles as f64 * 1e6 / cpu_hz as f64
     }

@@ -54,14 +54,17 @@ impl PortLevels {
         Some((self.pin[i] & !self.ddr[i]) | (self.port[i] & self.ddr[i]))
     }
 
+    /// DDRx of `port` at the write; `None` if the core has no such port.
     pub fn ddr(&self, port: char) -> Option<u8> {
         self.index(port).map(|i| self.ddr[i])
     }
 
+    /// The logic level of `pin` (false if its port does not exist).
     pub fn level(&self, pin: Pin) -> bool {
         self.levels(pin.port).is_some_and(|v| v >> (pin.bit & 7) & 1 == 1)
     }
 
+    /// `pin` is an output (false if its port does not exist).
     pub fn is_output(&self, pin: Pin) -> bool {
         self.ddr(pin.port).is_some_and(|v| v >> (pin.bit & 7) & 1 == 1)
     }

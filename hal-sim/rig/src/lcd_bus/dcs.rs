@@ -25,10 +25,15 @@ pub const GRAM_W: u16 = 240;
 /// ... and 320 rows.
 pub const GRAM_H: u16 = 320;
 
+/// MADCTL (36h) bits: the memory access order the firmware sets.
 pub mod madctl {
+    /// Row address order (bottom to top).
     pub const MY: u8 = 0x80;
+    /// Column address order (right to left).
     pub const MX: u8 = 0x40;
+    /// Row/column exchange (landscape).
     pub const MV: u8 = 0x20;
+    /// BGR colour order.
     pub const BGR: u8 = 0x08;
 }
 
@@ -55,14 +60,21 @@ pub struct Dcs {
     gram_w: u16,
     gram_h: u16,
     gram: Vec<Rgb565>,
+    /// MADCTL (36h) as last written.
     pub madctl: u8,
+    /// COLMOD (3Ah) as last written (0x55: 16 bits a pixel).
     pub colmod: u8,
+    /// In sleep mode (after SLPIN, before SLPOUT).
     pub sleeping: bool,
+    /// DISPON received (and no DISPOFF since).
     pub display_on: bool,
     /// Column and page windows (inclusive ends) and the write pointer.
     pub sc: u16,
+    /// End column of the window.
     pub ec: u16,
+    /// Start page (row) of the window.
     pub sp: u16,
+    /// End page (row) of the window.
     pub ep: u16,
     col: u16,
     page: u16,
@@ -74,6 +86,7 @@ pub struct Dcs {
     answer: Vec<u8>,
     /// Every command byte in order.
     pub command_log: Vec<u8>,
+    /// What went over the bus.
     pub stats: BusStats,
 }
 
@@ -149,6 +162,7 @@ impl Dcs {
         self.answer.clear();
     }
 
+    /// A pulse on RESET: the registers return to their power-on values (the GRAM keeps its content) and the reset is counted.
     pub fn hardware_reset(&mut self) {
         self.stats.hardware_resets += 1;
         self.reset_registers();

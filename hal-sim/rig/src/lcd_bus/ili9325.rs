@@ -46,6 +46,7 @@ pub struct Ili9325 {
     answer: Vec<u8>,
     /// Every register index written, in order.
     pub index_log: Vec<u16>,
+    /// What went over the bus.
     pub stats: BusStats,
 }
 
@@ -88,6 +89,7 @@ impl Ili9325 {
         self.answer.clear();
     }
 
+    /// A pulse on RESET: the registers and the address counter return to their power-on values (the GRAM keeps its content) and the reset is counted.
     pub fn hardware_reset(&mut self) {
         self.stats.hardware_resets += 1;
         self.reset_registers();
