@@ -28,12 +28,15 @@ use crate::report::{csv_row, num, Json, Val};
     version,
     about = "The touch-arm method on a PC (f64): touch mapping, IK, ζ-a-tₛ / via-point / classic trajectories and plots"
 )]
+/// The `armsim` command line: one subcommand per task ([`Cmd`]); [`run`] executes it.
 pub struct Cli {
     #[command(subcommand)]
+    /// The task to run.
     pub cmd: Cmd,
 }
 
 #[derive(Subcommand, Debug)]
+/// armsim's tasks; each prints JSON or CSV (or writes a plot). A new task is a variant here, its argument struct and its `cmd_*` function called from [`run`].
 pub enum Cmd {
     /// Map a touch to the normalized workspace: JSON {x_p, y_p, clamped, condition, alpha_deg}
     Map(MapArgs),
@@ -94,6 +97,7 @@ pub struct Times {
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// A ζ-a-tₛ plan: q0 → S_f over tₛ with shape a and base n (shared by `traj`, `via` and the plots).
 pub struct ZatArgs {
     /// Start value q0
     #[arg(long)]
@@ -114,10 +118,13 @@ pub struct ZatArgs {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim traj`'s arguments: the plan, and the samples or `--info`.
 pub struct TrajArgs {
     #[command(flatten)]
+    /// The ζ-a-tₛ plan.
     pub p: ZatArgs,
     #[command(flatten)]
+    /// Where to sample it.
     pub times: Times,
     /// Print the plan's properties as JSON instead of samples
     #[arg(long, conflicts_with_all = ["t", "samples"])]
@@ -126,6 +133,7 @@ pub struct TrajArgs {
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// A via-point plan: the main segment and the via value (shared by `via` and `plot via`).
 pub struct ViaCore {
     /// The main segment q0 → S_f over tₛ (its shape a and base n).
     #[command(flatten)]
@@ -148,9 +156,13 @@ pub struct ViaCore {
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
+/// How smooth the via-point trajectory is at the via time.
 pub enum ContinuityArg {
+    /// Position continuous only
     C0,
+    /// Velocity continuous too (picks a_v)
     C1,
+    /// Acceleration continuous too (picks n_v and a_v; t_v > 1 s)
     C2,
 }
 
@@ -166,10 +178,13 @@ impl From<ContinuityArg> for Continuity {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim via`'s arguments: the plan, and the samples or the properties.
 pub struct ViaArgs {
     #[command(flatten)]
+    /// The via-point plan.
     pub p: ViaCore,
     #[command(flatten)]
+    /// Where to sample it (else the plan's properties as JSON).
     pub times: Times,
     /// Also run the paper's feedback iteration to this tolerance: adds {iterations, s_v_iter, zeta_iter, zeta_iter_infinite, zeta_v_iter, zeta_v_iter_infinite} (null when it diverges, r ≥ 1)
     #[arg(long, value_name = "TOL", conflicts_with_all = ["t", "samples"])]
@@ -177,10 +192,15 @@ pub struct ViaArgs {
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
+/// The motion laws `armsim law` and `path --law` take.
 pub enum LawKindArg {
+    /// Constant velocity
     Linear,
+    /// Cubic polynomial (velocity zero at the ends)
     Cubic,
+    /// Quintic polynomial (velocity and acceleration zero at the ends)
     Quintic,
+    /// Trapezoidal velocity profile
     Trapezoid,
     /// The firmware's default: ζ-a-tₛ time-scaled from its reference shape
     /// (n = 2, T₀ = 1.5 s, a*) onto [t0, t_f]; `traj` is the papers' own form
@@ -218,6 +238,7 @@ impl LawSampler {
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// A classic law over [t0, t_f] from s0 to s_f (shared by `law` and `plot law`).
 pub struct LawCore {
     /// The motion law
     #[arg(long, value_enum)]
@@ -238,20 +259,26 @@ pub struct LawCore {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim law`'s arguments: the law and where to sample it.
 pub struct LawArgs {
     #[command(flatten)]
+    /// The law.
     pub p: LawCore,
     #[command(flatten)]
+    /// Where to sample it.
     pub times: Times,
 }
 
 #[derive(Args, Debug)]
+/// `armsim path`'s arguments: the path's shape and its plan.
 pub struct PathArgs {
     #[command(subcommand)]
+    /// A line or a circle.
     pub kind: PathKind,
 }
 
 #[derive(Subcommand, Debug, Clone)]
+/// The end-effector paths `armsim path` plans.
 pub enum PathKind {
     /// The straight segment --from → --to
     Line(PathLine),
@@ -261,6 +288,7 @@ pub enum PathKind {
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// A straight segment of the effector.
 pub struct PathLine {
     /// Start point "X,Y,Z" (x, y horizontal, z up; workspace units)
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
@@ -269,11 +297,13 @@ pub struct PathLine {
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
     pub to: [f64; 3],
     #[command(flatten)]
+    /// Duration, law, limits, links, samples.
     pub common: PathCommon,
 }
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// One turn of a circle of the effector.
 pub struct PathCircle {
     /// Centre "X,Y,Z"
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_triple, allow_hyphen_values = true)]
@@ -282,11 +312,13 @@ pub struct PathCircle {
     #[arg(long)]
     pub radius: f64,
     #[command(flatten)]
+    /// Duration, law, limits, links, samples.
     pub common: PathCommon,
 }
 
 #[derive(Args, Debug, Clone)]
 #[command(allow_hyphen_values = true)]
+/// What every path plan takes: duration, law, joint limits, links, samples.
 pub struct PathCommon {
     /// Duration tₛ > 0 [s]
     #[arg(long)]
@@ -310,6 +342,7 @@ pub struct PathCommon {
     #[arg(long, default_value_t = 1.0)]
     pub l3: f64,
     #[command(flatten)]
+    /// Where to sample the path.
     pub times: Times,
     /// Print the plan's duration and peaks as JSON instead of samples
     #[arg(long, conflicts_with_all = ["t", "samples"])]
@@ -317,12 +350,15 @@ pub struct PathCommon {
 }
 
 #[derive(Args, Debug)]
+/// `armsim plot`'s arguments: what to plot.
 pub struct PlotArgs {
     #[command(subcommand)]
+    /// A trajectory, law or path.
     pub what: PlotWhat,
 }
 
 #[derive(Subcommand, Debug)]
+/// What `armsim plot` draws.
 pub enum PlotWhat {
     /// Plot a ζ-a-tₛ trajectory (same flags as `traj`)
     Traj(PlotTraj),
@@ -335,8 +371,10 @@ pub enum PlotWhat {
 }
 
 #[derive(Args, Debug)]
+/// `armsim plot path`'s arguments: the path and the output file.
 pub struct PlotPath {
     #[command(subcommand)]
+    /// A line or a circle.
     pub kind: PathKind,
     /// Output file, .png or .svg
     #[arg(long, value_name = "FILE", global = true)]
@@ -345,6 +383,7 @@ pub struct PlotPath {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// A plot's output file and sample count.
 pub struct PlotOut {
     /// Output file, .png or .svg
     #[arg(long, value_name = "FILE")]
@@ -356,28 +395,37 @@ pub struct PlotOut {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim plot traj`'s arguments.
 pub struct PlotTraj {
     #[command(flatten)]
+    /// The ζ-a-tₛ plan.
     pub p: ZatArgs,
     #[command(flatten)]
+    /// The output.
     pub out: PlotOut,
 }
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim plot via`'s arguments.
 pub struct PlotVia {
     #[command(flatten)]
+    /// The via-point plan.
     pub p: ViaCore,
     #[command(flatten)]
+    /// The output.
     pub out: PlotOut,
 }
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim plot law`'s arguments.
 pub struct PlotLaw {
     #[command(flatten)]
+    /// The law.
     pub p: LawCore,
     #[command(flatten)]
+    /// The output.
     pub out: PlotOut,
 }
 
@@ -394,12 +442,15 @@ pub struct TouchArg {
 }
 
 #[derive(Args, Debug)]
+/// `armsim map`'s arguments: the touch.
 pub struct MapArgs {
     #[command(flatten)]
+    /// The touch to map.
     pub touch: TouchArg,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+/// The IK's elbow branch: the sign of q3.
 pub enum BranchArg {
     /// q3 = +acos(c)
     Plus,
@@ -436,6 +487,7 @@ impl From<BranchArg> for Branch {
 }
 
 #[derive(Args, Debug, Clone)]
+/// The arm's links and the IK branch (shared by `ik` and `plan`).
 pub struct LinkArgs {
     /// Upper-arm length l2
     #[arg(long, default_value_t = 1.0)]
@@ -450,6 +502,7 @@ pub struct LinkArgs {
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim ik`'s arguments: the target and the arm.
 pub struct IkArgs {
     /// Target x (planar reach, or x_e with --z)
     #[arg(long)]
@@ -461,18 +514,22 @@ pub struct IkArgs {
     #[arg(long)]
     pub z: Option<f64>,
     #[command(flatten)]
+    /// The links and the branch.
     pub links: LinkArgs,
 }
 
 #[derive(Args, Debug)]
 #[command(allow_hyphen_values = true)]
+/// `armsim plan`'s arguments: the touch, the scale and the arm.
 pub struct PlanArgs {
     #[command(flatten)]
+    /// The touch to plan for.
     pub touch: TouchArg,
     /// Screen-to-arm scale of the linear transform
     #[arg(long, default_value_t = 1.0)]
     pub k: f64,
     #[command(flatten)]
+    /// The links and the branch.
     pub links: LinkArgs,
 }
 

@@ -4,6 +4,8 @@
 //! the command-line conventions, the lossless JSON/CSV numbers and the
 //! stacked plots that the main job (`touch-arm-bench`) shares.
 
+#![deny(missing_docs)]
+
 pub mod args;
 pub mod cli;
 pub mod plot;

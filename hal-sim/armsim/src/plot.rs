@@ -8,23 +8,30 @@ use plotters::style::{register_font, FontStyle};
 
 /// One curve in a panel.
 pub struct Curve<'a> {
+    /// The legend's label.
     pub label: &'a str,
+    /// One value per time of the shared axis.
     pub y: &'a [f64],
 }
 
 /// One panel: a y-axis label and its curves, all over the shared time axis.
 pub struct Panel<'a> {
+    /// The y-axis label.
     pub ylabel: &'a str,
+    /// The curves drawn in the panel.
     pub curves: Vec<Curve<'a>>,
 }
 
 #[derive(Debug)]
+/// Why a plot was not written.
 pub enum PlotError {
     /// Neither .png nor .svg.
     UnknownFormat,
     /// The embedded font did not register with plotters.
     NoFont,
+    /// No time samples or no panels.
     Empty,
+    /// plotters failed to draw or write the file.
     Draw(String),
 }
 
@@ -157,11 +164,17 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// One projection of a path (top or side view), with labelled marks
 /// (start, via, target).
 pub struct View<'a> {
+    /// The view's caption (e.g. "top view").
     pub title: &'a str,
+    /// The horizontal axis' label.
     pub xlabel: &'a str,
+    /// The vertical axis' label.
     pub ylabel: &'a str,
+    /// The path's horizontal coordinates.
     pub x: &'a [f64],
+    /// The path's vertical coordinates, one per x.
     pub y: &'a [f64],
+    /// Labelled points drawn over the path: (label, x, y).
     pub marks: Vec<(&'a str, f64, f64)>,
 }
 

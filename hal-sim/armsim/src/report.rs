@@ -51,12 +51,17 @@ pub fn num(v: f64) -> String {
 
 /// A JSON value for a flat object.
 pub enum Val {
+    /// A number, printed losslessly; non-finite is `null`.
     Num(f64),
+    /// An integer.
     Int(i64),
+    /// `true` or `false`.
     Bool(bool),
+    /// A string, escaped.
     Str(String),
     /// Already-rendered JSON (an array, say).
     Raw(String),
+    /// `null`.
     Null,
 }
 
@@ -96,15 +101,18 @@ impl<T: Into<Val>> From<Option<T>> for Val {
 pub struct Json(Vec<(&'static str, Val)>);
 
 impl Json {
+    /// An empty object.
     pub fn new() -> Self {
         Self::default()
     }
 
+    /// Appends `key` with value `v` (keys print in the order set).
     pub fn set(mut self, key: &'static str, v: impl Into<Val>) -> Self {
         self.0.push((key, v.into()));
         self
     }
 
+    /// The object as one line of JSON, numbers lossless (see [`num`]).
     pub fn render(&self) -> String {
         let mut s = String::from("{");
         for (i, (k, v)) in self.0.iter().enumerate() {
