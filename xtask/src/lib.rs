@@ -3,6 +3,8 @@
 //! (`elf`), the benchmark report that scripts/bench.sh writes
 //! (`bench_report`), and `avr-run` (a firmware under simavr until `done`).
 
+#![deny(missing_docs)]
+
 pub mod bench_report;
 pub mod cli;
 pub mod elf;

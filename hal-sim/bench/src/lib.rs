@@ -3,4 +3,6 @@
 //! (`touch-arm-live`: the firmware running in real time behind a browser
 //! page, `live`).
 
+#![deny(missing_docs)]
+
 pub mod live;

@@ -20,11 +20,14 @@ pub struct Accuracy {
     pub paper: f64,
     /// Worst |G − 1| at t = tₛ: the evaluator's, the printed form's.
     pub g_at_ts: f64,
+    /// The same for the printed form.
     pub paper_at_ts: f64,
     /// Worst errors of `ln` and `atan2` in f32 ulps, of the split square root
     /// s + c relative to √x.
     pub ln_ulps: f64,
+    /// Worst `atan2` error, f32 ulps.
     pub atan2_ulps: f64,
+    /// Worst error of the split square root, relative.
     pub sqrt_rel: f64,
 }
 

@@ -17,8 +17,11 @@ const TEMPLATE: &str = include_str!("template.md");
 /// memory.x's budgets, bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Budgets {
+    /// Flash (`__budget_flash`).
     pub flash: u64,
+    /// Static RAM: .data + .bss + .noinit (`__budget_static_ram`).
     pub static_ram: u64,
+    /// Stack (`__budget_stack`).
     pub stack: u64,
 }
 
@@ -53,11 +56,15 @@ impl Sizes {
 /// Everything one report is made of.
 #[derive(Debug, Clone)]
 pub struct Inputs {
+    /// The bench firmware's UART output.
     pub bench: BenchOutput,
+    /// The display and stack tests' output.
     pub ui: UiOutput,
     /// The product firmware (`touch-arm.elf`) and the bench firmware.
     pub product: Sizes,
+    /// The bench firmware's section sizes.
     pub bench_elf: Sizes,
+    /// memory.x's budgets.
     pub budgets: Budgets,
 }
 

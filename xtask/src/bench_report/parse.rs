@@ -5,10 +5,13 @@
 /// One timed routine: a `B <name> <median> <min> <max> <stack>` line.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Routine {
+    /// The routine's name as the bench prints it.
     pub name: String,
     /// Cycles (stamp overhead subtracted).
     pub median: u64,
+    /// Fastest run, cycles.
     pub min: u64,
+    /// Slowest run, cycles.
     pub max: u64,
     /// Stack high-water mark while it ran, bytes.
     pub stack: u64,
@@ -17,9 +20,13 @@ pub struct Routine {
 /// One counted quantity: an `I <name> <median> <min> <max>` line.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Count {
+    /// The quantity's name as the bench prints it.
     pub name: String,
+    /// Median of the runs.
     pub median: u64,
+    /// Smallest.
     pub min: u64,
+    /// Largest.
     pub max: u64,
 }
 
@@ -32,6 +39,7 @@ pub struct BenchOutput {
 }
 
 impl BenchOutput {
+    /// Keeps the bench firmware's output lines for the lookups below.
     pub fn parse(text: &str) -> BenchOutput {
         let lines = text
             .lines()
@@ -145,6 +153,7 @@ pub struct UiOutput {
 }
 
 impl UiOutput {
+    /// Reads the display and stack tests' `--nocapture` output; lines it does not know are skipped.
     pub fn parse(text: &str) -> UiOutput {
         let mut ui = UiOutput::default();
         let mut in_table = false;

@@ -5,52 +5,82 @@
 /// A pointer register pair used with displacement (`ldd`/`std`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ptr {
+    /// Y (r28:r29), the frame pointer.
     Y,
+    /// Z (r30:r31).
     Z,
 }
 
 /// I/O addresses of the stack pointer and status register (`in`/`out`).
 pub const SPL: u8 = 0x3d;
+/// Stack pointer, high byte.
 pub const SPH: u8 = 0x3e;
+/// Status register.
 pub const SREG: u8 = 0x3f;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// One decoded instruction: the ones the checks look at, everything else [`Insn::Other`].
 pub enum Insn {
+    /// `push Rr`.
     Push(u8),
+    /// `in Rd, io`.
     In {
+        /// Destination register.
         d: u8,
+        /// I/O address.
         io: u8,
     },
+    /// `out io, Rr`.
     Out {
+        /// I/O address.
         io: u8,
+        /// Source register.
         r: u8,
     },
+    /// `cli`: interrupts off.
     Cli,
     /// `adiw`/`sbiw` on the pair starting at `d` (24, 26, 28, 30).
     Adiw {
+        /// First register of the pair.
         d: u8,
+        /// The immediate, 0..=63.
         k: u8,
     },
+    /// `sbiw` on the pair starting at `d`.
     Sbiw {
+        /// First register of the pair.
         d: u8,
+        /// The immediate, 0..=63.
         k: u8,
     },
+    /// `subi Rd, K` (Rd in r16..r31).
     Subi {
+        /// Destination register.
         d: u8,
+        /// The immediate.
         k: u8,
     },
+    /// `sbci Rd, K`: subtract with carry.
     Sbci {
+        /// Destination register.
         d: u8,
+        /// The immediate.
         k: u8,
     },
+    /// `ldi Rd, K`.
     Ldi {
+        /// Destination register.
         d: u8,
+        /// The immediate.
         k: u8,
     },
     /// `ld`/`ldd` Rd, Y+q or Z+q (q = 0 is plain `ld`).
     Ldd {
+        /// Destination register.
         d: u8,
+        /// The pointer pair.
         ptr: Ptr,
+        /// The displacement, 0..=63.
         q: u8,
     },
     /// `rjmp`, `ijmp` or `eijmp`: an unconditional jump whose target the
@@ -58,9 +88,13 @@ pub enum Insn {
     JumpAway,
     /// `jmp`/`call` with its target as a byte address.
     Jmp(u32),
+    /// `call`, target as a byte address.
     Call(u32),
+    /// `ret`.
     Ret,
+    /// `reti`.
     Reti,
+    /// Any other instruction (its length is still right).
     Other,
 }
 

@@ -32,9 +32,11 @@ pub enum Kind {
     Pm16,
     /// `ldi Rd, lo8(gs(f))` / `hi8(gs(f))`: a pointer built in registers.
     Lo8Gs,
+    /// `hi8(gs(f))`, the high byte of the same.
     Hi8Gs,
     /// `lo8(pm(f))` / `hi8(pm(f))`: the same without a stub (truncates).
     Lo8Pm,
+    /// `hi8(pm(f))`, the high byte of the same.
     Hi8Pm,
     /// `hh8(pm(f))`: bits 16..23 of a word address, what EIND is loaded
     /// with (avr-libc's start-up code: `hh8(pm(__vectors))`, 0). Trampolines
@@ -56,6 +58,7 @@ impl Kind {
         }
     }
 
+    /// The relocation's ELF name (`R_AVR_16_PM`, ...), for messages.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Pm16 => "R_AVR_16_PM",
@@ -89,6 +92,7 @@ impl Kind {
 pub struct Site {
     /// Address of the site (flash, or data space for initialized data).
     pub at: u64,
+    /// Which relocation forms it.
     pub kind: Kind,
     /// The byte address the relocation asked for (symbol + addend).
     pub target: u64,
@@ -99,7 +103,9 @@ pub struct Site {
 /// A `jmp` stub of `.trampolines`: its address and where it jumps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Trampoline {
+    /// The stub's address.
     pub at: u64,
+    /// Where it jumps (byte address).
     pub to: u64,
 }
 
@@ -108,13 +114,16 @@ pub struct Trampoline {
 pub struct Report {
     /// Every code-pointer site that resolved correctly.
     pub sites: Vec<Site>,
+    /// The trampolines the linker emitted.
     pub trampolines: Vec<Trampoline>,
+    /// End of `.trampolines` (`__trampolines_end`).
     pub trampolines_end: u64,
     /// End of the low-flash region the linker script fills before the
     /// constructors and the start-up code (`__ctors_start`): vectors,
     /// `.progmem*`, trampolines, `.jumptables`, `.lowtext`. Everything read
     /// with `lpm` lies below it.
     pub progmem_end: u64,
+    /// What is wrong, one line each; empty when the image is safe.
     pub problems: Vec<String>,
 }
 

@@ -30,8 +30,11 @@ pub struct Image<'a> {
 /// A function symbol of the ELF: its name, start address and size in bytes.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Function<'a> {
+    /// Its (mangled) symbol name.
     pub name: &'a str,
+    /// Its first byte, a flash byte address.
     pub address: u64,
+    /// Its size, bytes.
     pub size: u64,
 }
 

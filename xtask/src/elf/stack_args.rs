@@ -22,7 +22,9 @@ use super::Image;
 /// A function that reads above its frame and saved registers.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Offender {
+    /// Its (mangled) symbol name.
     pub name: String,
+    /// Its flash byte address.
     pub address: u64,
     /// Registers pushed by the prologue.
     pub pushes: u32,
@@ -49,8 +51,11 @@ impl std::fmt::Display for Offender {
 /// rule is easier to trust than a list of exceptions.
 #[derive(Debug, Default)]
 pub struct Lint {
+    /// Function symbols walked.
     pub functions: usize,
+    /// Those that copy SP into Y (a frame pointer).
     pub with_frame_pointer: usize,
+    /// The functions that read stack-passed arguments.
     pub offenders: Vec<Offender>,
 }
 

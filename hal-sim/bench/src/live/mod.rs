@@ -47,6 +47,7 @@ pub const LAYOUT: touch_arm::ui::layout::Layout = touch_arm::ui::layout::Layout:
 pub struct Options {
     /// Port on 127.0.0.1; 0 picks a free one.
     pub port: u16,
+    /// The firmware ELF the bench runs.
     pub elf: PathBuf,
     /// Seed of the panel model's noise.
     pub seed: u64,
@@ -95,6 +96,7 @@ pub fn start(opts: &Options) -> Result<LiveBench, String> {
 }
 
 impl LiveBench {
+    /// The address the page is served at (the port picked when `Options::port` was 0).
     pub fn addr(&self) -> SocketAddr {
         self.addr
     }
