@@ -389,7 +389,7 @@ const CYCLES_PER_TICK: u64 = 8;
 /// Pulse widths in Timer5 ticks from cycle-stamped edges: (rise cycle,
 /// ticks). A stamp lags its edge by 0 to 4 cycles (see `avr::pins`), so a
 /// width read plainly is off by up to ±4 cycles, half a tick. Every rise
-/// happens at a period start (BOTTOM), on a grid of [`PERIOD_CYCLES`]:
+/// happens at a period start (BOTTOM), on a grid of `PERIOD_CYCLES`:
 /// the smallest lag of the rises on one grid stands for the grid itself
 /// (a watchdog reset restarts the timer and starts a new grid), so the
 /// width measured from it errs by the fall's lag only, 0 to 4 cycles, and

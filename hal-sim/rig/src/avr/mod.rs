@@ -115,7 +115,7 @@ pub enum Error {
     UnknownMcu(String),
     /// The core lacks this peripheral or port.
     Missing(String),
-    /// A memory access outside the core's SRAM or flash.
+    /// A memory access outside the core's data space (registers, I/O and SRAM).
     OutOfRange {
         /// First address asked for.
         addr: u32,
