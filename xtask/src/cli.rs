@@ -1,6 +1,7 @@
 //! The repository tools' command lines: `cargo xtask <command>` (the `xtask`
 //! binary) and the two stand-alone binaries scripts/bench.sh runs
-//! (`avr-run`, `bench-report`), which take the same arguments as their
+//! (`avr-run`; `bench-report`, whose arguments and body are
+//! `bench_report::command`), which take the same arguments as their
 //! subcommands. A new tool is one more [`Command`] variant and its function.
 
 use std::path::{Path, PathBuf};
@@ -9,7 +10,8 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use touch_arm_rig::firmware;
 
-use crate::bench_report::{render, BenchOutput, Budgets, Inputs, Sizes, UiOutput};
+use crate::bench_report::command as bench_report;
+use crate::bench_report::Budgets;
 use crate::elf;
 
 /// `cargo xtask`: the touch-arm repository's tooling.
@@ -28,7 +30,7 @@ pub enum Command {
     /// stack-passed arguments); exits 1 if any check fails.
     ElfCheck(ElfCheckArgs),
     /// Writes BENCHMARKS.md from one bench run (scripts/bench.sh).
-    BenchReport(BenchReportArgs),
+    BenchReport(bench_report::Args),
     /// Runs an AVR ELF in simavr until it prints `done`.
     AvrRun(AvrRunArgs),
 }
@@ -37,7 +39,7 @@ pub enum Command {
 pub fn run(cmd: &Command) -> ExitCode {
     match cmd {
         Command::ElfCheck(a) => elf_check(a),
-        Command::BenchReport(a) => report(bench_report(a), "bench-report"),
+        Command::BenchReport(a) => report(bench_report::run(a), "bench-report"),
         Command::AvrRun(a) => avr_run(a),
     }
 }
@@ -121,51 +123,6 @@ pub fn elf_check(args: &ElfCheckArgs) -> ExitCode {
 /// An ELF's firmware name, as `all_elfs` names them: the file stem.
 fn elf_name(path: &Path) -> String {
     path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned())
-}
-
-/// Writes BENCHMARKS.md from a bench run's output.
-#[derive(Parser, Debug)]
-#[command(name = "bench-report")]
-pub struct BenchReportArgs {
-    /// The bench firmware's UART output (`avr-run bench.elf`).
-    #[arg(long)]
-    pub bench_output: PathBuf,
-    /// The `ui_firmware` and `firmware_e2e stack_stays_within_budget` test
-    /// output (`--nocapture`): draw times, bus speed, stacks.
-    #[arg(long)]
-    pub ui_output: PathBuf,
-    /// The product firmware [default: target/avr-none/release/touch-arm.elf, or TOUCH_ARM_ELF].
-    #[arg(long)]
-    pub firmware: Option<PathBuf>,
-    /// The bench firmware [default: target/avr-none/release/bench.elf, or TOUCH_ARM_BENCH_ELF].
-    #[arg(long)]
-    pub bench_elf: Option<PathBuf>,
-    /// Where to write.
-    #[arg(long, short, default_value = "BENCHMARKS.md")]
-    pub out: PathBuf,
-}
-
-fn read(path: &Path) -> Result<String, String> {
-    std::fs::read(path)
-        .map(|b| String::from_utf8_lossy(&b).into_owned())
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Reads the bench run's outputs, the two ELFs' section sizes and memory.x's
-/// budgets, and writes the document to `args.out`.
-pub fn bench_report(args: &BenchReportArgs) -> Result<(), String> {
-    let memory_x = read(&firmware::workspace_root().join("memory.x"))?;
-    let inputs = Inputs {
-        bench: BenchOutput::parse(&read(&args.bench_output)?),
-        ui: UiOutput::parse(&read(&args.ui_output)?),
-        product: Sizes(firmware::section_sizes(&args.firmware.clone().unwrap_or_else(firmware::default_elf))?),
-        bench_elf: Sizes(firmware::section_sizes(&args.bench_elf.clone().unwrap_or_else(firmware::bench_elf))?),
-        budgets: Budgets::parse(&memory_x)?,
-    };
-    let text = render(&inputs)?;
-    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    println!("wrote {}", args.out.display());
-    Ok(())
 }
 
 /// Runs an AVR ELF (ATmega2560 at 16 MHz) in simavr until it prints `done`,

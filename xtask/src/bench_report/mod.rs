@@ -5,6 +5,7 @@
 //! document's prose, kept as Markdown) with the figures.
 
 mod accuracy;
+pub mod command;
 mod parse;
 mod routines;
 
