@@ -1,5 +1,5 @@
 //! The display controller on the UNO-form shield's 8-bit parallel bus
-//! (SPEC §8), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
+//! (docs/hardware.md), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
 //! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486) and the
 //! register-indexed ILI9325, told apart at boot by their ID registers
 //! ([`Lcd::start`], `lcd/start.rs`). They differ only in their

@@ -1,5 +1,5 @@
 //! Inverse and forward kinematics of the planar 2-link arm (shoulder q2, elbow
-//! q3) and of the 3-DoF arm with a base rotation θ1 (SPEC §4). Radians; q3 is
+//! q3) and of the 3-DoF arm with a base rotation θ1 (method.md §6). Radians; q3 is
 //! the elbow angle relative to the upper link, counter-clockwise positive.
 
 use crate::math::real::Real;
@@ -141,7 +141,7 @@ impl<R: Real> Links<R> {
     }
 }
 
-/// Planar IK (SPEC §4): `c = (x² + y² − l2² − l3²)/(2·l2·l3)`,
+/// Planar IK (method.md §6): `c = (x² + y² − l2² − l3²)/(2·l2·l3)`,
 /// `q3 = ±acos(c)`, `q2 = atan2(y, x) ∓ atan2(l3·sin|q3|, l2 + l3·cos q3)`.
 /// `q2` is wrapped into (−π, π]. `fk2(ik2(p)) = p` for both branches.
 ///
