@@ -169,10 +169,11 @@ pub const fn to_array<const N: usize>(b: &[u8]) -> [u8; N] {
     a
 }
 
-/// `t!("literal")`: a [`Text`] kept in flash on the chip.
+/// `t!("literal")`: a [`Text`] kept in flash on the chip. Any constant
+/// `&'static str` works too, such as `t!(env!("CARGO_PKG_VERSION"))`.
 #[macro_export]
 macro_rules! t {
-    ($s:literal) => {{
+    ($s:expr) => {{
         #[cfg(target_arch = "avr")]
         {
             const N: usize = $s.len();
