@@ -46,7 +46,7 @@ impl DrawBudget for FrameBudget<'_> {
         self.left() > START_TICKS + END_TICKS
     }
 
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn allows(&mut self, pixels: u32) -> bool {
         self.left() > pixels * TICKS_PER_PIXEL + TICKS_PER_OP + END_TICKS
     }

@@ -157,7 +157,7 @@ pub unsafe fn run_pixels(color: u16, n: u16) {
 }
 
 /// `n` pixels of `color` with the other port bits `b`.
-#[inline(never)]
+#[inline(never)] // reason: code-size
 unsafe fn send_run(b: PortBytes, color: u16, n: u16) {
     if n == 0 {
         return;

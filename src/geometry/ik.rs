@@ -324,7 +324,7 @@ pub fn fk3<R: Real>(links: &Links<R>, th1: R, th2: R, th3: R) -> (R, R, R) {
 /// AVR's stack, which LLVM miscompiles (the post-link lint in
 /// `hal-sim/tests/firmware_elf.rs` caught it: a path move from the wrong
 /// start).
-#[inline(never)]
+#[inline(never)] // avr-trap: stack-args
 pub fn fk3_pose<R: Real>(links: &Links<R>, q: &[R; 3]) -> [R; 3] {
     let (rho, z) = fk2(links, q[1], q[2]);
     [rho * q[0].cos(), rho * q[0].sin(), z]

@@ -40,7 +40,7 @@ impl<R: Real> ViaParams<R> {
     /// parameter where it is used instead of holding all nine from the
     /// start (spilled on the AVR). Written out rather than through
     /// `all_finite`, whose nine-value array cost 364 cycles more here.
-    #[inline(never)]
+    #[inline(never)] // reason: register-pressure
     fn finite(&self) -> bool {
         self.q0.is_finite()
             && self.theta_v.is_finite()
