@@ -2,7 +2,7 @@
 //!
 //! On AVR every `&'static str` literal is copied into SRAM at boot (.rodata is
 //! part of .data there), and the app's replies, reasons and names would fill
-//! the 2 KiB static-RAM budget on their own. [`t!`](crate::t) puts a literal in
+//! the 3.5 KiB static-RAM budget (`memory.x`) on their own. [`t!`](crate::t) puts a literal in
 //! `.progmem.data` instead and gives a [`Text`] handle that reads it with `lpm`
 //! one byte at a time. On the host the same handle wraps a plain `&'static str`,
 //! so host tests see exactly the bytes the chip sends.

@@ -8,7 +8,7 @@
 //! whatever the law), both shapes' G every frame (`lift_frame`). A lift and
 //! `path line` exclude each other (`lift and path line exclusive`): a line's
 //! effector goes straight, a lift's goes up. Both are settings of the
-//! configuration, stored by `cal save` (record version 3).
+//! configuration, stored by `cal save` (record version 4).
 //!
 //! # The check, spread over frames
 //! A path's plan-time check ([`PathCheck`]: every point reachable, inside the
