@@ -7,7 +7,7 @@
 #   scripts/bench.sh OUT.md     # writes elsewhere
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh main
 OUT=${1:-BENCHMARKS.md}
 TARGET=${CARGO_TARGET_DIR:-target}
 echo "== building firmware and bench firmware"

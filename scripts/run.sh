@@ -11,7 +11,8 @@
 #                                            (default 8080; Ctrl-C stops it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+# What this command needs, no more (no Chromium, npm or ravedude).
+if [ "${1:-}" = "--live" ]; then bash scripts/setup.sh live; else bash scripts/setup.sh main; fi
 echo "== building firmware (cargo avr)"
 cargo avr
 if [ "${1:-}" = "--live" ]; then

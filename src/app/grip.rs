@@ -95,7 +95,7 @@ enum GripWho {
 
 impl Grip {
     /// At rest at the open end of `cal`'s output window, no pulse yet.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn new(cal: &JointCal) -> Option<Grip> {
         let map = ServoMap::new(cal).ok()?;
         let open = map.output_window().0;
@@ -144,7 +144,7 @@ impl App {
     // The gripper's commands are not inlined into `execute`: their locals
     // would sit in its frame under the deepest path (a calibration slew's
     // plan); measured with the stack test of `firmware_e2e.rs`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_command(&mut self, cmd: GripCmd) -> Result<Done, Refusal> {
         let (open, close) = self.grip.ends();
         let target = match cmd {
@@ -198,7 +198,7 @@ impl App {
     /// The screen's Grip button: closes an open gripper and opens a closed
     /// one (the target of its last move decides: nearer the closed end is
     /// closed), by the same checks and planner as `grip open|close`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn screen_grip(&mut self) -> Result<(), Refusal> {
         let (open, close) = self.grip.ends();
         let target = if self.grip_closed() { open } else { close };
@@ -231,7 +231,7 @@ impl App {
     /// answers it: `ok grip <cdeg> ts_ms <ms>` or `err <reason>` (a pose's:
     /// `warn pose <n> grip <reason>`). Waits a frame if the arm planned in
     /// this one.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn finish_grip<U: SerialPort>(&mut self, serial: &mut U, arm_planned: bool) {
         if arm_planned {
             return;
@@ -249,7 +249,7 @@ impl App {
 
     /// The answer of a grip plan (not inlined: its line buffer is not on
     /// the stack while the grip is planned).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn report_grip<U: SerialPort>(&mut self, serial: &mut U, due: &GripDue, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match (r, due.who) {
@@ -293,7 +293,7 @@ impl App {
     /// A grip move from `start` at rest to `target` under `map`'s limits at
     /// `pct` % of its speed, by the arm's planner (the other two joints of
     /// the plan stand still); started from the next frame.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn plan_grip(&mut self, start: f32, target: f32, map: &ServoMap, pct: u8) -> Result<(), Refusal> {
         let lim = self.plan_limits([map; JOINTS], pct);
         let req = MoveRequest { start: [start, 0.0, 0.0], target: [target, 0.0, 0.0], law: self.config.law };
@@ -307,7 +307,7 @@ impl App {
 
     /// The gripper's angle of this frame: its plan at t = frames since the
     /// plan × 20 ms, exactly the target from the plan's end on.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_grip(&mut self) {
         let Some(plan) = self.grip.plan.as_ref() else { return };
         let t = f32::from(self.grip.n) * FRAME_S;
@@ -322,7 +322,7 @@ impl App {
 
     /// The gripper's pulse, through its map's clamping; a refused
     /// (non-finite) angle holds the previous pulse and latches STOP.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn write_grip<S: ServoOutputs>(&mut self, servos: &mut S) {
         match self.grip.map.angle_to_pulse(self.grip.commanded) {
             Ok(p) => {
@@ -346,7 +346,7 @@ impl App {
     }
 
     /// `cal set grip <field> <value>`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_cal_set(&mut self, field: JointField, value: i32) -> Result<Done, Refusal> {
         let mut next = *self.grip.map.cal();
         set_field(&mut next, field, value);
@@ -357,7 +357,7 @@ impl App {
     }
 
     /// `cal reset grip`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_reset(&mut self) -> Result<Done, Refusal> {
         self.replace_grip(&GRIP_DEFAULT).map(Done::CalReset)
     }

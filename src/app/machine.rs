@@ -70,7 +70,7 @@ impl App {
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
         self.poses = crate::config::poses::load(storage).poses;
@@ -126,7 +126,7 @@ impl App {
     // inlined into the firmware's frame they made it reserve 603 bytes of
     // stack, and LLVM then miscompiled the touch read's loop on the chip (the
     // frame never ended; the watchdog reset it). Out of line it is 168.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
             if self.busy {
@@ -188,7 +188,7 @@ impl App {
 
     /// `info touch <x> <y> …` or `err touch <x> <y> <reason>` (its buffer is
     /// not on the stack while the touch is planned).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn report_touch<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match r {
@@ -320,7 +320,7 @@ impl App {
     /// Plans this frame's accepted target (the move starts in the next frame)
     /// and answers whoever asked: while moving, a correction superposed on
     /// the running move; at rest, a move from the pose just commanded.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(due) = self.plan_due.take() else { return };
         let r = if due.kind == MoveKind::Joint {
@@ -367,7 +367,7 @@ impl App {
     }
 
     /// The plan of an accepted target under this move's limits.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         let lim = self.plan_limits(self.maps.each_ref(), self.move_percent());
         // A new target while moving: a correction superposed on the move.
@@ -406,7 +406,7 @@ impl App {
 
     /// A move from `start` at rest (not inlined: its plan and track would
     /// otherwise share the caller's stack frame with the re-plan's).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn start_fresh(
         &mut self,
         start: &[f32; JOINTS],
@@ -475,7 +475,7 @@ impl App {
         }
     }
 
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn step_motion(&mut self) {
         if let Mode::Homing { frames_left } = self.mode {
             self.mode = match frames_left {

@@ -8,7 +8,7 @@
 //! whatever the law), both shapes' G every frame (`lift_frame`). A lift and
 //! `path line` exclude each other (`lift and path line exclusive`): a line's
 //! effector goes straight, a lift's goes up. Both are settings of the
-//! configuration, stored by `cal save` (record version 3).
+//! configuration, stored by `cal save` (record version 4).
 //!
 //! # The check, spread over frames
 //! A path's plan-time check ([`PathCheck`]: every point reachable, inside the
@@ -224,7 +224,7 @@ impl App {
 
     /// Sets up the check of an accepted path or lift target (the frame's
     /// plan step). `Err` is answered at once; `Ok` waits for the check.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn begin_path_check(&mut self, due: &PlanDue) -> Result<(), Refusal> {
         let check = match due.kind {
             MoveKind::Lift { h } => Check::Lift(self.new_lift_check(&due.target, h)?),
@@ -329,7 +329,7 @@ impl App {
 
     /// After the pulses: cancels a check STOP interrupted, or runs the
     /// check's units the period has room for and answers once it decides.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_path_check<S: ServoOutputs, U: SerialPort>(
         &mut self,
         servos: &S,
@@ -406,7 +406,7 @@ impl App {
 
     /// The path frame (the law's progress, the path's point, its IK) or the
     /// via frame (both shapes' G), then the pulses. Returns `false` when there is no running path move.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_path(&mut self) -> bool {
         let PathRun::Running { run, ticks, frame } = &mut self.path else { return false };
         let t = f32::from(*frame) * FRAME_S;

@@ -199,7 +199,7 @@ impl App {
     }
 
     /// The one reply line of a command (see [`Done`]).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
         let mut reply = Line::new();
         let r = &mut reply;
@@ -314,7 +314,7 @@ impl App {
 
     /// `warn output full: <n> lines dropped`, once it fits, for the lines
     /// [`App::emit`] could not send.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn report_dropped<U: SerialPort>(&mut self, serial: &mut U) {
         if self.tx_dropped == 0 {
             return;

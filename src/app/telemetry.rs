@@ -60,7 +60,7 @@ impl App {
     /// clock, the commanded angles in centidegrees and the pulses written
     /// this frame (µs, `.5` for a half: the timer's resolution), then the
     /// gripper's angle and pulse (`-` before its first).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
@@ -82,7 +82,7 @@ impl App {
     }
 
     /// Sends the next line of a multi-line reply, if one is pending.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(Pending::CalShow(i)) = self.pending else { return };
         // Not in a busy frame: the line waits for the next.

@@ -18,7 +18,7 @@ use touch_arm::board::usart::Usart0;
 use ufmt::uwriteln;
 
 /// The function-pointer callee (the test computes the same on the host).
-#[inline(never)]
+#[inline(never)] // reason: far-call
 #[link_section = ".far_text"]
 fn far_mix(x: u16) -> u16 {
     x.rotate_left(3) ^ 0x5a5a
@@ -34,7 +34,7 @@ struct Affine {
 }
 
 impl Step for Affine {
-    #[inline(never)]
+    #[inline(never)] // reason: far-call
     #[link_section = ".far_text"]
     fn step(&self, x: u16) -> u16 {
         x.wrapping_mul(self.mul).wrapping_add(self.add)

@@ -1,9 +1,11 @@
 //! Gates on the firmware ELFs themselves (`xtask::elf`): the memory budgets
 //! stated in `memory.x`, every 16-bit code pointer reaching its target (code
 //! above 128 KiB through a linker trampoline) with `lpm` data below 64 KiB,
-//! and no function reading stack-passed arguments (LLVM miscompiles those on
-//! the ATmega2560). The ELFs are built by `scripts/test.sh` (`cargo avr`)
-//! before `cargo test` runs; `tests/elf_fixtures.rs` shows each check failing.
+//! no function reading stack-passed arguments (LLVM miscompiles those on
+//! the ATmega2560), and no overflow-checking multiply helper (it crashes the
+//! chip). The ELFs are built by `scripts/test.sh` (`cargo avr`)
+//! before `cargo test` runs; `tests/elf_fixtures.rs` shows the pointer and
+//! argument checks failing.
 
 use std::path::Path;
 
@@ -83,5 +85,21 @@ fn firmware_has_no_function_reading_stack_passed_arguments() {
         assert!(lint.functions > 0, "{name}: no function symbols (stripped ELF?)");
         let offenders: Vec<String> = lint.offenders.iter().map(|o| o.to_string()).collect();
         assert!(offenders.is_empty(), "{name}:\n{}", offenders.join("\n"));
+    });
+}
+
+/// compiler-builtins' overflow-checking multiplies (what `checked_mul` and
+/// its kin call) crash the ATmega2560 (docs/avr-traps.md, trap 5): no
+/// firmware links one. Tried: an `i32::checked_mul` on black-boxed values in
+/// an example links `__mulosi4`, which this refuses.
+#[test]
+fn firmware_links_no_overflow_checking_multiply() {
+    each_firmware(|name, image| {
+        for helper in ["__mulosi4", "__mulodi4", "__muloti4"] {
+            assert!(
+                image.symbol(helper).is_none(),
+                "{name} links {helper}: a checked multiply (checked_mul and its kin) crashes the chip"
+            );
+        }
     });
 }

@@ -6,6 +6,11 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// When this environment variable is set, `touch-arm-sim` and
+/// `touch-arm-live` exit after parsing their arguments (0, or 2 with the
+/// error): how the documented commands are checked without running them.
+pub const CHECK_ARGS: &str = "TOUCH_ARM_CHECK_ARGS";
+
 /// Parses the process arguments. `Err` carries the exit code to return at
 /// once: 0 after `--help`/`--version` (printed), 2 after a bad argument
 /// (one line on stderr, `prog: <what is wrong>`).

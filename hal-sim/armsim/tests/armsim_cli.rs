@@ -46,7 +46,7 @@ fn map_raw_corners_and_midpoint() {
     assert_eq!(v["condition"], 1);
     assert!((f(&v, "alpha_deg") - 45.0).abs() < 1e-12);
 
-    // SPEC §2: x_p = (raw − 527.5)/404.5, y_p = (raw − 128)/769.
+    // method.md §3: x_p = (raw − 527.5)/404.5, y_p = (raw − 128)/769.
     let v = json(&["map", "--raw", "600,500"]);
     assert!((f(&v, "x_p") - (600.0 - 527.5) / 404.5).abs() < 1e-15);
     assert!((f(&v, "y_p") - (500.0 - 128.0) / 769.0).abs() < 1e-15);
@@ -302,7 +302,7 @@ fn csv(args: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
-/// The papers' printed form (SPEC §5), evaluated independently in f64
+/// The papers' printed form (method.md §7), evaluated independently in f64
 /// (`reference`).
 fn printed_zat(q0: f64, sf: f64, ts: f64, a: f64, n: f64, t: f64) -> f64 {
     Zat::new(ts, a, n).printed(q0, sf, t)
@@ -367,7 +367,7 @@ fn traj_info_domain_smooth_stop_and_overshoot() {
     let zeta = 4.0 - (16f64 - 2.0).log2();
     assert!((f(&v, "zeta") - zeta).abs() < 1e-12);
     assert_eq!(v["zeta_infinite"], false);
-    // SPEC §5: S'(tₛ⁻) = Δ·L·[1 − (1 − 1/tₛ)(1 + q(tₛ))], q = 1/(n^(tₛ−a) − 1).
+    // method.md §7: S'(tₛ⁻) = Δ·L·[1 − (1 − 1/tₛ)(1 + q(tₛ))], q = 1/(n^(tₛ−a) − 1).
     let q = 1.0 / (2f64.powf(3.0) - 1.0);
     let ev = 2f64.ln() * (1.0 - (1.0 - 0.25) * (1.0 + q));
     assert!((f(&v, "end_velocity") - ev).abs() < 1e-12);
@@ -388,7 +388,7 @@ fn traj_info_domain_smooth_stop_and_overshoot() {
     assert!(v["zeta"].is_null());
     assert_eq!(v["zeta_infinite"], false);
 
-    // SPEC's example of a pole-near shape that overshoots.
+    // method.md's example of a pole-near shape that overshoots.
     let v = json(&["traj", "--q0", "0", "--sf", "1", "--ts", "3", "--a", "2.45", "--n", "2", "--info"]);
     assert_eq!(v["admissible"], true);
     assert_eq!(v["monotone"], false);
@@ -442,7 +442,7 @@ fn via_closed_form_passes_through_the_via_point() {
 
 #[test]
 fn via_paper_iteration_diverges_when_r_exceeds_one() {
-    // SPEC §6: tₛ = 3, a = 2.45, n = 2, t_v = 1.7 gives r = 18.4.
+    // method.md §8: tₛ = 3, a = 2.45, n = 2, t_v = 1.7 gives r = 18.4.
     let v = json(&[
         "via",
         "--q0",
@@ -526,7 +526,7 @@ fn law_values_match_the_corrected_formulas() {
     assert_eq!(&rows[0][1..], &[2.0, 0.0, 0.0]);
     assert_eq!(&rows[4][1..], &[-1.0, 0.0, 0.0]);
 
-    // Cubic reaches its end exactly (SPEC §7: the papers' 3.053 was read at 0.9 s).
+    // Cubic reaches its end exactly (method.md §9: the papers' 3.053 was read at 0.9 s).
     let (_, rows) = csv(&[
         "law",
         "--kind",
@@ -566,7 +566,7 @@ fn law_values_match_the_corrected_formulas() {
 }
 
 /// `law --kind zat`: the reference shape (n = 2, T₀ = 1.5 s, a* = T₀ −
-/// log₂ T₀) of the SPEC's normalized form at τ = (t − t0)·T₀/(t_f − t0),
+/// log₂ T₀) of method.md's normalized form at τ = (t − t0)·T₀/(t_f − t0),
 /// ending exactly on s_f at rest; `traj` stays the papers' own form.
 #[test]
 fn law_zat_is_the_time_scaled_reference_shape() {

@@ -64,7 +64,7 @@ pub fn far_call_elf() -> PathBuf {
 pub const EXAMPLES: [&str; 3] = ["panel-probe", "servo-sweep", "mipidsi-fill"];
 
 /// Every firmware and example the test command builds, by name: what the
-/// post-link checks (`tests/firmware_elf.rs`) run over.
+/// post-link checks (`xtask/tests/firmware_elf.rs`) run over.
 pub fn all_elfs() -> Vec<(&'static str, PathBuf)> {
     let mut elfs = vec![
         ("touch-arm", default_elf()),

@@ -3,7 +3,7 @@
 //! draws, as a framebuffer and PNG, for each controller the firmware
 //! supports ([`Chip`]).
 //!
-//! Bus (SPEC §8, Mega pins): RD PF0, WR PF1, RS PF2 (D/C), CS PF3, RST PF4;
+//! Bus (docs/hardware.md, Mega pins): RD PF0, WR PF1, RS PF2 (D/C), CS PF3, RST PF4;
 //! D0 PH5, D1 PH6, D2 PE4, D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is
 //! latched on the rising edge of WR while CS is low and RST high; RS low
 //! makes it a command (an index half on the ILI9325), high a parameter or

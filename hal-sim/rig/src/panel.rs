@@ -24,7 +24,7 @@ pub struct PanelWiring {
 }
 
 impl PanelWiring {
-    /// SPEC §8 wiring (a): XP = D8 (PH5), XM = A2 (PF2), YP = A3 (PF3), YM = D9 (PH6).
+    /// docs/hardware.md wiring (a): XP = D8 (PH5), XM = A2 (PF2), YP = A3 (PF3), YM = D9 (PH6).
     pub const A: PanelWiring = PanelWiring::of(&PanelPinout::A);
     /// Wiring (b): XP = D6 (PH3), XM = A2 (PF2), YP = A1 (PF1), YM = D7 (PH4).
     pub const B: PanelWiring = PanelWiring::of(&PanelPinout::B);

@@ -1,7 +1,7 @@
 //! The real firmware ELF in simavr, end to end: the panel model answers the
 //! firmware's own touch driver through the ADC and the pin registers, the
 //! servo pulses are measured on PL3/PL4/PL5 cycle-exactly, and commands go
-//! through USART0. Expected values come from SPEC's formulas in f64 here,
+//! through USART0. Expected values come from method.md's formulas in f64 here,
 //! not from the crate's code.
 
 use std::f64::consts::PI;
@@ -25,7 +25,7 @@ fn start() -> Session {
     s
 }
 
-/// SPEC §3–4 and the default servo calibration (10 µs/°, base and shoulder
+/// method.md §4–6 and the default servo calibration (10 µs/°, base and shoulder
 /// 600 µs at 0°, elbow 2400 µs at 0°, elbow-up branch): the pulses a target
 /// at workspace point (x_p, y_p) must end at, and its condition.
 fn expected(x_p: f64, y_p: f64) -> ([f64; 3], u8) {
@@ -259,6 +259,36 @@ fn power_up_sends_no_pulse_before_the_home_pose() {
     }
     let out = s.avr.uart_output_string();
     assert!(out.contains("reset power-on") && out.contains("warn no stored config, defaults"), "{out}");
+}
+
+/// The boot line names the core crate's version (read from its Cargo.toml
+/// here, not hal-sim's) and the commit the ELF was built from: 12 hex digits
+/// and `-dirty`, a commit of this repository when git can tell, or `unknown`
+/// (built without git). Then the reset cause.
+#[test]
+fn the_boot_line_names_the_version_and_the_commit() {
+    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 3).unwrap();
+    s.run_for(0.05).unwrap();
+    let out = s.avr.uart_output_string();
+    let line = out.lines().next().unwrap_or_default();
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
+    let version = manifest.lines().find_map(|l| l.strip_prefix("version = \"")).unwrap().trim_end_matches('"');
+    let words: Vec<&str> = line.split(' ').collect();
+    let ["info", "touch-arm", v, "commit", commit, "reset", "power-on"] = words[..] else {
+        panic!("boot line {line:?} (all output: {out})");
+    };
+    assert_eq!(v, version, "{line}");
+    if commit != "unknown" {
+        let hash = commit.strip_suffix("-dirty").unwrap_or(commit);
+        assert!(hash.len() == 12 && hash.bytes().all(|b| b.is_ascii_hexdigit()), "{line}");
+        let known = std::process::Command::new("git")
+            .args(["-C", root, "cat-file", "-e", &format!("{hash}^{{commit}}")])
+            .status()
+            .map(|st| st.success());
+        // Without git here nothing more can be checked.
+        assert!(known.unwrap_or(true), "{hash} is no commit of this repository ({line})");
+    }
 }
 
 #[test]

@@ -44,7 +44,7 @@ fn datasheet_id(chip: Chip) -> &'static str {
     }
 }
 
-/// SPEC §3–4 in f64 with the default servo calibration (10 µs/°, base and
+/// method.md §4–6 in f64 with the default servo calibration (10 µs/°, base and
 /// shoulder 600 µs at 0°, elbow 2400 µs at 0°): the pulses a target at
 /// (x_p, y_p) ends at, and the joint angles in degrees.
 fn expected(x_p: f64, y_p: f64) -> ([f64; 3], [f64; 3]) {

@@ -50,7 +50,7 @@ fn touch_and_settle(s: &mut Session, raw_x: f64, raw_y: f64) -> (String, [Option
     (line, s.last_pulses())
 }
 
-/// A map point in condition 2 (SPEC §3: 0 ≤ x_p < y_p).
+/// A map point in condition 2 (method.md §4–5: 0 ≤ x_p < y_p).
 const POINT: (f32, f32) = (0.2, 0.6);
 
 #[test]

@@ -62,7 +62,7 @@ pub fn default_servo_maps() -> Result<[touch_arm::servo::map::ServoMap; 3], Stri
 }
 
 /// The host's f64 reference of the chain the firmware runs for a workspace
-/// point (SPEC §2–4: condition, α, transform, IK with the paper's geometry
+/// point (method.md §3–6: condition, α, transform, IK with the paper's geometry
 /// k = l2 = l3 = 1 and the firmware's elbow branch), and the pulses the
 /// default calibration gives those angles.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -8,7 +8,7 @@
 //! sees the real firmware do to the pins. A pin whose plate connects to no
 //! driven pin floats: its voltage is undefined and the ADC reads noise.
 //!
-//! The standard reads (SPEC §8), with the contact at fraction `fx` of the X
+//! The standard reads (docs/hardware.md), with the contact at fraction `fx` of the X
 //! plate from XM and `fy` of the Y plate from YM:
 //! - X: XP high, XM low, Y floating, read YP → `fx` (no current in the Y plate).
 //! - Y: YP high, YM low, X floating, read XM → `fy`.

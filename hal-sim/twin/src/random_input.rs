@@ -2,7 +2,7 @@
 //! serial lines valid and garbage, touches, and the rule that counts the
 //! replies a line must get. Shared by the twin's random test
 //! (`tests/random_inputs.rs`) and the soak of the real ELF in simavr
-//! (`tests/firmware_soak.rs`).
+//! (`hal-sim/rig/tests/firmware_soak.rs`).
 //!
 //! Every generated line ends with a terminator and holds no backspace, so
 //! "non-empty" is simply "has a byte before its terminator": each such line

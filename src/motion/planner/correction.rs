@@ -231,7 +231,7 @@ pub fn correction_duration<R: Real>(
 /// while the running term runs (see the module doc). Float work per piece
 /// and joint is a multiply-add per condition: what does not depend on the
 /// piece is taken out of the loops.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn fits<R: Real>(t: R, ctx: &Check<'_, R>) -> bool {
     let Check { joints, coarse, run, tab_r, tab_c } = ctx;
     let n = R::from_u16(CELLS as u16);

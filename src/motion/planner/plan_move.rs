@@ -27,7 +27,7 @@ const ACC_SEARCH_TOL: f64 = 0.01;
 /// Plans a move under the speed and acceleration limits (see the module
 /// doc). Not inlined, so that its searches' locals are not part of the
 /// caller's stack frame.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<PlannedMove<R>, PlanError> {
     let ratio = time_ratio(req, &lim.speed)?;
     let acc_ratio = time_ratio(req, &lim.accel)?;
@@ -65,7 +65,7 @@ pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<P
 
 /// The profile of a law that scales with its duration, over `ts` (the
 /// papers' ζ-a-tₛ gets the time-scaled one: it has no single shape).
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub fn scaling_law<R: Real>(kind: LawKind, ts: R) -> Result<JointLaw<R>, TrajError<R>> {
     let law = match kind {
         LawKind::Zat | LawKind::ZatPaper => return ScaledZat::new(ts).map(JointLaw::Scaled),
@@ -107,7 +107,7 @@ pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>
 /// passes and is near the start of the passing range the search brackets,
 /// not always the shortest. The speed bound is verified again on the shape
 /// returned, with its P and max |G″|.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
     let (z, peak) = zat_duration(ratio, lim)?;
     let acc = zat_peak_acc(&z.shape);

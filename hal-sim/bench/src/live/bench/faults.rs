@@ -11,7 +11,7 @@ use touch_arm_rig::firmware::Session;
 use touch_arm_rig::panel::PanelWiring;
 
 /// The noisy-panel fault: the noisy-touch scenario's ADC noise (σ, counts)
-/// and glitch probability (`tests/scenarios/touch_noisy.scn`).
+/// and glitch probability (`hal-sim/twin/tests/scenarios/touch_noisy.scn`).
 const NOISE_COUNTS: f64 = 2.0;
 const NOISE_SPIKES: f64 = 0.01;
 /// TCCR5B's data address: clearing it stops Timer5's clock (see `stall`).
@@ -77,7 +77,7 @@ impl Bench {
     /// the bench stalls its frame loop from outside: it clears TCCR5B, which
     /// stops Timer5's clock. The loop then waits for a PWM period that never
     /// starts, nothing feeds the watchdog, and its 500 ms timeout resets the
-    /// chip, which restarts Timer5 at boot (as `tests/firmware_e2e.rs`'s
+    /// chip, which restarts Timer5 at boot (as `hal-sim/rig/tests/firmware_e2e.rs`'s
     /// watchdog test does).
     fn stall(&mut self) -> Result<Value, String> {
         if self.halted.is_some() {
