@@ -11,6 +11,7 @@ pub mod firmware;
 pub mod lcd_bus;
 pub mod live;
 pub mod panel;
+pub mod paper;
 pub mod plot;
 pub mod random_input;
 pub mod report;
