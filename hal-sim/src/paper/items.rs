@@ -2,7 +2,7 @@
 //! the core's plans, with the formula and correction behind every value.
 
 use touch_arm::motion::via::{c2_ln_base, iterate_paper, smooth_via_a, ViaParams, ViaPlan};
-use touch_arm::motion::zat::{u_min, Shape, ShapeParams, ZatParams, ZatPlan};
+use touch_arm::motion::zat::{smooth_stop_a, u_min, Shape, ShapeParams, ZatParams, ZatPlan};
 use touch_arm::motion::{Sample, TrajError};
 
 use super::poly::{max_on, poly_derivs, via_poly};
@@ -48,12 +48,10 @@ const QUINTIC: &str = "quintic-acceleration";
 
 /// Computes the item `id`.
 pub fn compute(id: &str) -> Result<Item, String> {
-    let about = ITEMS
+    let (id, about) = *ITEMS
         .iter()
         .find(|(i, _)| *i == id)
-        .map(|(_, a)| *a)
         .ok_or_else(|| format!("no item {id:?} (armsim paper list names them)"))?;
-    let id = ITEMS.iter().find(|(i, _)| *i == id).map(|(i, _)| *i).unwrap_or_default();
     let mut item = match id {
         "p1-ex1" => p1_ex1()?,
         "p1-ex2" => p1_ex2()?,
@@ -66,7 +64,8 @@ pub fn compute(id: &str) -> Result<Item, String> {
         "p2-williams-c1" => via_item(&via(30.0, 180.0, 120.0, 1.5, 1.91, 0.8734, 81.7467, 2.4), Some(1))?,
         "p2-williams-c2" => via_item(&via(30.0, 180.0, 120.0, 1.5, 5.0, 0.5865, 5.0, 1.95), Some(2))?,
         "lab-line" => lab(line())?,
-        _ => lab(circle())?,
+        "lab-circle" => lab(circle())?,
+        _ => unreachable!("every id of ITEMS has its computation"),
     };
     item.id = id;
     item.about = about;
@@ -314,6 +313,15 @@ fn via_item(p: &ViaParams<f64>, williams: Option<u8>) -> Result<Item, String> {
         }
         Err(e) => return Err(format!("paper iteration: {e}")),
     };
+    let ve = plan.end_velocity();
+    if ve.abs() > 1e-9 * (p.sf - sv).abs() {
+        notes.push(format!(
+            "the move ends exactly on S_f but with velocity S'(ts-) = {ve} (the main shape's a = {} is not its smooth \
+             stop a* = {}): the exact end holds for position only (docs/corrections.md#{END_EXACT})",
+            p.a,
+            smooth_stop_a(p.ts, p.n).map_or("none (not admissible)".into(), |a| a.to_string())
+        ));
+    }
     let main = plan.main_shape();
     if !main.is_monotone() {
         notes.push(format!(
