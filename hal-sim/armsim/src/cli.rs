@@ -77,6 +77,8 @@ pub enum Cmd {
     /// no joint over its speed or acceleration limit. A too short --ts is refused with the
     /// shortest admissible one, or taken by --slow-down; no joint is ever clamped.
     Path(PathArgs),
+    /// The papers' worked examples and figures from their stated inputs: `paper list`, `paper <id> [--json] [--plot FILE] [--csv FILE]`, `paper all --out DIR`
+    Paper(crate::paper::PaperArgs),
 }
 
 // Every argument struct allows values with a leading hyphen: clap's
@@ -607,6 +609,7 @@ pub fn run(cli: &Cli) -> Result<String, String> {
         Cmd::Law(a) => cmd_law(a),
         Cmd::Plot(a) => cmd_plot(a),
         Cmd::Path(a) => cmd_path(&a.kind),
+        Cmd::Paper(a) => crate::paper::run(a),
     }
 }
 
@@ -968,7 +971,7 @@ fn path_common(k: &PathKind) -> &PathCommon {
 
 /// The path's plan under the servo defaults' angle ranges (elbow up) and
 /// the given or default speed and acceleration limits.
-fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
+pub(crate) fn path_plan(k: &PathKind) -> Result<PathPlan<f64>, String> {
     let c = path_common(k);
     let path = match k {
         PathKind::Line(l) => Path::line(&l.from, &l.to),
@@ -1009,7 +1012,7 @@ fn path_rows(plan: &PathPlan<f64>, ts: &[f64]) -> Result<Vec<[f64; 7]>, String> 
         .collect()
 }
 
-fn cmd_path(k: &PathKind) -> Result<String, String> {
+pub(crate) fn cmd_path(k: &PathKind) -> Result<String, String> {
     let plan = path_plan(k)?;
     let c = path_common(k);
     if c.info {
@@ -1034,7 +1037,7 @@ fn cmd_path(k: &PathKind) -> Result<String, String> {
 }
 
 /// `armsim plot path`: top view (x, y), side view (x, z) and the joint angles.
-fn plot_path(p: &PlotPath) -> Result<String, String> {
+pub(crate) fn plot_path(p: &PlotPath) -> Result<String, String> {
     let out = p.out.as_ref().ok_or("give --out FILE (.png or .svg)")?;
     let plan = path_plan(&p.kind)?;
     let c = path_common(&p.kind);

@@ -8,5 +8,6 @@
 
 pub mod args;
 pub mod cli;
+pub mod paper;
 pub mod plot;
 pub mod report;
