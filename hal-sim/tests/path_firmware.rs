@@ -366,3 +366,39 @@ fn lift_refusals_stop_and_the_line_exclusion() {
     let (reply, _) = path_command(&mut s, "goto 40 70 -110");
     assert_eq!(reply, format!("err lift joint limit {}", names[j]));
 }
+
+/// Issue #24, F1 on the chip: the check keeps every joint in its output
+/// window (angle ∩ pulse limits). From (90, 60, -60) `circle 0.1` needs the
+/// shoulder up to 72.336° (scenario `path_pulse_window.scn` derives it);
+/// with its pulse limit at 1320 µs (72.0° at 10 µs per degree from 600 µs)
+/// it is refused as the angle limit 72° is, with 1330 µs (73.0°) it runs
+/// and the measured effector stays on its circle: no pulse stopped at a
+/// clamp while the plan went on.
+#[test]
+fn a_pulse_limit_bounds_a_path_as_an_angle_limit_does() {
+    let mut s = start();
+    let r = s.command("goto 90 60 -60").unwrap();
+    s.run_for(ts(&r) + 0.2).unwrap();
+    assert_eq!(s.command("cal set shoulder max_us 1320").unwrap(), "ok cal set");
+    let before = s.last_pulses();
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert_eq!(reply, "err path joint limit shoulder");
+    assert_eq!(s.last_pulses(), before);
+    assert_eq!(s.command("cal set shoulder max_us 2400").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set shoulder max_deg 72").unwrap(), "ok cal set");
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert_eq!(reply, "err path joint limit shoulder");
+    assert_eq!(s.command("cal set shoulder max_deg 180").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set shoulder max_us 1330").unwrap(), "ok cal set");
+    let t0 = s.avr.time_s();
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert!(reply.starts_with("ok circle r_milli 100 ts_ms "), "{reply}");
+    s.run_for(ts(&reply) + 0.3).unwrap();
+    let path = measured_path(&s, t0);
+    let a = fk_deg([90.0, 60.0, -60.0]);
+    let c = [0.0, a[1] - 0.1, a[2]];
+    let worst = path.iter().map(|p| (dist(p, &c) - 0.1).abs().max(p[0].abs())).fold(0.0, f64::max);
+    eprintln!("md: circle under a 1330 µs shoulder limit: at most {worst:.5} off its circle");
+    assert!(worst <= 0.005, "{worst}");
+    assert!(path.iter().any(|p| dist(p, &a) > 0.19));
+}

@@ -43,6 +43,7 @@ scenarios!(
     pose,
     path_ik_range,
     path_line,
+    path_pulse_window,
     path_refusals,
     powerup,
     refusals,
