@@ -57,6 +57,10 @@ struct Tally {
     /// Largest acceleration of a path move over its limit (98 % of
     /// max_accel), from the commanded angles.
     max_accel_share: f64,
+    /// The same from the pulses, over the limit plus two ticks.
+    max_pulse_accel_share: f64,
+    /// Frames of a path move whose acceleration passed its limit.
+    accel_violations: u64,
 }
 
 /// The pulse window of joint `j` (angle and pulse limits), widened by the
@@ -89,6 +93,11 @@ struct Run {
     /// The commanded angles and pulses of the running path move's frames
     /// (from the frame its check answered, at rest), or `None`.
     path: Option<Vec<([f64; 3], [u16; 3])>>,
+    /// The law in force when the pending path check was accepted (the law
+    /// of its move; a `law` line while it checks does not change it).
+    check_law: Option<touch_arm::motion::plan::LawKind>,
+    /// The last lines in and out, for a failure's message.
+    recent: std::collections::VecDeque<String>,
 }
 
 impl Run {
@@ -109,6 +118,8 @@ impl Run {
             prev_state: State::Off,
             late: false,
             path: None,
+            check_law: None,
+            recent: std::collections::VecDeque::new(),
         }
     }
 
@@ -127,18 +138,23 @@ impl Run {
             let amax = f64::from(k.max_accel_rad_s2) * 0.98;
             let acc = (c.0[j] - 2.0 * b.0[j] + a.0[j]).abs() / (h * h);
             self.t.max_accel_share = self.t.max_accel_share.max(acc / amax);
-            assert!(
-                acc <= amax * 1.001,
-                "{ctx}: path move: joint {j} accelerates at {acc:.3} rad/s² > {amax:.3} ({:?}, {n} frames: {p:?})",
-                self.sim.app.status()
-            );
             let us = (f64::from(c.1[j]) - 2.0 * f64::from(b.1[j]) + f64::from(a.1[j])).abs() * 0.5;
             let acc_us = us / f64::from(k.us_per_rad).abs() / (h * h);
             let tick_allowance = 1.0 / f64::from(k.us_per_rad).abs() / (h * h);
-            assert!(
-                acc_us <= amax * 1.001 + tick_allowance,
-                "{ctx}: path move: joint {j}'s pulse accelerates at {acc_us:.3} rad/s² > {amax:.3} + {tick_allowance:.3}"
-            );
+            self.t.max_pulse_accel_share = self.t.max_pulse_accel_share.max(acc_us / (amax + tick_allowance));
+            if acc > amax * 1.001 || acc_us > amax * 1.001 + tick_allowance {
+                // Counted, not asserted here: the long run reports them all;
+                // the short run asserts there are none.
+                self.t.accel_violations += 1;
+                if self.t.accel_violations <= 3 {
+                    eprintln!(
+                        "{ctx}: path move: joint {j} accelerates at {acc:.3} rad/s² (pulses {acc_us:.3} + \
+                         {tick_allowance:.3}) > {amax:.3} ({:?}; recent lines: {:?})",
+                        self.sim.app.status(),
+                        self.recent
+                    );
+                }
+            }
         }
     }
 
@@ -155,6 +171,11 @@ impl Run {
         let mut path_started = false;
         self.sim.step();
         self.t.frames += 1;
+        // A check is accepted and set up in one frame: the law then is its move's.
+        let state = self.sim.app.status().state;
+        if state == State::Checking && self.prev_state != State::Checking {
+            self.check_law = Some(self.sim.app.config().law);
+        }
         // Keep memory flat over millions of frames.
         self.sim.history.clear();
         self.sim.servos.history.clear();
@@ -162,6 +183,7 @@ impl Run {
             let out: Vec<u8> = self.sim.serial.output.drain(..=end).collect();
             for l in String::from_utf8_lossy(&out).split('\n') {
                 let l = l.trim_end_matches('\r');
+                Self::remember(&mut self.recent, format!("< {l}"));
                 let n = replies_in(l);
                 self.answered += n;
                 if l.starts_with("err input lost") {
@@ -173,11 +195,12 @@ impl Run {
                 if l == "err path check stopped" {
                     stop_answers += 1;
                 }
-                let is_move = l.starts_with("ok ") || l.starts_with("info ");
+                // A move's reply (not `status`, which names the path mode too).
+                let is_move = (l.starts_with("ok ") || l.starts_with("info ")) && !l.starts_with("ok status");
                 // The linear law steps its velocity at a path's ends (as at a
                 // joint move's); a lift's two smooth stops do not, whatever
                 // the law.
-                let linear = self.sim.app.config().law == touch_arm::motion::plan::LawKind::Linear;
+                let linear = self.check_law == Some(touch_arm::motion::plan::LawKind::Linear);
                 let lift = is_move && l.contains(" ts_ms ") && l.contains(" lift ");
                 let path =
                     (is_move && l.contains(" ts_ms ") && l.contains(" path line ")) || l.starts_with("ok circle ");
@@ -264,7 +287,16 @@ impl Run {
         }
     }
 
+    fn remember(recent: &mut std::collections::VecDeque<String>, l: String) {
+        if recent.len() >= 24 {
+            recent.pop_front();
+        }
+        recent.push_back(l);
+    }
+
     fn send(&mut self, bytes: &[u8], answered: bool) {
+        let f = self.t.frames;
+        Self::remember(&mut self.recent, format!("> {} (frame {f})", String::from_utf8_lossy(bytes).trim_end()));
         self.sim.serial.send(bytes);
         self.sent += u64::from(answered);
         self.t.lines += 1;
@@ -380,6 +412,7 @@ fn random_inputs_short_run() {
         eprintln!("seed {seed} screen {screen}: {t:?}");
         assert!(t.moves > 100 && t.lost_lines > 0 && t.frames_stopped > 100, "{t:?}");
         assert!(t.late_frames > 100 && t.path_moves > 5, "{t:?}");
+        assert_eq!(t.accel_violations, 0, "a path move over its acceleration limit: {t:?}");
     }
 }
 
@@ -409,6 +442,8 @@ fn random_inputs_long_run() {
         total.path_moves += t.path_moves;
         total.path_frames += t.path_frames;
         total.max_accel_share = total.max_accel_share.max(t.max_accel_share);
+        total.max_pulse_accel_share = total.max_pulse_accel_share.max(t.max_pulse_accel_share);
+        total.accel_violations += t.accel_violations;
     }
     eprintln!("random inputs: {total:?} in {:.0} s", start.elapsed().as_secs_f64());
 }
