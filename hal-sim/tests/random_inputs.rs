@@ -28,7 +28,8 @@
 //! `cargo test -p hal-sim --test random_inputs -- --ignored --nocapture`
 //! (10⁶ inputs, in the test profile so integer overflow is checked;
 //! `TOUCH_ARM_RANDOM_INPUTS=<n>` and `TOUCH_ARM_RANDOM_SEED=<s>` change it);
-//! its figures are in BENCHMARKS.md.
+//! it prints its tally and the first acceleration excesses it counts (the
+//! figures of the last run are in CHANGELOG.md, issue #24).
 
 use hal_sim::random_input::{replies_in, Inputs};
 use hal_sim::twin::{Sim, SimSetup};
