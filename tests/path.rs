@@ -268,7 +268,8 @@ proptest! {
 
     /// The check spread over many small steps (as the chip would over
     /// frames) decides exactly what the one-shot plan decides, in a number of
-    /// units known in advance: the grid, then per critical point one search,
+    /// units known in advance: the grid, then per critical point (the path's
+    /// two and its two ends) one search,
     /// its instant, two sides per refinement step and the move to the next
     /// point, and the end (all twice when slowed down).
     #[test]
@@ -289,7 +290,7 @@ proptest! {
             prop_assert_eq!(got, want);
             // Asked again, the same answer, no more work.
             prop_assert_eq!(check.step(chunk), Some(want));
-            let per_scan = 49 + 2 * (3 + 2 * (u32::from(refine) - 3)) + 1;
+            let per_scan = 49 + 4 * (3 + 2 * (u32::from(refine) - 3)) + 1;
             prop_assert!(calls <= (2 * per_scan).div_ceil(u32::from(chunk)) + 1, "{calls} calls of {chunk}");
         }
     }

@@ -16,7 +16,11 @@
 //!
 //! A grip target is planned after the frame's pulses, like the arm's; when
 //! the arm planned in the same frame (`pose go` with a gripper angle), the
-//! grip is planned in the next frame, so a frame holds one plan at most.
+//! grip is planned in the next frame, so a frame holds one plan at most,
+//! and never in a catch-up frame (which plans nothing, module doc of `app`).
+//! A pose's gripper waits for the arm's verdict: its plan, or its path or
+//! lift check, which can take many frames; a refused arm drops it, so a
+//! refused pose does not open or close the hand where it stands.
 //! A new grip target while the gripper moves is refused (`err busy
 //! gripping`): its plans start at rest, and a gripper's moves are short.
 //!
@@ -45,10 +49,6 @@ use crate::motion::planner::request::MoveRequest;
 use crate::protocol::command::GripCmd;
 use crate::seam::{SerialPort, ServoOutputs, Storage};
 use crate::servo::map::{JointCal, ServoMap};
-
-/// Half a hundredth of a degree: the slack of a typed angle against a limit
-/// (the unit `cal show` prints limits in), as `goto`'s.
-const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
 
 /// The gripper's state in the app.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,6 +79,10 @@ pub(super) struct Grip {
 struct GripDue {
     target: f32,
     who: GripWho,
+    /// A pose's gripper waits for the arm's verdict (its plan, or its path
+    /// or lift check over the following frames): a refused pose moves
+    /// nothing, the hand included.
+    awaits_arm: bool,
 }
 
 /// Who asked for a grip.
@@ -177,7 +181,7 @@ impl App {
             return Err(Refusal::GripBusy);
         }
         let (lo, hi) = self.grip.ends();
-        if !(target >= lo - HALF_CENTIDEG && target <= hi + HALF_CENTIDEG) {
+        if !super::machine::within_centi((lo, hi), target) {
             return Err(Refusal::GripLimit);
         }
         // max/min, not f32::clamp: its panic location would cost RAM.
@@ -187,12 +191,22 @@ impl App {
     /// A checked grip target, planned after this frame's pulses.
     fn grip_due(&mut self, target: f32, who: GripWho) {
         self.busy = true;
-        self.grip.due = Some(GripDue { target, who });
+        let awaits_arm = matches!(who, GripWho::Pose(_));
+        self.grip.due = Some(GripDue { target, who, awaits_arm });
     }
 
-    /// A `pose go <n>`'s checked gripper target.
+    /// A `pose go <n>`'s checked gripper target: planned once the arm's
+    /// move is (`release_pose_grip`), dropped if it is refused.
     pub(super) fn pose_grip_due(&mut self, target: f32, n: u8) {
         self.grip_due(target, GripWho::Pose(n));
+    }
+
+    /// The arm's part of a `pose go` was planned (or its check passed): its
+    /// gripper target is planned in the next frame that may plan.
+    pub(super) fn release_pose_grip(&mut self) {
+        if let Some(d) = self.grip.due.as_mut() {
+            d.awaits_arm = false;
+        }
     }
 
     /// The screen's Grip button: closes an open gripper and opens a closed
@@ -229,11 +243,12 @@ impl App {
 
     /// Plans this frame's grip target from the commanded angle at rest and
     /// answers it: `ok grip <cdeg> ts_ms <ms>` or `err <reason>` (a pose's:
-    /// `warn pose <n> grip <reason>`). Waits a frame if the arm planned in
-    /// this one.
+    /// `warn pose <n> grip <reason>`). Waits while `wait` (the arm planned in
+    /// this frame, or it is a catch-up frame, which plans nothing) and while
+    /// a pose's gripper waits for the arm's verdict.
     #[inline(never)] // avr-trap: frame-size
-    pub(super) fn finish_grip<U: SerialPort>(&mut self, serial: &mut U, arm_planned: bool) {
-        if arm_planned {
+    pub(super) fn finish_grip<U: SerialPort>(&mut self, serial: &mut U, wait: bool) {
+        if wait || self.grip.due.is_none_or(|d| d.awaits_arm) {
             return;
         }
         let Some(due) = self.grip.due.take() else { return };
@@ -363,13 +378,18 @@ impl App {
     }
 
     /// Installs a valid gripper calibration the way `replace_config` does
-    /// the joints': refused while the gripper moves, while homing, when the
+    /// the joints': refused while the arm or the gripper moves, while homing, when the
     /// held angle or the present pulse lies outside the new limits, and
     /// under STOP when the pulse would move; a change that moves the pulse
     /// slews it (a slow-preset grip move from the present pulse, re-read as
     /// an angle of the new calibration, to the held angle). Returns the
     /// slew's duration.
     fn replace_grip(&mut self, cal: &JointCal) -> Result<Option<f32>, Refusal> {
+        // A calibration change waits for the arm as well, as the joints'
+        // (`cal set` and `cal reset grip` alike).
+        if self.is_moving() {
+            return Err(Refusal::Busy);
+        }
         if self.grip.is_moving() || self.grip.due.is_some() {
             return Err(Refusal::GripBusy);
         }
@@ -379,8 +399,10 @@ impl App {
         let map = ServoMap::new(cal).map_err(|_| Refusal::Fault)?;
         let held = self.grip.commanded;
         let unclamped = |a: f32| matches!(map.angle_to_pulse(a), Ok(p) if p.clamped.is_none());
+        // As a joint's held pose (`recalibrate.rs`): within the angle limits
+        // to the hundredth, and no clamp moving its pulse.
         let held_ticks = match map.angle_to_pulse(held) {
-            Ok(p) if p.clamped.is_none() => p.ticks,
+            Ok(p) if p.clamped.is_none() && super::machine::within_centi(map.angle_limits(), held) => p.ticks,
             _ => return Err(Refusal::HeldPoseOutside),
         };
         let now = self.grip.ticks.unwrap_or(held_ticks);

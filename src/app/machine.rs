@@ -20,6 +20,17 @@ use crate::servo::map::{Joint, ServoMap};
 use crate::servo::track::Replan;
 use crate::touch::filter::{Read, TouchEvent, TouchPoint, MAX_SAMPLES};
 
+/// Half a hundredth of a degree, rad: the slack of an angle against a limit
+/// (the unit `cal show` prints limits in and `goto` is typed in).
+pub(super) const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
+
+/// `q` lies within `(lo, hi)` to the hundredth of a degree: how a typed
+/// target (`goto`, `grip`) and a held pose under a new calibration (`cal
+/// set`) are judged against angle limits, so the two agree.
+pub(super) fn within_centi((lo, hi): (f32, f32), q: f32) -> bool {
+    q >= lo - HALF_CENTIDEG && q <= hi + HALF_CENTIDEG
+}
+
 impl App {
     /// One 20 ms frame. Call once per servo PWM period.
     pub fn frame<P, S, C, E, U>(&mut self, io: &mut Io<'_, P, S, C, E, U>)
@@ -51,7 +62,7 @@ impl App {
         // plan a frame: a grip waits for a frame without an arm plan.
         let arm_planned = self.plan_due.is_some();
         self.finish_plan(io.serial);
-        self.finish_grip(io.serial, arm_planned);
+        self.finish_grip(io.serial, arm_planned || catch_up);
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
         if self.log {
@@ -268,13 +279,11 @@ impl App {
     /// hundredth of slack for the float conversions, not the servo layer's
     /// 0.5 µs rounding allowance.
     pub(super) fn move_to_angles(&mut self, centideg: &[i32; JOINTS]) -> Result<(), Refusal> {
-        const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
         let mut target = [0.0f32; JOINTS];
         let mut r = Ok(());
         for ((t, c), (m, j)) in target.iter_mut().zip(centideg.iter()).zip(self.maps.iter().zip(Joint::ALL.iter())) {
             *t = centideg_to_rad(*c);
-            let (lo, hi) = m.angle_limits::<f32>();
-            if (*t < lo - HALF_CENTIDEG || *t > hi + HALF_CENTIDEG) && r.is_ok() {
+            if !within_centi(m.angle_limits::<f32>(), *t) && r.is_ok() {
                 r = Err(Refusal::JointLimit(*j));
             }
         }
@@ -340,26 +349,22 @@ impl App {
 
     /// Tells whoever asked for a move how its plan (or its path check) went.
     pub(super) fn answer_plan<U: SerialPort>(&mut self, serial: &mut U, answer: &Answer, r: Result<(), Refusal>) {
+        // A pose's gripper target waits for this verdict (`grip.rs`): a pose
+        // whose arm move cannot be planned moves nothing.
+        if r.is_ok() {
+            self.release_pose_grip();
+        } else {
+            self.drop_pose_grip();
+        }
         match *answer {
             Answer::Nobody => {}
-            Answer::Serial(done) => {
-                // A pose whose arm move cannot be planned moves nothing:
-                // its gripper target, due in the next frame, is dropped.
-                if r.is_err() {
-                    self.drop_pose_grip();
-                }
-                self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done))
-            }
+            Answer::Serial(done) => self.send_reply(serial, &r.map_or_else(Done::Refused, |()| done)),
             Answer::Touch(p) => self.report_touch(serial, &p, r),
             Answer::Screen(p, x_p, y_p) => {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, x_p, y_p));
                 self.report_touch(serial, &p, r);
             }
             Answer::ScreenPose(n) => {
-                // As `pose go` over serial: a failed arm plan moves nothing.
-                if r.is_err() {
-                    self.drop_pose_grip();
-                }
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, 0.0, 0.0));
                 self.report_screen_pose(serial, n, r);
             }

@@ -17,7 +17,8 @@
 //! # One frame, in order
 //! 0. Catch-up: a frame that starts late, because the one before ran past
 //!    the period end ([`App::frame_was_late`]), does no heavy thing: no serial
-//!    line, no panel read, no plan. It steps the motion and writes the pulses
+//!    line, no panel read, no plan (a `pose go`'s gripper, due after the
+//!    arm's plan, waits too). It steps the motion and writes the pulses
 //!    early, so a long plan (a re-plan takes up to about two thirds of a
 //!    frame; BENCHMARKS.md) never pushes the next pulses past their period,
 //!    however the following frames are loaded.

@@ -12,11 +12,11 @@
 //!
 //! # The check, spread over frames
 //! A path's plan-time check ([`PathCheck`]: every point reachable, inside the
-//! angle limits, on one IK branch, no joint over its speed or acceleration
+//! output window (angle ∩ pulse limits), on one IK branch, no joint over its speed or acceleration
 //! limit; slowed down to the shortest admissible duration, never clamped)
 //! takes far more than a frame: a unit of it (one visit, or the search for a
 //! critical instant) takes up to [`UNIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
-//! the via pose reachable, every joint inside its limits on a 513-point scan
+//! the via pose reachable, every joint inside its output window on a 513-point scan
 //! where the two terms can overshoot, the shortest duration within the
 //! speed and acceleration limits) likewise, a scan point a unit, up to
 //! [`LIFT_UNIT_MAX_TICKS`]. So the frame that accepts
@@ -37,7 +37,9 @@
 //!   frame, like any move; `resume` does not continue it.
 //! - The pulses go through the calibration's fast map ([`TickMap`]), which
 //!   clamps to the output window: the check already keeps every scanned point
-//!   inside the angle limits, and no pulse can leave the window between them.
+//!   inside that window (the angle limits and the pulse limits seen as
+//!   angles, as a superposed correction's check), and no pulse can leave the
+//!   window between them.
 //!   A point whose IK fails in flight (rounding at the rim) holds the
 //!   previous pulses and latches STOP with `fault`, as a non-finite setpoint
 //!   of a joint move does.
@@ -300,12 +302,17 @@ impl App {
         LiftCheck::new(&req, &plim).map_err(|e| lift_refusal(&e))
     }
 
-    /// The angle limits of the calibration with `lim`'s rates.
+    /// The output window of the calibration (angle limits ∩ pulse limits,
+    /// [`crate::servo::map::ServoMap::output_window`]) with `lim`'s rates.
+    /// Not the angle limits alone: with a pulse limit tighter than its angle
+    /// limit, a plan that passes the pulse limit has its servo clamped there,
+    /// stopped dead while the plan goes on (issue #24, F1); a superposed
+    /// correction is checked in the same window.
     fn path_limits(&self, lim: &PlanLimits<f32>) -> PathLimits<f32> {
         let mut min = [0.0f32; JOINTS];
         let mut max = [0.0f32; JOINTS];
         for ((lo, hi), m) in min.iter_mut().zip(max.iter_mut()).zip(self.maps.iter()) {
-            (*lo, *hi) = m.angle_limits::<f32>();
+            (*lo, *hi) = m.output_window();
         }
         PathLimits { min, max, speed: lim.speed, accel: lim.accel, ts_max: lim.ts_max }
     }

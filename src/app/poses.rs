@@ -7,11 +7,17 @@
 //! the `grip` of the gripper's, so it goes through the same state checks,
 //! joint and gripper limits, planner and refusals as every target (a touch
 //! included), and its reply is `goto`'s. Both are checked before either
-//! moves; the gripper's plan follows in the next frame (one plan a frame,
-//! `grip.rs`), and should it fail a `warn pose <n> grip <reason>` line says
-//! so. A pose saved before the gripper existed leaves the gripper as it is.
-//! Saving is refused while the arm or the gripper moves or the arm homes
-//! (no pose is held then); while STOP is latched the held pose is saved.
+//! moves; the gripper waits for the arm's verdict (its plan, or under `path
+//! line` or a lift its check, some frames later), so a refused pose moves
+//! neither; its plan follows in the next frame that may plan (one plan a
+//! frame, none in a catch-up frame, `grip.rs`), and should it fail a `warn
+//! pose <n> grip <reason>` line says so. A pose saved before the gripper
+//! existed leaves the gripper as it is. Saving is refused while the arm or
+//! the gripper moves or the arm homes (no pose is held then); while STOP is
+//! latched the held pose is saved. Clearing is refused while the arm moves
+//! (`busy moving`), as `cal save` is: an EEPROM write blocks the frame for
+//! 3.4 ms a changed byte, tens of them for a slot, which would stall a
+//! running move's pulses for several periods.
 
 use super::refusal::Refusal;
 use super::text::Line;
@@ -47,6 +53,7 @@ impl App {
                 Ok(PoseDone::Stored(n, true, self.store_pose(storage, n, Some(held))))
             }
             PoseCmd::Clear(n) => {
+                // The EEPROM write would stall a running move (module doc).
                 if self.is_moving() {
                     return Err(Refusal::Busy);
                 }

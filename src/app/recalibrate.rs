@@ -10,7 +10,13 @@
 //! pose) takes effect at once. Refused: while moving or homing; while STOP is
 //! latched if a pulse would move; and when the held pose or a servo's present
 //! pulse lies outside the new limits (the servo would be driven to a limit).
+//! The held pose is judged as a `goto` to it: within the angle limits to the
+//! hundredth of a degree, and no clamp moving its pulse by more than 0.5 µs
+//! (the angle and the pulse clamp counted together, [`ServoMap::angle_to_pulse`]),
+//! so no sequence of accepted changes walks it out of its window. A slew is
+//! the current move: `status` reports its target (the held pose) and duration.
 
+use super::machine::within_centi;
 use super::refusal::Refusal;
 use super::{build_maps, App, Mode};
 use crate::config::settings::{Config, SpeedPreset};
@@ -34,7 +40,11 @@ impl App {
             Some(_) if self.stopped => return Err(Refusal::Stopped),
             Some(start) => {
                 let held = self.commanded;
-                Some(self.plan_motion(&start, &held, Some(&maps), SpeedPreset::Slow.percent())?.ts)
+                // The slew is the current move: `status` reports its target
+                // and duration, not the previous move's.
+                let info = self.plan_motion(&start, &held, Some(&maps), SpeedPreset::Slow.percent())?;
+                self.last_move = info;
+                Some(info.ts)
             }
             None => None,
         };
@@ -52,8 +62,10 @@ impl App {
         let mut start = [0.0f32; JOINTS];
         let mut moves = false;
         for (j, ((s, m), q)) in start.iter_mut().zip(maps.iter()).zip(self.commanded.iter()).enumerate() {
+            // The held pose is judged as a `goto` to it would be: within the
+            // angle limits to the hundredth, and no clamp moving its pulse.
             let held = match m.angle_to_pulse(*q) {
-                Ok(p) if p.clamped.is_none() => p.ticks,
+                Ok(p) if p.clamped.is_none() && within_centi(m.angle_limits(), *q) => p.ticks,
                 _ => return Err(Refusal::HeldPoseOutside),
             };
             let now = match (self.pulses.as_ref().and_then(|p| p.get(j)), self.maps.get(j)) {

@@ -495,8 +495,9 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
     let law = JointLaw::Scaled(zat);
     b.run("path_frame", t_at, |&t| path_angles(&line, &law, &arm, t).ok().and_then(|q| to_ticks(&q, maps)));
     // One unit of a line's plan-time check (a visit: law, IK and joint rates;
-    // or a search for a critical instant), at points of a 24 + 2 × 45-unit
-    // scan that include both searches.
+    // or a search for a critical instant), at points of the first 116 units
+    // that include both searches (the scan goes on with 2 × 45 units around
+    // its ends, whose instants need no search: units of the same two kinds).
     let lim = PathLimits {
         min: [0.0, 0.0, -3.141_592_7],
         max: [3.141_592_7, 3.141_592_7, 0.0],

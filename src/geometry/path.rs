@@ -118,7 +118,7 @@ impl<R: Real> Path<R> {
     /// shoulder (the folded arm is singular); for a circle, its points
     /// farthest from and nearest to the shoulder (the straight and the most
     /// folded elbow). Its other extremes are at the ends, which every scan
-    /// visits.
+    /// visits and (`motion::path`) refines around as around these.
     pub fn critical_points(&self) -> [R; 2] {
         match *self {
             Path::Line { from, delta, .. } => {

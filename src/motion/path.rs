@@ -323,7 +323,11 @@ enum ScanAt<R> {
 /// The scan of one duration, a unit of work (a visit or a bisection) at a
 /// time: the grid (each point reachable, non-singular, inside the angle
 /// limits, one IK branch), then the refinement around each of the path's
-/// critical points, where narrow rate spikes sit. Grid-independent: the
+/// critical points and around its two ends, where narrow rate spikes sit.
+/// The ends count since issue #24 (F4): there the law's rate rises from
+/// zero while, next to the rim, a joint's path rate (∝ 1/sin θ₃) falls
+/// from a large value, and their product peaks between grid points; the
+/// grid alone let such a line reach 1.105 × max_accel. Grid-independent: the
 /// refinement sits at the same τ = t/tₛ for every tₛ.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Scan<R> {
@@ -360,11 +364,17 @@ impl<R: Real> Scan<R> {
                 self.at = if i >= c.samples { ScanAt::Critical(0) } else { ScanAt::Grid(i + 1) };
             }
             ScanAt::Critical(crit) => {
-                self.at = match c.path.critical_points().get(usize::from(crit)) {
-                    Some(&s_c) => {
-                        let t_c = time_of(law, s_c);
-                        ScanAt::Cluster { crit, t_c, off: ts * R::HALF, m: 3, late: false }
-                    }
+                let t_c = match crit {
+                    0 | 1 => c.path.critical_points().get(usize::from(crit)).map(|&s_c| time_of(law, s_c)),
+                    // The ends: where the law starts and stops, its rate is
+                    // small while a pose near the rim makes the joints'
+                    // path rates large; their product peaks just inside.
+                    2 => Some(R::ZERO),
+                    3 => Some(ts),
+                    _ => None,
+                };
+                self.at = match t_c {
+                    Some(t_c) => ScanAt::Cluster { crit, t_c, off: ts * R::HALF, m: 3, late: false },
                     None => ScanAt::Finished,
                 };
             }

@@ -258,14 +258,18 @@ pub enum Limit {
 
 /// A pulse width to output, in Timer5 ticks of 0.5 µs (the timer's full
 /// resolution), and the limit that shaped it, if any. A clamp is reported
-/// only when it moves the pulse by at least 0.5 µs, so float noise at a limit
-/// (an IK returning −1e−7 for a limit of 0) is not a clamp. If both an angle
-/// and a pulse limit act, the pulse limit (applied last) is reported.
+/// only when it moves the pulse by more than 0.5 µs, so float noise at a limit
+/// (an IK returning −1e−7 for a limit of 0) is not a clamp. The move is
+/// judged in total, from the unclamped pulse: an angle clamp and a pulse
+/// clamp of 0.5 µs each are a clamp of 1 µs (judged apart, two calibration
+/// changes in a row walked a held pose out of its window, issue #24 F5). If
+/// both an angle and a pulse limit act, the pulse limit (applied last) is
+/// reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pulse {
     /// Width, Timer5 ticks (0.5 µs).
     pub ticks: u16,
-    /// The limit that changed it, if one did (by ≥ 0.5 µs).
+    /// The limit that changed it, if one did (by > 0.5 µs in total).
     pub clamped: Option<Limit>,
 }
 
@@ -290,8 +294,6 @@ pub struct ServoMap {
     min_us: f32,
     max_us: f32,
     rad_per_us: f32,
-    /// Angle overshoot that moves the pulse by less than 0.5 µs.
-    angle_tol: f32,
 }
 
 impl ServoMap {
@@ -303,7 +305,6 @@ impl ServoMap {
             min_us: cal.min_us as f32,
             max_us: cal.max_us as f32,
             rad_per_us: 1.0 / cal.us_per_rad,
-            angle_tol: 0.5 / cal.us_per_rad.abs(),
         })
     }
 
@@ -320,36 +321,30 @@ impl ServoMap {
         }
         let c = &self.cal;
         let (min_rad, max_rad) = (R::from_f32(c.min_rad), R::from_f32(c.max_rad));
-        let tol = R::from_f32(self.angle_tol);
-        let mut clamped = None;
+        let (offset, k) = (R::from_f32(c.offset_us), R::from_f32(c.us_per_rad));
+        let mut limit = None;
         let a = if angle < min_rad {
-            if min_rad - angle > tol {
-                clamped = Some(Limit::AngleMin);
-            }
+            limit = Some(Limit::AngleMin);
             min_rad
         } else if angle > max_rad {
-            if angle - max_rad > tol {
-                clamped = Some(Limit::AngleMax);
-            }
+            limit = Some(Limit::AngleMax);
             max_rad
         } else {
             angle
         };
-        let raw = R::from_f32(c.offset_us) + R::from_f32(c.us_per_rad) * a;
+        let raw = offset + k * a;
         let (lo, hi) = (R::from_f32(self.min_us), R::from_f32(self.max_us));
         let us = if raw < lo {
-            if lo - raw > R::HALF {
-                clamped = Some(Limit::PulseMin);
-            }
+            limit = Some(Limit::PulseMin);
             lo
         } else if raw > hi {
-            if raw - hi > R::HALF {
-                clamped = Some(Limit::PulseMax);
-            }
+            limit = Some(Limit::PulseMax);
             hi
         } else {
             raw
         };
+        // Both clamps judged together (the type's doc).
+        let clamped = if (us - (offset + k * angle)).abs() > R::HALF { limit } else { None };
         // `us` is within 500..=2500 here; the final clamp is defence in depth.
         let ticks = ((us.twice() + R::HALF).to_f32() as u16).max(c.min_us * TICKS_PER_US).min(c.max_us * TICKS_PER_US);
         Ok(Pulse { ticks, clamped })

@@ -221,7 +221,7 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     let pw = path_moves_window();
     let ps = &pw.stats;
     println!(
-        "md: | path moves, 18 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
+        "md: | path moves, 22.6 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
         pw.moving_share * 100.0,
         ps.frames,
         pw.periods,
@@ -251,7 +251,7 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     // could pass the period end, so no frame ends late for it.
     assert_eq!(pw.missed(), 0, "path moves: missed PWM periods: {ps:?}, {} periods", pw.periods);
     assert_eq!(ps.overruns, 0, "path moves: {ps:?}");
-    // Some half of each 3.4 s goes to the check, the arm holding still.
+    // Some half of each 4.4 s goes to the check, the arm holding still.
     assert!(pw.moving_share > 0.2, "path moves: the arm moved in only {:.0} % of the frames", pw.moving_share * 100.0);
 }
 
@@ -272,15 +272,16 @@ fn path_moves_window() -> Window {
     // Line moves back and forth and circles, each checked over frames after
     // its pulses, with telemetry every frame and a status line every other
     // frame while the checks run and the arm moves.
-    // Each is decided and done within the 3.4 s before the next (a check
-    // takes about 1.5 s of the frames' spare time); the last a lift (its own
-    // check, a scan point a unit), in the 4.4 s left.
+    // Each is decided and done within the 4.4 s before the next (a check
+    // takes about 2 s of the frames' spare time, its refinement around the
+    // path's ends included); the last a lift (its own check, a scan point a
+    // unit), in the 5 s left.
     let moves =
         ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15", "path joint\nlift 0.2\ngoto 40 70 -110"];
     let out0 = s.avr.uart_output().len();
-    let w = measure(&mut s, 900, |s, k| {
-        if k % 170 == 0 && k < 850 {
-            s.avr.uart_send(format!("{}\n", moves[(k / 170) as usize]).as_bytes());
+    let w = measure(&mut s, 1130, |s, k| {
+        if k % 220 == 0 && k < 1100 {
+            s.avr.uart_send(format!("{}\n", moves[(k / 220) as usize]).as_bytes());
         } else if k % 2 == 0 {
             s.avr.uart_send(b"status\n");
         }

@@ -366,3 +366,98 @@ fn lift_refusals_stop_and_the_line_exclusion() {
     let (reply, _) = path_command(&mut s, "goto 40 70 -110");
     assert_eq!(reply, format!("err lift joint limit {}", names[j]));
 }
+
+/// Issue #24, F1 on the chip: the check keeps every joint in its output
+/// window (angle ∩ pulse limits). From (90, 60, -60) `circle 0.1` needs the
+/// shoulder up to 72.336° (scenario `path_pulse_window.scn` derives it);
+/// with its pulse limit at 1320 µs (72.0° at 10 µs per degree from 600 µs)
+/// it is refused as the angle limit 72° is, with 1330 µs (73.0°) it runs
+/// and the measured effector stays on its circle: no pulse stopped at a
+/// clamp while the plan went on.
+#[test]
+fn a_pulse_limit_bounds_a_path_as_an_angle_limit_does() {
+    let mut s = start();
+    let r = s.command("goto 90 60 -60").unwrap();
+    s.run_for(ts(&r) + 0.2).unwrap();
+    assert_eq!(s.command("cal set shoulder max_us 1320").unwrap(), "ok cal set");
+    let before = s.last_pulses();
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert_eq!(reply, "err path joint limit shoulder");
+    assert_eq!(s.last_pulses(), before);
+    assert_eq!(s.command("cal set shoulder max_us 2400").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set shoulder max_deg 72").unwrap(), "ok cal set");
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert_eq!(reply, "err path joint limit shoulder");
+    assert_eq!(s.command("cal set shoulder max_deg 180").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set shoulder max_us 1330").unwrap(), "ok cal set");
+    let t0 = s.avr.time_s();
+    let (reply, _) = path_command(&mut s, "circle 0.1");
+    assert!(reply.starts_with("ok circle r_milli 100 ts_ms "), "{reply}");
+    s.run_for(ts(&reply) + 0.3).unwrap();
+    let path = measured_path(&s, t0);
+    let a = fk_deg([90.0, 60.0, -60.0]);
+    let c = [0.0, a[1] - 0.1, a[2]];
+    let worst = path.iter().map(|p| (dist(p, &c) - 0.1).abs().max(p[0].abs())).fold(0.0, f64::max);
+    eprintln!("md: circle under a 1330 µs shoulder limit: at most {worst:.5} off its circle");
+    assert!(worst <= 0.005, "{worst}");
+    assert!(path.iter().any(|p| dist(p, &a) > 0.19));
+}
+
+/// Issue #24, F4 on the chip: the issue's line from the nearly stretched arm
+/// (elbow at −0.63°) at the fast preset. The check refines around the path's
+/// ends as around its critical points, where a joint's path rate near the
+/// rim meets the law starting or stopping; the chip decides what the host's
+/// f64 check of the same request decides (its duration, to the
+/// millisecond's rounding), and the measured pulses' second differences stay
+/// within 98 % of max_accel plus the two ticks of rounding.
+#[test]
+fn a_line_from_the_rim_is_slowed_to_its_acceleration_limit() {
+    use touch_arm::geometry::ik::Branch;
+    use touch_arm::geometry::path::Path;
+    use touch_arm::motion::path::{Pace, PathArm, PathLimits, PathPlan, PathRequest};
+    use touch_arm::motion::plan::LawKind;
+    let mut s = start();
+    let r = s.command("goto 0.9 36.82 -0.63").unwrap();
+    s.run_for(ts(&r) + 0.3).unwrap();
+    assert_eq!(s.command("path line").unwrap(), "ok path line");
+    let t0 = s.avr.time_s();
+    let (reply, _) = path_command(&mut s, "goto 81.64 124.21 -138.52");
+    assert!(reply.starts_with("ok goto path line ts_ms "), "{reply}");
+    // The host's check of the same line: the default calibration's windows,
+    // the fast preset's 98 % of 3 rad/s and 98 % of max_accel, the chip's
+    // scan (24 intervals, 24 refinement steps).
+    let maps = firmware::default_servo_maps().unwrap();
+    let (mut min, mut max, mut speed, mut accel) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+    for j in 0..3 {
+        let (lo, hi) = maps[j].output_window();
+        (min[j], max[j]) = (f64::from(lo), f64::from(hi));
+        speed[j] = maps[j].max_speed::<f64>() * 0.98;
+        accel[j] = maps[j].max_accel::<f64>() * 0.98;
+    }
+    let lim = PathLimits { min, max, speed, accel, ts_max: 30.0 };
+    let (a, b) = (fk_deg([0.9, 36.82, -0.63]), fk_deg([81.64, 124.21, -138.52]));
+    let req = PathRequest {
+        path: Path::line(&a, &b).unwrap(),
+        law: LawKind::Zat,
+        ts: 0.5,
+        pace: Pace::SlowDown,
+        samples: 24,
+        refine: 24,
+    };
+    let host = PathPlan::new(&req, &PathArm { links: links(), branch: Branch::Minus }, &lim).unwrap();
+    eprintln!("md: rim line on the chip: {reply}; host f64 ts {:.4} s", host.ts());
+    assert!((ts(&reply) - host.ts()).abs() <= 0.0015, "{reply} vs {}", host.ts());
+    s.run_for(ts(&reply) + 0.3).unwrap();
+    let p = s.pulses().map(|p| p.into_iter().filter(|(t, _)| *t >= t0).map(|(_, w)| w).collect::<Vec<_>>());
+    let mut worst = 0.0f64;
+    for j in 0..3 {
+        let k = f64::from(maps[j].cal().us_per_rad).abs();
+        for w in p[j].windows(3) {
+            let acc = (w[2] - 2.0 * w[1] + w[0]).abs() / k / (FRAME_S * FRAME_S);
+            let allowed = accel[j] + 1.0 / k / (FRAME_S * FRAME_S);
+            worst = worst.max(acc / allowed);
+        }
+    }
+    eprintln!("md: rim line on the chip: measured acceleration at most {worst:.3} of the limit plus rounding");
+    assert!(worst <= 1.0, "{worst}");
+}

@@ -60,8 +60,14 @@ impl Inputs {
     pub fn command(&mut self) -> String {
         match self.rng.below(26) {
             0..=3 => format!("move {} {}", self.int(0, 1023), self.int(0, 1023)),
-            4..=7 => {
+            4..=6 => {
                 let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
+                format!("goto {b} {s} {e}")
+            }
+            // Near the rim: the arm almost stretched, where a path's joint
+            // rates grow like 1/sin θ₃ (issue #24, F4).
+            7 => {
+                let (b, s, e) = (self.decimal(0.0, 180.0), self.decimal(0.0, 150.0), self.decimal(-12.0, -0.2));
                 format!("goto {b} {s} {e}")
             }
             8 => "stop".into(),
@@ -79,7 +85,10 @@ impl Inputs {
                 0 => "lift off".into(),
                 _ => format!("lift {}", self.decimal(0.0, 0.6)),
             },
-            20 => format!("circle {}", self.decimal(0.0, 0.6)),
+            20 => format!(
+                "circle {}",
+                if self.rng.below(2) == 0 { self.decimal(0.0, 0.6) } else { self.decimal(0.0, 0.15) }
+            ),
             // Issue #14's gripper and saved poses.
             21 => match self.rng.below(3) {
                 0 => "grip open".into(),
@@ -121,16 +130,36 @@ impl Inputs {
         }
         let joint = self.pick(&JOINTS);
         let elbow = joint == "elbow";
-        let (field, v) = match self.rng.below(7) {
+        let (field, v) = match self.rng.below(9) {
             0 => ("offset", if elbow { self.decimal(2300.0, 2500.0) } else { self.decimal(500.0, 700.0) }),
             1 => ("scale", self.decimal(8.0, 12.0)),
             2 => ("min_us", self.int(500, 1200).to_string()),
             3 => ("max_us", self.int(1800, 2500).to_string()),
+            // Pulse limits well inside the angle limits (an ordinary
+            // calibration of a servo with less travel): the output window
+            // ends inside the workspace (issue #24, F1).
+            7 => ("min_us", self.int(600, 1700).to_string()),
+            8 => ("max_us", self.int(1300, 2400).to_string()),
             4 => ("min_deg", if elbow { self.decimal(-200.0, -150.0) } else { self.decimal(-20.0, 30.0) }),
             5 => ("max_deg", if elbow { self.decimal(-30.0, 20.0) } else { self.decimal(150.0, 200.0) }),
             _ => ("max_speed", self.decimal(5.0, 400.0)),
         };
         format!("cal set {joint} {field} {v}")
+    }
+
+    /// Lines that set up a path or lift move and start one (issue #24, F3:
+    /// `pose go` under `path line` and a lift), with no frame between.
+    pub fn path_burst(&mut self) -> Vec<String> {
+        let mode = match self.rng.below(3) {
+            0 => "path line".to_string(),
+            1 => format!("lift {}", self.decimal(0.01, 0.4)),
+            _ => "path joint".to_string(),
+        };
+        let go = match self.rng.below(3) {
+            0 => format!("circle {}", self.decimal(0.01, 0.3)),
+            _ => format!("pose go {}", self.int(1, 4)),
+        };
+        vec![mode, go]
     }
 
     /// Bytes that are mostly not a command: random printable words, control

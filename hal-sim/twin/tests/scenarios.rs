@@ -29,6 +29,7 @@ macro_rules! scenarios {
 
 scenarios!(
     arrive_together,
+    cal_consistency,
     cal_roundtrip,
     cal_slew,
     circle,
@@ -41,8 +42,10 @@ scenarios!(
     lift,
     malformed,
     pose,
+    pose_path,
     path_ik_range,
     path_line,
+    path_pulse_window,
     path_refusals,
     powerup,
     refusals,
