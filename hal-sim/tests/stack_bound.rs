@@ -8,6 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use hal_sim::bench_report::flash_map;
+use hal_sim::bench_report::stack_bounds::{self, StackBoundRow};
 use hal_sim::elf::stack_bound::{self, Bound};
 use hal_sim::elf::Image;
 use hal_sim::firmware;
@@ -142,4 +144,40 @@ fn every_firmware_stack_bound_is_within_the_budget() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// The report's two sections from the real ELFs: a row per ELF with the
+/// bound the check computes, and the product's flash by module adding up
+/// to the flash the image writes.
+#[test]
+fn the_report_shows_every_bound_and_the_flash_by_module() {
+    let mut rows = Vec::new();
+    for (name, elf) in firmware::all_elfs() {
+        rows.push(StackBoundRow::of(name, &std::fs::read(&elf).unwrap()));
+    }
+    let text = stack_bounds::section(&rows, |elf| (elf == "touch-arm").then(|| "1898".to_string()), 2048);
+    for r in &rows {
+        let b = r.bound.as_ref().unwrap();
+        let want = format!(
+            "| {} | {} B {} | {} B | {} B |",
+            r.elf,
+            b.total,
+            if b.total > 2048 { "✗" } else { "✓" },
+            b.thread.depth,
+            b.interrupts
+        );
+        assert!(text.contains(&want), "{want} not in\n{text}");
+    }
+    assert!(text.contains("| 1898 B | 2048 B |") && !text.contains('{'), "{text}");
+    eprintln!("{text}");
+
+    let bytes = std::fs::read(firmware::default_elf()).unwrap();
+    let image = Image::parse(&bytes).unwrap();
+    let map = flash_map::of(&image);
+    let counted: u64 =
+        map.modules.iter().map(|m| m.bytes).sum::<u64>() + map.unattributed.iter().map(|u| u.1).sum::<u64>();
+    assert_eq!(counted, map.total);
+    assert_eq!(map.total, image.flash_bytes());
+    assert!(map.modules.iter().any(|m| m.name == "touch_arm::motion"), "{:?}", map.modules);
+    eprintln!("{}", map.table(20));
 }

@@ -2,11 +2,15 @@
 //! firmware in simavr and the two simavr tests that measure the display and
 //! the product's stack, then calls the `bench-report` program, which reads
 //! their output and the two ELFs' section sizes and fills `template.md` (the
-//! document's prose, kept as Markdown) with the figures.
+//! document's prose, kept as Markdown) with the figures; from the ELFs
+//! themselves it adds every firmware's stack bound (`stack_bounds`) and the
+//! product's flash by module (`flash_map`).
 
 mod accuracy;
+pub mod flash_map;
 mod parse;
 mod routines;
+pub mod stack_bounds;
 
 pub use accuracy::{ulp_err, Accuracy};
 pub use parse::{BenchOutput, Count, Routine, UiOutput};
@@ -59,6 +63,10 @@ pub struct Inputs {
     pub product: Sizes,
     pub bench_elf: Sizes,
     pub budgets: Budgets,
+    /// Every ELF's stack bound (empty: the section is left out).
+    pub stack_bounds: Vec<stack_bounds::StackBoundRow>,
+    /// The product's flash by module (None: the section is left out).
+    pub flash_map: Option<flash_map::FlashMap>,
 }
 
 /// The heading and method of the frame-budget section.
@@ -116,6 +124,32 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
         None => String::new(),
     };
     let (p, b, budgets) = (&inputs.product, &inputs.bench_elf, &inputs.budgets);
+    // The high-water marks the runs measured: the product's busiest
+    // session, the bench, the UI demo's note.
+    let bench_stack = bench.stack()?.0.to_string();
+    let measured = |elf: &str| match elf {
+        "touch-arm" => ui.firmware_stack.clone(),
+        "bench" => Some(bench_stack.clone()),
+        "ui-demo" => ui.notes.iter().find_map(|n| n.strip_prefix("stack: ")?.split(' ').next().map(str::to_string)),
+        _ => None,
+    };
+    let stack_bound = stack_bounds::section(&inputs.stack_bounds, measured, budgets.stack);
+    let flash_by_module = match &inputs.flash_map {
+        Some(m) => format!(
+            "## Flash by module
+
+The product firmware's flash (`.text` and `.data`'s initializers) summed by the crate and module of
+each symbol (`hal_sim::bench_report::flash_map`: demangled paths, methods by their type; C and
+assembly as avr-libc, its float library or libgcc). Unattributed: bytes no symbol starts before
+(alignment padding, and constants LLVM emits into `.data` without a symbol).
+
+{}
+
+",
+            m.table(20)
+        ),
+        None => String::new(),
+    };
     fill(
         TEMPLATE,
         &[
@@ -147,6 +181,8 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
             ("fw_stack", ui.firmware_stack.clone().unwrap_or_else(|| "?".into())),
             ("bench_stack", bench.stack()?.0.to_string()),
             ("stack_budget", budgets.stack.to_string()),
+            ("stack_bound", stack_bound),
+            ("flash_by_module", flash_by_module),
         ],
     )
 }
