@@ -84,6 +84,15 @@ fn a_handler_that_reenables_interrupts_nests_under_the_others() {
 }
 
 #[test]
+fn an_indirect_call_through_an_ldi_pair_goes_to_its_one_target() {
+    let b = bound(&link("ldi_pointer", &[])).unwrap();
+    // ldi_pointer.S: 3 + 3 + 1, not 3 + 3 + 4 through `table`'s `deep`.
+    assert_eq!(b.total, 7);
+    assert_eq!(steps(&b.thread), [("main", 3, 0), ("shallow", 6, 1)]);
+    assert_eq!((b.indirect_sites, b.address_taken), (1, 2));
+}
+
+#[test]
 fn recursion_is_refused_with_its_cycle() {
     let err = bound(&link("recursion", &[])).unwrap_err();
     assert_eq!(err, ["recursion: ping -> pong -> ping"]);
