@@ -29,10 +29,14 @@
 //!   once (none re-entered by its own interrupt) plus the deepest other
 //!   one; without `sei` only one handler runs at a time.
 //!
-//! The walk is linear per function (see `walk` for its one assumption:
-//! code after an unconditional jump or a return resumes at the body's
-//! depth), and where its model does not fit a function it says so in
-//! `Bound::odd` rather than guessing quietly.
+//! Each function is walked along its control flow from its entry (`walk`;
+//! a call into the middle of a routine is an entry of its own), and where
+//! the walk's model does not fit the code (SP set from an unknown Y, paths
+//! meeting at different depths, a return with bytes still pushed) it says
+//! so in `Bound::odd` rather than guessing quietly. What it assumes: code
+//! pointers are formed only through relocations (no address computed from
+//! an integer except the `ldi` constants it refuses), and Z at an indirect
+//! site built by the two instructions before it is that site's one target.
 
 mod walk;
 
