@@ -125,11 +125,12 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
     };
     let (p, b, budgets) = (&inputs.product, &inputs.bench_elf, &inputs.budgets);
     // The high-water marks the runs measured: the product's busiest
-    // session, the bench, the UI demo's note.
-    let bench_stack = bench.stack()?.0.to_string();
+    // session, the bench's deepest routine (it paints before each, so its
+    // closing `S` line covers the last one only), the UI demo's note.
+    let bench_deepest = routines.iter().map(|r| r.stack).max().map(|s| s.to_string());
     let measured = |elf: &str| match elf {
         "touch-arm" => ui.firmware_stack.clone(),
-        "bench" => Some(bench_stack.clone()),
+        "bench" => bench_deepest.clone(),
         "ui-demo" => ui.notes.iter().find_map(|n| n.strip_prefix("stack: ")?.split(' ').next().map(str::to_string)),
         _ => None,
     };

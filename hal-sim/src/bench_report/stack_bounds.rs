@@ -39,8 +39,9 @@ calls resolved to the functions whose address a code-pointer relocation forms, r
 unless listed with its reason (`FIRMWARE_RECURSION`: `acc_scan` nests once), and the interrupt
 handlers on top at their worst nesting (one at a time where no handler executes `sei`).
 `hal-sim/tests/stack_bound.rs` fails when a bound exceeds memory.x's budget. Beside it, the
-painted high-water mark of the runs above (— where no run measures that ELF): a bound below it
-would be no bound."
+painted high-water mark of the runs above (the product's busiest session, the bench's deepest
+routine, the UI demo's deepest draw; — where no run measures that ELF): a bound below it would be
+no bound."
             .to_string(),
         String::new(),
         "| ELF | stack bound | thread | interrupts | measured high-water | budget (memory.x) |".to_string(),
