@@ -24,13 +24,17 @@ pub struct Budgets {
     pub flash: u64,
     pub static_ram: u64,
     pub stack: u64,
+    /// The chip's RAM (memory.x's RAM region): the bench's stack budget is
+    /// what its static RAM leaves of it (`firmware::stack_budget_in`).
+    pub ram: u64,
 }
 
 impl Budgets {
     /// From memory.x's text (`__budget_flash`, `__budget_static_ram`, `__budget_stack`).
     pub fn parse(memory_x: &str) -> Result<Budgets, String> {
         let b = |name| crate::firmware::budget_in(memory_x, name);
-        Ok(Budgets { flash: b("flash")?, static_ram: b("static_ram")?, stack: b("stack")? })
+        let (flash, static_ram, stack) = (b("flash")?, b("static_ram")?, b("stack")?);
+        Ok(Budgets { flash, static_ram, stack, ram: crate::firmware::ram_in(memory_x)? })
     }
 }
 
@@ -134,7 +138,8 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
         "ui-demo" => ui.notes.iter().find_map(|n| n.strip_prefix("stack: ")?.split(' ').next().map(str::to_string)),
         _ => None,
     };
-    let stack_bound = stack_bounds::section(&inputs.stack_bounds, measured, budgets.stack);
+    let budget = |elf: &str, static_ram| crate::firmware::stack_budget_of(elf, budgets.stack, budgets.ram, static_ram);
+    let stack_bound = stack_bounds::section(&inputs.stack_bounds, measured, budget);
     let flash_by_module = match &inputs.flash_map {
         Some(m) => format!(
             "## Flash by module
@@ -270,9 +275,15 @@ mod tests {
             "touch-arm.elf  :\nsection   size   addr\n.data  786  8389120\n.text  115722  0\n.bss  922  8389906\nTotal  117546\n",
         ));
         assert_eq!((s.flash(), s.static_ram()), (116508, 1708));
-        let b =
-            Budgets::parse("__budget_flash      = 120K;  /* x */\n__budget_static_ram = 2K;\n__budget_stack = 2048;\n");
-        assert_eq!(b, Ok(Budgets { flash: 122880, static_ram: 2048, stack: 2048 }));
+        let b = Budgets::parse(
+            "    RAM    (rw!x): ORIGIN = 0x800200, LENGTH = 8K\n__budget_flash      = 120K;  /* x */\n\
+             __budget_static_ram = 2K;\n__budget_stack = 2048;\n",
+        );
+        assert_eq!(b, Ok(Budgets { flash: 122880, static_ram: 2048, stack: 2048, ram: 8192 }));
+        // The bench's stack budget: 8192 − its static RAM − the 512 B margin;
+        // every other ELF's is __budget_stack.
+        assert_eq!(crate::firmware::stack_budget_of("bench", 2048, 8192, 1860), 8192 - 1860 - 512);
+        assert_eq!(crate::firmware::stack_budget_of("touch-arm", 2048, 8192, 3065), 2048);
         assert!(Budgets::parse("__budget_flash = 1K;").unwrap_err().contains("__budget_static_ram"));
     }
 }

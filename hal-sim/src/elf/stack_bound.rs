@@ -269,12 +269,13 @@ pub fn bound(image: &Image, allowed: &[Recursion]) -> Result<Bound, Vec<String>>
 }
 
 /// [`bound`] with the firmware's [`FIRMWARE_RECURSION`], failing when it
-/// exceeds `budget` bytes (memory.x's `__budget_stack`): the error prints
-/// the worst chain.
+/// exceeds `budget` bytes (the ELF's `firmware::stack_budget`: memory.x's
+/// `__budget_stack`, or the bench's free RAM less a margin): the error
+/// prints the worst chain.
 pub fn check(image: &Image, budget: u64) -> Result<Bound, String> {
     let b = bound(image, FIRMWARE_RECURSION).map_err(|r| r.join("\n"))?;
     if u64::from(b.total) > budget {
-        return Err(format!("the stack bound exceeds the {budget}-byte budget of memory.x\n{b}"));
+        return Err(format!("the stack bound exceeds the {budget}-byte stack budget\n{b}"));
     }
     Ok(b)
 }
