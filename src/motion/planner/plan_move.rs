@@ -31,8 +31,9 @@ const ACC_SEARCH_TOL: f64 = 0.01;
 // of its callers' frames.
 #[inline(never)]
 pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<PlannedMove<R>, PlanError> {
-    let chosen = choose_law(req, lim)?;
-    plan_chosen(req, lim, &chosen)
+    // By reference: a `?` would copy the law out of its Result.
+    let chosen = choose_law(req, lim);
+    plan_chosen(req, lim, chosen.as_ref().map_err(|e| *e)?)
 }
 
 /// The law a move is planned by ([`choose_law`]) and the bounds it was
