@@ -5,7 +5,7 @@
 //!
 //! # Motion
 //! A grip is a single-joint move planned by the arm's planner
-//! ([`plan_move`]: the selected law, the speed preset, the gripper's speed
+//! ([`plan_move`](crate::motion::planner::plan_move::plan_move): the selected law, the speed preset, the gripper's speed
 //! and acceleration limits less the safety margin, `ts_min`/`ts_max`, the
 //! same refusals), the gripper in the plan's first joint and the other two
 //! standing still, so no second trajectory implementation exists. It runs on
@@ -44,8 +44,8 @@ use crate::config::settings::{field_value, set_field, ConfigError, JointField, S
 use crate::config::store::SaveError;
 use crate::math::units::centideg_to_rad;
 use crate::motion::plan::{MultiPlan, JOINTS};
-use crate::motion::planner::plan_move::plan_move;
-use crate::motion::planner::request::MoveRequest;
+use crate::motion::planner::plan_move::{choose_law, plan_chosen, ChosenLaw};
+use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::protocol::command::GripCmd;
 use crate::seam::{SerialPort, ServoOutputs, Storage};
 use crate::servo::map::{JointCal, ServoMap};
@@ -312,7 +312,26 @@ impl App {
     fn plan_grip(&mut self, start: f32, target: f32, map: &ServoMap, pct: u8) -> Result<(), Refusal> {
         let lim = self.plan_limits([map; JOINTS], pct);
         let req = MoveRequest { start: [start, 0.0, 0.0], target: [target, 0.0, 0.0], law: self.config.law };
-        let planned = plan_move(&req, &lim)?;
+        // By reference: a `?` would copy the law out of its Result.
+        let chosen = choose_law(&req, &lim);
+        match &chosen {
+            Ok(law) => self.start_grip_plan(&req, &lim, law, target),
+            Err(e) => Err(Refusal::from(*e)),
+        }
+    }
+
+    /// [`Self::plan_grip`]'s plan by the law chosen, installed.
+    // the plan (the move's largest value) lives here,
+    // after the duration search has returned, not in plan_grip's frame.
+    #[inline(never)] // avr-trap: frame-size
+    fn start_grip_plan(
+        &mut self,
+        req: &MoveRequest<f32>,
+        lim: &PlanLimits<f32>,
+        chosen: &ChosenLaw<f32>,
+        target: f32,
+    ) -> Result<(), Refusal> {
+        let planned = plan_chosen(req, lim, chosen)?;
         self.grip.ts = planned.ts;
         self.grip.plan = Some(planned.plan);
         self.grip.n = 0;

@@ -12,7 +12,7 @@ use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::math::units::centideg_to_rad;
 use crate::motion::plan::JOINTS;
-use crate::motion::planner::plan_move::plan_move;
+use crate::motion::planner::plan_move::{choose_law, plan_chosen, ChosenLaw};
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
@@ -411,6 +411,8 @@ impl App {
 
     /// A move from `start` at rest (not inlined: its plan and track would
     /// otherwise share the caller's stack frame with the re-plan's).
+    // only the request and the chosen law are in this
+    // frame during the duration search; the plan is built in `start_chosen`.
     #[inline(never)] // avr-trap: frame-size
     fn start_fresh(
         &mut self,
@@ -421,11 +423,30 @@ impl App {
     ) -> Result<MoveInfo, Refusal> {
         self.busy = true;
         let req = MoveRequest { start: *start, target: *target, law: self.config.law };
-        let planned = plan_move(&req, lim)?;
+        // By reference: a `?` would copy the law out of its Result.
+        let chosen = choose_law(&req, lim);
+        match &chosen {
+            Ok(law) => self.start_chosen(&req, law, new_maps, lim),
+            Err(e) => Err(Refusal::from(*e)),
+        }
+    }
+
+    /// [`Self::start_fresh`]'s plan by the law chosen, started on the track.
+    // the plan (the move's largest value) lives here,
+    // after the duration search has returned, not in start_fresh's frame.
+    #[inline(never)] // avr-trap: frame-size
+    fn start_chosen(
+        &mut self,
+        req: &MoveRequest<f32>,
+        chosen: &ChosenLaw<f32>,
+        new_maps: Option<&[ServoMap; JOINTS]>,
+        lim: &PlanLimits<f32>,
+    ) -> Result<MoveInfo, Refusal> {
+        let planned = plan_chosen(req, lim, chosen)?;
         let maps = new_maps.unwrap_or(&self.maps);
         self.track.start(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
         Ok(MoveInfo {
-            target: *target,
+            target: req.target,
             ts: planned.ts,
             replan: None,
             a: planned.a,

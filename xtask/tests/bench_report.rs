@@ -22,6 +22,8 @@ fn inputs() -> Inputs {
         product: Sizes(parse_section_sizes(&fixture("size-touch-arm.txt"))),
         bench_elf: Sizes(parse_section_sizes(&fixture("size-bench.txt"))),
         budgets: Budgets::parse(&fixture("budgets.x")).unwrap(),
+        stack_bounds: Vec::new(),
+        flash_map: None,
     }
 }
 

@@ -348,6 +348,8 @@ fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
     acc_scan(shape, lo, hi, true)
 }
 
+// Recurses once at most (the inner call passes `refine_first = false`):
+// hal-sim's stack bound counts on it (`stack_bound::FIRMWARE_RECURSION`).
 fn acc_scan<R: Real>(shape: &Shape<R>, lo: R, hi: R, refine_first: bool) -> R {
     // (G″, G‴) at t, None where G is below 1e-34 (far left of everything).
     let at = |t: R| {

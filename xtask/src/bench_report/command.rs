@@ -7,7 +7,9 @@ use clap::Parser;
 use std::path::{Path, PathBuf};
 use touch_arm_rig::firmware;
 
-use super::{render, BenchOutput, Budgets, Inputs, Sizes, UiOutput};
+use super::stack_bounds::StackBoundRow;
+use super::{flash_map, render, BenchOutput, Budgets, Inputs, Sizes, UiOutput};
+use crate::elf::Image;
 
 /// Writes BENCHMARKS.md from a bench run's output.
 #[derive(Parser, Debug)]
@@ -47,7 +49,26 @@ pub fn run(args: &Args) -> Result<(), String> {
         product: Sizes(firmware::section_sizes(&args.firmware.clone().unwrap_or_else(firmware::default_elf))?),
         bench_elf: Sizes(firmware::section_sizes(&args.bench_elf.clone().unwrap_or_else(firmware::bench_elf))?),
         budgets: Budgets::parse(&memory_x)?,
+        stack_bounds: Vec::new(),
+        flash_map: None,
     };
+    let mut inputs = inputs;
+    let product = args.firmware.clone().unwrap_or_else(firmware::default_elf);
+    let bench = args.bench_elf.clone().unwrap_or_else(firmware::bench_elf);
+    // Every ELF `cargo avr` builds (the product and the bench as given);
+    // one not built (`mipidsi-fill` needs `cargo avr-mipidsi`) is left out.
+    for (name, elf) in firmware::all_elfs() {
+        let elf = match name {
+            "touch-arm" => product.clone(),
+            "bench" => bench.clone(),
+            _ => elf,
+        };
+        if let Ok(bytes) = std::fs::read(&elf) {
+            inputs.stack_bounds.push(StackBoundRow::of(name, &bytes));
+        }
+    }
+    let bytes = std::fs::read(&product).map_err(|e| format!("{}: {e}", product.display()))?;
+    inputs.flash_map = Some(flash_map::of(&Image::parse(&bytes)?));
     let text = render(&inputs)?;
     std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
     println!("wrote {}", args.out.display());

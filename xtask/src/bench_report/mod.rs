@@ -2,12 +2,16 @@
 //! firmware in simavr and the two simavr tests that measure the display and
 //! the product's stack, then calls the `bench-report` program, which reads
 //! their output and the two ELFs' section sizes and fills `template.md` (the
-//! document's prose, kept as Markdown) with the figures.
+//! document's prose, kept as Markdown) with the figures; from the ELFs
+//! themselves it adds every firmware's stack bound (`stack_bounds`) and the
+//! product's flash by module (`flash_map`).
 
 mod accuracy;
 pub mod command;
+pub mod flash_map;
 mod parse;
 mod routines;
+pub mod stack_bounds;
 
 pub use accuracy::{ulp_err, Accuracy};
 pub use parse::{BenchOutput, Count, Routine, UiOutput};
@@ -24,13 +28,17 @@ pub struct Budgets {
     pub static_ram: u64,
     /// Stack (`__budget_stack`).
     pub stack: u64,
+    /// The chip's RAM (memory.x's RAM region): the bench's stack budget is
+    /// what its static RAM leaves of it (`firmware::stack_budget_in`).
+    pub ram: u64,
 }
 
 impl Budgets {
     /// From memory.x's text (`__budget_flash`, `__budget_static_ram`, `__budget_stack`).
     pub fn parse(memory_x: &str) -> Result<Budgets, String> {
         let b = |name| touch_arm_rig::firmware::budget_in(memory_x, name);
-        Ok(Budgets { flash: b("flash")?, static_ram: b("static_ram")?, stack: b("stack")? })
+        let (flash, static_ram, stack) = (b("flash")?, b("static_ram")?, b("stack")?);
+        Ok(Budgets { flash, static_ram, stack, ram: touch_arm_rig::firmware::ram_in(memory_x)? })
     }
 }
 
@@ -67,6 +75,10 @@ pub struct Inputs {
     pub bench_elf: Sizes,
     /// memory.x's budgets.
     pub budgets: Budgets,
+    /// Every ELF's stack bound (empty: the section is left out).
+    pub stack_bounds: Vec<stack_bounds::StackBoundRow>,
+    /// The product's flash by module (None: the section is left out).
+    pub flash_map: Option<flash_map::FlashMap>,
 }
 
 /// The heading and method of the frame-budget section.
@@ -124,6 +136,34 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
         None => String::new(),
     };
     let (p, b, budgets) = (&inputs.product, &inputs.bench_elf, &inputs.budgets);
+    // The high-water marks the runs measured: the product's busiest
+    // session, the bench's deepest routine (it paints before each, so its
+    // closing `S` line covers the last one only), the UI demo's note.
+    let bench_deepest = routines.iter().map(|r| r.stack).max().map(|s| s.to_string());
+    let measured = |elf: &str| match elf {
+        "touch-arm" => ui.firmware_stack.clone(),
+        "bench" => bench_deepest.clone(),
+        "ui-demo" => ui.notes.iter().find_map(|n| n.strip_prefix("stack: ")?.split(' ').next().map(str::to_string)),
+        _ => None,
+    };
+    let budget = |elf: &str, static_ram| touch_arm_rig::firmware::stack_budget_of(elf, budgets.stack, budgets.ram, static_ram);
+    let stack_bound = stack_bounds::section(&inputs.stack_bounds, measured, budget);
+    let flash_by_module = match &inputs.flash_map {
+        Some(m) => format!(
+            "## Flash by module
+
+The product firmware's flash (`.text` and `.data`'s initializers) summed by the crate and module of
+each symbol (`xtask::bench_report::flash_map`: demangled paths, methods by their type; C and
+assembly as avr-libc, its float library or libgcc). Unattributed: bytes no symbol starts before
+(alignment padding, and constants LLVM emits into `.data` without a symbol).
+
+{}
+
+",
+            m.table(20)
+        ),
+        None => String::new(),
+    };
     fill(
         TEMPLATE,
         &[
@@ -155,6 +195,8 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
             ("fw_stack", ui.firmware_stack.clone().unwrap_or_else(|| "?".into())),
             ("bench_stack", bench.stack()?.0.to_string()),
             ("stack_budget", budgets.stack.to_string()),
+            ("stack_bound", stack_bound),
+            ("flash_by_module", flash_by_module),
         ],
     )
 }
@@ -241,9 +283,15 @@ mod tests {
             "touch-arm.elf  :\nsection   size   addr\n.data  786  8389120\n.text  115722  0\n.bss  922  8389906\nTotal  117546\n",
         ));
         assert_eq!((s.flash(), s.static_ram()), (116508, 1708));
-        let b =
-            Budgets::parse("__budget_flash      = 120K;  /* x */\n__budget_static_ram = 2K;\n__budget_stack = 2048;\n");
-        assert_eq!(b, Ok(Budgets { flash: 122880, static_ram: 2048, stack: 2048 }));
+        let b = Budgets::parse(
+            "    RAM    (rw!x): ORIGIN = 0x800200, LENGTH = 8K\n__budget_flash      = 120K;  /* x */\n\
+             __budget_static_ram = 2K;\n__budget_stack = 2048;\n",
+        );
+        assert_eq!(b, Ok(Budgets { flash: 122880, static_ram: 2048, stack: 2048, ram: 8192 }));
+        // The bench's stack budget: 8192 − its static RAM − the 512 B margin;
+        // every other ELF's is __budget_stack.
+        assert_eq!(touch_arm_rig::firmware::stack_budget_of("bench", 2048, 8192, 1860), 8192 - 1860 - 512);
+        assert_eq!(touch_arm_rig::firmware::stack_budget_of("touch-arm", 2048, 8192, 3065), 2048);
         assert!(Budgets::parse("__budget_flash = 1K;").unwrap_err().contains("__budget_static_ram"));
     }
 }

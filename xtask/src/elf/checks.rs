@@ -4,7 +4,7 @@
 //! more entry here (the tests in `xtask/tests/firmware_elf.rs` gate the
 //! same properties in `cargo test`).
 
-use super::{code_pointers, stack_args, Image};
+use super::{code_pointers, stack_args, stack_bound, Image};
 use crate::bench_report::Budgets;
 
 /// One firmware under check: its name (`touch-arm`, `bench`, an example...),
@@ -32,6 +32,7 @@ pub const CHECKS: &[Check] = &[
     Check { name: "budgets", run: budgets },
     Check { name: "code-pointers", run: code_pointers },
     Check { name: "stack-args", run: stack_args },
+    Check { name: "stack-bound", run: stack_bound },
 ];
 
 /// Flash within memory.x's budget for every firmware; static RAM for the
@@ -98,5 +99,22 @@ fn stack_args(fw: &Firmware) -> Result<String, String> {
     Ok(format!(
         "{} functions, {} with a frame pointer, none reads stack-passed arguments",
         lint.functions, lint.with_frame_pointer
+    ))
+}
+
+/// The worst-case stack depth from the call graph, interrupts included, within
+/// the firmware's stack budget ([`stack_bound::check`]; the budget is
+/// `firmware::stack_budget_of`: memory.x's for every ELF but the bench's).
+fn stack_bound(fw: &Firmware) -> Result<String, String> {
+    let budget = touch_arm_rig::firmware::stack_budget_of(
+        fw.name,
+        fw.budgets.stack,
+        fw.budgets.ram,
+        fw.image.static_ram(),
+    );
+    let b = stack_bound::check(fw.image, budget)?;
+    Ok(format!(
+        "stack bound {} B ({} thread + {} interrupts) within the {budget}-byte budget",
+        b.total, b.thread.depth, b.interrupts
     ))
 }

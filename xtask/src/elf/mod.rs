@@ -1,19 +1,22 @@
 //! Post-link checks on a firmware ELF, as the linker left it.
 //!
-//! Two properties of the ATmega2560 that no compiler or linker error reports:
+//! Properties of an ATmega2560 image that no compiler or linker error reports:
 //! - `code_pointers`: a function pointer is a 16-bit word address, so code
 //!   above 128 KiB is reached only through a linker trampoline, and data
 //!   read with `lpm` only below 64 KiB;
 //! - `stack_args`: LLVM miscompiles functions that read arguments passed on
-//!   the stack (it assumes a 2-byte return address; the 2560's is 3 bytes).
+//!   the stack (it assumes a 2-byte return address; the 2560's is 3 bytes);
+//! - `stack_bound`: the worst-case stack depth from the call graph, which
+//!   no simavr high-water mark proves.
 //!
-//! Both read the ELF itself (with the `object` crate); nothing runs the
+//! All read the ELF itself (with the `object` crate); nothing runs the
 //! firmware. `Image` is the little view of the ELF they share.
 
 pub mod avr_insn;
 pub mod checks;
 pub mod code_pointers;
 pub mod stack_args;
+pub mod stack_bound;
 
 use object::read::elf::{ElfFile32, ProgramHeader};
 use object::{Object, ObjectSection, ObjectSymbol, SymbolKind};
