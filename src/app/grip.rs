@@ -190,7 +190,7 @@ impl App {
 
     /// A checked grip target, planned after this frame's pulses.
     fn grip_due(&mut self, target: f32, who: GripWho) {
-        self.busy = true;
+        self.spend_heavy();
         let awaits_arm = matches!(who, GripWho::Pose(_));
         self.grip.due = Some(GripDue { target, who, awaits_arm });
     }

@@ -5,7 +5,7 @@ use super::path_move::PathRun;
 use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, Answer, App, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
+use super::{build_maps, Answer, App, HeavyTask, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
@@ -49,7 +49,7 @@ impl App {
         let now = io.clock.now_ms();
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
         let catch_up = core::mem::take(&mut self.late);
-        self.busy = catch_up;
+        self.heavy = HeavyTask::new_frame(catch_up);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -65,7 +65,7 @@ impl App {
         self.finish_grip(io.serial, arm_planned || catch_up);
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
-        if self.log {
+        if self.session.log {
             self.send_telemetry(io.serial, now);
         }
         self.flush_pending(io.serial);
@@ -140,7 +140,7 @@ impl App {
     #[inline(never)] // avr-trap: frame-size
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
-            if self.busy {
+            if self.heavy.is_spent() {
                 return;
             }
             self.deferred_touch = None;
@@ -148,7 +148,7 @@ impl App {
         }
         // A busy frame has no time for a read (the filter takes the next
         // one; a touch would have to wait anyway).
-        if self.busy {
+        if self.heavy.is_spent() {
             return;
         }
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
@@ -166,7 +166,7 @@ impl App {
             Some(TouchEvent::Moved(p)) if !self.params.screen => p,
             _ => return,
         };
-        if self.busy && self.touch_plans(&p) {
+        if self.heavy.is_spent() && self.touch_plans(&p) {
             self.deferred_touch = Some(p);
         } else {
             self.route_touch(&p, storage, serial);
@@ -321,7 +321,7 @@ impl App {
             return Err(Refusal::Busy);
         }
         self.check_limits(target)?;
-        self.busy = true;
+        self.spend_heavy();
         self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody, kind });
         Ok(())
     }
@@ -421,7 +421,7 @@ impl App {
         new_maps: Option<&[ServoMap; JOINTS]>,
         lim: &PlanLimits<f32>,
     ) -> Result<MoveInfo, Refusal> {
-        self.busy = true;
+        self.spend_heavy();
         let req = MoveRequest { start: *start, target: *target, law: self.config.law };
         // By reference: a `?` would copy the law out of its Result.
         let chosen = choose_law(&req, lim);

@@ -233,7 +233,7 @@ impl App {
             _ => Check::Path(self.new_path_check(due)?),
         };
         self.path = PathRun::Checking { check, due: *due };
-        self.busy = true;
+        self.spend_heavy();
         Ok(())
     }
 
