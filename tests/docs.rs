@@ -399,7 +399,9 @@ fn the_readme_is_a_front_page() {
 #[test]
 fn the_scanners_see_what_they_should() {
     assert_eq!(
-        cited_paths("see `src/app/mod.rs`, hal-sim/twin/tests/scenarios/*.scn and Cargo.toml. Not touch::map or x/src/y"),
+        cited_paths(
+            "see `src/app/mod.rs`, hal-sim/twin/tests/scenarios/*.scn and Cargo.toml. Not touch::map or x/src/y"
+        ),
         ["src/app/mod.rs", "hal-sim/twin/tests/scenarios/*.scn", "Cargo.toml"]
     );
     assert_eq!(section_numbers("§3–6", 0), ["3", "6"]);
@@ -411,5 +413,7 @@ fn the_scanners_see_what_they_should() {
     assert!(!cites_outside_note("SPECIAL, INSPECT"));
     assert!(exists_under(&root(), "hal-sim/twin/tests/scenarios/*.scn"));
     assert!(!exists_under(&root(), "src/touch_filter.rs"));
-    assert!(tolerated("target/avr-none/release/touch-arm.elf") && tolerated("hal-sim/bench/tests/browser/node_modules/x"));
+    assert!(
+        tolerated("target/avr-none/release/touch-arm.elf") && tolerated("hal-sim/bench/tests/browser/node_modules/x")
+    );
 }

@@ -8,11 +8,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use touch_arm_rig::firmware;
 use xtask::bench_report::flash_map;
 use xtask::bench_report::stack_bounds::{self, StackBoundRow};
 use xtask::elf::stack_bound::{self, Bound};
 use xtask::elf::Image;
-use touch_arm_rig::firmware;
 
 /// Links `tests/fixtures/stack/<name>.S` for the ATmega2560 (with
 /// `--emit-relocs`, as the firmware is) and returns the ELF's bytes.
@@ -220,8 +220,9 @@ fn the_report_shows_every_bound_and_the_flash_by_module() {
 /// quintic).
 #[test]
 fn a_slew_under_the_default_law_stays_within_the_bound() {
-    let mut s = touch_arm_rig::firmware::Session::start(&firmware::default_elf(), touch_arm_rig::panel::PanelWiring::A, 11)
-        .expect("firmware ELF (cargo avr)");
+    let mut s =
+        touch_arm_rig::firmware::Session::start(&firmware::default_elf(), touch_arm_rig::panel::PanelWiring::A, 11)
+            .expect("firmware ELF (cargo avr)");
     s.run_for(1.5).unwrap();
     assert!(s.command("goto 45 100 -120").unwrap().starts_with("ok goto"));
     s.run_for(4.0).unwrap();

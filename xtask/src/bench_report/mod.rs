@@ -146,7 +146,8 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
         "ui-demo" => ui.notes.iter().find_map(|n| n.strip_prefix("stack: ")?.split(' ').next().map(str::to_string)),
         _ => None,
     };
-    let budget = |elf: &str, static_ram| touch_arm_rig::firmware::stack_budget_of(elf, budgets.stack, budgets.ram, static_ram);
+    let budget =
+        |elf: &str, static_ram| touch_arm_rig::firmware::stack_budget_of(elf, budgets.stack, budgets.ram, static_ram);
     let stack_bound = stack_bounds::section(&inputs.stack_bounds, measured, budget);
     let flash_by_module = match &inputs.flash_map {
         Some(m) => format!(

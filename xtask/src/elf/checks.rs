@@ -106,12 +106,8 @@ fn stack_args(fw: &Firmware) -> Result<String, String> {
 /// the firmware's stack budget ([`stack_bound::check`]; the budget is
 /// `firmware::stack_budget_of`: memory.x's for every ELF but the bench's).
 fn stack_bound(fw: &Firmware) -> Result<String, String> {
-    let budget = touch_arm_rig::firmware::stack_budget_of(
-        fw.name,
-        fw.budgets.stack,
-        fw.budgets.ram,
-        fw.image.static_ram(),
-    );
+    let budget =
+        touch_arm_rig::firmware::stack_budget_of(fw.name, fw.budgets.stack, fw.budgets.ram, fw.image.static_ram());
     let b = stack_bound::check(fw.image, budget)?;
     Ok(format!(
         "stack bound {} B ({} thread + {} interrupts) within the {budget}-byte budget",
