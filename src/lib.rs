@@ -29,3 +29,9 @@ pub mod seam;
 pub mod servo;
 pub mod touch;
 pub mod ui;
+
+/// The crate version (`version` and the boot line print it, through `t!`).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The git commit the crate was built from (`build.rs`: 12 hex digits,
+/// `-dirty` when the tree differed, `unknown` without git).
+pub const COMMIT: &str = env!("TOUCH_ARM_COMMIT");

@@ -183,8 +183,8 @@ fn probe_wiring(app: &mut App, b: &mut Board) {
 #[inline(never)] // avr-trap: frame-size
 fn report_boot(serial: &mut Usart0, cause: ResetCause) {
     let mut line: Line<72> = Line::new();
-    line.str(touch_arm::t!("info touch-arm ")).str(touch_arm::t!(env!("CARGO_PKG_VERSION")));
-    line.str(touch_arm::t!(" commit ")).str(touch_arm::t!(env!("TOUCH_ARM_COMMIT")));
+    line.str(touch_arm::t!("info touch-arm ")).str(touch_arm::t!(touch_arm::VERSION));
+    line.str(touch_arm::t!(" commit ")).str(touch_arm::t!(touch_arm::COMMIT));
     line.str(touch_arm::t!(" reset ")).str(reset_name(cause));
     serial.write(line.finish());
 }

@@ -108,6 +108,15 @@ pub trait SerialPort {
     fn take_rx_loss(&mut self) -> Option<RxLoss> {
         None
     }
+    /// A one-byte STOP (`protocol::command::STOP_BYTE`, `!`) arrived since
+    /// the last call. The port takes that byte out of the stream as it
+    /// arrives (it is no part of a line, and a full buffer or an open loss
+    /// does not hold it back), so the app latches STOP in its next frame
+    /// without waiting for a line. The default: a port that passes `!` on
+    /// in the stream, where the app acts on it when it reads it.
+    fn take_stop_byte(&mut self) -> bool {
+        false
+    }
     /// Bytes [`SerialPort::write`] can queue now.
     fn tx_room(&self) -> usize {
         usize::MAX

@@ -78,6 +78,12 @@ impl Text {
         other.len() == self.len() && other.iter().enumerate().all(|(i, &b)| self.byte(i) == b)
     }
 
+    /// Equal to `other` byte for byte, ignoring ASCII case (command
+    /// keywords: `STOP` is `stop`).
+    pub fn eq_ignore_case(&self, other: &[u8]) -> bool {
+        other.len() == self.len() && other.iter().enumerate().all(|(i, b)| self.byte(i).eq_ignore_ascii_case(b))
+    }
+
     /// The text as a `str` (host only: on the chip it is not in data space).
     #[cfg(not(target_arch = "avr"))]
     pub fn as_str(&self) -> &'static str {

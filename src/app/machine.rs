@@ -46,6 +46,9 @@ impl App {
             io.servos.disable();
             return;
         }
+        // STOP from the port's one-byte `!` before anything else, catch-up
+        // frames included: a latch is no heavy work (`serial.rs`).
+        self.poll_stop_byte(io.serial);
         let now = io.clock.now_ms();
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
         let catch_up = core::mem::take(&mut self.late);
@@ -65,9 +68,7 @@ impl App {
         self.finish_grip(io.serial, arm_planned || catch_up);
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
-        if self.session.log {
-            self.send_telemetry(io.serial, now);
-        }
+        self.send_telemetry(io.serial, now);
         self.flush_pending(io.serial);
         self.report_dropped(io.serial);
     }

@@ -22,10 +22,12 @@
 //!    early, so a long plan (a re-plan takes up to about two thirds of a
 //!    frame; BENCHMARKS.md) never pushes the next pulses past their period,
 //!    however the following frames are loaded.
-//! 1. Serial: at most `serial_bytes_per_frame` bytes, at most one complete
-//!    line, only while the port has room for the longest reply; one `ok …`/
-//!    `err …` line (see `serial.rs`). A partial line idle for
-//!    `line_timeout_ms` is dropped.
+//! 1. Serial: first a one-byte STOP (`!`) the port flagged is latched and
+//!    answered, in every frame (catch-up ones too). Then at most
+//!    `serial_bytes_per_frame` bytes, at most one complete line, only while
+//!    the port has room for the longest reply; one `ok …`/`err …` line (see
+//!    `serial.rs`). A partial line idle for `line_timeout_ms` is dropped and
+//!    answered `err line timeout (no line ending?)`.
 //! 2. Touch: one filtered read; a confirmed press or a drag to a new resting
 //!    point becomes a target. A frame does one heavy thing: after a serial
 //!    line the panel is not read and a touch that would plan waits a frame.
@@ -45,7 +47,9 @@
 //!    as the PWM period still has room for at their worst (none in a
 //!    catch-up frame), and answers once it decides (`path_move`).
 //! 7. Telemetry (`log on`): `t <ms> <base> <shoulder> <elbow> <us> <us> <us>
-//!    <grip> <us>`, angles in centidegrees.
+//!    <grip> <us>`, angles in centidegrees; or (`log plot`)
+//!    `base:<deg>,shoulder:<deg>,elbow:<deg>,grip:<deg>` with two decimals,
+//!    for the Arduino Serial Plotter.
 //! 8. One line of a multi-line reply (`cal show`), if pending and the frame
 //!    is not busy.
 //!
@@ -170,7 +174,8 @@ pub struct AppParams {
     pub filter: FilterConfig,
     /// Serial bytes read per frame at most (115200 baud brings ≤ 230).
     pub serial_bytes_per_frame: u8,
-    /// A partial line with no new byte for this long is dropped.
+    /// A partial line with no new byte for this long is dropped and
+    /// answered `err line timeout (no line ending?)`.
     pub line_timeout_ms: u32,
     /// A touch screen shows the map and buttons and routes touches (the
     /// firmware); without one the whole panel is the workspace, as in the
@@ -363,7 +368,7 @@ pub struct Status {
     pub config_warning: Option<Warning>,
     /// The first move after power-up is limited to the slow preset.
     pub first_move_pending: bool,
-    /// Per-frame telemetry is on (`log on`).
+    /// Per-frame telemetry is on (`log on` or `log plot`).
     pub log: bool,
     /// Gripper angle commanded in the last frame, rad.
     pub grip: f32,
@@ -630,7 +635,7 @@ impl App {
             config_source: self.source,
             config_warning: self.warning,
             first_move_pending: self.first_move,
-            log: self.session.log,
+            log: self.session.log != crate::protocol::command::LogMode::Off,
             grip: self.grip.commanded,
             grip_target: self.grip.target,
             grip_pulse: self.grip.ticks,

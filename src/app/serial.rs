@@ -4,7 +4,15 @@
 //! (a line of only spaces and tabs: `err empty line`; `cal show` sends its
 //! data lines first, one per frame, and ends with `ok cal show …`). A
 //! malformed, over-long or out-of-range line is answered with `err` and
-//! changes nothing.
+//! changes nothing; so is a partial line left idle for `line_timeout_ms`
+//! (`err line timeout (no line ending?)`: a terminal set to send no line
+//! ending).
+//!
+//! The one-byte STOP `!` is no line: the port flags it as it arrives and the
+//! next frame latches STOP first of all, in a catch-up frame too (a latch is
+//! no heavy work), with a line half received or a reply pending, and answers
+//! `ok stop` (once per frame that took a `!`, before that frame's other
+//! replies; when the port lacks room, as soon as it has it).
 //!
 //! A path move (`move`/`goto` under `path line`, `circle`) is answered when
 //! its check decides, some frames later (`path_move`): `ok move … path line
@@ -33,7 +41,7 @@ use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError, PathMode, SpeedPreset};
 use crate::config::store::{self, SaveError};
 use crate::motion::plan::LawKind;
-use crate::protocol::command::{parse, CmdError, Command, SerialLine};
+use crate::protocol::command::{parse, CmdError, Command, LogMode, SerialLine, Verb, STOP_BYTE};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 
@@ -44,20 +52,30 @@ use crate::touch::filter::TouchPoint;
 pub(super) struct Session {
     /// The line being received.
     pub(super) line: SerialLine,
-    /// When its last byte came, ms (a partial line idle too long is dropped).
+    /// When its last byte came, ms (a partial line idle too long is dropped
+    /// and answered).
     pub(super) last_rx_ms: u32,
-    /// Telemetry on (`log on`).
-    pub(super) log: bool,
+    /// Per-frame telemetry (`log on|plot|off`).
+    pub(super) log: LogMode,
     /// Lines still to send of a multi-line reply.
     pub(super) pending: Option<Pending>,
     /// Unsolicited lines the port had no room for, not yet reported.
     pub(super) tx_dropped: u16,
+    /// A `!` latched STOP and its `ok stop` is not sent yet.
+    pub(super) stop_owed: bool,
 }
 
 impl Session {
     /// No line, no telemetry, nothing pending or dropped.
     pub(super) const fn new() -> Session {
-        Session { line: SerialLine::new(), last_rx_ms: 0, log: false, pending: None, tx_dropped: 0 }
+        Session {
+            line: SerialLine::new(),
+            last_rx_ms: 0,
+            log: LogMode::Off,
+            pending: None,
+            tx_dropped: 0,
+            stop_owed: false,
+        }
     }
 }
 
@@ -77,7 +95,9 @@ pub(super) enum Done {
     Status,
     Law(LawKind),
     Speed(SpeedPreset),
-    Log(bool),
+    Log(LogMode),
+    Help,
+    Version,
     CalSet(Option<f32>),
     CalReset(Option<f32>),
     CalInvalid(ConfigError),
@@ -97,6 +117,23 @@ pub(super) enum Done {
 }
 
 impl App {
+    /// The one-byte STOP: latches STOP if the port flagged a `!`, and sends
+    /// the `ok stop` it owes once the port has room (see the module doc).
+    /// Before everything else in the frame, catch-up frames included.
+    // Out of line: inlined it added a byte to the firmware's frame, which is
+    // on the deepest stack chain (frame → execute → replace_config → planner).
+    #[inline(never)] // avr-trap: frame-size
+    pub(super) fn poll_stop_byte<U: SerialPort>(&mut self, serial: &mut U) {
+        if serial.take_stop_byte() {
+            self.stop();
+            self.session.stop_owed = true;
+        }
+        if self.session.stop_owed && serial.tx_room() >= LINE_CAP {
+            self.session.stop_owed = false;
+            self.send_reply(serial, &Done::Stopped);
+        }
+    }
+
     /// Reads up to the byte budget, stopping after the first complete line
     /// (or a receive loss), and answers it.
     pub(super) fn poll_serial<P, S, C, E, U>(&mut self, io: &mut Io<'_, P, S, C, E, U>, now_ms: u32)
@@ -113,12 +150,16 @@ impl App {
         {
             return;
         }
-        if self.session.line.is_partial() && now_ms.wrapping_sub(self.session.last_rx_ms) >= self.params.line_timeout_ms
-        {
-            self.session.line.clear();
-        }
         let mut done = Done::Nothing;
         let mut budget = self.params.serial_bytes_per_frame;
+        if self.session.line.is_partial()
+            && now_ms.wrapping_sub(self.session.last_rx_ms) >= self.params.line_timeout_ms
+            && self.session.line.expire()
+        {
+            // Answered like a line: it is this frame's one reply.
+            done = Done::Bad(CmdError::LineTimeout);
+            budget = 0;
+        }
         while budget > 0 {
             budget -= 1;
             let Some(byte) = io.serial.read_byte() else {
@@ -130,6 +171,13 @@ impl App {
                 }
                 break;
             };
+            if byte == STOP_BYTE {
+                // A port that passes `!` on in the stream (the seam's
+                // default): acted on here, still no part of the line.
+                self.stop();
+                done = Done::Stopped;
+                break;
+            }
             self.session.last_rx_ms = now_ms;
             let parsed = match self.session.line.push(byte) {
                 None => continue,
@@ -178,10 +226,12 @@ impl App {
                 self.config.speed = s;
                 Ok(Done::Speed(s))
             }
-            Command::Log(on) => {
-                self.session.log = on;
-                Ok(Done::Log(on))
+            Command::Log(mode) => {
+                self.session.log = mode;
+                Ok(Done::Log(mode))
             }
+            Command::Help => Ok(Done::Help),
+            Command::Version => Ok(Done::Version),
             Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
             Command::Lift(h) => self.set_lift(h).map(|()| Done::Lift(h)),
             Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
@@ -261,8 +311,24 @@ impl App {
             Done::Speed(s) => {
                 r.str(t!("ok speed ")).str(s.name());
             }
-            Done::Log(on) => {
-                r.str(if on { t!("ok log on") } else { t!("ok log off") });
+            Done::Log(mode) => {
+                r.str(match mode {
+                    LogMode::On => t!("ok log on"),
+                    LogMode::Off => t!("ok log off"),
+                    LogMode::Plot => t!("ok log plot"),
+                });
+            }
+            Done::Help => {
+                // The words `parse` knows, from its own table, and the `!`.
+                r.str(t!("ok help"));
+                for v in Verb::all() {
+                    r.word(v.name());
+                }
+                r.word(t!("!"));
+            }
+            Done::Version => {
+                // Both from flash, as the boot line (`build.rs`).
+                r.str(t!("ok version ")).str(t!(crate::VERSION)).word(t!(crate::COMMIT));
             }
             Done::Path(m) => {
                 r.str(t!("ok path ")).str(m.name());

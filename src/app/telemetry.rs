@@ -6,6 +6,7 @@ use super::{App, MoveKind, Pending, Status};
 use crate::config::settings::{JointField, PathMode, TouchField};
 use crate::math::units::rad_to_centideg;
 use crate::motion::planner::shape_choice::AKind;
+use crate::protocol::command::LogMode;
 use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
@@ -60,10 +61,27 @@ impl App {
     /// clock, the commanded angles in centidegrees and the pulses written
     /// this frame (µs, `.5` for a half: the timer's resolution), then the
     /// gripper's angle and pulse (`-` before its first).
+    /// With `log plot` instead: `base:<deg>,shoulder:<deg>,elbow:<deg>,grip:<deg>`,
+    /// the commanded angles in degrees with two decimals (centidegrees
+    /// rounded, as `log on` prints them), nothing else on the line: the
+    /// Arduino Serial Plotter's `label:value` pairs. Nothing with `log off`
+    /// or before the first pulses.
     #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
+        match self.session.log {
+            LogMode::Off => return,
+            LogMode::On => {}
+            LogMode::Plot => {
+                for (j, q) in Joint::ALL.iter().zip(self.commanded.iter()) {
+                    line.str(j.name()).bytes(b":").centi(rad_to_centideg(*q)).bytes(b",");
+                }
+                line.str(t!("grip:")).centi(rad_to_centideg(self.grip.commanded));
+                self.emit(serial, &mut line);
+                return;
+            }
+        }
         line.str(t!("t ")).u32(now_ms);
         for q in self.commanded.iter() {
             line.num(rad_to_centideg(*q));

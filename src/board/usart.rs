@@ -8,7 +8,10 @@
 //!   is full it drops them until the reader has read everything kept before,
 //!   and counts what the drop cost in lines (`protocol::rx_loss`), which the
 //!   reader takes with `take_rx_loss`. A byte with a framing error or lost to
-//!   a hardware overrun counts as dropped too;
+//!   a hardware overrun counts as dropped too. The one-byte STOP (`!`,
+//!   `protocol::command::STOP_BYTE`) never enters the ring: the interrupt
+//!   sets a flag the app takes in its next frame (`take_stop_byte`), ring full
+//!   or not;
 //! - transmit: `SerialPort::write` queues into a [`TX_BUFFER`]-byte ring and
 //!   returns at once; the data-register-empty interrupt sends. The app checks
 //!   `tx_room` before writing, so nothing is dropped; bytes beyond the room
@@ -23,6 +26,7 @@ use core::cell::Cell;
 use avr_device::atmega2560::USART0;
 use avr_device::interrupt::{CriticalSection, Mutex};
 
+use crate::protocol::command::STOP_BYTE;
 use crate::protocol::rx_loss::{LossCounter, RX_BUFFER, TX_BUFFER};
 use crate::seam::{RxLoss, SerialPort};
 
@@ -94,10 +98,12 @@ impl<const N: usize> Ring<N> {
 const _: () = assert!(RX_BUFFER.is_power_of_two() && RX_BUFFER <= 1 << 15);
 const _: () = assert!(TX_BUFFER.is_power_of_two() && TX_BUFFER <= 1 << 15);
 
-/// The receive side: the ring and the line count of what it dropped.
+/// The receive side: the ring, the line count of what it dropped and the
+/// one-byte STOP's flag.
 struct Rx {
     ring: Ring<RX_BUFFER>,
     loss: Cell<LossCounter>,
+    stop: Cell<bool>,
 }
 
 /// The transmit side: the ring and the bytes `write` could not queue.
@@ -106,7 +112,8 @@ struct Tx {
     dropped: Cell<u16>,
 }
 
-static RX: Mutex<Rx> = Mutex::new(Rx { ring: Ring::new(), loss: Cell::new(LossCounter::new()) });
+static RX: Mutex<Rx> =
+    Mutex::new(Rx { ring: Ring::new(), loss: Cell::new(LossCounter::new()), stop: Cell::new(false) });
 static TX: Mutex<Tx> = Mutex::new(Tx { ring: Ring::new(), dropped: Cell::new(0) });
 
 /// USART0, owned; the receive ring is shared with its interrupt.
@@ -126,6 +133,7 @@ impl Usart0 {
             let rx = RX.borrow(cs);
             rx.ring.clear();
             rx.loss.set(LossCounter::new());
+            rx.stop.set(false);
             let tx = TX.borrow(cs);
             tx.ring.clear();
             tx.dropped.set(0);
@@ -232,6 +240,10 @@ impl SerialPort for Usart0 {
         })
     }
 
+    fn take_stop_byte(&mut self) -> bool {
+        avr_device::interrupt::free(|cs| RX.borrow(cs).stop.replace(false))
+    }
+
     fn tx_room(&self) -> usize {
         avr_device::interrupt::free(|cs| TX.borrow(cs).ring.room())
     }
@@ -310,14 +322,26 @@ fn receive(cs: CriticalSection<'_>) {
     let overrun = status.dor0().bit_is_set();
     let b = regs.udr0().read().bits();
     let rx = RX.borrow(cs);
+    if b == STOP_BYTE && !frame_error && !overrun {
+        // Not line data: it bypasses the ring and the loss count, so it acts
+        // even behind a full ring or mid-line. (First and alone: this keeps
+        // the handler's frame, which every stack chain can meet, as small as
+        // it was; after an overrun the path below counts the loss first.)
+        rx.stop.set(true);
+        return;
+    }
     let mut loss = rx.loss.get();
     if overrun {
         // Bytes the hardware lost before this one: their values are gone, so
         // they count as one damaged line byte.
         loss.byte(0, false);
     }
-    let kept = !frame_error && !loss.is_open() && rx.ring.push(b);
-    loss.byte(b, kept);
+    if b == STOP_BYTE && !frame_error {
+        rx.stop.set(true);
+    } else {
+        let kept = !frame_error && !loss.is_open() && rx.ring.push(b);
+        loss.byte(b, kept);
+    }
     rx.loss.set(loss);
 }
 

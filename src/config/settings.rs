@@ -32,9 +32,9 @@ impl PathMode {
         }
     }
 
-    /// The mode named `name` on the serial line.
+    /// The mode named `name` on the serial line (in any case).
     pub fn from_name(name: &[u8]) -> Option<PathMode> {
-        PathMode::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
+        PathMode::ALL.iter().copied().find(|p| p.name().eq_ignore_case(name))
     }
 
     /// The byte stored in the EEPROM record: 0, 1. Never renumber.
@@ -95,9 +95,9 @@ impl SpeedPreset {
         }
     }
 
-    /// The preset named `name` on the serial line.
+    /// The preset named `name` on the serial line (in any case).
     pub fn from_name(name: &[u8]) -> Option<SpeedPreset> {
-        SpeedPreset::ALL.iter().copied().find(|p| p.name().eq_bytes(name))
+        SpeedPreset::ALL.iter().copied().find(|p| p.name().eq_ignore_case(name))
     }
 
     /// Share of each joint's max speed the planner may use, percent.

@@ -66,9 +66,9 @@ impl LawKind {
         }
     }
 
-    /// The law named `name` in a `law` command.
+    /// The law named `name` in a `law` command (in any case).
     pub fn from_name(name: &[u8]) -> Option<LawKind> {
-        LawKind::ALL.iter().copied().find(|l| l.name().eq_bytes(name))
+        LawKind::ALL.iter().copied().find(|l| l.name().eq_ignore_case(name))
     }
 }
 

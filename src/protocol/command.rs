@@ -4,8 +4,14 @@
 //! # Grammar
 //! Tokens are separated by any run of spaces or tabs (CR and LF count as
 //! whitespace too, for callers that pass the terminator); leading and trailing
-//! whitespace is ignored. Keywords are lowercase and exact. Every byte of the
-//! line must be printable ASCII or whitespace, else [`CmdError::BadCharacter`].
+//! whitespace is ignored. Keywords are exact but case-insensitive (`STOP`,
+//! `Goto 1 2 3`, `law ZAT`: a terminal with caps lock, a script's habits).
+//! Every byte of the line must be printable ASCII or whitespace, else
+//! [`CmdError::BadCharacter`].
+//!
+//! [`STOP_BYTE`] (`!`) is no part of any line: the port takes it out of the
+//! stream as it arrives and the app latches STOP in its next frame
+//! (`seam::SerialPort::take_stop_byte`), without a line ending.
 //!
 //! | line | meaning |
 //! |------|---------|
@@ -20,7 +26,8 @@
 //! | `cal set grip <field> <value>` | the gripper, in the joints' fields ([`JointField`]) |
 //! | `cal reset grip` | the gripper's calibration back to its defaults (in RAM) |
 //! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
-//! | `log <on\|off>` | |
+//! | `log <on\|off\|plot>` | per-frame telemetry: `t …` lines for programs, or `base:<deg>,…` lines for the Arduino Serial Plotter; `off` stops both |
+//! | `help` / `version` | the commands in one line / the crate version and git commit |
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
 //! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
@@ -40,6 +47,10 @@ use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchFi
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
 use crate::servo::map::Joint;
+
+/// The one-byte STOP: acted on from the receive interrupt's flag, never
+/// part of a line (no command uses `!`).
+pub const STOP_BYTE: u8 = b'!';
 
 /// Capacity of the serial line buffer (bytes of a line, terminator excluded).
 pub const LINE_LEN: usize = 64;
@@ -84,8 +95,8 @@ pub enum Command {
     CalSave,
     /// `cal reset`: back to the built-in defaults (in RAM).
     CalReset,
-    /// `log on|off`: per-frame telemetry.
-    Log(bool),
+    /// `log on|off|plot`: per-frame telemetry.
+    Log(LogMode),
     /// `path joint|line`: how targets are reached.
     Path(PathMode),
     /// `lift <h>` (hundredths of a workspace unit, 1..=[`LIFT_MAX_CENTI`])
@@ -102,6 +113,137 @@ pub enum Command {
     CalResetGrip,
     /// `grip …`: move the gripper.
     Grip(GripCmd),
+    /// `help`: the command words in one line.
+    Help,
+    /// `version`: the crate version and the git commit built from.
+    Version,
+}
+
+/// What `log` prints every frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogMode {
+    /// Nothing (`log off`).
+    Off,
+    /// `t <ms> <centidegrees…> <µs…> …` for programs (`log on`).
+    On,
+    /// `base:<deg>,shoulder:<deg>,elbow:<deg>,grip:<deg>` for the Arduino
+    /// Serial Plotter (`log plot`).
+    Plot,
+}
+
+/// A command's first word. [`Verb::ALL`] is what `parse` knows and what
+/// `help` lists, so the two cannot disagree.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verb {
+    /// `move`
+    Move,
+    /// `goto`
+    Goto,
+    /// `stop`
+    Stop,
+    /// `resume`
+    Resume,
+    /// `status`
+    Status,
+    /// `law`
+    Law,
+    /// `speed`
+    Speed,
+    /// `path`
+    Path,
+    /// `lift`
+    Lift,
+    /// `circle`
+    Circle,
+    /// `grip`
+    Grip,
+    /// `pose`
+    Pose,
+    /// `cal`
+    Cal,
+    /// `log`
+    Log,
+    /// `help`
+    Help,
+    /// `version`
+    Version,
+}
+
+impl Verb {
+    /// Every command word, in the order `help` lists them.
+    pub const ALL: [Verb; 16] = [
+        Verb::Move,
+        Verb::Goto,
+        Verb::Stop,
+        Verb::Resume,
+        Verb::Status,
+        Verb::Law,
+        Verb::Speed,
+        Verb::Path,
+        Verb::Lift,
+        Verb::Circle,
+        Verb::Grip,
+        Verb::Pose,
+        Verb::Cal,
+        Verb::Log,
+        Verb::Help,
+        Verb::Version,
+    ];
+
+    /// [`Verb::ALL`] in order, by index: the array itself, iterated at run
+    /// time, would be a 16-byte table in static RAM on the chip.
+    pub fn all() -> impl Iterator<Item = Verb> {
+        (0u8..).map_while(Verb::nth)
+    }
+
+    /// Entry `i` of [`Verb::ALL`].
+    fn nth(i: u8) -> Option<Verb> {
+        Some(match i {
+            0 => Verb::Move,
+            1 => Verb::Goto,
+            2 => Verb::Stop,
+            3 => Verb::Resume,
+            4 => Verb::Status,
+            5 => Verb::Law,
+            6 => Verb::Speed,
+            7 => Verb::Path,
+            8 => Verb::Lift,
+            9 => Verb::Circle,
+            10 => Verb::Grip,
+            11 => Verb::Pose,
+            12 => Verb::Cal,
+            13 => Verb::Log,
+            14 => Verb::Help,
+            15 => Verb::Version,
+            _ => return None,
+        })
+    }
+
+    /// The word, lowercase.
+    pub fn name(self) -> crate::text::Text {
+        match self {
+            Verb::Move => t!("move"),
+            Verb::Goto => t!("goto"),
+            Verb::Stop => t!("stop"),
+            Verb::Resume => t!("resume"),
+            Verb::Status => t!("status"),
+            Verb::Law => t!("law"),
+            Verb::Speed => t!("speed"),
+            Verb::Path => t!("path"),
+            Verb::Lift => t!("lift"),
+            Verb::Circle => t!("circle"),
+            Verb::Grip => t!("grip"),
+            Verb::Pose => t!("pose"),
+            Verb::Cal => t!("cal"),
+            Verb::Log => t!("log"),
+            Verb::Help => t!("help"),
+            Verb::Version => t!("version"),
+        }
+    }
+
+    fn from_word(tok: &[u8]) -> Option<Verb> {
+        Verb::all().find(|v| v.name().eq_ignore_case(tok))
+    }
 }
 
 /// A `grip` command.
@@ -158,6 +300,9 @@ pub enum CmdError {
     TooLong,
     /// A byte that is not printable ASCII, space or tab.
     BadCharacter,
+    /// A partial line got no new byte for `line_timeout_ms` (a terminal
+    /// set to send no line ending): dropped and answered.
+    LineTimeout,
 }
 
 impl CmdError {
@@ -173,8 +318,15 @@ impl CmdError {
             CmdError::OutOfRange => t!("out of range"),
             CmdError::TooLong => t!("line too long"),
             CmdError::BadCharacter => t!("bad character"),
+            CmdError::LineTimeout => t!("line timeout (no line ending?)"),
         }
     }
+}
+
+/// `tok` is the keyword `kw`, in any case (`kw` in flash: as byte-string
+/// constants the argument words took 55 bytes of static RAM on the chip).
+fn is(tok: &[u8], kw: crate::text::Text) -> bool {
+    kw.eq_ignore_case(tok)
 }
 
 fn is_space(b: u8) -> bool {
@@ -286,23 +438,24 @@ pub fn parse_centi(tok: &[u8], min: i32, max: i32) -> Result<i32, CmdError> {
 }
 
 fn parse_joint(tok: &[u8]) -> Option<Joint> {
-    Joint::ALL.iter().copied().find(|j| j.name().eq_bytes(tok))
+    Joint::ALL.iter().copied().find(|j| j.name().eq_ignore_case(tok))
 }
 
 fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     let target = t.arg()?;
-    if target == b"touch" {
+    if is(target, t!("touch")) {
         let name = t.arg()?;
-        let field = TouchField::ALL.iter().copied().find(|f| f.name().eq_bytes(name)).ok_or(CmdError::BadArgument)?;
+        let field =
+            TouchField::ALL.iter().copied().find(|f| f.name().eq_ignore_case(name)).ok_or(CmdError::BadArgument)?;
         let value = parse_int(t.arg()?, 0, field.max())? as u16;
         return Ok(CalSet::Touch { field, value });
     }
     let joint = match target {
-        b"grip" => None,
+        w if is(w, t!("grip")) => None,
         _ => Some(parse_joint(target).ok_or(CmdError::BadArgument)?),
     };
     let name = t.arg()?;
-    let field = JointField::ALL.iter().copied().find(|f| f.name().eq_bytes(name)).ok_or(CmdError::BadArgument)?;
+    let field = JointField::ALL.iter().copied().find(|f| f.name().eq_ignore_case(name)).ok_or(CmdError::BadArgument)?;
     let tok = t.arg()?;
     let value = match field {
         JointField::Offset => parse_centi(tok, -2_000_000, 2_000_000)?,
@@ -330,63 +483,65 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
     }
     let mut t = Tokens { rest: line };
     let word = t.next().ok_or(CmdError::Empty)?;
-    let cmd = match word {
-        b"move" => {
+    let cmd = match Verb::from_word(word).ok_or(CmdError::UnknownCommand)? {
+        Verb::Move => {
             let x = parse_int(t.arg()?, 0, RAW_MAX)? as u16;
             let y = parse_int(t.arg()?, 0, RAW_MAX)? as u16;
             Command::Move { x, y }
         }
-        b"goto" => {
+        Verb::Goto => {
             let mut centideg = [0i32; 3];
             for v in centideg.iter_mut() {
                 *v = parse_centi(t.arg()?, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?;
             }
             Command::Goto { centideg }
         }
-        b"stop" => Command::Stop,
-        b"resume" => Command::Resume,
-        b"status" => Command::Status,
-        b"law" => Command::Law(LawKind::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
-        b"speed" => Command::Speed(SpeedPreset::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
-        b"log" => match t.arg()? {
-            b"on" => Command::Log(true),
-            b"off" => Command::Log(false),
+        Verb::Stop => Command::Stop,
+        Verb::Resume => Command::Resume,
+        Verb::Status => Command::Status,
+        Verb::Law => Command::Law(LawKind::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        Verb::Speed => Command::Speed(SpeedPreset::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        Verb::Log => match t.arg()? {
+            w if is(w, t!("on")) => Command::Log(LogMode::On),
+            w if is(w, t!("off")) => Command::Log(LogMode::Off),
+            w if is(w, t!("plot")) => Command::Log(LogMode::Plot),
             _ => return Err(CmdError::BadArgument),
         },
-        b"path" => Command::Path(PathMode::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
-        b"lift" => match t.arg()? {
-            b"off" => Command::Lift(None),
+        Verb::Path => Command::Path(PathMode::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        Verb::Lift => match t.arg()? {
+            w if is(w, t!("off")) => Command::Lift(None),
             tok => Command::Lift(Some(parse_centi(tok, 1, LIFT_MAX_CENTI)? as u8)),
         },
-        b"circle" => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
-        b"cal" => match t.arg()? {
-            b"show" => Command::CalShow,
-            b"save" => Command::CalSave,
-            b"reset" => match t.next() {
+        Verb::Circle => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
+        Verb::Cal => match t.arg()? {
+            w if is(w, t!("show")) => Command::CalShow,
+            w if is(w, t!("save")) => Command::CalSave,
+            w if is(w, t!("reset")) => match t.next() {
                 None => Command::CalReset,
-                Some(b"grip") => Command::CalResetGrip,
+                Some(w) if is(w, t!("grip")) => Command::CalResetGrip,
                 Some(_) => return Err(CmdError::ExtraArgument),
             },
-            b"set" => Command::CalSet(parse_cal_set(&mut t)?),
+            w if is(w, t!("set")) => Command::CalSet(parse_cal_set(&mut t)?),
             _ => return Err(CmdError::BadArgument),
         },
-        b"pose" => {
+        Verb::Pose => {
             let verb = t.arg()?;
             let slot = |t: &mut Tokens| -> Result<u8, CmdError> { Ok(parse_int(t.arg()?, 1, POSES as i32)? as u8) };
             Command::Pose(match verb {
-                b"save" => PoseCmd::Save(slot(&mut t)?),
-                b"go" => PoseCmd::Go(slot(&mut t)?),
-                b"clear" => PoseCmd::Clear(slot(&mut t)?),
-                b"list" => PoseCmd::List,
+                w if is(w, t!("save")) => PoseCmd::Save(slot(&mut t)?),
+                w if is(w, t!("go")) => PoseCmd::Go(slot(&mut t)?),
+                w if is(w, t!("clear")) => PoseCmd::Clear(slot(&mut t)?),
+                w if is(w, t!("list")) => PoseCmd::List,
                 _ => return Err(CmdError::BadArgument),
             })
         }
-        b"grip" => Command::Grip(match t.arg()? {
-            b"open" => GripCmd::Open,
-            b"close" => GripCmd::Close,
+        Verb::Grip => Command::Grip(match t.arg()? {
+            w if is(w, t!("open")) => GripCmd::Open,
+            w if is(w, t!("close")) => GripCmd::Close,
             tok => GripCmd::Centideg(parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?),
         }),
-        _ => return Err(CmdError::UnknownCommand),
+        Verb::Help => Command::Help,
+        Verb::Version => Command::Version,
     };
     t.end()?;
     Ok(cmd)
@@ -481,6 +636,15 @@ impl<const N: usize> LineBuffer<N> {
         }
         self.skip = loss.rest_damaged;
         self.after_cr = loss.after_cr;
+    }
+
+    /// A partial line was left idle (`line_timeout_ms`): drops it, and says
+    /// whether it is owed a reply ([`CmdError::LineTimeout`]); the rest of a
+    /// line cut by a receive loss is not (the loss was answered).
+    pub fn expire(&mut self) -> bool {
+        let owed = !self.skip && (self.len > 0 || self.overflowed);
+        self.clear();
+        owed
     }
 
     /// A partial line is waiting for its terminator.

@@ -196,6 +196,21 @@ fn idle_panel_noise_moves_nothing() {
     assert!(!s.avr.uart_output_string().contains("info touch "));
 }
 
+/// Every pulse that starts at `t0` (s) or later has one width per joint,
+/// away from both ends of `goto 20 150 -30` from home (base and shoulder
+/// 600 µs + 10 µs/°, elbow 2400 µs + 10 µs/°: 1500 1500 1500 → 800 2100 2100).
+fn assert_frozen_mid_move(s: &Session, t0: f64) {
+    let (home, target) = ([1500.0, 1500.0, 1500.0], [800.0, 2100.0, 2100.0]);
+    for (j, p) in pulses_after(s, t0).iter().enumerate() {
+        let first = p[0].1;
+        assert!(p.iter().all(|(_, w)| (w - first).abs() <= 0.25), "joint {j} moved after the stop");
+        assert!(
+            (first - home[j]).abs() > 20.0 && (first - target[j]).abs() > 20.0,
+            "joint {j} stopped at {first}, not mid-move"
+        );
+    }
+}
+
 #[test]
 fn stop_mid_move_freezes_the_pulses_within_a_frame() {
     let mut s = start();
@@ -206,20 +221,88 @@ fn stop_mid_move_freezes_the_pulses_within_a_frame() {
     assert_eq!(s.command("stop").unwrap(), "ok stop");
     let t_stop = s.avr.time_s();
     s.run_for(1.5).unwrap();
-    let trains = pulses_after(&s, t_stop + FRAME_S);
-    let (home, target) = ([1500.0, 1500.0, 1500.0], [800.0, 2100.0, 2100.0]);
-    for (j, p) in trains.iter().enumerate() {
-        let first = p[0].1;
-        assert!(p.iter().all(|(_, w)| (w - first).abs() <= 0.25), "joint {j} moved after STOP");
-        assert!(
-            (first - home[j]).abs() > 20.0 && (first - target[j]).abs() > 20.0,
-            "joint {j} stopped at {first}, not mid-move"
-        );
-    }
+    assert_frozen_mid_move(&s, t_stop + FRAME_S);
     // Held until resume; a new target is refused while stopped.
     assert!(s.command("goto 90 90 -90").unwrap().starts_with("err stopped"));
     assert_eq!(s.command("resume").unwrap(), "ok resume");
     assert!(s.command("goto 90 90 -90").unwrap().starts_with("ok goto"));
+}
+
+/// Issue #21 §2: the one-byte STOP `!`, with no line ending. The receive
+/// interrupt flags it; the next frame (at most one period after the byte)
+/// latches STOP first and answers `ok stop`; that frame's pulses are the
+/// previous frame's, so every pulse that starts two periods after the byte
+/// or later has one width per joint, mid-move.
+#[test]
+fn the_one_byte_stop_freezes_the_pulses_within_a_frame_of_the_byte() {
+    let mut s = start();
+    let reply = s.command("goto 20 150 -30").unwrap();
+    assert!(reply.starts_with("ok goto"), "{reply}");
+    let ts: f64 = reply.split_whitespace().nth(3).unwrap().parse::<f64>().unwrap() / 1000.0;
+    s.run_for(ts / 2.0).unwrap();
+    let from = s.avr.uart_output().len();
+    let t_byte = s.avr.time_s();
+    s.avr.uart_send(b"!");
+    let (line, t_reply) = s.await_line(from, &["ok", "err"], 0.5).unwrap().expect("a reply to `!`");
+    assert_eq!(line, "ok stop");
+    // Sent at the start of the next frame: within one period of the byte
+    // (its 87 µs on the wire included).
+    assert!(t_reply - t_byte <= FRAME_S + 0.001, "ok stop {:.1} ms after the byte", (t_reply - t_byte) * 1e3);
+    s.run_for(1.0).unwrap();
+    assert_frozen_mid_move(&s, t_byte + 2.0 * FRAME_S);
+    assert!(s.command("status").unwrap().starts_with("ok status stopped"));
+    // Mid-line: the `!` is not part of the line, which goes on without it
+    // (`goto 90 90 -90`, refused while stopped; with the `!` in it, it would be
+    // `err bad number`).
+    assert_eq!(s.command("resume").unwrap(), "ok resume");
+    let from = s.avr.uart_output().len();
+    s.avr.uart_send(b"goto 90 9!0 -90\n");
+    s.await_line(from, &["err"], 0.5).unwrap().expect("the line's reply");
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[from..]).to_string();
+    let replies: Vec<&str> = out.lines().map(str::trim_end).collect();
+    assert_eq!(replies, ["ok stop", "err stopped (send resume)"]);
+}
+
+/// `version` answers the crate version and the git commit, the same two the
+/// boot line printed (`info touch-arm <version> commit <commit> reset …`);
+/// `help` and keywords in capitals, a line left without its ending and `log
+/// plot` on the chip.
+#[test]
+fn version_help_case_timeout_and_plot_on_the_chip() {
+    let mut s = start();
+    let out = s.avr.uart_output_string();
+    let boot = out.lines().find(|l| l.starts_with("info touch-arm ")).expect("boot line").to_string();
+    let words: Vec<&str> = boot.split_whitespace().collect();
+    assert_eq!(words[3], "commit", "{boot}");
+    let (version, commit) = (words[2], words[4]);
+    assert_eq!(version, touch_arm::VERSION);
+    assert_eq!(s.command("version").unwrap(), format!("ok version {version} {commit}"));
+    assert_eq!(
+        s.command("help").unwrap(),
+        "ok help move goto stop resume status law speed path lift circle grip pose cal log help version !"
+    );
+    assert_eq!(s.command("SPEED Slow").unwrap(), "ok speed slow");
+    assert!(s.command("STATUS").unwrap().starts_with("ok status holding law zat speed slow "));
+    // No line ending: answered after line_timeout_ms (2 s) without a byte,
+    // not before.
+    let from = s.avr.uart_output().len();
+    s.avr.uart_send(b"status");
+    assert_eq!(s.await_line(from, &["ok", "err"], 1.9).unwrap(), None);
+    let (line, _) = s.await_line(from, &["ok", "err"], 0.5).unwrap().expect("the timeout's reply");
+    assert_eq!(line, "err line timeout (no line ending?)");
+    // `log plot`: the home pose, two decimals, nothing else on the line.
+    assert_eq!(s.command("log plot").unwrap(), "ok log plot");
+    let from = s.avr.uart_output().len();
+    s.run_for(0.25).unwrap();
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[from..]).to_string();
+    // 0.25 s is 12 frames, a line each; the first piece may be the end of a
+    // line under way when the reply came, the last one not ended yet.
+    let plot: Vec<&str> = out.split('\n').map(str::trim_end).collect();
+    assert!(plot.len() >= 12, "{plot:?}");
+    for l in &plot[1..11] {
+        assert_eq!(*l, "base:90.00,shoulder:90.00,elbow:-90.00,grip:0.00");
+    }
+    assert_eq!(s.command("log off").unwrap(), "ok log off");
 }
 
 #[test]
@@ -271,7 +354,7 @@ fn the_boot_line_names_the_version_and_the_commit() {
     s.run_for(0.05).unwrap();
     let out = s.avr.uart_output_string();
     let line = out.lines().next().unwrap_or_default();
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
     let version = manifest.lines().find_map(|l| l.strip_prefix("version = \"")).unwrap().trim_end_matches('"');
     let words: Vec<&str> = line.split(' ').collect();

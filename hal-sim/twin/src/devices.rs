@@ -4,6 +4,7 @@ use std::collections::VecDeque;
 
 use embedded_storage::{ReadStorage, Storage};
 use touch_arm::config::store::EEPROM_SIZE;
+use touch_arm::protocol::command::STOP_BYTE;
 use touch_arm::protocol::rx_loss::{LossCounter, BYTES_PER_FRAME, RX_BUFFER, TX_BUFFER};
 use touch_arm::seam::{Clock, RxLoss, SerialPort, StorageError};
 
@@ -123,7 +124,8 @@ impl Storage for SimEeprom {
 /// buffers (`protocol::rx_loss` sizes), filled and drained at 115200 baud,
 /// one frame's worth per [`SimSerial::advance_frame`]. A full receive buffer
 /// drops bytes exactly as the chip's interrupt does (through the same
-/// `LossCounter`); `write` past the room drops bytes and counts them.
+/// `LossCounter`), and the one-byte STOP (`!`) sets a flag instead of
+/// entering it, as there; `write` past the room drops bytes and counts them.
 #[derive(Debug, Clone)]
 pub struct SimSerial {
     /// Bytes sent to the app, still on the wire.
@@ -135,6 +137,8 @@ pub struct SimSerial {
     pub bounded: bool,
     ring: VecDeque<u8>,
     loss: LossCounter,
+    /// A `!` arrived and the app has not taken it yet.
+    stop: bool,
     /// Written bytes not yet sent.
     tx_pending: usize,
     /// Bytes dropped by the receive buffer.
@@ -151,6 +155,7 @@ impl Default for SimSerial {
             bounded: true,
             ring: VecDeque::new(),
             loss: LossCounter::new(),
+            stop: false,
             tx_pending: 0,
             rx_dropped: 0,
             tx_overflow: 0,
@@ -172,6 +177,10 @@ impl SimSerial {
         }
         for _ in 0..BYTES_PER_FRAME {
             let Some(b) = self.input.pop_front() else { break };
+            if b == STOP_BYTE {
+                self.stop = true;
+                continue;
+            }
             let kept = !self.loss.is_open() && self.ring.len() < RX_BUFFER;
             if kept {
                 self.ring.push_back(b);
@@ -188,6 +197,7 @@ impl SimSerial {
         self.input.clear();
         self.ring.clear();
         self.loss = LossCounter::new();
+        self.stop = false;
         self.tx_pending = 0;
     }
 
@@ -217,6 +227,11 @@ impl SerialPort for SimSerial {
         } else {
             None
         }
+    }
+
+    fn take_stop_byte(&mut self) -> bool {
+        // Unbounded, bytes reach the app in `read_byte`, `!` included.
+        std::mem::take(&mut self.stop)
     }
 
     fn tx_room(&self) -> usize {

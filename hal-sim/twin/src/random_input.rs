@@ -178,7 +178,9 @@ impl Inputs {
                     2 | 3 => b' ',
                     _ => 0x21 + self.rng.below(94) as u8,
                 };
-                if !matches!(b, b'\r' | b'\n' | 0x08 | 0x7F) {
+                // Not `!` either: the one-byte STOP is a command of its own
+                // (stop_byte.scn), answered `ok stop` outside any line.
+                if !matches!(b, b'\r' | b'\n' | 0x08 | 0x7F | b'!') {
                     break b;
                 }
             })

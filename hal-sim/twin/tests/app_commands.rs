@@ -161,3 +161,22 @@ fn the_wiring_verdict_is_reported_kept_and_saved() {
     assert_eq!(again.app.config().wiring, Some(Wiring::B));
     assert!(!again.app.wiring_probe_wanted());
 }
+
+/// `version` prints the crate version and the commit `build.rs` found, the
+/// two the boot line prints: 12 lowercase hex digits (a `git rev-parse
+/// --short=12`), with `-dirty` when the tree differed, or `unknown`.
+#[test]
+fn version_names_the_crate_and_its_commit() {
+    let mut s = homed(&AppParams::DEFAULT);
+    let want = format!("ok version {} {}", touch_arm::VERSION, touch_arm::COMMIT);
+    assert_eq!(ask(&mut s, "version"), vec![want]);
+    assert_eq!(touch_arm::VERSION, "0.2.0");
+    let c = touch_arm::COMMIT;
+    let hash = c.strip_suffix("-dirty").unwrap_or(c);
+    let is_hash = hash.len() == 12 && hash.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b));
+    assert!(is_hash || c == "unknown", "commit {c:?}");
+    // `help` fits one line with room to spare (the reply cap).
+    let help = ask(&mut s, "help");
+    assert_eq!(help.len(), 1);
+    assert!(help[0].len() + 2 <= touch_arm::app::text::LINE_CAP, "{}", help[0]);
+}

@@ -56,3 +56,26 @@ fn a_pose_grip_is_not_planned_in_a_catch_up_frame() {
     // 600 µs at 0°, 10 µs per degree: 1000 µs = 2000 ticks.
     assert_eq!(st.grip_pulse, Some(2000));
 }
+
+/// Issue #21 §2: the one-byte STOP is a latch, no heavy thing, so a catch-up
+/// frame takes it too: the `!` that arrives before a catch-up frame freezes
+/// the pulses in that frame (the previous frame's), and is answered there.
+#[test]
+fn the_one_byte_stop_latches_in_a_catch_up_frame() {
+    use touch_arm::app::State;
+    let mut sim = Sim::new(&SimSetup::default()).expect("default setup");
+    sim.run_ms(2000);
+    sim.send_line("goto 30 120 -60");
+    sim.run_ms(500);
+    assert_eq!(sim.app.state(), State::Moving);
+    let before = sim.servos.pulses();
+    sim.serial.output.clear();
+    sim.serial.send(b"!");
+    sim.app.frame_was_late();
+    sim.step();
+    assert_eq!(sim.app.state(), State::Stopped);
+    assert_eq!(sim.servos.pulses(), before, "pulses moved in the stopping frame");
+    assert_eq!(sim.serial.lines(), vec!["ok stop".to_string()]);
+    sim.run_ms(1000);
+    assert_eq!(sim.servos.pulses(), before);
+}

@@ -1282,8 +1282,28 @@ mod command {
             ("cal set touch swap 1", t(TouchField::Swap, 1)),
             ("cal set touch invert_x 0", t(TouchField::InvertX, 0)),
             ("cal set touch invert_y 1", t(TouchField::InvertY, 1)),
-            ("log on", C::Log(true)),
-            ("log off", C::Log(false)),
+            ("log on", C::Log(LogMode::On)),
+            ("log off", C::Log(LogMode::Off)),
+            ("log plot", C::Log(LogMode::Plot)),
+            ("help", C::Help),
+            ("version", C::Version),
+            // Keywords in any case (issue #21 §2): caps lock, a script's habits.
+            ("STOP", C::Stop),
+            ("Goto 1 2 3", C::Goto { centideg: [100, 200, 300] }),
+            ("MOVE 500 500", C::Move { x: 500, y: 500 }),
+            ("LAW Zat-Paper", C::Law(Law::ZatPaper)),
+            ("Speed FAST", C::Speed(SpeedPreset::Fast)),
+            ("LOG PLOT", C::Log(LogMode::Plot)),
+            ("Path LINE", C::Path(PathMode::Line)),
+            ("lift OFF", C::Lift(None)),
+            ("CAL SET Base Offset 600", j(Joint::Base, JointField::Offset, 60_000)),
+            ("cal set TOUCH X_MIN 123", t(TouchField::XMin, 123)),
+            ("Cal Reset Grip", C::CalResetGrip),
+            ("POSE GO 2", C::Pose(PoseCmd::Go(2))),
+            ("pose LIST", C::Pose(PoseCmd::List)),
+            ("GRIP Close", C::Grip(GripCmd::Close)),
+            ("HeLp", C::Help),
+            ("VERSION", C::Version),
             ("grip open", C::Grip(GripCmd::Open)),
             ("grip close", C::Grip(GripCmd::Close)),
             ("grip 45.5", C::Grip(GripCmd::Centideg(4550))),
@@ -1327,7 +1347,13 @@ mod command {
             (b"   \t ", E::Empty),
             (b"\r\n", E::Empty),
             (b"jump", E::UnknownCommand),
-            (b"MOVE 1 2", E::UnknownCommand),
+            (b"MOVE 1 2 3", E::ExtraArgument),
+            (b"STOPP", E::UnknownCommand),
+            (b"help me", E::ExtraArgument),
+            (b"version 2", E::ExtraArgument),
+            (b"log plotter", E::BadArgument),
+            // `!` is the port's one-byte STOP, never a command word.
+            (b"!", E::UnknownCommand),
             (b"movex 1 2", E::UnknownCommand),
             (b"move", E::MissingArgument),
             (b"move 1", E::MissingArgument),
@@ -1357,7 +1383,7 @@ mod command {
             (b"goto inf 0 0", E::BadNumber),
             (b"law", E::MissingArgument),
             (b"law fast", E::BadArgument),
-            (b"law Zat", E::BadArgument),
+            (b"law Zats", E::BadArgument),
             (b"law zat quintic", E::ExtraArgument),
             (b"speed warp", E::BadArgument),
             (b"log maybe", E::BadArgument),
@@ -1538,6 +1564,44 @@ mod command {
         lb.push(b'a');
         lb.clear();
         assert_eq!(feed(&mut lb, b"stop\n"), vec![Ok(b"stop".to_vec())]);
+    }
+
+    #[test]
+    fn line_buffer_expires_partial_lines() {
+        let mut lb = SerialLine::new();
+        // Nothing waiting: nothing owed.
+        assert!(!lb.expire());
+        // A partial line is owed its `err line timeout`, once.
+        feed(&mut lb, b"resume 12");
+        assert!(lb.is_partial());
+        assert!(lb.expire());
+        assert!(!lb.is_partial() && !lb.expire());
+        // An over-long partial line too (it was never answered).
+        feed(&mut lb, &[b'x'; LINE_LEN + 5]);
+        assert!(lb.expire());
+        // The rest of a line a receive loss cut into is not: the loss was answered.
+        lb.after_loss(&touch_arm::seam::RxLoss { lines: 1, rest_damaged: true, after_cr: false });
+        feed(&mut lb, b"ve 1 2");
+        assert!(lb.is_partial());
+        assert!(!lb.expire());
+        // After expiry the next line is read whole.
+        assert_eq!(feed(&mut lb, b"stop\n"), vec![Ok(b"stop".to_vec())]);
+        assert_eq!(CmdError::LineTimeout.reason(), "line timeout (no line ending?)");
+    }
+
+    /// `help` lists `Verb::ALL`: every word of it is a command the parser
+    /// knows (by itself, or missing only its arguments), in any case.
+    #[test]
+    fn every_verb_parses() {
+        assert_eq!(Verb::all().collect::<Vec<_>>(), Verb::ALL);
+        for v in Verb::ALL {
+            let w = v.name().as_str();
+            for word in [w.to_string(), w.to_uppercase()] {
+                let r = parse(word.as_bytes());
+                assert!(matches!(r, Ok(_) | Err(CmdError::MissingArgument)), "{word}: {r:?}");
+            }
+        }
+        assert_eq!(STOP_BYTE, b'!');
     }
 
     proptest! {
