@@ -271,7 +271,7 @@ fn the_boot_line_names_the_version_and_the_commit() {
     s.run_for(0.05).unwrap();
     let out = s.avr.uart_output_string();
     let line = out.lines().next().unwrap_or_default();
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let manifest = std::fs::read_to_string(format!("{root}/Cargo.toml")).unwrap();
     let version = manifest.lines().find_map(|l| l.strip_prefix("version = \"")).unwrap().trim_end_matches('"');
     let words: Vec<&str> = line.split(' ').collect();
