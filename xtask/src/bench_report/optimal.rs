@@ -13,11 +13,10 @@
 //! time-optimal time (the joints unsynchronized, a lower bound).
 //!
 //! Arrival is what `scripts/run.sh` reports: the first instant after which
-//! every joint stays within 1 µs of its final pulse. Every law ends with
-//! 1 − g ∝ (tₛ − t)³, and the arrival comes earlier the steeper that
-//! cubic: the quintic's 10·s³ (s = 1 − t/tₛ) against the time-scaled
-//! ζ-a-tₛ's gentler end, so a move's arrival ratio exceeds its duration
-//! ratio by the difference of the two tails.
+//! every joint stays within 1 µs of its final pulse. The quintic ends on
+//! 1 − g = 10·s³ (s = 1 − t/tₛ), the time-scaled ζ-a-tₛ, whose smooth stop
+//! leaves an acceleration, on 1.72·s²: the quintic arrives earlier in its
+//! duration, so a move's arrival ratio exceeds its duration ratio.
 
 use core::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 use rsruckig::prelude::*;
@@ -60,8 +59,8 @@ pub fn ruckig_duration(delta: f64, v: f64, a: f64, j: f64) -> Result<f64, String
 /// takes t(w) = w/a + a/j and covers w·t(w)/2 where the acceleration
 /// saturates (w ≥ a²/j), else 2√(w/j) and w·√(w/j). If reaching `v` twice
 /// covers at most Δ, T = 2t(v) + (Δ − 2d(v))/v; otherwise the peak speed
-/// is the root of 2d(w) = Δ: w = √(j·(Δ/2)^(2/3)·...) below a²/j (d = w^1.5/√j,
-/// so w = (Δ/2)^(2/3)·j^(1/3)), else the quadratic w² + w·a²/j − a·Δ = 0.
+/// is the root of 2d(w) = Δ: w = (Δ/2)^(2/3)·j^(1/3) below a²/j
+/// (d = w^1.5/√j), else the root of w² + w·a²/j − a·Δ = 0.
 pub fn seven_segment(delta: f64, v: f64, a: f64, j: f64) -> f64 {
     let d = delta.abs();
     let w_sat = a * a / j;
