@@ -33,6 +33,9 @@ pub enum Command {
     BenchReport(bench_report::Args),
     /// Runs an AVR ELF in simavr until it prints `done`.
     AvrRun(AvrRunArgs),
+    /// Prints BENCHMARKS.md's section on the time-optimal reference, which
+    /// the host computes alone (no bench run).
+    BenchOptimal,
 }
 
 /// Runs the tool `cmd` names; its exit code.
@@ -41,6 +44,9 @@ pub fn run(cmd: &Command) -> ExitCode {
         Command::ElfCheck(a) => elf_check(a),
         Command::BenchReport(a) => report(bench_report::run(a), "bench-report"),
         Command::AvrRun(a) => avr_run(a),
+        Command::BenchOptimal => {
+            report(crate::bench_report::optimal::section().map(|s| print!("{s}")), "bench-optimal")
+        }
     }
 }
 

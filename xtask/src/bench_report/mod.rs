@@ -9,6 +9,7 @@
 mod accuracy;
 pub mod command;
 pub mod flash_map;
+pub mod optimal;
 mod parse;
 mod routines;
 pub mod stack_bounds;
@@ -135,6 +136,9 @@ pub fn render(inputs: &Inputs) -> Result<String, String> {
         ),
         None => String::new(),
     };
+    // The host's time-optimal reference follows it (a run without the
+    // move-time figure, like the test fixture's, has neither).
+    let optimal = if move_time.is_empty() { String::new() } else { optimal::section()? };
     let (p, b, budgets) = (&inputs.product, &inputs.bench_elf, &inputs.budgets);
     // The high-water marks the runs measured: the product's busiest
     // session, the bench's deepest routine (it paints before each, so its
@@ -182,6 +186,7 @@ assembly as avr-libc, its float library or libgcc). Unattributed: bytes no symbo
             ("atan2", format!("{:.2}", acc.atan2_ulps)),
             ("sqrt", sci(acc.sqrt_rel, 1)),
             ("move_time", move_time),
+            ("optimal", optimal),
             ("ui_steps", steps.join("\n")),
             ("ui_notes", notes.join("\n\n")),
             ("frame_budget", frame_budget),
