@@ -320,7 +320,8 @@ const BOUND_DEPTH: u8 = 12;
 /// refinement, the stretches' ends so far): about 3 % on the duration the
 /// bound asks for. Only stretches near the move's binding
 /// peak are halved; and the test is scale-free (all of them scale as
-/// 1/tₛ²), so the scan after a slow-down halves where the first did.
+/// 1/tₛ²), so the halving, and with it the bounds, are the same for every
+/// tₛ: one scan decides the shortest.
 const BOUND_TOL: f64 = 1.0 / 16.0;
 
 /// The largest |f‴| of a law's normalized profile (g(t) = f(t/tₛ)), for
@@ -626,8 +627,6 @@ pub struct PathCheck<R> {
     c: Checked<R>,
     law: JointLaw<R>,
     kind: LawKind,
-    /// Lengthenings so far (up to [`SLOW_DOWNS`]; the last scan decides).
-    slowed: u8,
     scan: Scan<R>,
     /// Decided: `Ok` means the plan is the path, this law and the scan's
     /// peaks (not a copy of them: the chip keeps a check in its static RAM).
@@ -644,12 +643,13 @@ impl<R: Real> PathCheck<R> {
         let law = law_for(req.law, req.ts)?;
         let c =
             Checked { path: req.path, arm: *arm, lim: *lim, samples: req.samples, refine: req.refine, pace: req.pace };
-        Ok(PathCheck { c, law, kind: req.law, slowed: 0, scan: Scan::new(), outcome: None })
+        Ok(PathCheck { c, law, kind: req.law, scan: Scan::new(), outcome: None })
     }
 
     /// Does up to `units` units of work (a unit is one visit of the move,
-    /// IK with rates, or one search for a critical instant); the plan or the
-    /// refusal once decided, and from then on.
+    /// IK with rates, one search for a critical instant, or one stretch's
+    /// visit and bound); the plan or the refusal once decided, and from
+    /// then on.
     pub fn step(&mut self, units: u16) -> Option<Result<PathPlan<R>, PathError<R>>> {
         for _ in 0..units {
             if self.outcome.is_some() {
@@ -665,8 +665,13 @@ impl<R: Real> PathCheck<R> {
             .map(|r| r.map(|()| PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks: self.scan.peaks }))
     }
 
-    /// After a complete scan: the plan, a refusal, or (slowing down, once)
-    /// `None` and a new scan at the shortest admissible duration.
+    /// After a complete scan: the plan at the asked duration, a refusal,
+    /// or (slowing down) the plan at the shortest admissible duration. Not
+    /// scanned again: the scan's grid, refinement and stretches sit at the
+    /// same τ = t/tₛ for every tₛ, so its samples and bounds scale exactly
+    /// as 1/tₛ and 1/tₛ² (and the angles do not change); `STRETCH_SLACK`
+    /// covers the rounding. A second scan would double the check's time on
+    /// the chip (issue #24, F4's bounds made a scan the longer part).
     fn decide(&mut self) -> Option<Result<(), PathError<R>>> {
         let (f, joint, accel) = stretch(&self.scan.peaks, &self.c.lim);
         if f <= R::ONE {
@@ -674,24 +679,28 @@ impl<R: Real> PathCheck<R> {
         }
         let ts = self.law.duration();
         let ts_min = ts * f;
-        if self.c.pace == Pace::Refuse || self.slowed >= SLOW_DOWNS {
+        if self.c.pace == Pace::Refuse {
             return Some(Err(if accel {
                 PathError::Accel { joint, ts_min }
             } else {
                 PathError::Speed { joint, ts_min }
             }));
         }
-        let ts = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
+        let ts_new = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
         // ts is finite (from finite peaks and limits), as is ts_max.
-        if self.c.lim.ts_max.lt_num(ts) {
+        if self.c.lim.ts_max.lt_num(ts_new) {
             return Some(Err(PathError::TooSlow { ts_min }));
         }
-        match law_for(self.kind, ts) {
+        match law_for(self.kind, ts_new) {
             Ok(law) => {
                 self.law = law;
-                self.slowed += 1;
-                self.scan = Scan::new();
-                None
+                let k = ts / ts_new;
+                let p = &mut self.scan.peaks;
+                for j in 0..JOINTS {
+                    p.speed[j] *= k;
+                    p.accel[j] *= k * k;
+                }
+                Some(Ok(()))
             }
             Err(e) => Some(Err(e)),
         }
@@ -715,15 +724,10 @@ fn stretch<R: Real>(peaks: &PathPeaks<R>, lim: &PathLimits<R>) -> (R, u8, bool) 
     worst
 }
 
-/// Scans after the first that a slow-down may take. The bounds scale
-/// exactly with tₛ but their halving (`BOUND_TOL`) may tip the other way on
-/// a tie in the next scan and leave a stretch a little looser: then one
-/// more lengthening, rarely needed, seldom a second.
-const SLOW_DOWNS: u8 = 3;
-
-/// Rounding allowance when a slowed-down move is scanned again: its peaks
-/// scale exactly in exact arithmetic.
-const STRETCH_SLACK: f64 = 1e-5;
+/// Rounding allowance of a slowed-down move, whose peaks scale exactly in
+/// exact arithmetic: well above the f32 rounding of the scan's dozens of
+/// operations per bound.
+const STRETCH_SLACK: f64 = 1e-4;
 
 /// The joint angles at time t: the law's g, the path's point, the IK; the
 /// per-frame work of a path move (no derivatives).
