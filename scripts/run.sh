@@ -11,14 +11,15 @@
 #                                            (default 8080; Ctrl-C stops it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+# What this command needs, no more (no Chromium, npm or ravedude).
+if [ "${1:-}" = "--live" ]; then bash scripts/setup.sh live; else bash scripts/setup.sh main; fi
 echo "== building firmware (cargo avr)"
 cargo avr
 if [ "${1:-}" = "--live" ]; then
     shift
     echo "== the live bench: the firmware in simavr, paced to real time"
     # cargo run replaces itself with the bench, so Ctrl-C reaches it directly.
-    exec cargo run --release -q -p hal-sim --bin touch-arm-live -- "$@"
+    exec cargo run --release -q -p touch-arm-bench --bin touch-arm-live -- "$@"
 fi
 echo "== running the firmware in simavr"
-cargo run --release -q -p hal-sim --bin touch-arm-sim -- "$@"
+cargo run --release -q -p touch-arm-bench --bin touch-arm-sim -- "$@"

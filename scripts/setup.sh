@@ -1,13 +1,43 @@
 #!/usr/bin/env bash
-# Idempotent set-up for a fresh Debian machine: the AVR cross toolchain, simavr's
-# build needs, the pinned Rust nightly with rust-src, and ravedude (the flash
-# runner: scripts/flash.sh, `cargo avr-run`). Fast when all is present.
+# Idempotent set-up for a fresh Debian machine: installs what one command
+# needs, and nothing when all of it is present.
+#
+#   scripts/setup.sh [main|live|flash|test]
+#
+#   main   the main job (scripts/run.sh): the AVR cross toolchain, simavr's C
+#          build needs, a font for the plots, the pinned nightly with rust-src
+#   live   the live bench (scripts/run.sh --live): main's, less the plots' font
+#          (the page draws in the browser you open it in)
+#   flash  a board (cargo avr-run, scripts/flash.sh): the AVR cross toolchain,
+#          the nightly, avrdude, libudev and ravedude; no simavr
+#   test   the test command (scripts/test.sh, .ci/run; the default): all of the
+#          above, plus rustfmt and clippy on the stable toolchain and Debian's
+#          chromium with the pinned playwright-core (npm) for the page test
+#
+# Times on a fresh machine: docs/developing.md, "Set-up".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# libudev-dev: ravedude's serial-port discovery links libudev.
-# chromium: the live bench's page test (hal-sim/tests/live_page.rs).
-APT_PKGS=(gcc-avr avr-libc binutils-avr libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make avrdude libudev-dev fonts-dejavu-core chromium)
+what=${1:-test}
+# The AVR cross toolchain: cargo avr links with avr-gcc and avr-libc's libm.
+AVR=(gcc-avr avr-libc binutils-avr)
+# simavr-ffi builds simavr from C: make, a C compiler, clang (bindgen),
+# pkg-config, libelf, zlib and libzstd.
+SIMAVR=(libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make)
+# The main job's plots (angles.png, path.png) find DejaVu Sans.
+FONT=(fonts-dejavu-core)
+# Flashing: avrdude; libudev-dev: ravedude's serial-port discovery links it.
+FLASH=(avrdude libudev-dev)
+# chromium: the live bench's page test (hal-sim/bench/tests/live_page.rs).
+BROWSER=(chromium)
+case "$what" in
+    main) APT_PKGS=("${AVR[@]}" "${SIMAVR[@]}" "${FONT[@]}") ;;
+    live) APT_PKGS=("${AVR[@]}" "${SIMAVR[@]}") ;;
+    flash) APT_PKGS=("${AVR[@]}" "${FLASH[@]}") ;;
+    test) APT_PKGS=("${AVR[@]}" "${SIMAVR[@]}" "${FONT[@]}" "${FLASH[@]}" "${BROWSER[@]}") ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "setup: unknown command '$what' (main, live, flash or test)" >&2; exit 2 ;;
+esac
 RAVEDUDE_VERSION=0.2.2
 TOOLCHAIN=$(sed -n 's/^channel *= *"\(.*\)"/\1/p' rust-toolchain.toml)
 
@@ -41,12 +71,16 @@ elif ! rustup component list --toolchain "$TOOLCHAIN" --installed 2>/dev/null | 
     rustup component add rust-src --toolchain "$TOOLCHAIN"
 fi
 
-# ravedude from the Rust package registry, with its own lock file (about a
-# minute to build on two cores, once per machine).
-if ! command -v ravedude >/dev/null 2>&1 || ! ravedude --version 2>/dev/null | grep -qw "v$RAVEDUDE_VERSION"; then
-    echo "setup: installing ravedude $RAVEDUDE_VERSION (cargo install)"
-    cargo install ravedude --version "$RAVEDUDE_VERSION" --locked --quiet
+# ravedude from the Rust package registry, with its own lock file (about 40 s
+# to build on two cores, once per machine).
+if [ "$what" = flash ] || [ "$what" = test ]; then
+    if ! command -v ravedude >/dev/null 2>&1 || ! ravedude --version 2>/dev/null | grep -qw "v$RAVEDUDE_VERSION"; then
+        echo "setup: installing ravedude $RAVEDUDE_VERSION (cargo install)"
+        cargo install ravedude --version "$RAVEDUDE_VERSION" --locked --quiet
+    fi
 fi
+
+[ "$what" = test ] || exit 0
 
 # The hygiene gates of scripts/test.sh run rustfmt and clippy from the stable
 # toolchain: the pinned nightly ships neither.
@@ -59,10 +93,10 @@ else
     done
 fi
 
-# Playwright (playwright-core, pinned in hal-sim/tests/browser/package-lock.json)
+# Playwright (playwright-core, pinned in hal-sim/bench/tests/browser/package-lock.json)
 # drives Debian's chromium in the live page test; npm installs it into that
 # folder's node_modules/. Node.js and npm come with the machine.
-BROWSER_DIR=hal-sim/tests/browser
+BROWSER_DIR=hal-sim/bench/tests/browser
 want=$(sed -n 's/.*"playwright-core": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/package.json")
 have=$(sed -n 's/^ *"version": "\([0-9.]*\)".*/\1/p' "$BROWSER_DIR/node_modules/playwright-core/package.json" 2>/dev/null | head -1 || true)
 if [ "$want" != "$have" ]; then

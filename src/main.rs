@@ -73,7 +73,7 @@ fn main() -> ! {
     // SAFETY: every peripheral the interrupt handlers touch is initialised.
     unsafe { avr_device::interrupt::enable() };
 
-    let _ = uwriteln!(board.serial, "info touch-arm {} reset {}", env!("CARGO_PKG_VERSION"), reset_name(cause));
+    report_boot(&mut board.serial, cause);
     // The screen: reset, which controller, its initialisation, landscape
     // (≈ 270 ms, more for the ILI9325; before the watchdog runs). An unknown
     // controller is driven as an ILI9341; the arm works over serial either way.
@@ -107,7 +107,7 @@ static mut APP: MaybeUninit<App> = MaybeUninit::uninit();
 
 /// Builds the app in .bss rather than in main's stack frame: a frame that
 /// large makes LLVM address it through temporary Y-pointer adjustments.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn start_app() -> Option<&'static mut App> {
     let app = App::new(&AppParams { screen: true, ..AppParams::DEFAULT }).ok()?;
     // SAFETY: called once (from `main`, which never returns), so this is the
@@ -119,7 +119,7 @@ fn start_app() -> Option<&'static mut App> {
 /// gripper's too), then the
 /// app reads serial and touch and writes the servo pulses. Not inlined, so
 /// its large temporaries stay out of `main`'s frame.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn frame(app: &mut App, b: &mut Board) {
     b.pwm.set_limits(&tick_limits(app.config()));
     b.pwm.set_grip_limits(TickLimits::of_joint(app.grip_cal()));
@@ -153,7 +153,7 @@ fn frame(app: &mut App, b: &mut Board) {
 /// panel read saw contact (`app::wiring`), its verdict taken only after a
 /// frame whose panel read was clean. The verdict goes to the app, which
 /// reports it and reads the panel through it from the next frame.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn probe_wiring(app: &mut App, b: &mut Board) {
     if b.probe.is_none() && app.wiring_probe_wanted() {
         b.probe = Some(Probe::new());
@@ -175,9 +175,23 @@ fn probe_wiring(app: &mut App, b: &mut Board) {
     }
 }
 
+/// `info touch-arm <version> commit <git commit> reset <cause>`: the crate
+/// version, the commit the firmware was built from (`build.rs`: 12 hex
+/// digits, `-dirty` when the tree differed from it, `unknown` without git)
+/// and why the chip started. Every piece is in flash (`t!`), the line in
+/// this function's frame only.
+#[inline(never)] // avr-trap: frame-size
+fn report_boot(serial: &mut Usart0, cause: ResetCause) {
+    let mut line: Line<72> = Line::new();
+    line.str(touch_arm::t!("info touch-arm ")).str(touch_arm::t!(env!("CARGO_PKG_VERSION")));
+    line.str(touch_arm::t!(" commit ")).str(touch_arm::t!(env!("TOUCH_ARM_COMMIT")));
+    line.str(touch_arm::t!(" reset ")).str(reset_name(cause));
+    serial.write(line.finish());
+}
+
 /// `info lcd <name> id 0x… <w>x<h>`, or `warn lcd unknown id 0x…` with the
 /// Read ID4 answer and then the other two probes.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>) {
     let mut line: Line<72> = Line::new();
     match found {

@@ -2,7 +2,7 @@
 //!
 //! On AVR every `&'static str` literal is copied into SRAM at boot (.rodata is
 //! part of .data there), and the app's replies, reasons and names would fill
-//! the 2 KiB static-RAM budget on their own. [`t!`](crate::t) puts a literal in
+//! the 3.5 KiB static-RAM budget (`memory.x`) on their own. [`t!`](crate::t) puts a literal in
 //! `.progmem.data` instead and gives a [`Text`] handle that reads it with `lpm`
 //! one byte at a time. On the host the same handle wraps a plain `&'static str`,
 //! so host tests see exactly the bytes the chip sends.
@@ -169,10 +169,11 @@ pub const fn to_array<const N: usize>(b: &[u8]) -> [u8; N] {
     a
 }
 
-/// `t!("literal")`: a [`Text`] kept in flash on the chip.
+/// `t!("literal")`: a [`Text`] kept in flash on the chip. Any constant
+/// `&'static str` works too, such as `t!(env!("CARGO_PKG_VERSION"))`.
 #[macro_export]
 macro_rules! t {
-    ($s:literal) => {{
+    ($s:expr) => {{
         #[cfg(target_arch = "avr")]
         {
             const N: usize = $s.len();

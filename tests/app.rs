@@ -1,8 +1,8 @@
 //! The planner's policy functions (duration bound, ζ-a-tₛ shape choice, peak
-//! rate) against references: the SPEC's G and G′ in f64 (`reference::zat`) on
+//! rate) against references: method.md's G and G′ in f64 (`reference::zat`) on
 //! dense grids, bisection, and the classic laws' closed forms; and the app's
 //! text formatting. The app's commands and refusals run on the host twin in
-//! `hal-sim/tests/app_commands.rs`.
+//! `hal-sim/twin/tests/app_commands.rs`.
 
 use proptest::prelude::*;
 use reference::zat::Zat;
@@ -26,7 +26,7 @@ fn cfg() -> ProptestConfig {
 }
 
 // ---------------------------------------------------------------------------
-// The reference ζ-a-tₛ profile is `reference::zat::Zat` (SPEC §5 in f64).
+// The reference ζ-a-tₛ profile is `reference::zat::Zat` (method.md §7 in f64).
 
 /// (min, max) of G′ on a uniform grid of (0, tₛ].
 fn rate_range(r: &Zat, n: usize) -> (f64, f64) {
@@ -124,7 +124,7 @@ fn beyond_the_smooth_stop_the_largest_monotone_a_is_chosen() {
         // And it is small compared with a plain ramp's L/tₛ.
         assert!(e < 0.5 * 2f64.ln() / ts * 10.0, "ts={ts}: end rate {e}");
     }
-    // tₛ = 6: end rate 0.0282/s per unit Δ (computed with the SPEC formula in
+    // tₛ = 6: end rate 0.0282/s per unit Δ (computed with method.md's formula in
     // an independent script), i.e. 28 mrad/s on a 1 rad move.
     let c = choose_a(6.0, 2.0).unwrap();
     assert!((Zat::new(6.0, c.a, 2.0).end_rate() - 0.02817).abs() < 2e-4);
@@ -136,7 +136,7 @@ fn short_durations_use_the_floor_with_the_least_end_rate() {
         let c = choose_a(ts, 2.0).unwrap();
         assert_eq!(c.kind, AKind::Floor);
         assert!(smooth_stop_a(ts, 2.0).is_none());
-        // Infimum of the end rate over admissible a is L/tₛ (SPEC §5).
+        // Infimum of the end rate over admissible a is L/tₛ (method.md §7).
         let e = Zat::new(ts, c.a, 2.0).end_rate();
         let inf = 2f64.ln() / ts;
         assert!(e >= inf && e < inf * (1.0 + 1e-6), "ts={ts}: {e} vs {inf}");
@@ -336,7 +336,7 @@ fn zat_min_ts(ratio: f64) -> f64 {
 
 #[test]
 fn zat_duration_is_verified_and_near_minimal() {
-    // Reference values from an independent Python scan of the SPEC formula:
+    // Reference values from an independent Python scan of method.md's formula:
     // Δ = 60° at 50 % → 1.44409 s; Δ = 180° at 100 % → 2.30574 s;
     // Δ = 180° at 50 % → 11.3412 s.
     for (delta_deg, pct, python) in [(60.0, 50.0, 1.44409), (180.0, 100.0, 2.30574), (180.0, 50.0, 11.34117)] {
@@ -426,7 +426,7 @@ fn ref_shortest(ratio: f64, n: f64, ts_min: f64, ts_max: f64) -> Option<f64> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(128))]
     /// The planned ζ-a-tₛ duration keeps every joint within its speed under
-    /// a dense f64 scan of the SPEC profile, and is within TS_SEARCH_TOL of
+    /// a dense f64 scan of method.md's profile, and is within TS_SEARCH_TOL of
     /// the shortest duration that does (by bisection on dense scans), in f64
     /// and in f32 as the chip plans.
     #[test]
@@ -543,7 +543,7 @@ proptest! {
     }
 
     /// The papers' ζ-a-tₛ: its largest |G″| against a dense scan of the
-    /// SPEC's reference.
+    /// method.md's reference.
     #[test]
     fn zat_peak_acc_matches_the_reference(ts in 1.05f64..40.0, n in 1.3f64..8.0) {
         let c = choose_a(ts, n).unwrap();

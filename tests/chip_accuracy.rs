@@ -1,7 +1,7 @@
 //! The chip's f32 code path, run on the host: `math::exp` (the same integer
 //! core the AVR runs, bit for bit) and the per-frame evaluator built on it
 //! (`Shape::g_rate`, `MultiPlan::sample`, `ServoTrack::frame`), checked against
-//! independent f64 references. `tests/bench_elf.rs` checks that the chip
+//! independent f64 references. `hal-sim/rig/tests/bench_elf.rs` checks that the chip
 //! itself produces these values.
 
 use proptest::prelude::*;
@@ -267,7 +267,7 @@ proptest! {
 
 // ------------------------------------------------------------ the frame path
 
-/// SPEC sweep: tₛ ∈ [0.2, 10], n ∈ [1.1, 100], a from 0.01 to 12 below u_min,
+/// The sweep of method.md §7.9: tₛ ∈ [0.2, 10], n ∈ [1.1, 100], a from 0.01 to 12 below u_min,
 /// monotone shapes (the ones a servo may run).
 fn monotone_shapes() -> Vec<ShapeParams<f32>> {
     let mut out = Vec::new();
@@ -296,7 +296,7 @@ fn frame_values_within_2e6_of_f64_and_exact_at_ts() {
     let (mut worst_g, mut worst_v) = (0.0f64, 0.0f64);
     for p in &shapes {
         let s = Shape::new(p).unwrap();
-        // The independent f64 G and G′ (`reference`: SPEC §5 in log space).
+        // The independent f64 G and G′ (`reference`: method.md §7 in log space).
         let r = Zat::new(p.ts as f64, p.a as f64, p.n as f64);
         for k in 1..=300 {
             let t = p.ts * k as f32 / 300.0;

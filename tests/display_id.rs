@@ -2,7 +2,7 @@
 //! (`ui::controller`): the IDs each datasheet gives, the order the probe
 //! trusts them in, and everything else unknown. The bus side (who answers
 //! what, and the firmware's reads) is tested in simavr
-//! (`hal-sim/tests/lcd_controllers.rs`).
+//! (`hal-sim/rig/tests/lcd_controllers.rs`).
 
 use touch_arm::ui::controller::{Controller, IdReads, Protocol};
 use touch_arm::ui::Layout;

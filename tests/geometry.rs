@@ -1,4 +1,4 @@
-//! Touch mapping, workspace conditions/transforms and arm kinematics (SPEC §2–4).
+//! Touch mapping, workspace conditions/transforms and arm kinematics (method.md §3–6).
 
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, PI};
 

@@ -1,4 +1,4 @@
-//! The pin map (`seam::pins`) against SPEC §8's table, written out here
+//! The pin map (`seam::pins`) against docs/hardware.md's table, written out here
 //! independently: the board and the simulator both take their pins from it.
 
 use touch_arm::seam::pins::mega::*;

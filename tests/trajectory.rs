@@ -1,4 +1,4 @@
-//! Trajectory math: the ζ-a-tₛ shape (SPEC §5), via points (§6), classic laws
+//! Trajectory math: the ζ-a-tₛ shape (method.md §7), via points (§6), classic laws
 //! (§7) and the synchronized multi-joint plan.
 
 use proptest::prelude::*;
@@ -153,7 +153,7 @@ fn f32_recipe_matches_reference_over_spec_sweep() {
         }
     }
     assert!(checked_mono > 2000, "{checked_mono}");
-    // SPEC: within 4e-7 in normalized units for the plans a servo may run.
+    // method.md §7.9: within 4e-7 in normalized units for the plans a servo may run.
     assert!(worst_mono <= 4e-7, "monotone worst {worst_mono:e}");
     // Overshooting shapes near the pole (G up to hundreds): relative accuracy;
     // the limit there is exp() of an argument up to ~4 carrying f32 rounding.
@@ -265,9 +265,9 @@ fn spec_overshoot_example() {
     assert!(s.monotone_margin().unwrap() < -0.5);
     let (mono, scan_peak) = scan_monotone(&s);
     assert!(!mono);
-    // SPEC §5 quotes a peak of 9.6; the function actually peaks at
+    // method.md §7 quotes a peak of 9.6; the function actually peaks at
     // 19.67727105153175 at t = 1.740561590602 (30-digit mpmath root of G′;
-    // G(1.7) alone is 18.4 = SPEC §6's r), confirmed by the scan and by the
+    // G(1.7) alone is 18.4 = method.md §8's r), confirmed by the scan and by the
     // independent reference.
     let peak = s.peak();
     assert!(close(peak, 19.67727105153175, 1e-11), "{peak}");
@@ -321,7 +321,7 @@ fn end_velocity_and_smooth_stop() {
         let s32 = Shape::<f32>::new(&ShapeParams { ts: ts as f32, a: a32, n: n as f32 }).unwrap();
         assert!(s32.end_rate().abs() < 1e-5);
     }
-    // SPEC's admissibility condition is not enough for a usable a*: at tₛ, φ = 0
+    // method.md's admissibility condition is not enough for a usable a*: at tₛ, φ = 0
     // and φ′(tₛ) ≤ 0 ⇔ L·(tₛ − 1) ≤ 2 decides whether G dips before the end.
     for &(ts, n, mono) in
         &[(3.0, 2.6, true), (3.0, 2.8, false), (3.0, 7.7, false), (9.0, 1.3, false), (9.0, 1.28, true)]
@@ -419,7 +419,7 @@ proptest! {
         prop_assert!(scan_monotone(&s).0);
     }
 
-    /// a* exists exactly under SPEC's condition and always zeroes the end rate.
+    /// a* exists exactly under method.md's condition and always zeroes the end rate.
     #[test]
     fn smooth_stop_condition(ts in 0.3f64..10.0, n in 1.05f64..50.0) {
         let cond = ts > 1.0 && n.ln() < ts.ln() / (ts.sqrt() - 1.0).powi(2);
@@ -563,7 +563,7 @@ fn via_closed_form_hits_the_via_value() {
                 let want = 0.1 + (plan.sv() - 0.1) * gv.g(t) + (0.8 - plan.sv()) * g.g(t);
                 assert!(close(plan.position(t), want, 1e-15));
             }
-            // ζ, ζ_v as SPEC restates eq. 10.
+            // ζ, ζ_v as method.md §8 restates eq. 10.
             assert_eq!(plan.zeta(), zeta(&ZatParams { q0: plan.sv(), sf: 0.8, ts: 3.0, a: 1.0, n: 2.0 }));
             assert_eq!(plan.zeta_v(), zeta(&ZatParams { q0: 0.1, sf: plan.sv(), ts: tv, a: av, n: 3.0 }));
         }
@@ -821,7 +821,7 @@ fn laws_endpoints_and_outside() {
 
 #[test]
 fn cubic_reaches_pi_exactly_at_tf() {
-    // SPEC §7: the paper's "3.053 rad" came from reading the cubic at 0.9 s.
+    // method.md §9: the paper's "3.053 rad" came from reading the cubic at 0.9 s.
     let p = LawParams { t0: 0.0, tf: 1.0, s0: 0.0, sf: core::f64::consts::PI };
     assert_eq!(eval(Law::Cubic, &p, 1.0).unwrap().s, core::f64::consts::PI);
     let at_09 = eval(Law::Cubic, &p, 0.9).unwrap().s;
@@ -837,7 +837,7 @@ fn quintic_and_trapezoid_closed_forms() {
         let tau = k as f64 / 40.0;
         let t = t0 + tau * tt;
         let q = eval(Law::Quintic, &p, t).unwrap();
-        // SPEC's corrected acceleration (the note prints τ³ in place of 2τ³).
+        // method.md's corrected acceleration (the note prints τ³ in place of 2τ³).
         let acc = 60.0 * d * (tau - 3.0 * tau * tau + 2.0 * tau.powi(3)) / (tt * tt);
         assert!(close(q.acc, acc, 1e-12), "{tau}");
         assert!(close(q.v, 30.0 * d * (tau * tau - 2.0 * tau.powi(3) + tau.powi(4)) / tt, 1e-12));
@@ -1068,7 +1068,7 @@ fn scaled_zat_ratios_are_the_reference_peaks() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
-    /// g(t) is the SPEC's G of the reference shape at τ = t·T₀/tₛ (the
+    /// g(t) is method.md's G of the reference shape at τ = t·T₀/tₛ (the
     /// independent printed-form reference), and each derivative is the
     /// reference's scaled by (T₀/tₛ)^k.
     #[test]

@@ -5,7 +5,7 @@
 //!
 //! # Motion
 //! A grip is a single-joint move planned by the arm's planner
-//! ([`plan_move`]: the selected law, the speed preset, the gripper's speed
+//! ([`plan_move`](crate::motion::planner::plan_move::plan_move): the selected law, the speed preset, the gripper's speed
 //! and acceleration limits less the safety margin, `ts_min`/`ts_max`, the
 //! same refusals), the gripper in the plan's first joint and the other two
 //! standing still, so no second trajectory implementation exists. It runs on
@@ -44,8 +44,8 @@ use crate::config::settings::{field_value, set_field, ConfigError, JointField, S
 use crate::config::store::SaveError;
 use crate::math::units::centideg_to_rad;
 use crate::motion::plan::{MultiPlan, JOINTS};
-use crate::motion::planner::plan_move::plan_move;
-use crate::motion::planner::request::MoveRequest;
+use crate::motion::planner::plan_move::{choose_law, plan_chosen, ChosenLaw};
+use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::protocol::command::GripCmd;
 use crate::seam::{SerialPort, ServoOutputs, Storage};
 use crate::servo::map::{JointCal, ServoMap};
@@ -99,7 +99,7 @@ enum GripWho {
 
 impl Grip {
     /// At rest at the open end of `cal`'s output window, no pulse yet.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn new(cal: &JointCal) -> Option<Grip> {
         let map = ServoMap::new(cal).ok()?;
         let open = map.output_window().0;
@@ -148,7 +148,7 @@ impl App {
     // The gripper's commands are not inlined into `execute`: their locals
     // would sit in its frame under the deepest path (a calibration slew's
     // plan); measured with the stack test of `firmware_e2e.rs`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_command(&mut self, cmd: GripCmd) -> Result<Done, Refusal> {
         let (open, close) = self.grip.ends();
         let target = match cmd {
@@ -190,7 +190,7 @@ impl App {
 
     /// A checked grip target, planned after this frame's pulses.
     fn grip_due(&mut self, target: f32, who: GripWho) {
-        self.busy = true;
+        self.spend_heavy();
         let awaits_arm = matches!(who, GripWho::Pose(_));
         self.grip.due = Some(GripDue { target, who, awaits_arm });
     }
@@ -212,7 +212,7 @@ impl App {
     /// The screen's Grip button: closes an open gripper and opens a closed
     /// one (the target of its last move decides: nearer the closed end is
     /// closed), by the same checks and planner as `grip open|close`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn screen_grip(&mut self) -> Result<(), Refusal> {
         let (open, close) = self.grip.ends();
         let target = if self.grip_closed() { open } else { close };
@@ -246,7 +246,7 @@ impl App {
     /// `warn pose <n> grip <reason>`). Waits while `wait` (the arm planned in
     /// this frame, or it is a catch-up frame, which plans nothing) and while
     /// a pose's gripper waits for the arm's verdict.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn finish_grip<U: SerialPort>(&mut self, serial: &mut U, wait: bool) {
         if wait || self.grip.due.is_none_or(|d| d.awaits_arm) {
             return;
@@ -264,7 +264,7 @@ impl App {
 
     /// The answer of a grip plan (not inlined: its line buffer is not on
     /// the stack while the grip is planned).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn report_grip<U: SerialPort>(&mut self, serial: &mut U, due: &GripDue, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match (r, due.who) {
@@ -308,11 +308,30 @@ impl App {
     /// A grip move from `start` at rest to `target` under `map`'s limits at
     /// `pct` % of its speed, by the arm's planner (the other two joints of
     /// the plan stand still); started from the next frame.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn plan_grip(&mut self, start: f32, target: f32, map: &ServoMap, pct: u8) -> Result<(), Refusal> {
         let lim = self.plan_limits([map; JOINTS], pct);
         let req = MoveRequest { start: [start, 0.0, 0.0], target: [target, 0.0, 0.0], law: self.config.law };
-        let planned = plan_move(&req, &lim)?;
+        // By reference: a `?` would copy the law out of its Result.
+        let chosen = choose_law(&req, &lim);
+        match &chosen {
+            Ok(law) => self.start_grip_plan(&req, &lim, law, target),
+            Err(e) => Err(Refusal::from(*e)),
+        }
+    }
+
+    /// [`Self::plan_grip`]'s plan by the law chosen, installed.
+    // the plan (the move's largest value) lives here,
+    // after the duration search has returned, not in plan_grip's frame.
+    #[inline(never)] // avr-trap: frame-size
+    fn start_grip_plan(
+        &mut self,
+        req: &MoveRequest<f32>,
+        lim: &PlanLimits<f32>,
+        chosen: &ChosenLaw<f32>,
+        target: f32,
+    ) -> Result<(), Refusal> {
+        let planned = plan_chosen(req, lim, chosen)?;
         self.grip.ts = planned.ts;
         self.grip.plan = Some(planned.plan);
         self.grip.n = 0;
@@ -322,7 +341,7 @@ impl App {
 
     /// The gripper's angle of this frame: its plan at t = frames since the
     /// plan × 20 ms, exactly the target from the plan's end on.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_grip(&mut self) {
         let Some(plan) = self.grip.plan.as_ref() else { return };
         let t = f32::from(self.grip.n) * FRAME_S;
@@ -337,7 +356,7 @@ impl App {
 
     /// The gripper's pulse, through its map's clamping; a refused
     /// (non-finite) angle holds the previous pulse and latches STOP.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn write_grip<S: ServoOutputs>(&mut self, servos: &mut S) {
         match self.grip.map.angle_to_pulse(self.grip.commanded) {
             Ok(p) => {
@@ -361,7 +380,7 @@ impl App {
     }
 
     /// `cal set grip <field> <value>`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_cal_set(&mut self, field: JointField, value: i32) -> Result<Done, Refusal> {
         let mut next = *self.grip.map.cal();
         set_field(&mut next, field, value);
@@ -372,7 +391,7 @@ impl App {
     }
 
     /// `cal reset grip`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn grip_reset(&mut self) -> Result<Done, Refusal> {
         self.replace_grip(&GRIP_DEFAULT).map(Done::CalReset)
     }

@@ -5,14 +5,14 @@ use super::path_move::PathRun;
 use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
-use super::{build_maps, Answer, App, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
+use super::{build_maps, Answer, App, HeavyTask, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
 use crate::config::settings::{Config, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
 use crate::math::units::centideg_to_rad;
 use crate::motion::plan::JOINTS;
-use crate::motion::planner::plan_move::plan_move;
+use crate::motion::planner::plan_move::{choose_law, plan_chosen, ChosenLaw};
 use crate::motion::planner::request::{MoveRequest, PlanLimits};
 use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
@@ -49,7 +49,7 @@ impl App {
         let now = io.clock.now_ms();
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
         let catch_up = core::mem::take(&mut self.late);
-        self.busy = catch_up;
+        self.heavy = HeavyTask::new_frame(catch_up);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, io.storage, io.serial);
         self.step_motion();
@@ -65,7 +65,7 @@ impl App {
         self.finish_grip(io.serial, arm_planned || catch_up);
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
-        if self.log {
+        if self.session.log {
             self.send_telemetry(io.serial, now);
         }
         self.flush_pending(io.serial);
@@ -81,7 +81,7 @@ impl App {
     }
 
     /// Loads the configuration and starts homing (no pulse in this frame).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn boot<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
         let loaded = store::load(storage);
         self.poses = crate::config::poses::load(storage).poses;
@@ -137,10 +137,10 @@ impl App {
     // inlined into the firmware's frame they made it reserve 603 bytes of
     // stack, and LLVM then miscompiled the touch read's loop on the chip (the
     // frame never ended; the watchdog reset it). Out of line it is 168.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
         if let Some(p) = self.deferred_touch {
-            if self.busy {
+            if self.heavy.is_spent() {
                 return;
             }
             self.deferred_touch = None;
@@ -148,7 +148,7 @@ impl App {
         }
         // A busy frame has no time for a read (the filter takes the next
         // one; a touch would have to wait anyway).
-        if self.busy {
+        if self.heavy.is_spent() {
             return;
         }
         let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
@@ -166,7 +166,7 @@ impl App {
             Some(TouchEvent::Moved(p)) if !self.params.screen => p,
             _ => return,
         };
-        if self.busy && self.touch_plans(&p) {
+        if self.heavy.is_spent() && self.touch_plans(&p) {
             self.deferred_touch = Some(p);
         } else {
             self.route_touch(&p, storage, serial);
@@ -199,7 +199,7 @@ impl App {
 
     /// `info touch <x> <y> …` or `err touch <x> <y> <reason>` (its buffer is
     /// not on the stack while the touch is planned).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn report_touch<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match r {
@@ -321,7 +321,7 @@ impl App {
             return Err(Refusal::Busy);
         }
         self.check_limits(target)?;
-        self.busy = true;
+        self.spend_heavy();
         self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody, kind });
         Ok(())
     }
@@ -329,7 +329,7 @@ impl App {
     /// Plans this frame's accepted target (the move starts in the next frame)
     /// and answers whoever asked: while moving, a correction superposed on
     /// the running move; at rest, a move from the pose just commanded.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(due) = self.plan_due.take() else { return };
         let r = if due.kind == MoveKind::Joint {
@@ -372,7 +372,7 @@ impl App {
     }
 
     /// The plan of an accepted target under this move's limits.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         let lim = self.plan_limits(self.maps.each_ref(), self.move_percent());
         // A new target while moving: a correction superposed on the move.
@@ -411,7 +411,9 @@ impl App {
 
     /// A move from `start` at rest (not inlined: its plan and track would
     /// otherwise share the caller's stack frame with the re-plan's).
-    #[inline(never)]
+    // only the request and the chosen law are in this
+    // frame during the duration search; the plan is built in `start_chosen`.
+    #[inline(never)] // avr-trap: frame-size
     fn start_fresh(
         &mut self,
         start: &[f32; JOINTS],
@@ -419,13 +421,32 @@ impl App {
         new_maps: Option<&[ServoMap; JOINTS]>,
         lim: &PlanLimits<f32>,
     ) -> Result<MoveInfo, Refusal> {
-        self.busy = true;
+        self.spend_heavy();
         let req = MoveRequest { start: *start, target: *target, law: self.config.law };
-        let planned = plan_move(&req, lim)?;
+        // By reference: a `?` would copy the law out of its Result.
+        let chosen = choose_law(&req, lim);
+        match &chosen {
+            Ok(law) => self.start_chosen(&req, law, new_maps, lim),
+            Err(e) => Err(Refusal::from(*e)),
+        }
+    }
+
+    /// [`Self::start_fresh`]'s plan by the law chosen, started on the track.
+    // the plan (the move's largest value) lives here,
+    // after the duration search has returned, not in start_fresh's frame.
+    #[inline(never)] // avr-trap: frame-size
+    fn start_chosen(
+        &mut self,
+        req: &MoveRequest<f32>,
+        chosen: &ChosenLaw<f32>,
+        new_maps: Option<&[ServoMap; JOINTS]>,
+        lim: &PlanLimits<f32>,
+    ) -> Result<MoveInfo, Refusal> {
+        let planned = plan_chosen(req, lim, chosen)?;
         let maps = new_maps.unwrap_or(&self.maps);
         self.track.start(&planned.plan, maps).map_err(|_| Refusal::Trajectory)?;
         Ok(MoveInfo {
-            target: *target,
+            target: req.target,
             ts: planned.ts,
             replan: None,
             a: planned.a,
@@ -480,7 +501,7 @@ impl App {
         }
     }
 
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn step_motion(&mut self) {
         if let Mode::Homing { frames_left } = self.mode {
             self.mode = match frames_left {

@@ -72,6 +72,34 @@
 //! - **stopped**: `stop` latches; the pose of the previous frame is held
 //!   (pulses freeze in the frame that reads the command) and every target is
 //!   refused until `resume`, which does not continue the interrupted move.
+//!
+//! # How the feature files divide `App`
+//! One file per feature, each an `impl App` block beside the one struct:
+//! `machine.rs` (the frame and the moves), `serial.rs` (lines and replies),
+//! `screen.rs` (the touch screen), `path_move.rs` (paths and lifts),
+//! `grip.rs` (the gripper), `poses.rs` (saved poses), `recalibrate.rs`
+//! (calibration changes while holding), `wiring.rs` (the panel's wiring),
+//! `telemetry.rs` (output lines). The rule they follow:
+//! - A feature's own state is one field of its own type, declared in its
+//!   file (`grip: grip::Grip`, `path: path_move::PathRun`, `screen:
+//!   screen::Screen`, `session: serial::Session`); only that file changes
+//!   it. Other files read it through that file's methods.
+//! - The arm's state (`commanded`, `track`, `mode`, `stopped`,
+//!   `last_move`) belongs to `machine.rs`: a feature moves the arm only
+//!   through the planner (`plan_motion`, `start_move`) or a latch (`stop`),
+//!   never by writing a pose or a pulse, so every move keeps the limits and
+//!   the no-jump rule. The one exception is `path_move.rs`, whose accepted
+//!   path or lift move commands its IK pose frame by frame.
+//! - The running configuration (`config`, `maps`) changes only as a whole
+//!   validated record (`recalibrate.rs`'s `replace_config`, the screen's
+//!   calibration, boot) or by one field a command owns (`speed`, `law`,
+//!   `path`, `lift_centi`, `wiring`), set by that command's handler after
+//!   its checks; `cal save` stores it.
+//! - The frame's one heavy thing (`HeavyTask`) is taken only through
+//!   `App::spend_heavy`, and a feature that would do heavy work first asks
+//!   whether it is spent (a catch-up frame starts spent).
+//! - A feature's replies and refusals go through `refusal.rs` and
+//!   `text.rs`: one reason text per refusal, one line type.
 
 mod grip;
 mod machine;
@@ -92,7 +120,6 @@ use crate::geometry::pose::ArmGeometry;
 use crate::geometry::workspace::Condition;
 use crate::motion::plan::{LawKind, JOINTS};
 use crate::motion::planner::shape_choice::AChoice;
-use crate::protocol::command::SerialLine;
 use crate::servo::map::{ServoMap, ELBOW_BRANCH};
 use crate::servo::track::ServoTrack;
 use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter, TouchPoint};
@@ -422,6 +449,27 @@ enum Pending {
     CalShow(u8),
 }
 
+/// This frame's one heavy thing (module doc, "One frame, in order"): a
+/// serial line answered, a move planned or a path check set up, a pose's
+/// gripper planned. Spent once, by [`App::spend_heavy`]; a catch-up frame
+/// starts with it spent, so it does none.
+#[derive(Debug, Clone, Copy, Default)]
+struct HeavyTask {
+    spent: bool,
+}
+
+impl HeavyTask {
+    /// A frame's task: already spent in a catch-up frame.
+    fn new_frame(catch_up: bool) -> HeavyTask {
+        HeavyTask { spent: catch_up }
+    }
+
+    /// The frame has no room left for a heavy thing.
+    fn is_spent(self) -> bool {
+        self.spent
+    }
+}
+
 /// The app. Holds no hardware; see the module doc for the frame.
 pub struct App {
     params: AppParams,
@@ -429,8 +477,6 @@ pub struct App {
     config: Config,
     maps: [ServoMap; JOINTS],
     filter: TouchFilter,
-    line: SerialLine,
-    last_rx_ms: u32,
     mode: Mode,
     stopped: bool,
     first_move: bool,
@@ -446,13 +492,11 @@ pub struct App {
     last_refusal: Option<Refusal>,
     source: Source,
     warning: Option<Warning>,
-    log: bool,
-    pending: Option<Pending>,
-    /// Unsolicited lines the port had no room for, not yet reported.
-    tx_dropped: u16,
-    /// This frame has done its one heavy thing: answered a serial line or
-    /// planned a move (see `poll_touch`).
-    busy: bool,
+    /// The serial session: the line being received, telemetry, a reply in
+    /// progress, dropped output (`serial.rs`).
+    session: serial::Session,
+    /// This frame's one heavy thing (module doc, "One frame, in order").
+    heavy: HeavyTask,
     /// The next frame starts late (see [`App::frame_was_late`]).
     late: bool,
     /// A touch target that waits for a frame with no plan yet.
@@ -484,6 +528,11 @@ fn build_maps(config: &Config) -> Option<[ServoMap; JOINTS]> {
 }
 
 impl App {
+    /// The one place the frame's heavy thing is taken (see [`HeavyTask`]).
+    fn spend_heavy(&mut self) {
+        self.heavy.spent = true;
+    }
+
     /// A fresh app in the `off` state. The configuration is loaded by the
     /// first frame; until then the built-in defaults stand.
     pub fn new(params: &AppParams) -> Result<App, ParamsError> {
@@ -498,8 +547,6 @@ impl App {
             config,
             maps,
             filter,
-            line: SerialLine::new(),
-            last_rx_ms: 0,
             mode: Mode::Boot,
             stopped: false,
             first_move: true,
@@ -519,10 +566,8 @@ impl App {
             last_refusal: None,
             source: Source::Defaults,
             warning: None,
-            log: false,
-            pending: None,
-            tx_dropped: 0,
-            busy: false,
+            session: serial::Session::new(),
+            heavy: HeavyTask::default(),
             late: false,
             deferred_touch: None,
             plan_due: None,
@@ -585,7 +630,7 @@ impl App {
             config_source: self.source,
             config_warning: self.warning,
             first_move_pending: self.first_move,
-            log: self.log,
+            log: self.session.log,
             grip: self.grip.commanded,
             grip_target: self.grip.target,
             grip_pulse: self.grip.ticks,

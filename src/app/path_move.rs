@@ -8,7 +8,7 @@
 //! whatever the law), both shapes' G every frame (`lift_frame`). A lift and
 //! `path line` exclude each other (`lift and path line exclusive`): a line's
 //! effector goes straight, a lift's goes up. Both are settings of the
-//! configuration, stored by `cal save` (record version 3).
+//! configuration, stored by `cal save` (record version 4).
 //!
 //! # The check, spread over frames
 //! A path's plan-time check ([`PathCheck`]: every point reachable, inside the
@@ -66,7 +66,7 @@ use crate::servo::map::{Joint, TickMap};
 /// 24-bisection search for a critical instant (BENCHMARKS.md
 /// `path_check_unit` max) and, as long, a unit of the bounds between the
 /// samples (a visit and the interval bound, 131 713 cycles at most:
-/// `hal-sim/tests/bench_elf.rs` keeps it within this), rounded up with
+/// `hal-sim/rig/tests/bench_elf.rs` keeps it within this), rounded up with
 /// some room.
 pub const UNIT_MAX_TICKS: u16 = 17_500;
 /// Left at the end of a checking frame for its reply line (float to
@@ -229,14 +229,14 @@ impl App {
 
     /// Sets up the check of an accepted path or lift target (the frame's
     /// plan step). `Err` is answered at once; `Ok` waits for the check.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn begin_path_check(&mut self, due: &PlanDue) -> Result<(), Refusal> {
         let check = match due.kind {
             MoveKind::Lift { h } => Check::Lift(self.new_lift_check(&due.target, h)?),
             _ => Check::Path(self.new_path_check(due)?),
         };
         self.path = PathRun::Checking { check, due: *due };
-        self.busy = true;
+        self.spend_heavy();
         Ok(())
     }
 
@@ -339,7 +339,7 @@ impl App {
 
     /// After the pulses: cancels a check STOP interrupted, or runs the
     /// check's units the period has room for and answers once it decides.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_path_check<S: ServoOutputs, U: SerialPort>(
         &mut self,
         servos: &S,
@@ -416,7 +416,7 @@ impl App {
 
     /// The path frame (the law's progress, the path's point, its IK) or the
     /// via frame (both shapes' G), then the pulses. Returns `false` when there is no running path move.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn step_path(&mut self) -> bool {
         let PathRun::Running { run, ticks, frame } = &mut self.path else { return false };
         let t = f32::from(*frame) * FRAME_S;

@@ -33,16 +33,21 @@ impl App {
         if matches!(self.mode, Mode::Homing { .. }) {
             return Err(Refusal::Homing);
         }
-        let maps = build_maps(next).ok_or(Refusal::Fault)?;
+        // By reference: one copy of the maps in this frame (`ok_or` and a
+        // moved binding made three, across the slew's deep call).
+        let built = build_maps(next);
+        let Some(maps) = built.as_ref() else {
+            return Err(Refusal::Fault);
+        };
         // `plan_motion` starts the slew; the configuration it was planned
         // under is installed right after, in the same frame.
-        let slew = match self.slew_start(&maps)? {
+        let slew = match self.slew_start(maps)? {
             Some(_) if self.stopped => return Err(Refusal::Stopped),
             Some(start) => {
                 let held = self.commanded;
                 // The slew is the current move: `status` reports its target
                 // and duration, not the previous move's.
-                let info = self.plan_motion(&start, &held, Some(&maps), SpeedPreset::Slow.percent())?;
+                let info = self.plan_motion(&start, &held, Some(maps), SpeedPreset::Slow.percent())?;
                 self.last_move = info;
                 Some(info.ts)
             }
@@ -52,12 +57,15 @@ impl App {
             self.filter.reset();
         }
         self.config = *next;
-        self.maps = maps;
+        self.maps = *maps;
         Ok(slew)
     }
 
     /// Where a slew to the held pose under `maps` starts (each servo's present
     /// pulse as an angle of `maps`), or `None` if no pulse would change.
+    // its pulse temporaries stay out of
+    // replace_config's frame, which is on the slew's deep chain.
+    #[inline(never)] // avr-trap: frame-size
     fn slew_start(&self, maps: &[ServoMap; JOINTS]) -> Result<Option<[f32; JOINTS]>, Refusal> {
         let mut start = [0.0f32; JOINTS];
         let mut moves = false;

@@ -176,7 +176,7 @@ impl App {
     /// line|joint` or `lift 0.20|off` (same refusal when the other is on).
     /// Out of line: the touch's deepest path (a map point's plan) does not
     /// carry its frame.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn screen_toggle(&mut self, lift: bool) -> ScreenEvent {
         if lift {
             let h = if self.config.lift_centi.is_some() { None } else { Some(SCREEN_LIFT_CENTI) };
@@ -189,7 +189,7 @@ impl App {
 
     /// A pose button: exactly `pose go <n>` (same checks, planner and
     /// refusals), answered once planned (`finish_plan`).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn screen_pose<E: Storage>(&mut self, n: u8, storage: &mut E) -> ScreenEvent {
         match self.pose(PoseCmd::Go(n), storage) {
             Ok(PoseDone::Went(_)) => {
@@ -207,7 +207,7 @@ impl App {
 
     /// `info screen pose go <n> …` once a screen pose's move is planned, or
     /// `err screen pose go <n> <reason>`.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn report_screen_pose<U: SerialPort>(&mut self, serial: &mut U, n: u8, r: Result<(), Refusal>) {
         let mut line = Line::new();
         match r {
@@ -224,7 +224,7 @@ impl App {
 
     /// The line a screen event sends (its buffer is not on the stack while
     /// the touch is planned).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn report_screen<U: SerialPort>(&mut self, serial: &mut U, p: &TouchPoint, event: &ScreenEvent) {
         let mut line = Line::new();
         match *event {

@@ -33,9 +33,33 @@ use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError, PathMode, SpeedPreset};
 use crate::config::store::{self, SaveError};
 use crate::motion::plan::LawKind;
-use crate::protocol::command::{parse, CmdError, Command};
+use crate::protocol::command::{parse, CmdError, Command, SerialLine};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
+
+/// The serial session's state, apart from what the commands change: the
+/// line being received and when its last byte came (the idle timeout), the
+/// telemetry switch, a multi-line reply in progress and the unsolicited
+/// lines the port had no room for.
+pub(super) struct Session {
+    /// The line being received.
+    pub(super) line: SerialLine,
+    /// When its last byte came, ms (a partial line idle too long is dropped).
+    pub(super) last_rx_ms: u32,
+    /// Telemetry on (`log on`).
+    pub(super) log: bool,
+    /// Lines still to send of a multi-line reply.
+    pub(super) pending: Option<Pending>,
+    /// Unsolicited lines the port had no room for, not yet reported.
+    pub(super) tx_dropped: u16,
+}
+
+impl Session {
+    /// No line, no telemetry, nothing pending or dropped.
+    pub(super) const fn new() -> Session {
+        Session { line: SerialLine::new(), last_rx_ms: 0, log: false, pending: None, tx_dropped: 0 }
+    }
+}
 
 /// What a line did, for its reply. The reply is formatted after the work, in
 /// [`App::send_reply`], so its buffer is not on the stack while a move is
@@ -82,11 +106,16 @@ impl App {
     {
         // A late frame catches up; a touch waiting to plan has this frame
         // (see `poll_touch`).
-        if self.busy || self.pending.is_some() || self.deferred_touch.is_some() || io.serial.tx_room() < LINE_CAP {
+        if self.heavy.is_spent()
+            || self.session.pending.is_some()
+            || self.deferred_touch.is_some()
+            || io.serial.tx_room() < LINE_CAP
+        {
             return;
         }
-        if self.line.is_partial() && now_ms.wrapping_sub(self.last_rx_ms) >= self.params.line_timeout_ms {
-            self.line.clear();
+        if self.session.line.is_partial() && now_ms.wrapping_sub(self.session.last_rx_ms) >= self.params.line_timeout_ms
+        {
+            self.session.line.clear();
         }
         let mut done = Done::Nothing;
         let mut budget = self.params.serial_bytes_per_frame;
@@ -94,15 +123,15 @@ impl App {
             budget -= 1;
             let Some(byte) = io.serial.read_byte() else {
                 if let Some(loss) = io.serial.take_rx_loss() {
-                    self.line.after_loss(&loss);
+                    self.session.line.after_loss(&loss);
                     if loss.lines > 0 {
                         done = Done::Lost(loss.lines);
                     }
                 }
                 break;
             };
-            self.last_rx_ms = now_ms;
-            let parsed = match self.line.push(byte) {
+            self.session.last_rx_ms = now_ms;
+            let parsed = match self.session.line.push(byte) {
                 None => continue,
                 Some(Ok([])) => None,
                 Some(Ok(l)) => Some(parse(l)),
@@ -118,7 +147,7 @@ impl App {
         if done == Done::Nothing {
             return;
         }
-        self.busy = true;
+        self.spend_heavy();
         // A move is answered once it is planned (`finish_plan`).
         if let Some(due) = self.plan_due.as_mut().filter(|d| d.answer == Answer::Nobody) {
             due.answer = Answer::Serial(done);
@@ -150,7 +179,7 @@ impl App {
                 Ok(Done::Speed(s))
             }
             Command::Log(on) => {
-                self.log = on;
+                self.session.log = on;
                 Ok(Done::Log(on))
             }
             Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
@@ -158,7 +187,7 @@ impl App {
             Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
-                self.pending = Some(Pending::CalShow(0));
+                self.session.pending = Some(Pending::CalShow(0));
                 Ok(Done::Nothing)
             }
             Command::CalSet(set) => self.cal_set(&set),
@@ -199,7 +228,7 @@ impl App {
     }
 
     /// The one reply line of a command (see [`Done`]).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
         let mut reply = Line::new();
         let r = &mut reply;
@@ -308,23 +337,23 @@ impl App {
         if serial.tx_room() >= bytes.len() {
             serial.write(bytes);
         } else {
-            self.tx_dropped = self.tx_dropped.saturating_add(1);
+            self.session.tx_dropped = self.session.tx_dropped.saturating_add(1);
         }
     }
 
     /// `warn output full: <n> lines dropped`, once it fits, for the lines
     /// [`App::emit`] could not send.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn report_dropped<U: SerialPort>(&mut self, serial: &mut U) {
-        if self.tx_dropped == 0 {
+        if self.session.tx_dropped == 0 {
             return;
         }
         let mut line = Line::new();
-        line.str(t!("warn output full:")).num(i32::from(self.tx_dropped)).str(t!(" lines dropped"));
+        line.str(t!("warn output full:")).num(i32::from(self.session.tx_dropped)).str(t!(" lines dropped"));
         let bytes = line.finish();
         if serial.tx_room() >= bytes.len() {
             serial.write(bytes);
-            self.tx_dropped = 0;
+            self.session.tx_dropped = 0;
         }
     }
 

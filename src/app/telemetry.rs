@@ -60,7 +60,7 @@ impl App {
     /// clock, the commanded angles in centidegrees and the pulses written
     /// this frame (µs, `.5` for a half: the timer's resolution), then the
     /// gripper's angle and pulse (`-` before its first).
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_telemetry<U: SerialPort>(&mut self, serial: &mut U, now_ms: u32) {
         let Some(pulses) = self.pulses else { return };
         let mut line = Line::new();
@@ -82,11 +82,11 @@ impl App {
     }
 
     /// Sends the next line of a multi-line reply, if one is pending.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
-        let Some(Pending::CalShow(i)) = self.pending else { return };
+        let Some(Pending::CalShow(i)) = self.session.pending else { return };
         // Not in a busy frame: the line waits for the next.
-        if self.busy {
+        if self.heavy.is_spent() {
             return;
         }
         let mut line = Line::new();
@@ -97,7 +97,7 @@ impl App {
             return;
         }
         serial.write(bytes);
-        self.pending = if i < CAL_SHOW_LINES { Some(Pending::CalShow(i + 1)) } else { None };
+        self.session.pending = if i < CAL_SHOW_LINES { Some(Pending::CalShow(i + 1)) } else { None };
     }
 
     /// Line `i` of `cal show`: one per joint and one for the touch panel, in

@@ -110,7 +110,7 @@ impl Bench {
     /// Times `work` on `input(i)` for i in 0..REPS and prints a `B` line.
     /// Only one input is alive at a time, so the stack figure is the
     /// routine's, not the harness's.
-    #[inline(never)]
+    #[inline(never)] // reason: measured
     fn run<T, U>(&mut self, name: &str, input: impl Fn(usize) -> T, mut work: impl FnMut(&T) -> U) {
         let mut c = [0u32; REPS];
         stack::paint();
@@ -127,7 +127,7 @@ impl Bench {
     }
 
     /// [`Bench::run`] for work that changes its input (a fresh one each run).
-    #[inline(never)]
+    #[inline(never)] // reason: measured
     fn run_mut<T, U>(&mut self, name: &str, input: impl Fn(usize) -> T, mut work: impl FnMut(&mut T) -> U) {
         let mut c = [0u32; REPS];
         stack::paint();
@@ -146,7 +146,7 @@ impl Bench {
     /// Prints a `B` line for a routine's counts and the stack high-water
     /// since [`Bench::run`] painted it: one copy for every routine (`run`
     /// is built once per routine, so what it need not hold stays out).
-    #[inline(never)]
+    #[inline(never)] // reason: measured
     fn report(&mut self, name: &str, c: &mut [u32; REPS]) {
         let hw = stack::high_water();
         let (m, lo, hi) = stats(c);
@@ -185,7 +185,7 @@ struct PaperJoint {
     zeta: f32,
 }
 
-#[inline(never)]
+#[inline(never)] // reason: measured
 fn paper_position(j: &PaperJoint, sh: &ShapeParams<f32>, t: f32) -> f32 {
     if t <= 0.0 {
         return j.q0;
@@ -422,7 +422,7 @@ fn main() -> ! {
 /// classic laws; a re-plan 0.1 .. 1.78 s into the move (a ζ-a-tₛ correction
 /// superposed on it) and the frame of the two terms while both run. One
 /// track at a time: it is the largest object on the AVR's stack.
-#[inline(never)]
+#[inline(never)] // reason: measured
 fn frames(b: &mut Bench, paper: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) {
     let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
     let Ok(zat) = ScaledZat::new(TS) else { halt() };
@@ -480,7 +480,7 @@ fn to_ticks(q: &[f32; JOINTS], maps: &[TickMap; JOINTS]) -> Option<[u16; JOINTS]
 /// A frame of a straight-line effector move (the law's g, the point, the
 /// 3-DoF IK, three pulses) and of a via-point move (both shapes once, then a
 /// multiply-add per joint, three pulses).
-#[inline(never)]
+#[inline(never)] // reason: measured
 fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
     let t_at = |i: usize| spread(i, TS / (REPS as f32), TS);
     let (Some(m0), Some(m1), Some(m2)) = (TickMap::new(&maps[0]), TickMap::new(&maps[1]), TickMap::new(&maps[2]))
@@ -549,7 +549,7 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
 
 /// A lift's check unit and its frame on the chip (own function: the path
 /// frame's row is sensitive to what shares its caller's frame).
-#[inline(never)]
+#[inline(never)] // reason: measured
 fn lift_frames(b: &mut Bench, maps: &[TickMap; JOINTS], lim: &PathLimits<f32>) {
     let Ok(links) = Links::new(1.0f32, 1.0) else { halt() };
     // One unit of a lift's check (a scan point: both shapes with their
@@ -570,7 +570,7 @@ fn lift_frames(b: &mut Bench, maps: &[TickMap; JOINTS], lim: &PathLimits<f32>) {
 /// Map a touch, solve the pose, plan the move from the start pose: the
 /// smooth-stop shape (a = a*, `Shape::smooth_stop`, which settles
 /// monotonicity on the way) and `MultiPlan::with_law`, which checks it.
-#[inline(never)]
+#[inline(never)] // reason: measured
 fn plan_move(cal: &Calibration, geo: &ArmGeometry<f32>, rx: u16, ry: u16, ts: f32) -> Option<MultiPlan<f32>> {
     let p = cal.map::<f32>(rx, ry).ok()?;
     let pose = pose_for_point(geo, p.x_p, p.y_p).ok()?;

@@ -3,7 +3,7 @@
 //!
 //! A code pointer is a 16-bit word address; the linker must answer each one
 //! that names code past 0x20000 with a `jmp` trampoline in low flash (see
-//! `hal-sim/src/elf/code_pointers.rs`). The two functions below live in
+//! `xtask/src/elf/code_pointers.rs`). The two functions below live in
 //! `.far_text`, which `.cargo/config.toml` places at 0x20000. The firmware
 //! prints each pointer it calls through (the word address it holds) and
 //! each result; the simavr test `far_call` checks both against the host and
@@ -18,7 +18,7 @@ use touch_arm::board::usart::Usart0;
 use ufmt::uwriteln;
 
 /// The function-pointer callee (the test computes the same on the host).
-#[inline(never)]
+#[inline(never)] // reason: far-call
 #[link_section = ".far_text"]
 fn far_mix(x: u16) -> u16 {
     x.rotate_left(3) ^ 0x5a5a
@@ -34,7 +34,7 @@ struct Affine {
 }
 
 impl Step for Affine {
-    #[inline(never)]
+    #[inline(never)] // reason: far-call
     #[link_section = ".far_text"]
     fn step(&self, x: u16) -> u16 {
         x.wrapping_mul(self.mul).wrapping_add(self.add)

@@ -11,7 +11,7 @@ use crate::ui::DrawBudget;
 /// and on top of that per operation (bus window set-up, and the drawing code
 /// that runs before the next operation asks), at most, with the serial
 /// interrupts of a full-rate flood taking their share: measured in simavr
-/// (`tests/frame_budget.rs` fails when a frame overruns; BENCHMARKS.md).
+/// (`hal-sim/rig/tests/frame_budget.rs` fails when a frame overruns; BENCHMARKS.md).
 const TICKS_PER_PIXEL: u32 = 5;
 const TICKS_PER_OP: u32 = 1500;
 /// Before the first operation: the screen model from the app's state (float
@@ -46,7 +46,7 @@ impl DrawBudget for FrameBudget<'_> {
         self.left() > START_TICKS + END_TICKS
     }
 
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn allows(&mut self, pixels: u32) -> bool {
         self.left() > pixels * TICKS_PER_PIXEL + TICKS_PER_OP + END_TICKS
     }

@@ -1,5 +1,5 @@
 //! The display controller on the UNO-form shield's 8-bit parallel bus
-//! (SPEC §8), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
+//! (docs/hardware.md), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
 //! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486) and the
 //! register-indexed ILI9325, told apart at boot by their ID registers
 //! ([`Lcd::start`], `lcd/start.rs`). They differ only in their
@@ -157,7 +157,7 @@ pub unsafe fn run_pixels(color: u16, n: u16) {
 }
 
 /// `n` pixels of `color` with the other port bits `b`.
-#[inline(never)]
+#[inline(never)] // reason: code-size
 unsafe fn send_run(b: PortBytes, color: u16, n: u16) {
     if n == 0 {
         return;

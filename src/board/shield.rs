@@ -1,6 +1,6 @@
 //! The shield's pins: LCD mode by default, lent to the touch panel on demand.
 //!
-//! The resistive panel shares four pins with the LCD (SPEC §8): two analog
+//! The resistive panel shares four pins with the LCD (docs/hardware.md): two analog
 //! ones among LCD_WR/RS/CS (A1..A3) and two data lines. To read the panel they
 //! are driven and floated in ways the LCD must never see as bus traffic, and
 //! afterwards every one of them has to be back exactly as it was: an LCD pin

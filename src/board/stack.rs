@@ -43,7 +43,7 @@ pub fn stack_pointer() -> u16 {
 
 /// Fills [__bss_end, SP) with [`PATTERN`]. Everything below SP is free (no
 /// heap); the loop itself lives in registers and this frame, above SP.
-#[inline(never)]
+#[inline(never)] // reason: stack-paint
 pub fn paint() {
     let end = stack_pointer();
     let mut a = bss_end();

@@ -1,10 +1,10 @@
 //! Reading the 4-wire resistive panel on the pins it shares with the LCD.
 //!
 //! The wiring (which shield pin is X+, X−, Y+, Y−) differs between shields,
-//! so it is configuration: [`TouchWiring`] with the three variants of SPEC §8.
+//! so it is configuration: [`TouchWiring`] with the three variants of docs/hardware.md.
 //! X− and Y+ must be analog pins (A1..A3 on these shields = ADC1..3).
 //!
-//! One measurement (SPEC §8), each after [`PANEL_SETTLE_US`]:
+//! One measurement (docs/hardware.md), each after [`PANEL_SETTLE_US`]:
 //! - X: XP high, XM low, YP/YM floating; the Y plate picks up the X-plate
 //!   voltage at the touch point: ADC on YP.
 //! - Y: YP high, YM low, XP/XM floating: ADC on XM.

@@ -1,5 +1,5 @@
 //! Inverse and forward kinematics of the planar 2-link arm (shoulder q2, elbow
-//! q3) and of the 3-DoF arm with a base rotation θ1 (SPEC §4). Radians; q3 is
+//! q3) and of the 3-DoF arm with a base rotation θ1 (method.md §6). Radians; q3 is
 //! the elbow angle relative to the upper link, counter-clockwise positive.
 
 use crate::math::real::Real;
@@ -141,7 +141,7 @@ impl<R: Real> Links<R> {
     }
 }
 
-/// Planar IK (SPEC §4): `c = (x² + y² − l2² − l3²)/(2·l2·l3)`,
+/// Planar IK (method.md §6): `c = (x² + y² − l2² − l3²)/(2·l2·l3)`,
 /// `q3 = ±acos(c)`, `q2 = atan2(y, x) ∓ atan2(l3·sin|q3|, l2 + l3·cos q3)`.
 /// `q2` is wrapped into (−π, π]. `fk2(ik2(p)) = p` for both branches.
 ///
@@ -322,9 +322,9 @@ pub fn fk3<R: Real>(links: &Links<R>, th1: R, th2: R, th3: R) -> (R, R, R) {
 /// [`fk3`] of a pose (θ1, θ2, θ3) by reference, as `[x, y, z]`: the chip's
 /// form. `fk3`'s four arguments and returned tuple put one argument on the
 /// AVR's stack, which LLVM miscompiles (the post-link lint in
-/// `hal-sim/tests/firmware_elf.rs` caught it: a path move from the wrong
+/// `xtask/tests/firmware_elf.rs` caught it: a path move from the wrong
 /// start).
-#[inline(never)]
+#[inline(never)] // avr-trap: stack-args
 pub fn fk3_pose<R: Real>(links: &Links<R>, q: &[R; 3]) -> [R; 3] {
     let (rho, z) = fk2(links, q[1], q[2]);
     [rho * q[0].cos(), rho * q[0].sin(), z]

@@ -1,5 +1,5 @@
 //! The workspace `[−1, 1] × [0, 1]`: direction α, the four triangle conditions
-//! and the two linear transforms to the arm (SPEC §3).
+//! and the two linear transforms to the arm (method.md §4–5).
 //!
 //! All angles are radians unless a name ends in `_deg`.
 
@@ -147,8 +147,8 @@ impl<R: Real> WorkspacePoint<R> {
         self.y_p
     }
 
-    /// α = atan2(y_p, x_p) ∈ [0, π]: π/2 straight up, 0 at the origin (SPEC
-    /// §3; the printed atan(y/x) is off by π for x < 0).
+    /// α = atan2(y_p, x_p) ∈ [0, π]: π/2 straight up, 0 at the origin (method.md
+    /// §4; the printed atan(y/x) is off by π for x < 0).
     #[inline]
     pub fn alpha(&self) -> R {
         if self.y_p.is_zero() {
@@ -196,7 +196,7 @@ impl<R: Real> WorkspacePoint<R> {
         })
     }
 
-    /// SPEC §3 "net effect": conditions 1–2 use transform 1, 3–4 transform 2;
+    /// method.md §4–5 "net effect": conditions 1–2 use transform 1, 3–4 transform 2;
     /// either way the planar target is `(k·|x_p|, k·y_p)` and the base turns to α.
     #[inline]
     pub fn target(&self, k: R) -> Result<Target<R>, WorkspaceError> {

@@ -259,7 +259,7 @@ fn ln_s(rho: u32, neg: bool) -> u32 {
 /// the exponent field could go below 1. Out of line: it shifts by an amount
 /// of its own (see the note on shifts above).
 #[cold]
-#[inline(never)]
+#[inline(never)] // reason: cold
 fn normalize_subnormal(m: u32) -> (i16, u32) {
     let sh = m.leading_zeros() - 8;
     (1 - sh as i16, shl(m, sh) & MANT_MASK)
@@ -319,7 +319,7 @@ pub fn ln(x: f32) -> f32 {
 
 /// [`ln`] for mantissas 1 + k/16 + … with k = 1..14: r = m·C − 1 from the
 /// table's C, then the sum. The product and the sum in one frame.
-#[inline(never)]
+#[inline(never)] // reason: register-pressure
 fn ln_table(e: i16, m: u32, k: usize) -> f32 {
     let (c, ln_c) = match LN_TABLE.get(k.wrapping_sub(1)) {
         Some(row) => (flash_u32(&row[0]), flash_u32(&row[1])),
@@ -334,7 +334,7 @@ fn ln_table(e: i16, m: u32, k: usize) -> f32 {
 
 /// ln(1 + r) for r = ±ρ exact (x ∈ [0.96875, 1.0625)), with relative
 /// precision.
-#[inline(never)]
+#[inline(never)] // reason: register-pressure
 fn ln_near_one(rho: u32, neg: bool) -> f32 {
     if rho == 0 {
         return 0.0;
@@ -358,7 +358,7 @@ fn ln_near_one(rho: u32, neg: bool) -> f32 {
 /// [`ln_table`]: with the sum inlined into [`ln`], LLVM's AVR backend
 /// produced wrong results (seen with nightly-2026-05-20; as code of its own
 /// it is right, and bench_elf checks the chip against the host).
-#[inline(never)]
+#[inline(never)] // avr-trap: inline-miscompile
 fn ln_sum(e: i16, ln_c: u32, rho: u32, neg: bool) -> f32 {
     ln_sum_core(e, ln_c, rho, neg)
 }

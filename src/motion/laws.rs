@@ -1,4 +1,4 @@
-//! Classic point-to-point motion laws (SPEC §7, with the lab note's printing
+//! Classic point-to-point motion laws (method.md §9, with the lab note's printing
 //! errors corrected), τ = (t − t0)/T, T = t_f − t0, Δ = s_f − s0.
 //!
 //! Conventions: outside [t0, t_f] the end value is held with zero derivatives;

@@ -19,7 +19,7 @@ pub enum LawKind {
     /// The ζ-a-tₛ trajectory time-scaled from one reference shape
     /// ([`ScaledZat`]): the default.
     Zat,
-    /// The papers' own ζ-a-tₛ (SPEC §5): tₛ in seconds, the shape chosen per
+    /// The papers' own ζ-a-tₛ (method.md §7): tₛ in seconds, the shape chosen per
     /// move (an expert option).
     ZatPaper,
     /// [`Law::Quintic`]: zero velocity and acceleration at both ends.

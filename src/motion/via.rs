@@ -1,4 +1,4 @@
-//! Via-point trajectory (SPEC §6): one signed form
+//! Via-point trajectory (method.md §8): one signed form
 //! S(t) = q0 + (S_v − q0)·Gv(t) + (S_f − S_v)·G(t), where Gv is the ζ-a-tₛ shape
 //! over (t_v, a_v, n_v) (≡ 1 after t_v) and G the one over (tₛ, a, n).
 //!
@@ -40,7 +40,7 @@ impl<R: Real> ViaParams<R> {
     /// parameter where it is used instead of holding all nine from the
     /// start (spilled on the AVR). Written out rather than through
     /// `all_finite`, whose nine-value array cost 364 cycles more here.
-    #[inline(never)]
+    #[inline(never)] // reason: register-pressure
     fn finite(&self) -> bool {
         self.q0.is_finite()
             && self.theta_v.is_finite()
@@ -267,7 +267,7 @@ pub struct ViaIteration<R> {
     pub zeta_v: Option<R>,
 }
 
-/// The paper's feedback iteration, as SPEC §6 restates it: S_v,0 = θ_v; at step
+/// The paper's feedback iteration, as method.md §8 restates it: S_v,0 = θ_v; at step
 /// i compute ζ_i, ζ_v,i and e_i = S_i(t_v) − θ_v; stop at the first |e_i| < tol;
 /// else S_v,i+1 = θ_v − σ_i·M_i(t_v) with the printed
 /// M_i(t_v) = n^(t_v − ζ_i)/|n^(t_v + tₛ/t_v − 1) − n^a| (evaluated in log form
@@ -375,7 +375,7 @@ impl<R: Real> fmt::Display for ContinuityError<R> {
 
 /// The one base that also makes the acceleration continuous at t_v:
 /// with Gv′(t_v⁻) = 0, Gv″(t_v⁻) = h2 = (L/t_v)·(L − 2/(t_v − 1)) (L = ln n_v,
-/// SPEC §5's h2 at u′·p = 1), so L = 2/(t_v − 1). That L always lies inside
+/// method.md §7's h2 at u′·p = 1), so L = 2/(t_v − 1). That L always lies inside
 /// C1's domain ln t_v/(√t_v − 1)², since ln s > 2(s − 1)/(s + 1) for s = √t_v > 1.
 #[inline]
 pub fn c2_ln_base<R: Real>(tv: R) -> Option<R> {
@@ -430,7 +430,7 @@ pub fn via_shape_for<R: Real>(tv: R, av: R, nv: R, c: Continuity) -> Result<(R, 
     }
 }
 
-/// Gv‴(t_v⁻) of the C2 shape, 4(t_v + 1)/(t_v²·(t_v − 1)³) (SPEC §5's h3 with
+/// Gv‴(t_v⁻) of the C2 shape, 4(t_v + 1)/(t_v²·(t_v − 1)³) (method.md §7's h3 with
 /// h1 = h2 = 0): never 0, so no (a_v, n_v) of this family also makes the
 /// jerk continuous; the jerk steps by −(S_v − q0) times this.
 pub fn c2_via_jerk<R: Real>(tv: R) -> R {

@@ -1,12 +1,12 @@
-//! The ζ-a-tₛ distribution function (SPEC §5) in its normalized form
-//! S(t) = q0 + Δ·G(t), evaluated with the SPEC's cancellation-free recipe so that
+//! The ζ-a-tₛ distribution function (method.md §7) in its normalized form
+//! S(t) = q0 + Δ·G(t), evaluated with method.md's cancellation-free recipe so that
 //! f32 on the chip stays within a few 1e-7 of the exact profile.
 //!
 //! [`Shape`] holds everything that depends only on (tₛ, a, n). All joints of a
 //! move share one shape, so G is computed once per frame and each joint costs a
 //! single multiply-add.
 //!
-//! Two refinements of the SPEC recipe keep f32 within its 4e-7 claim (measured
+//! Two refinements of method.md's recipe keep f32 within its 4e-7 claim (measured
 //! against an independent f64 reference over tₛ ∈ [0.2, 10], n ∈ [1.1, 100]
 //! for every monotone shape, worst 3.5e-7; forming δ plainly measured 1.8e-6,
 //! forming the exponent from tₛ/t measured 5.4e-7):
@@ -787,7 +787,7 @@ impl<R: Real> ZatPlan<R> {
         }
     }
 
-    /// S, S′, S″, S‴ (Δ·G⁽ᵏ⁾), with the SPEC's conventions at 0 and tₛ.
+    /// S, S′, S″, S‴ (Δ·G⁽ᵏ⁾), with method.md's conventions at 0 and tₛ.
     pub fn sample(&self, t: R) -> Sample<R> {
         let g = self.shape.g_derivs(t);
         Sample { s: self.position(t), v: self.delta * g.v, acc: self.delta * g.acc, jerk: self.delta * g.jerk }

@@ -1,5 +1,5 @@
 //! The pin map: which ATmega2560 pin carries which signal of the shield and
-//! the servos (SPEC §8). Pure data, shared by the chip's drivers (`board`)
+//! the servos (docs/hardware.md). Pure data, shared by the chip's drivers (`board`)
 //! and by the simulator (`hal_sim`: the LCD-bus decoder, the panel on the
 //! ADC, the measured servo pins), as [`crate::ui::ili9341`] is for the LCD
 //! commands; so the firmware and its simulated board cannot disagree.
@@ -152,7 +152,7 @@ pub mod mega {
 }
 
 /// Which shield pins carry the resistive panel's four electrodes. Shields
-/// differ (SPEC §8); X− and Y+ must be analog pins, since they are the ones
+/// differ (docs/hardware.md); X− and Y+ must be analog pins, since they are the ones
 /// read by the ADC.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PanelPinout {

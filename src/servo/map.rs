@@ -1,4 +1,4 @@
-//! Joint angle ↔ servo pulse mapping and the Timer5 compare values (SPEC §8).
+//! Joint angle ↔ servo pulse mapping and the Timer5 compare values (docs/hardware.md).
 //!
 //! # Angle convention (the IK's)
 //! All angles are radians.

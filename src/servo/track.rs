@@ -161,7 +161,7 @@ impl ServoTrack {
     /// Replaces whatever runs with a single move, in place (the app's
     /// track is its largest object: no copy of it on the stack). Unchanged
     /// on error. Not inlined, for the same reason.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     pub fn start(&mut self, plan: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) -> Result<(), TrackError> {
         let q14 = (1u32 << PULSE_FRAC) as f32;
         let (mut base, mut lo, mut hi) = ([0i32; JOINTS], [0i32; JOINTS], [0i32; JOINTS]);
@@ -264,7 +264,7 @@ impl ServoTrack {
 
     /// `k` frames in seconds. Not inlined: LLVM would run the float work
     /// of a skipped branch on the AVR anyway (a call it does not).
-    #[inline(never)]
+    #[inline(never)] // reason: speculation
     fn frames_s(&self, k: i32) -> f32 {
         k as f32 * self.frame_s
     }

@@ -1,5 +1,5 @@
 //! Touch pipeline for a 4-wire resistive panel: median of N samples, spread
-//! rejection, a pressure window and press/release debouncing (SPEC §8).
+//! rejection, a pressure window and press/release debouncing (docs/hardware.md).
 //!
 //! The driver performs one *read*: it takes `N` [`RawSample`]s (each an X, a Y
 //! and a pressure measurement after the settle delay) and hands them to

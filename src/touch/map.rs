@@ -1,4 +1,4 @@
-//! Raw touch-panel readings ↔ normalized workspace coordinates (SPEC §2), and
+//! Raw touch-panel readings ↔ normalized workspace coordinates (method.md §3), and
 //! the derivation of a [`Calibration`] from touched crosshairs.
 //!
 //! Coordinates: `x_p ∈ [−1, 1]` (left → right), `y_p ∈ [0, 1]` (bottom → top of
@@ -175,7 +175,7 @@ fn round_raw<R: Real>(v: R) -> Option<u16> {
 }
 
 impl Calibration {
-    /// SPEC §2: X 123..932, Y 128..897, no swap, no inversion.
+    /// method.md §3: X 123..932, Y 128..897, no swap, no inversion.
     pub const DEFAULT: Self =
         Self { x_min: 123, x_max: 932, y_min: 128, y_max: 897, swap_xy: false, invert_x: false, invert_y: false };
 
@@ -189,7 +189,7 @@ impl Calibration {
     /// clamped onto its edge and reported through `clamped`; the only error is
     /// an invalid calibration.
     ///
-    /// `x_p = (2·raw − min − max)/(max − min)`, which is SPEC's
+    /// `x_p = (2·raw − min − max)/(max − min)`, which is method.md's
     /// `(raw − mid)/half`, and `y_p = (raw − min)/(max − min)`: numerators and
     /// denominators are small integers (exact in f32), so each coordinate is the
     /// exact value rounded once and the span ends land on exactly −1, 1, 0, 1.

@@ -345,7 +345,7 @@ pub(crate) fn view(flow: &CalibrationFlow) -> CalView {
 /// Draws `new` laid out by `lay`; with `old` (what is on the glass) only the
 /// changed parts are repainted. Deterministic in (`new`, `old`), so a sliced
 /// redraw can replay it.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub(crate) fn draw<D: Canvas>(lay: &Layout, new: &CalView, old: Option<&CalView>, d: &mut D) -> Result<(), D::Error> {
     match *new {
         CalView::Review(result) => {

@@ -3,7 +3,7 @@
 //! controller of the 2.4–2.8" shields: the host writes a 16-bit index (RS
 //! low), then the register's 16-bit value (RS high); on the 8-bit bus each
 //! is two transfers, upper byte first. Shared by the chip's driver
-//! (`board::lcd`) and the host's bus decoder (`hal_sim::lcd_bus`).
+//! (`board::lcd`) and the host's bus decoder (`touch_arm_rig::lcd_bus`).
 
 /// R00h: reading it returns the driver code, 9325h.
 pub const DRIVER_CODE: u8 = 0x00;

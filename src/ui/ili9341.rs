@@ -1,6 +1,6 @@
 //! MIPI DCS command codes of the ILI9341 (ILITEK ILI9341 datasheet, chapter
 //! 8 "Command"), shared by the chip's driver (`board::lcd`) and the host's
-//! bus decoder (`hal_sim::lcd_bus`). The ST7789V (Sitronix ST7789V
+//! bus decoder (`touch_arm_rig::lcd_bus`). The ST7789V (Sitronix ST7789V
 //! datasheet, "System Function Command Table 1") and the ILI9486 (ILITEK
 //! ILI9486 datasheet, "Command List") use the same codes for every command
 //! here, so one driver serves the three.

@@ -46,7 +46,7 @@
 //! not also hit by mistake.
 //!
 //! **Panel coordinates** are what the touch pipeline produces from a raw
-//! reading with the calibration (SPEC §2): `(x_p, y_p)` over the *whole* glass,
+//! reading with the calibration (method.md §3): `(x_p, y_p)` over the *whole* glass,
 //! `x_p = −1` at the left edge, `+1` at the right, `y_p = 0` at the bottom,
 //! `1` at the top. [`Layout::panel_to_pixel`] turns them into a screen pixel
 //! and [`Layout::pixel_center_to_panel`] back; the calibration crosshairs are

@@ -539,7 +539,7 @@ impl Ui {
 
     /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
     /// step does not apply); the [`Redrawn`] bits it painted.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn step<D: Canvas>(&self, target: &Shown, k: u8, d: &mut D) -> Result<u16, D::Error> {
         match (target, &self.shown) {
             (Shown::Main(v), Shown::Main(o)) => self.main_step(Some(o), v, k, d),
@@ -559,7 +559,7 @@ impl Ui {
     /// The main screen's steps: in a full redraw (`old` = `None`) the map in
     /// bands, its overlays, the gaps and every region; otherwise the regions
     /// whose visible content changed and the boxes around markers that moved.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
         let lay = &self.layout;
         let ws = lay.ws();
@@ -659,7 +659,7 @@ impl Ui {
 
     /// Repaints box `i` of the markers that changed (old and new places of
     /// the touch and the target), unless an earlier box covers it.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn marker_step<D: Canvas>(&self, old: &View, v: &View, i: usize, d: &mut D) -> Result<u16, D::Error> {
         let lay = &self.layout;
         let mut dirty = [Area::new(0, 0, 0, 0); 4];
@@ -765,7 +765,7 @@ impl Ui {
 
 /// The guard bands and gaps of `page` (out of line: the nine areas are not
 /// in the frame of the steps that call deeper, the map's bands).
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn draw_gaps<D: Canvas>(d: &mut D, lay: &Layout, page: Page) -> Result<(), D::Error> {
     for g in lay.gaps(page) {
         fill(d, g, theme::BG)?;

@@ -91,7 +91,7 @@ impl<'a, D: Canvas, B: DrawBudget> Slicer<'a, D, B> {
     /// are not, and a spent budget pauses. (Here and below `inline(never)`:
     /// the UI has hundreds of drawing calls; inlined, each would carry the
     /// budget check.)
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn gate(&mut self, pixels: u32) -> bool {
         if self.paused {
             return false;
@@ -144,7 +144,7 @@ impl<D: Canvas, B: DrawBudget> DrawTarget for Slicer<'_, D, B> {
         Ok(())
     }
 
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb565) -> Result<(), Self::Error> {
         // Paused: the rest of the step runs only to return, so at no cost.
         if self.paused {
@@ -170,7 +170,7 @@ impl<D: Canvas, B: DrawBudget> DrawTarget for Slicer<'_, D, B> {
 }
 
 impl<D: Canvas, B: DrawBudget> Canvas for Slicer<'_, D, B> {
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn fill_runs(&mut self, area: &Rectangle, runs: &[Run]) -> Result<(), Self::Error> {
         if self.gate(pixels_of(area)) {
             self.inner.fill_runs(area, runs)?;
@@ -190,7 +190,7 @@ impl<D: Canvas, B: DrawBudget> Canvas for Slicer<'_, D, B> {
         true
     }
 
-    #[inline(never)]
+    #[inline(never)] // reason: code-size
     fn fill_glyph(&mut self, x: i16, y: i16, cell: &GlyphCell) -> Result<(), Self::Error> {
         if self.gate(u32::from(cell.width()) * u32::from(cell.height())) {
             self.inner.fill_glyph(x, y, cell)?;

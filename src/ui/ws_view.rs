@@ -1,4 +1,4 @@
-//! The workspace map: the four triangles of SPEC §3 (the paper's Figure 1)
+//! The workspace map: the four triangles of method.md §4–5 (the paper's Figure 1)
 //! over `[−1, 1] × [0, 1]`, shaded by reach, with the arm base, zone numbers
 //! and the touch / target markers.
 //!

@@ -104,7 +104,7 @@ struct Joint<R> {
 
 /// What every check of one correction reads, by reference: as six
 /// arguments LLVM passed one on the stack on the AVR, which it miscompiles
-/// there (the post-link lint in `hal-sim/tests/firmware_elf.rs`).
+/// there (the post-link lint in `xtask/tests/firmware_elf.rs`).
 struct Check<'a, R> {
     joints: [Joint<R>; JOINTS],
     coarse: Coarse<R>,
@@ -231,7 +231,7 @@ pub fn correction_duration<R: Real>(
 /// while the running term runs (see the module doc). Float work per piece
 /// and joint is a multiply-add per condition: what does not depend on the
 /// piece is taken out of the loops.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn fits<R: Real>(t: R, ctx: &Check<'_, R>) -> bool {
     let Check { joints, coarse, run, tab_r, tab_c } = ctx;
     let n = R::from_u16(CELLS as u16);

@@ -84,7 +84,7 @@ impl<R: Real> ZatCandidate<R> {
     /// A passing candidate close enough to the shortest admissible tₛ (see
     /// [`zat_duration`]): a tₛ within the tolerance below it fails for sure
     /// (`ts_sure`), or its Newton step puts the root within 0.9 of it.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn near(&self, ratio: R, ts_sure: R) -> bool {
         let ts = self.ts();
         let tol = R::lit(TS_SEARCH_TOL);
@@ -111,7 +111,7 @@ struct Search<R> {
 
 /// Estimates a candidate's peak to [`PEAK_ROUGH`], enough to steer (its
 /// shape in place: the candidate is reused, a copy costs stack on the AVR).
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn estimate<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) {
     let ts = c.ts();
     let hi = c.z.first_end();
@@ -141,7 +141,7 @@ fn estimate<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) {
 
 /// Adds the creep after t* to a candidate's P, to `tol`, wherever
 /// [`creep_bound`] cannot rule it out (for n = 2 it can up to tₛ ≈ 37 s).
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn creep<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>, tol: R) {
     let t_star = c.z.t_star;
     if !t_star.is_positive() || c.over {
@@ -166,7 +166,7 @@ fn creep<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>, tol: R) {
 
 /// Makes a candidate's P exact: both humps to [`PEAK_TOL`] (the creep only
 /// where [`creep_bound`] cannot rule it out). Returns whether it passes.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn verify<R: Real>(c: &mut ZatCandidate<R>, s: &Search<R>) -> bool {
     if c.exact {
         return c.passes(s.ratio);
@@ -221,7 +221,7 @@ enum Pick {
 /// P puts the root within 0.9 of the tolerance below it (P is smooth in tₛ,
 /// so that step's error is second order). After [`TS_SEARCH_STEPS`]
 /// candidates the shortest passing one is verified, else ts_max.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub(super) fn zat_duration<R: Real>(ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R), PlanError> {
     let l = lim.n.ln();
     let mut s = Search { ratio, limit: ratio.recip(), rho: R::lit(PEAK_GUESS), off: R::ZERO, creep: false };

@@ -160,7 +160,7 @@ pub(crate) struct Hump<R> {
 /// Safeguarded Newton for the maximum of G′ on a piece (see [`zat_peak_rate`]).
 // Not inlined: several call sites, and one inlined search makes a function
 // too long for the AVR's relative jumps (the linker refuses it).
-#[inline(never)]
+#[inline(never)] // reason: branch-range
 pub(crate) fn piece_max<R: Real>(shape: &Shape<R>, pc: &Piece<R>) -> Hump<R> {
     let (mut lo, mut hi) = (pc.lo, pc.hi);
     let mut t = pc.guess;
@@ -327,7 +327,7 @@ const ACC_STEPS: u8 = 16;
 /// on G‴ = 0; the end value G″(tₛ⁻) counts too. A hump is flat at its top, so
 /// the value found is the peak to 1e-5 (the tests compare with dense scans
 /// for tₛ ∈ [1.05, 40], n ∈ [1.3, 8]).
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub fn zat_peak_acc<R: Real>(shape: &Shape<R>) -> R {
     let ts = shape.ts();
     let t_star = t_star(ts, shape.ln_n());
@@ -348,6 +348,8 @@ fn acc_piece<R: Real>(shape: &Shape<R>, lo: R, hi: R) -> R {
     acc_scan(shape, lo, hi, true)
 }
 
+// Recurses once at most (the inner call passes `refine_first = false`):
+// hal-sim's stack bound counts on it (`stack_bound::FIRMWARE_RECURSION`).
 fn acc_scan<R: Real>(shape: &Shape<R>, lo: R, hi: R, refine_first: bool) -> R {
     // (G″, G‴) at t, None where G is below 1e-34 (far left of everything).
     let at = |t: R| {

@@ -112,7 +112,7 @@ impl<R: Real> ZatShape<R> {
 /// the monotone-limit and floor shapes (they are monotone by construction;
 /// [`crate::motion::plan::MultiPlan::with_law`] checks the one a plan uses).
 // Not inlined, so that its callees' frames are not part of the callers'.
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 pub(super) fn zat_shape<R: Real>(ts: R, n: R, l: R) -> Result<ZatShape<R>, TrajError<R>> {
     if !(ts.is_finite() && n.is_finite() && l.is_finite()) {
         return Err(TrajError::NotFinite);

@@ -1,0 +1,115 @@
+// Drives the live bench page in Debian's headless Chromium through
+// Playwright, as a person would: click on the map in the screen image and
+// watch the drawn arm reach the target, click STOP on the screen image and
+// see the pulses freeze, type `status` in the console and see the reply.
+// Run by hal-sim/bench/tests/live_page.rs, which starts the bench and passes:
+//   node live_page.mjs URL OUT_DIR MAP_X,MAP_Y TARGET_B,TARGET_S,TARGET_E STOP_X,STOP_Y
+// Prints one line per step; exits 0 when every check held, 1 otherwise.
+// Bounded: every wait has a timeout and the whole run stops after 90 s.
+import { chromium } from 'playwright-core';
+import { mkdtempSync, rmSync, mkdirSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+const [url, outDir, mapArg, targetArg, stopArg] = process.argv.slice(2);
+const nums = (s) => s.split(',').map(Number);
+const [mapX, mapY] = nums(mapArg);
+const target = nums(targetArg);
+const [stopX, stopY] = nums(stopArg);
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+
+const profile = mkdtempSync(join(tmpdir(), 'touch-arm-live-chromium-'));
+mkdirSync(outDir, { recursive: true });
+let context = null;
+const overall = setTimeout(() => fail(new Error('the page test took over 90 s')), 90_000);
+
+async function fail(e) {
+  console.log(`FAIL: ${e.message}`);
+  try {
+    const page = context && context.pages()[0];
+    if (page) await page.screenshot({ path: join(outDir, 'live-page-failure.png'), fullPage: true });
+  } catch { /* the failure itself matters more */ }
+  await cleanup();
+  process.exit(1);
+}
+
+async function cleanup() {
+  clearTimeout(overall);
+  if (context) await context.close().catch(() => {});
+  rmSync(profile, { recursive: true, force: true });
+}
+
+async function state(page) {
+  return page.evaluate(async () => (await fetch('/api/state')).json());
+}
+
+async function main() {
+  context = await chromium.launchPersistentContext(profile, {
+    executablePath: CHROMIUM,
+    headless: true,
+    viewport: { width: 1440, height: 1000 },
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+      '--disable-component-update', '--disable-sync'],
+  });
+  const page = context.pages()[0] || await context.newPage();
+  page.setDefaultTimeout(20_000);
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(url);
+  await page.waitForFunction(() => document.getElementById('link').textContent === 'live');
+  await page.waitForFunction(() => document.getElementById('state').textContent === 'holding');
+  await page.waitForFunction(() => Number(document.getElementById('screen').dataset.seq) > 0);
+  console.log('page live, firmware holding the home pose');
+
+  // 1. Click on the map: the drawn arm's angles reach the target.
+  const at = await page.evaluate(([x, y]) => window.bench.pixelToClient(x, y), [mapX, mapY]);
+  await page.mouse.click(at.x, at.y);
+  await page.waitForFunction((want) => {
+    const a = document.getElementById('arm-views').dataset.angles;
+    if (!a) return false;
+    return a.split(',').map(Number).every((v, j) => Math.abs(v - want[j]) < 0.2);
+  }, target);
+  const drawn = await page.evaluate(() => document.getElementById('arm-views').dataset.angles);
+  console.log(`map click at pixel (${mapX}, ${mapY}): drawn angles ${drawn}, target ${target.join(',')}`);
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(outDir, 'live-page.png'), fullPage: true });
+
+  // 2. A long move, then STOP on the screen image: the pulses freeze.
+  const back = await page.evaluate(() => fetch('/api/serial', { method: 'POST', headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ line: 'goto 20 150 -30' }) }).then((r) => r.json()));
+  if (!back.replies.length || !back.replies[back.replies.length - 1].startsWith('ok goto')) throw new Error(`goto: ${JSON.stringify(back)}`);
+  await page.waitForFunction(() => document.getElementById('state').textContent === 'moving');
+  await page.waitForTimeout(1000);
+  const stop = await page.evaluate(([x, y]) => window.bench.pixelToClient(x, y), [stopX, stopY]);
+  await page.mouse.click(stop.x, stop.y);
+  await page.waitForFunction(() => document.getElementById('state').textContent === 'stopped');
+  await page.waitForTimeout(200);
+  const s1 = await state(page);
+  const d1 = await page.evaluate(() => document.getElementById('arm-views').dataset.angles);
+  await page.waitForTimeout(1000);
+  const s2 = await state(page);
+  const d2 = await page.evaluate(() => document.getElementById('arm-views').dataset.angles);
+  for (let j = 0; j < 3; j++) {
+    if (Math.abs(s1.pulses_us[j] - s2.pulses_us[j]) > 0.25) throw new Error(`pulses moved after STOP: ${s1.pulses_us} -> ${s2.pulses_us}`);
+  }
+  // Within the pin measurement's jitter (0.25 µs = 0.025°).
+  if (nums(d1).some((a, j) => Math.abs(a - nums(d2)[j]) > 0.03)) throw new Error(`the drawn arm moved after STOP: ${d1} -> ${d2}`);
+  if (s1.pulses_us.every((p, j) => Math.abs(p - [1500, 1500, 1500][j]) < 1)) throw new Error('STOP came before the move started');
+  console.log(`STOP on the screen: pulses frozen at ${s2.pulses_us.map((p) => p.toFixed(2)).join(', ')} us`);
+  await page.screenshot({ path: join(outDir, 'live-page-stopped.png'), fullPage: true });
+
+  // 3. The console: type `status`, the reply shows.
+  await page.fill('#console-input', 'status');
+  await page.press('#console-input', 'Enter');
+  await page.waitForFunction(() => [...document.querySelectorAll('#console-log div')]
+    .some((d) => d.textContent.startsWith('ok status stopped')));
+  const reply = await page.evaluate(() => [...document.querySelectorAll('#console-log div')]
+    .map((d) => d.textContent).filter((t) => t.startsWith('ok status')).pop());
+  console.log(`console: ${reply}`);
+  await page.screenshot({ path: join(outDir, 'live-page-console.png'), fullPage: true });
+  if (errors.length) throw new Error(`errors on the page: ${errors.join('; ')}`);
+  await cleanup();
+  console.log('PASS');
+}
+
+main().catch(fail);

@@ -1,0 +1,243 @@
+//! The live bench (`touch-arm-live`, `scripts/run.sh --live`) through its
+//! JSON API, as a script would use it: the real firmware in simavr paced to
+//! real time, a server on a free loopback port. A press on the map ends at
+//! the host's IK target, `stop` freezes the pulses, the faults do what the
+//! page promises, and bad requests get a 4xx with one line of reason.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+use touch_arm_bench::live::LAYOUT;
+use touch_arm_bench::live::{self, LiveBench, Options};
+use touch_arm_rig::firmware;
+
+fn start() -> LiveBench {
+    live::start(&Options { port: 0, elf: firmware::default_elf(), seed: 5 })
+        .expect("live bench (firmware ELF: cargo avr)")
+}
+
+/// One HTTP/1.1 exchange on a fresh connection: status and body text.
+fn request(addr: SocketAddr, method: &str, path: &str, body: &str, headers: &[(&str, &str)]) -> (u16, String) {
+    let (status, bytes) = request_bytes(addr, method, path, body, headers);
+    (status, String::from_utf8_lossy(&bytes).into_owned())
+}
+
+fn request_bytes(addr: SocketAddr, method: &str, path: &str, body: &str, headers: &[(&str, &str)]) -> (u16, Vec<u8>) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let mut head = format!("{method} {path} HTTP/1.1\r\nConnection: close\r\nContent-Length: {}\r\n", body.len());
+    if !headers.iter().any(|(k, _)| k.eq_ignore_ascii_case("host")) {
+        head += &format!("Host: {addr}\r\n");
+    }
+    for (k, v) in headers {
+        head += &format!("{k}: {v}\r\n");
+    }
+    s.write_all(format!("{head}\r\n{body}").as_bytes()).unwrap();
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let split = raw.windows(4).position(|w| w == b"\r\n\r\n").map_or(raw.len(), |i| i + 4);
+    let head = String::from_utf8_lossy(&raw[..split]);
+    let status = head.split_whitespace().nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
+    (status, raw[split..].to_vec())
+}
+
+fn get(addr: SocketAddr, path: &str) -> Value {
+    let (status, body) = request(addr, "GET", path, "", &[]);
+    assert_eq!(status, 200, "GET {path}: {body}");
+    serde_json::from_str(&body).unwrap()
+}
+
+fn post(addr: SocketAddr, path: &str, body: Value) -> (u16, Value) {
+    let (status, text) = request(addr, "POST", path, &body.to_string(), &[("Content-Type", "application/json")]);
+    (status, serde_json::from_str(&text).unwrap_or_else(|_| panic!("POST {path}: not JSON: {text:?}")))
+}
+
+fn ok(addr: SocketAddr, path: &str, body: Value) -> Value {
+    let (status, v) = post(addr, path, body.clone());
+    assert_eq!(status, 200, "POST {path} {body}: {v}");
+    v
+}
+
+fn serial(addr: SocketAddr, line: &str) -> Vec<String> {
+    let v = ok(addr, "/api/serial", json!({ "line": line }));
+    v["replies"].as_array().unwrap().iter().map(|l| l.as_str().unwrap().to_string()).collect()
+}
+
+/// Polls `GET /api/state` until `f` holds (wall-clock timeout: the bench
+/// runs in real time).
+fn wait_state(addr: SocketAddr, what: &str, timeout_s: f64, f: impl Fn(&Value) -> bool) -> Value {
+    let end = Instant::now() + Duration::from_secs_f64(timeout_s);
+    loop {
+        let s = get(addr, "/api/state");
+        if f(&s) {
+            return s;
+        }
+        assert!(Instant::now() < end, "{what}: not within {timeout_s} s; last state {s}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn pulses(s: &Value) -> [f64; 3] {
+    std::array::from_fn(|j| s["pulses_us"][j].as_f64().unwrap_or(f64::NAN))
+}
+
+/// The home pose's pulses, as measured: within one Timer5 tick (0.5 µs) of
+/// 1500 µs. The measurement counts CPU cycles (1/16 µs), and on a loaded
+/// machine a home pulse was once read one cycle long (1500.0625 µs); any
+/// other commanded width is at least one tick away.
+fn assert_home(s: &Value, what: &str) {
+    let p = pulses(s);
+    assert!(p.iter().all(|w| (w - 1500.0).abs() < 0.5), "{what}: {p:?} ({s})");
+}
+
+fn holding(addr: SocketAddr) -> Value {
+    wait_state(addr, "the firmware holds its pose", 10.0, |s| s["state"] == "holding")
+}
+
+#[test]
+fn a_map_press_reaches_the_host_ik_target_and_stop_freezes_the_pulses() {
+    let bench = start();
+    let a = bench.addr();
+    let s0 = holding(a);
+    assert_home(&s0, "home pose");
+    let keys: Vec<&str> = s0.as_object().unwrap().keys().map(String::as_str).collect();
+    assert_eq!(keys, ["angles_deg", "pulses_us", "screen_seq", "state", "t_s"], "exactly the documented keys");
+
+    // Press the map where the workspace point (0.4, 0.6) is drawn; the
+    // firmware targets that pixel's centre, and so does the host's chain.
+    let (px, py) = LAYOUT.ws_point_to_pixel(0.4, 0.6).unwrap();
+    let (x_p, y_p) = LAYOUT.ws_pixel_to_point(px, py).unwrap();
+    let host = firmware::host_target(f64::from(x_p), f64::from(y_p)).unwrap();
+    assert!(host.within_limits);
+    let seq0 = s0["screen_seq"].as_u64().unwrap();
+    let r = ok(a, "/api/touch", json!({ "x_px": px, "y_px": py, "ms": 300 }));
+    assert_eq!(r["target"]["pulses_us"], json!(host.pulses_us), "{r}");
+    let s = wait_state(a, "the pulses reach the host's IK target", 12.0, |s| {
+        s["state"] == "holding" && pulses(s).iter().zip(host.pulses_us).all(|(p, t)| (p - t).abs() <= 1.0)
+    });
+    for j in 0..3 {
+        let angle = s["angles_deg"][j].as_f64().unwrap();
+        assert!((angle - host.q[j].to_degrees()).abs() < 0.11, "joint {j}: {angle}° vs {}°", host.q[j].to_degrees());
+    }
+    assert!(s["screen_seq"].as_u64().unwrap() > seq0, "the screen changed (marker, text): {s}");
+    let (status, png) = request_bytes(a, "GET", "/api/screen.png", "", &[]);
+    assert_eq!(status, 200);
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "screen.png is a PNG");
+
+    // A long move, then `stop` over the serial API: the pulses freeze.
+    let replies = serial(a, "goto 20 150 -30");
+    assert!(replies.last().is_some_and(|l| l.starts_with("ok goto")), "{replies:?}");
+    std::thread::sleep(Duration::from_millis(800));
+    assert_eq!(serial(a, "stop"), ["ok stop"]);
+    let stopped = wait_state(a, "the firmware reports stopped", 2.0, |s| s["state"] == "stopped");
+    let frozen = pulses(&stopped);
+    assert!(frozen.iter().zip(host.pulses_us).any(|(p, t)| (p - t).abs() > 5.0), "stopped mid-move, not before it");
+    std::thread::sleep(Duration::from_millis(1000));
+    let later = get(a, "/api/state");
+    for (j, (p, q)) in pulses(&later).iter().zip(frozen).enumerate() {
+        assert!((p - q).abs() <= 0.25, "joint {j} moved after stop: {q} -> {p} µs");
+    }
+    assert!(later["t_s"].as_f64().unwrap() - stopped["t_s"].as_f64().unwrap() > 0.9, "time went on");
+    let status = serial(a, "status");
+    assert!(status.len() == 1 && status[0].starts_with("ok status stopped"), "{status:?}");
+    bench.stop();
+}
+
+/// Method, path, body, extra headers, expected status, expected reason.
+type BadRequest<'a> = (&'a str, &'a str, &'a str, &'a [(&'a str, &'a str)], u16, &'a str);
+
+#[test]
+fn bad_requests_get_a_4xx_with_one_line_of_reason_and_change_nothing() {
+    let bench = start();
+    let a = bench.addr();
+    let cases: [BadRequest; 13] = [
+        (
+            "POST",
+            "/api/touch",
+            "{\"x_px\": 320, \"y_px\": 10, \"ms\": 100}",
+            &[],
+            400,
+            "x_px must be an integer 0..=319",
+        ),
+        ("POST", "/api/touch", "{\"x_px\": 10, \"y_px\": 10}", &[], 400, "missing field ms"),
+        ("POST", "/api/touch", "{\"x_px\": 10, \"y_px\": 10, \"ms\": 0}", &[], 400, "ms must be"),
+        ("POST", "/api/touch", "not json", &[], 400, "body is not JSON"),
+        ("POST", "/api/touch", "[1]", &[], 400, "body must be a JSON object"),
+        ("POST", "/api/serial", "{\"line\": \"stop\\nresume\"}", &[], 400, "line must be a single line"),
+        ("POST", "/api/serial", "{\"line\": \"\"}", &[], 400, "line is empty"),
+        ("POST", "/api/control", "{\"action\": \"explode\"}", &[], 400, "unknown action"),
+        ("GET", "/api/touch", "", &[], 405, "/api/touch takes POST"),
+        ("POST", "/api/state", "{}", &[], 405, "/api/state takes GET"),
+        ("GET", "/api/nothing", "", &[], 404, "no such endpoint"),
+        ("GET", "/api/state", "", &[("Host", "attacker.example:80")], 403, "Host"),
+        (
+            "POST",
+            "/api/control",
+            "{\"action\": \"power_cycle\"}",
+            &[("Origin", "http://attacker.example")],
+            403,
+            "requests from",
+        ),
+    ];
+    for (method, path, body, headers, want, reason) in cases {
+        let (status, text) = request(a, method, path, body, headers);
+        assert_eq!(status, want, "{method} {path} {body}: {text}");
+        let v: Value = serde_json::from_str(&text).unwrap_or_else(|_| panic!("{method} {path}: {text:?}"));
+        let e = v["error"].as_str().unwrap();
+        assert!(e.contains(reason) && !e.contains('\n'), "{method} {path}: {e:?} lacks {reason:?}");
+    }
+    let big = format!("{{\"line\": \"{}\"}}", "a".repeat(20_000));
+    assert_eq!(request(a, "POST", "/api/serial", &big, &[]).0, 413);
+    // Garbage on the socket does not take the server down.
+    let mut s = TcpStream::connect(a).unwrap();
+    s.write_all(b"\x00\xff NOT HTTP\r\n\r\n").unwrap();
+    drop(s);
+    // None of that reached the firmware: it boots and holds as always.
+    let s = holding(a);
+    assert_home(&s, "after the bad requests");
+    assert!(bench.is_running());
+    bench.stop();
+}
+
+#[test]
+fn power_cycle_keeps_the_eeprom_a_corrupted_copy_is_reported_and_a_stall_trips_the_watchdog() {
+    let bench = start();
+    let a = bench.addr();
+    holding(a);
+    assert_eq!(ok(a, "/api/control", json!({ "action": "noise_on" })), json!({ "noise": true }));
+    assert_eq!(get(a, "/api/bench")["noise"], true);
+    assert_eq!(ok(a, "/api/control", json!({ "action": "noise_off" })), json!({ "noise": false }));
+
+    // Save the configuration (both copies), damage copy A, power-cycle: the
+    // firmware boots from copy B and says one copy is damaged.
+    assert!(serial(a, "cal save").last().is_some_and(|l| l.starts_with("ok cal save seq 1")));
+    let c = ok(a, "/api/control", json!({ "action": "corrupt_eeprom" }));
+    assert_eq!(c["addr"], 5);
+    assert_eq!(c["new"].as_u64().unwrap(), 255 - c["old"].as_u64().unwrap(), "{c}");
+    let p = ok(a, "/api/control", json!({ "action": "power_cycle" }));
+    assert_eq!(p["power_ups"], 2);
+    // Right after power-up the watchdog is not armed yet: no stall.
+    let (status, v) = post(a, "/api/control", json!({ "action": "stall" }));
+    assert_eq!(status, 409, "{v}");
+    let s = holding(a);
+    assert!(s["t_s"].as_f64().unwrap() > p["t_s"].as_f64().unwrap(), "bench time goes on across power-ups");
+    let status = serial(a, "status");
+    assert!(status[0].starts_with("ok status holding") && status[0].contains("warn copy_damaged"), "{status:?}");
+
+    // The stalled frame loop: the watchdog resets the chip within its 500 ms
+    // (plus the bench's tick), and the firmware comes back to its home pose.
+    let st = ok(a, "/api/control", json!({ "action": "stall" }));
+    assert!(st["stalled_at_s"].as_f64().is_some(), "{st}");
+    assert_eq!(get(a, "/api/state")["state"], "stalled");
+    let end = Instant::now() + Duration::from_secs(3);
+    while get(a, "/api/bench")["watchdog_resets"] != 1 {
+        assert!(Instant::now() < end, "no watchdog reset within 3 s");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let s = holding(a);
+    assert_home(&s, "after the reset: the home pose");
+    assert_eq!(get(a, "/api/bench")["stalled"], false);
+    bench.stop();
+}

@@ -1,0 +1,45 @@
+//! The main job's command line (`armsim` and `avr-run` have their own tests):
+//! a bad argument exits with code 2 and one line naming the problem, before any simulation.
+
+use std::process::Command;
+
+fn fails(bin: &str, args: &[&str], needle: &str) {
+    let out = Command::new(bin).args(args).output().expect("run the tool");
+    let err = String::from_utf8_lossy(&out.stderr);
+    let name = bin.rsplit('/').next().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
+    assert!(out.stdout.is_empty(), "{name} {args:?} printed {:?}", String::from_utf8_lossy(&out.stdout));
+    assert_eq!(err.trim_end().lines().count(), 1, "{name} {args:?}: {err}");
+    assert!(err.starts_with(&format!("{name}: ")) && err.contains(needle), "{name} {args:?}: {err:?} lacks {needle:?}");
+}
+
+#[test]
+fn touch_arm_sim_rejects_bad_arguments_in_one_line() {
+    let bin = env!("CARGO_BIN_EXE_touch-arm-sim");
+    fails(bin, &["--raw", "1024,5"], "0..=1023");
+    fails(bin, &["--raw", "12.5,5"], "0..=1023");
+    fails(bin, &["--raw", "12"], "X,Y");
+    fails(bin, &["--raw"], "a value is required");
+    fails(bin, &["--xy", "1.5,0.2"], "not on the map");
+    fails(bin, &["--xy", "-0.5,nan"], "finite");
+    fails(bin, &["--xy", "0.1,0.2", "--raw", "500,500"], "cannot be used with");
+    fails(bin, &["--frobnicate"], "unexpected argument '--frobnicate'");
+    fails(bin, &["--then", "0.5,0.5"], "X2,Y2@MS");
+    fails(bin, &["--then", "0.5,0.5@50"], "at least 100");
+    fails(bin, &["--then", "0.5,0.5@soon"], "whole number of milliseconds");
+    fails(bin, &["--then", "2.5,0.5@300"], "not on the map");
+    fails(bin, &["--law", "sine"], "invalid value 'sine'");
+    fails(bin, &["--lcd", "ssd1289"], "unknown controller \"ssd1289\" (ili9341, st7789, ili9486 or ili9325)");
+    fails(bin, &["--lcd"], "a value is required");
+    fails(bin, &["--wiring", "d"], "unknown wiring \"d\" (a, b or c)");
+    fails(bin, &["--wiring"], "a value is required");
+    fails(bin, &["--grip", "squeeze"], "invalid value 'squeeze'");
+    fails(bin, &["--grip"], "a value is required");
+    let help = Command::new(bin).arg("--help").output().unwrap();
+    assert!(help.status.success());
+    let text = String::from_utf8_lossy(&help.stdout);
+    assert!(text.contains("--xy <X,Y>") && text.contains("--raw <X,Y>") && text.contains("--out <DIR>"), "{text}");
+    assert!(text.contains("--then <X2,Y2@MS>") && text.contains("--law <LAW>"), "{text}");
+    assert!(text.contains("--lcd <CONTROLLER>") && text.contains("--wiring <WIRING>"), "{text}");
+    assert!(text.contains("--grip <open|close>"), "{text}");
+}

@@ -1,0 +1,1102 @@
+//! The touch-screen UI (`touch_arm::ui`) rendered into the host framebuffer
+//! (`hal_sim::display`): every screen state is written as a PNG to
+//! `target/ui-snapshots/`, and the pictures are checked for real properties:
+//! the colours of the four triangles against `workspace::condition` and the
+//! reach circles, markers on the pixels the mapping predicts, text compared
+//! with text drawn on its own, STOP red and large, partial redraws that
+//! write only inside the regions that changed and leave the same picture as
+//! a full redraw, hit-testing, and the calibration flow recovering known
+//! panel calibrations (swap and inversions included).
+
+use std::path::PathBuf;
+
+use embedded_graphics::pixelcolor::Rgb565;
+use embedded_graphics::prelude::*;
+use embedded_graphics::primitives::Rectangle;
+use hal_sim::display::{Counting, Framebuffer};
+use hal_sim::rng::Rng;
+use touch_arm::config::settings::SpeedPreset;
+use touch_arm::geometry::workspace::{condition, Condition};
+use touch_arm::touch::map::{Calibration, CalibrationError};
+use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
+use touch_arm::ui::draw::{text, Area, TextStyle};
+use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
+use touch_arm::ui::layout::{Layout, GUARD};
+use touch_arm::ui::ws_view::{base_area, marker_r};
+use touch_arm::ui::{
+    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Page, Redrawn, Refusal, Ui, UiConfig,
+    UiModel, UiState,
+};
+
+fn snapshot(fb: &Framebuffer, name: &str) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/ui-snapshots");
+    fb.save_png(dir.join(format!("{name}.png"))).unwrap();
+}
+
+/// The 320×240 screen: the layout every test below checks pixel by pixel.
+const L: Layout = Layout::QVGA;
+const WS: Area = L.ws();
+const BASE_AREA: Area = base_area(&L);
+const MARKER_R: u16 = marker_r(&L);
+const CROSS_R: u16 = cross_r(&L);
+const SAVE_AREA: Area = save_area(&L);
+const CAL_PIXELS: [(i16, i16); CAL_COUNT] = {
+    let mut p = [(0, 0); CAL_COUNT];
+    let mut i = 0;
+    while i < CAL_COUNT {
+        p[i] = match cal_pixel(&L, i) {
+            Some(xy) => xy,
+            None => panic!(),
+        };
+        i += 1;
+    }
+    p
+};
+
+fn pixel_center_to_panel(x: i16, y: i16) -> (f32, f32) {
+    L.pixel_center_to_panel(x, y)
+}
+
+fn ws_pixel_to_point(x: i16, y: i16) -> Option<(f32, f32)> {
+    L.ws_pixel_to_point(x, y)
+}
+
+fn ws_point_to_pixel(x: f32, y: f32) -> Option<(i16, i16)> {
+    L.ws_point_to_pixel(x, y)
+}
+
+const REACH_MIN: f32 = 0.3;
+const REACH_MAX: f32 = 0.9;
+const CONFIG: UiConfig = UiConfig { reach_min: REACH_MIN, reach_max: REACH_MAX };
+
+fn rect(a: Area) -> Rectangle {
+    a.to_rect()
+}
+
+fn moving_model() -> UiModel {
+    let (x, y) = (0.4f32, 0.5f32);
+    UiModel {
+        state: UiState::Moving { progress: 0.63 },
+        touch: Some((x, y)),
+        target: Some((x, y)),
+        condition: Some(condition(x, y).unwrap()),
+        alpha: y.atan2(x),
+        joints: [0.896, 0.7, 1.4],
+        speed: SpeedPreset::Normal,
+        warnings: 0,
+        page: Page::Main,
+        grip_closed: false,
+        path_line: false,
+        lift: false,
+    }
+}
+
+fn full(model: &UiModel) -> Framebuffer {
+    let mut fb = Framebuffer::landscape();
+    Ui::new(&CONFIG).draw_full(model, &mut fb).unwrap();
+    fb
+}
+
+/// Sub-image of `fb` inside `a`, row-major.
+fn crop(fb: &Framebuffer, a: Area) -> Vec<Rgb565> {
+    rect(a).points().map(|p| fb.pixel(p.x, p.y).unwrap()).collect()
+}
+
+/// `s` drawn on its own at `(x, y)` in `style`, cropped to its cells.
+fn text_alone(s: &[u8], x: i16, y: i16, style: &TextStyle) -> (Vec<Rgb565>, Area) {
+    // Black, as `Framebuffer::landscape`, and large enough for 480×320.
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
+    text(&mut fb, x, y, s, style).unwrap();
+    let (w, h) = style.extent(s.len());
+    let a = Area::new(x, y, w, h);
+    (crop(&fb, a), a)
+}
+
+// ---- font -------------------------------------------------------------------
+
+fn ink_bits(ch: u8) -> u32 {
+    (0..8).map(|r| glyph_row(ch, r).count_ones()).sum()
+}
+
+#[test]
+fn font_glyphs_are_distinct_and_scale_to_the_expected_pixel_counts() {
+    // Hand-counted: 'T' = 5 + 6, 'L' = 6 + 5, 'H' = 6·2 + 5, 'I' = 3 + 5 + 3.
+    assert_eq!(ink_bits(b'T'), 11);
+    assert_eq!(ink_bits(b'L'), 11);
+    assert_eq!(ink_bits(b'H'), 17);
+    assert_eq!(ink_bits(b'I'), 11);
+    assert_eq!(ink_bits(b' '), 0);
+    // Only the descender glyphs and '_' use the row below the baseline.
+    for ch in 32u8..=127 {
+        let below = glyph_row(ch, 7) != 0;
+        assert_eq!(below, b",_gjpqy".contains(&ch), "row 7 of {:?}", ch as char);
+        if ch != b' ' {
+            assert!(ink_bits(ch) > 0, "{:?} has no ink", ch as char);
+        }
+        for r in 0..8 {
+            assert_eq!(glyph_row(ch, r) & !0x1f, 0, "glyph rows are 5 bits wide");
+        }
+    }
+    // Every glyph differs from every other.
+    for a in 32u8..=127 {
+        for b in (a + 1)..=127 {
+            let same = (0..8).all(|r| glyph_row(a, r) == glyph_row(b, r));
+            assert!(!same, "{:?} and {:?} look the same", a as char, b as char);
+        }
+    }
+    // Bytes outside the table draw as '?'.
+    for r in 0..8 {
+        assert_eq!(glyph_row(0x80, r), glyph_row(b'?', r));
+        assert_eq!(glyph_row(10, r), glyph_row(b'?', r));
+    }
+    // Scaled ink: every set bit becomes an s×s block; opaque text writes each
+    // cell pixel exactly once, transparent text only the ink.
+    for s in 1u8..=3 {
+        let word: &[u8] = b"Hi 42\x7f";
+        let expected_ink: u32 = word.iter().map(|&c| ink_bits(c)).sum::<u32>() * u32::from(s) * u32::from(s);
+        let fg = Rgb565::new(31, 0, 0);
+        let bg = Rgb565::new(0, 0, 31);
+        let mut fb = Framebuffer::new(320, 240, Rgb565::BLACK);
+        let mut c = Counting::new(&mut fb);
+        let end = text(&mut c, 3, 5, word, &TextStyle::opaque(s, fg, bg)).unwrap();
+        let cell = (CELL_W * u16::from(s), CELL_H * u16::from(s));
+        assert_eq!(end, 3 + (cell.0 * word.len() as u16) as i16);
+        let cells = u64::from(cell.0) * u64::from(cell.1) * word.len() as u64;
+        assert_eq!(c.total_writes(), cells);
+        assert_eq!(c.touched() as u64, cells);
+        assert_eq!(c.fill_contiguous_calls, word.len(), "one window per glyph");
+        let area =
+            Rectangle::new(Point::new(3, 5), Size::new(u32::from(cell.0) * word.len() as u32, u32::from(cell.1)));
+        assert_eq!(fb.count_in(&area, fg) as u32, expected_ink);
+        assert_eq!(fb.count_in(&area, bg) as u64, cells - u64::from(expected_ink));
+
+        let mut fb = Framebuffer::new(320, 240, Rgb565::BLACK);
+        let mut c = Counting::new(&mut fb);
+        text(&mut c, 3, 5, word, &TextStyle::ink(s, fg)).unwrap();
+        assert_eq!(c.total_writes(), u64::from(expected_ink));
+        assert_eq!(fb.count_in(&area, fg) as u32, expected_ink);
+    }
+    // The pixel at row r, column c of a scaled glyph is the font bit.
+    let mut fb = Framebuffer::new(40, 40, Rgb565::BLACK);
+    text(&mut fb, 0, 0, &[DEGREE][..], &TextStyle::ink(2, Rgb565::WHITE)).unwrap();
+    for r in 0..8 {
+        for col in 0..5 {
+            let bit = glyph_row(DEGREE, r as u8) >> (4 - col) & 1 == 1;
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let px = fb.pixel(col * 2 + dx, r * 2 + dy).unwrap();
+                assert_eq!(px == Rgb565::WHITE, bit, "degree sign r{r} c{col}");
+            }
+        }
+    }
+}
+
+// ---- layout and mappings ----------------------------------------------------------
+
+/// Every pixel's panel point maps back to it, every map pixel's workspace
+/// point is its exact half-unit centre and maps back to it, and the regions
+/// tile the screen exactly (each pixel belongs to one region or gap).
+fn check_mappings_and_tiling(lay: &Layout) {
+    let (w, h) = (lay.width() as i16, lay.height() as i16);
+    for y in 0..h {
+        for x in 0..w {
+            let (x_p, y_p) = lay.pixel_center_to_panel(x, y);
+            assert_eq!(lay.panel_to_pixel(x_p, y_p), Some((x, y)));
+        }
+    }
+    let ws = lay.ws();
+    let two_s = f32::from(2 * lay.scale());
+    for y in ws.y..ws.bottom() {
+        for x in ws.x..ws.right() {
+            let (x_p, y_p) = lay.ws_pixel_to_point(x, y).unwrap();
+            assert_eq!(x_p, (2.0 * f32::from(x) + 1.0 - two_s) / two_s);
+            assert_eq!(y_p, (two_s - 1.0 - 2.0 * f32::from(y)) / two_s);
+            assert_eq!(lay.ws_point_to_pixel(x_p, y_p), Some((x, y)));
+        }
+    }
+    assert_eq!(lay.ws_pixel_to_point(ws.right(), 10), None);
+    assert_eq!(lay.ws_pixel_to_point(10, ws.bottom()), None);
+    // Corners and edges of both coordinate systems.
+    assert_eq!(lay.panel_to_pixel(-1.0, 1.0), Some((0, 0)));
+    assert_eq!(lay.panel_to_pixel(1.0, 0.0), Some((w - 1, h - 1)));
+    assert_eq!(lay.panel_to_pixel(0.0, 0.5), Some((w / 2, h / 2)));
+    let s = lay.scale() as i16;
+    assert_eq!(lay.ws_point_to_pixel(-1.0, 0.0), Some((0, s - 1)));
+    assert_eq!(lay.ws_point_to_pixel(1.0, 1.0), Some((2 * s - 1, 0)));
+    assert_eq!(lay.ws_point_to_pixel(0.0, 0.0), Some((s, s - 1)));
+    assert_eq!(lay.ws_point_to_pixel(-1e-6, 0.0), Some((s - 1, s - 1)));
+    for bad in [f32::NAN, f32::INFINITY, 1.01, -1.01] {
+        assert_eq!(lay.panel_to_pixel(bad, 0.5), None);
+        assert_eq!(lay.ws_point_to_pixel(bad, 0.5), None);
+    }
+    assert_eq!(lay.ws_point_to_pixel(0.0, -0.01), None);
+    assert_eq!(lay.ws_point_to_pixel(0.0, 1.01), None);
+    // The map keeps one scale on both axes.
+    assert_eq!((ws.w, ws.h), (2 * lay.scale(), lay.scale()));
+    // Each page's regions, buttons and gaps tile the screen: every pixel is
+    // painted by exactly one of them in a full redraw.
+    for page in [Page::Main, Page::More] {
+        let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
+        let mut regions = vec![ws, lay.stop(), lay.headline(), lay.page_key()];
+        match page {
+            Page::Main => regions.extend([
+                lay.detail(),
+                lay.info(),
+                lay.warn(),
+                lay.joints(),
+                lay.slow(),
+                lay.normal(),
+                lay.fast(),
+            ]),
+            Page::More => {
+                regions.extend([lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate()]);
+                regions.extend([lay.line_toggle(), lay.lift_toggle()]);
+            }
+        }
+        regions.extend(lay.gaps(page));
+        for a in regions {
+            for p in rect(a).points() {
+                owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
+            }
+        }
+        assert!(owner.iter().all(|&n| n == 1), "{page:?}: regions must tile the screen exactly");
+    }
+    // The More page's buttons: 8-px gaps between all of them and towards the
+    // map's column, none beside the map or STOP, none under 54×40.
+    let buttons = [
+        lay.pose(0),
+        lay.pose(1),
+        lay.pose(2),
+        lay.pose(3),
+        lay.grip(),
+        lay.calibrate(),
+        lay.line_toggle(),
+        lay.lift_toggle(),
+        lay.page_key(),
+    ];
+    for (i, a) in buttons.iter().enumerate() {
+        assert!(a.w >= 54 && a.h >= 40, "{a:?} is comfortably large");
+        assert!(a.y >= lay.headline().bottom(), "{a:?} is below the headline, away from the map and STOP");
+        for b in &buttons[i + 1..] {
+            assert!(a.inflate(GUARD - 1).intersect(b).is_none(), "{a:?} and {b:?} are 8 px apart");
+        }
+    }
+}
+
+#[test]
+fn pixel_and_coordinate_mappings_round_trip() {
+    check_mappings_and_tiling(&L);
+    // 320×240: 120 px per unit, the map at the top left.
+    assert_eq!(WS, Area::new(0, 0, 240, 120));
+    assert_eq!(L.panel_to_pixel(1.0, 0.0), Some((319, 239)));
+    assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
+}
+
+#[test]
+fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
+    let big = Layout::HVGA;
+    check_mappings_and_tiling(&big);
+    // Same map proportions (2:1, the arm base mid-bottom), 160 px per unit.
+    assert_eq!(big.ws(), Area::new(0, 0, 320, 160));
+    assert_eq!(big.ws_origin_x(), 160);
+    // Every touch target is larger, and the guard bands stay 8 px.
+    for (a, b) in [
+        (L.stop(), big.stop()),
+        (L.slow(), big.slow()),
+        (L.normal(), big.normal()),
+        (L.fast(), big.fast()),
+        (L.calibrate(), big.calibrate()),
+        (L.page_key(), big.page_key()),
+        (L.pose(0), big.pose(0)),
+        (L.pose(3), big.pose(3)),
+        (L.grip(), big.grip()),
+        (L.line_toggle(), big.line_toggle()),
+        (L.lift_toggle(), big.lift_toggle()),
+    ] {
+        assert!(b.w > a.w && b.h > a.h, "{a:?} -> {b:?}");
+    }
+    assert_eq!((big.stop().w, big.stop().h), (152, 160));
+    assert_eq!(big.gaps(Page::Main)[0].w, 8);
+    assert_eq!(big.gaps(Page::Main)[1].h, 8);
+    assert_eq!((big.pose(0).w, big.pose(0).h), (74, 52));
+    // The toggles fill the room between Calib and Back: 54 px wide at
+    // 320×240 (the smallest button), 74 at 480×320.
+    assert_eq!(L.line_toggle(), Area::new(124, 200, 54, 40));
+    assert_eq!(L.lift_toggle(), Area::new(186, 200, 54, 40));
+    assert_eq!(big.line_toggle(), Area::new(164, 268, 74, 52));
+    assert_eq!(big.lift_toggle(), Area::new(246, 268, 74, 52));
+    // STOP's guard band: beside and below STOP, not beside the map.
+    assert_eq!(big.stop_hit(), Area::new(320, 0, 160, 168));
+    // The labels fit their buttons (3× text: 18 px per character).
+    for lay in [L, big] {
+        let (cw, gap) = (6 * u16::from(lay.text_scale()), u16::from(lay.text_scale()));
+        for (a, label) in [
+            (lay.slow(), "Slow"),
+            (lay.normal(), "Normal"),
+            (lay.fast(), "Fast"),
+            (lay.calibrate(), "Calib"),
+            (lay.page_key(), "More"),
+            (lay.page_key(), "Back"),
+            (lay.grip(), "Close"),
+            (lay.pose(0), "1"),
+            (lay.line_toggle(), "Line"),
+            (lay.lift_toggle(), "Lift"),
+        ] {
+            let ink = cw * label.len() as u16 - gap;
+            assert!(ink <= a.w, "{label}: {ink} px in {}", a.w);
+        }
+    }
+    // The hit test follows the layout.
+    let mut ui = Ui::with_layout(&CONFIG, big);
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
+    ui.draw(&moving_model(), &mut fb).unwrap();
+    snapshot(&fb, "hvga_moving");
+    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    for (a, hit) in [
+        (big.stop(), Hit::Stop),
+        (big.slow(), Hit::Speed(SpeedPreset::Slow)),
+        (big.normal(), Hit::Speed(SpeedPreset::Normal)),
+        (big.fast(), Hit::Speed(SpeedPreset::Fast)),
+        (big.page_key(), Hit::Page),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit));
+        let (x_p, y_p) = big.pixel_center_to_panel(x, y);
+        assert_eq!(ui.hit_panel(x_p, y_p), Some(hit));
+    }
+    assert_eq!(ui.hit(319, 0), Some(Hit::Map { x_p: 319.0 / 320.0, y_p: 319.0 / 320.0 }));
+    assert_eq!(ui.hit(100, 164), None, "the guard band below the map");
+    let (cx, cy) = big.ws_point_to_pixel(0.4, 0.5).unwrap();
+    assert_eq!(fb.pixel(cx.into(), cy.into()), Some(theme::TOUCH_MARK));
+    // The map's colours follow the conditions and the reach, pixel by pixel
+    // (the diagonals, the vertical, the base and the zone numbers' ink
+    // aside).
+    let mut idle = UiModel::new(SpeedPreset::Slow);
+    idle.state = UiState::Idle;
+    let mut fb = Framebuffer::new(480, 320, Rgb565::BLACK);
+    Ui::with_layout(&CONFIG, big).draw_full(&idle, &mut fb).unwrap();
+    snapshot(&fb, "hvga_idle");
+    let mut checked = 0;
+    for y in 0..160i16 {
+        for x in 0..320i16 {
+            let px = fb.pixel(x.into(), y.into()).unwrap();
+            let on_line = x == y || x == 319 - y || x == 159 || x == 160;
+            if on_line || base_area(&big).contains(x, y) || px == theme::TEXT {
+                continue;
+            }
+            let (x_p, y_p) = big.ws_pixel_to_point(x, y).unwrap();
+            let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
+            let r = f64::from(x_p).hypot(f64::from(y_p));
+            let reach = r >= f64::from(REACH_MIN) && r <= f64::from(REACH_MAX);
+            let want = if reach { theme::ZONE[zone] } else { theme::ZONE_OUT[zone] };
+            assert_eq!(px, want, "pixel ({x},{y}) = ({x_p},{y_p})");
+            checked += 1;
+        }
+    }
+    assert!(checked > 48_000, "checked {checked} map pixels");
+}
+
+// ---- the map ------------------------------------------------------------------------
+
+#[test]
+fn map_colours_follow_workspace_conditions_and_reach() {
+    let mut model = UiModel::new(SpeedPreset::Slow);
+    model.state = UiState::Idle;
+    let fb = full(&model);
+    snapshot(&fb, "idle");
+    let labels: Vec<Area> =
+        [(200, 80), (160, 40), (80, 40), (40, 80)].iter().map(|&(x, y)| Area::new(x - 7, y - 10, 18, 24)).collect();
+    let mut checked = 0;
+    for y in WS.y..WS.bottom() {
+        for x in WS.x..WS.right() {
+            let (col, row) = (x - WS.x, y - WS.y);
+            let on_line = col == row || col == 239 - row || col == 119 || col == 120;
+            let px = fb.pixel(x.into(), y.into()).unwrap();
+            if BASE_AREA.contains(x, y) {
+                assert_eq!(px, theme::BASE);
+                continue;
+            }
+            if on_line {
+                assert_eq!(px, theme::ZONE_LINE, "line at ({x},{y})");
+                continue;
+            }
+            if labels.iter().any(|l| l.contains(x, y)) {
+                continue;
+            }
+            let (x_p, y_p) = ws_pixel_to_point(x, y).unwrap();
+            let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
+            let r = f64::from(x_p).hypot(f64::from(y_p));
+            let reach = r >= f64::from(REACH_MIN) && r <= f64::from(REACH_MAX);
+            let want = if reach { theme::ZONE[zone] } else { theme::ZONE_OUT[zone] };
+            assert_eq!(px, want, "pixel ({x},{y}) = ({x_p},{y_p}), zone {}, reach {reach}", zone + 1);
+            checked += 1;
+        }
+    }
+    assert!(checked > 26_000, "checked {checked} map pixels");
+    // Each zone number is drawn in its own triangle, in text colour.
+    for (i, l) in labels.iter().enumerate() {
+        assert!(fb.count_in(&rect(*l), theme::TEXT) > 50, "label {} missing", i + 1);
+        let (x_p, y_p) = ws_pixel_to_point(l.x + 7, l.y + 10).unwrap();
+        assert_eq!(condition(x_p, y_p).unwrap().number() as usize, i + 1);
+    }
+}
+
+#[test]
+fn markers_sit_on_the_pixels_the_mapping_predicts() {
+    let m = moving_model();
+    let fb = full(&m);
+    snapshot(&fb, "moving");
+    let (cx, cy) = ws_point_to_pixel(0.4, 0.5).unwrap();
+    assert_eq!((cx, cy), (168, 59));
+    let (cx, cy) = (i32::from(cx), i32::from(cy));
+    let r = i32::from(MARKER_R);
+    // The plus: black arms through the centre, a white halo at their tips,
+    // the map beyond.
+    for d in -(r - 1)..=(r - 1) {
+        assert_eq!(fb.pixel(cx + d, cy), Some(theme::TOUCH_MARK));
+        assert_eq!(fb.pixel(cx, cy + d), Some(theme::TOUCH_MARK));
+    }
+    assert_eq!(fb.pixel(cx + r, cy), Some(theme::WHITE));
+    assert_eq!(fb.pixel(cx, cy - r), Some(theme::WHITE));
+    assert_eq!(fb.pixel(cx + r + 1, cy), Some(theme::ZONE[1]));
+    // The ring around it (3 px, between the white outer and inner lines).
+    for k in 1..=3 {
+        assert_eq!(fb.pixel(cx - r + k, cy - 5), Some(theme::TARGET_MARK), "ring k={k}");
+        assert_eq!(fb.pixel(cx + 5, cy + r - k), Some(theme::TARGET_MARK), "ring k={k}");
+    }
+    assert_eq!(fb.pixel(cx - 4, cy - 4), Some(theme::WHITE));
+    assert_eq!(fb.pixel(cx - r, cy - r), Some(theme::WHITE));
+    // A refused touch draws red; a target alone draws only the ring.
+    let mut refused = m;
+    refused.state = UiState::Refused(Refusal::TooFar);
+    refused.touch = Some((-0.95, 0.9));
+    refused.target = None;
+    let fb = full(&refused);
+    snapshot(&fb, "refused_far");
+    let (rx, ry) = ws_point_to_pixel(-0.95, 0.9).unwrap();
+    assert_eq!((rx, ry), (6, 11));
+    assert_eq!(fb.pixel(6, 11), Some(theme::REFUSED));
+    // Near the corner the marker is cut at the map's edge, never drawn
+    // outside it: the gap right of the map stays background.
+    let mut edge = m;
+    edge.touch = Some((1.0, 1.0));
+    let fb = full(&edge);
+    assert_eq!(fb.pixel(239, 0), Some(theme::TOUCH_MARK));
+    for y in 0..10 {
+        assert_eq!(fb.pixel(240, y), Some(theme::BG));
+    }
+}
+
+// ---- words --------------------------------------------------------------------
+
+fn assert_text_at(fb: &Framebuffer, s: &[u8], x: i16, y: i16, style: &TextStyle) {
+    let (want, a) = text_alone(s, x, y, style);
+    assert_eq!(crop(fb, a), want, "text {:?} at ({x},{y})", String::from_utf8_lossy(s));
+}
+
+#[test]
+fn status_lines_say_what_happens_in_words() {
+    let head = |c: Rgb565| TextStyle::opaque(2, c, theme::BG);
+    let small = TextStyle::opaque(1, theme::TEXT, theme::BG);
+    type Case<'a> = (UiState, &'a [u8], Rgb565, Option<&'a [u8]>);
+    let cases: [Case; 9] = [
+        (UiState::PowerUp, b"Starting up", theme::TEXT, Some(b"Please wait")),
+        (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
+        (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
+        (UiState::Holding, b"Holding", theme::TEXT, Some(b"Touch the map to move")),
+        (UiState::Stopped, b"Stopped - tap RESUME", theme::REFUSED, Some(b"The arm holds still")),
+        (UiState::Refused(Refusal::TooFar), b"Out of reach", theme::REFUSED, Some(b"Try closer to the base")),
+        (UiState::Refused(Refusal::TooClose), b"Out of reach", theme::REFUSED, Some(b"Try further from base")),
+        (UiState::Refused(Refusal::OffMap), b"Not on the map", theme::REFUSED, Some(b"Touch inside the map")),
+        (UiState::Refused(Refusal::Busy), b"Still moving", theme::TEXT, Some(b"Wait, or tap STOP")),
+    ];
+    for (state, headline, color, hint) in cases {
+        let mut m = moving_model();
+        m.state = state;
+        let fb = full(&m);
+        assert_text_at(&fb, headline, 4, 130, &head(color));
+        if let Some(h) = hint {
+            assert_text_at(&fb, h, 4, 150, &head(theme::TEXT));
+        }
+        assert_text_at(&fb, b"Zone 2  Direction 51\x7f", 4, 171, &small);
+        assert_text_at(&fb, b"Base 51\x7f   Shoulder 40\x7f   Elbow 80\x7f", 4, 185, &small);
+        let name = match state {
+            UiState::Refused(r) => format!("refused_{r:?}").to_lowercase(),
+            UiState::Moving { .. } => "moving_25".into(),
+            s => format!("{s:?}").to_lowercase(),
+        };
+        snapshot(&fb, &name);
+    }
+    // Progress: bar filled to round(p·230) pixels and the percentage.
+    let mut m = moving_model();
+    m.state = UiState::Moving { progress: 0.25 };
+    let fb = full(&m);
+    let fill = L.bar_fill();
+    let filled = fb.count_in(&rect(fill), theme::PROGRESS);
+    assert_eq!(filled, 58 * 12, "0.25·230 = 57.5 → 58 columns");
+    assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
+    // Unknown angles show dashes; the top warning is shown in words.
+    let mut m = UiModel::new(SpeedPreset::Fast);
+    m.warnings = warn::DEFAULT_SETTINGS | warn::SERVOS_OFF;
+    let fb = full(&m);
+    snapshot(&fb, "powerup_warning");
+    assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 185, &small);
+    assert_text_at(&fb, b"! servos are off", 164, 171, &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG));
+}
+
+// ---- buttons --------------------------------------------------------------------
+
+#[test]
+fn stop_is_large_red_and_becomes_a_green_resume() {
+    const { assert!(L.stop().w >= 60 && L.stop().h >= 60) };
+    let mut ui = Ui::new(&CONFIG);
+    // STOP works before anything is drawn.
+    assert_eq!(ui.hit(280, 60), Some(Hit::Stop));
+    assert_eq!(ui.hit(100, 60), None);
+    let mut fb = Framebuffer::landscape();
+    let mut m = moving_model();
+    ui.draw(&m, &mut fb).unwrap();
+    let stop = rect(L.stop());
+    let red = fb.count_in(&stop, theme::STOP_RED);
+    let white = fb.count_in(&stop, theme::WHITE);
+    assert_eq!(red + white, 72 * 120, "STOP is red with white letters only");
+    assert!(red > 72 * 120 * 3 / 4);
+    assert_text_at(&fb, b"STOP", 252, 48, &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight());
+    // The guard band beside STOP counts as STOP (the safe reading).
+    assert_eq!(ui.hit(243, 60), Some(Hit::Stop));
+    assert_eq!(ui.hit(300, 124), Some(Hit::Stop));
+    assert_eq!(ui.hit(248, 0), Some(Hit::Stop));
+
+    m.state = UiState::Stopped;
+    let mut c = Counting::new(&mut fb);
+    let r = ui.draw(&m, &mut c).unwrap();
+    assert!(r.contains(Redrawn::STOP | Redrawn::HEADLINE));
+    let fb_after = fb.clone();
+    snapshot(&fb_after, "stopped");
+    let green = fb_after.count_in(&stop, theme::RESUME_GREEN);
+    assert!(green > 72 * 120 * 3 / 4);
+    assert_text_at(&fb_after, b"RESUME", 251, 52, &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight());
+    // RESUME starts motion: only its own box counts, never the guard band.
+    assert_eq!(ui.hit(280, 60), Some(Hit::Resume));
+    assert_eq!(ui.hit(243, 60), None);
+    assert_eq!(ui.hit(300, 124), None);
+}
+
+#[test]
+fn hits_map_to_buttons_and_workspace_points() {
+    let mut ui = Ui::new(&CONFIG);
+    let mut fb = Framebuffer::landscape();
+    ui.draw(&moving_model(), &mut fb).unwrap();
+    assert_eq!(ui.hit(30, 220), Some(Hit::Speed(SpeedPreset::Slow)));
+    assert_eq!(ui.hit(120, 220), Some(Hit::Speed(SpeedPreset::Normal)));
+    assert_eq!(ui.hit(200, 220), Some(Hit::Speed(SpeedPreset::Fast)));
+    assert_eq!(ui.hit(280, 220), Some(Hit::Page));
+    // Gaps, guard band and status area do nothing.
+    for (x, y) in [(75, 220), (164, 220), (244, 220), (100, 122), (100, 160), (100, 198), (-1, 5), (320, 5)] {
+        assert_eq!(ui.hit(x, y), None, "({x},{y})");
+    }
+    // Every map pixel is a workspace point whose condition is the zone drawn
+    // under it.
+    for y in (WS.y..WS.bottom()).step_by(3) {
+        for x in (WS.x..WS.right()).step_by(3) {
+            let Some(Hit::Map { x_p, y_p }) = ui.hit(x, y) else { panic!("({x},{y}) is on the map") };
+            assert_eq!(ws_point_to_pixel(x_p, y_p), Some((x, y)));
+            let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
+            let px = fb.pixel(x.into(), y.into()).unwrap();
+            let (col, row) = (x, y);
+            let decorated = col == row || col == 239 - row || col == 119 || col == 120 || BASE_AREA.contains(x, y);
+            if !decorated
+                && (px == theme::ZONE[0]
+                    || px == theme::ZONE_OUT[0]
+                    || px == theme::ZONE[1]
+                    || px == theme::ZONE[2]
+                    || px == theme::ZONE[3]
+                    || px == theme::ZONE_OUT[1]
+                    || px == theme::ZONE_OUT[2]
+                    || px == theme::ZONE_OUT[3])
+            {
+                assert!(px == theme::ZONE[zone] || px == theme::ZONE_OUT[zone], "zone colour at ({x},{y})");
+            }
+        }
+    }
+    // The panel mapping goes through the same pixels.
+    let (x_p, y_p) = pixel_center_to_panel(280, 60);
+    assert_eq!(ui.hit_panel(x_p, y_p), Some(Hit::Stop));
+    assert_eq!(ui.hit_panel(2.0, 0.5), None);
+    // The workspace point of the map's top-right pixel.
+    assert_eq!(ui.hit(239, 0), Some(Hit::Map { x_p: 239.0 / 240.0, y_p: 239.0 / 240.0 }));
+    assert_eq!(ui.hit(120, 119), Some(Hit::Map { x_p: 1.0 / 240.0, y_p: 1.0 / 240.0 }));
+    assert_eq!(condition(1.0f32 / 240.0, 1.0 / 240.0), Ok(Condition::C1));
+}
+
+// ---- redraws ---------------------------------------------------------------------
+
+#[test]
+fn full_redraw_paints_every_pixel_and_reports_its_bus_cost() {
+    let mut fb = Framebuffer::new(320, 240, Rgb565::new(31, 0, 31));
+    let mut c = Counting::new(&mut fb);
+    let mut ui = Ui::new(&CONFIG);
+    let r = ui.draw_full(&moving_model(), &mut c).unwrap();
+    assert_eq!(r, Redrawn(Redrawn::ALL_MAIN));
+    assert_eq!(c.touched(), 320 * 240, "a full redraw paints every pixel");
+    assert_eq!(c.outside, 0);
+    let calls = c.fill_solid_calls + c.fill_contiguous_calls;
+    // On the ILI9341 bus each call costs a window (CASET 5 + PASET 5 + RAMWR
+    // 1 = 11 bytes) and every pixel 2 bytes.
+    let bytes = 11 * calls as u64 + 2 * c.total_writes();
+    eprintln!(
+        "full redraw: {} pixel writes ({:.2} per pixel), {} fill_solid + {} fill_contiguous calls, {} bus bytes",
+        c.total_writes(),
+        c.total_writes() as f64 / 76_800.0,
+        c.fill_solid_calls,
+        c.fill_contiguous_calls,
+        bytes
+    );
+    assert_eq!(c.draw_iter_calls, 0, "no per-pixel drawing");
+    assert!(c.total_writes() < 80_000, "overdraw stays small: {}", c.total_writes());
+    assert!(calls < 1_800, "{calls} windows");
+    // Whatever was on the glass before, the picture is the same.
+    assert_eq!(fb, full(&moving_model()));
+}
+
+fn assert_only_in(c: &Counting<'_, Framebuffer>, allowed: &[Area], what: &str) {
+    let allowed: Vec<Rectangle> = allowed.iter().map(|a| rect(*a)).collect();
+    let outside = c.touched_outside(&allowed);
+    assert!(outside.is_empty(), "{what}: {} pixels written outside, first {:?}", outside.len(), outside.first());
+}
+
+#[test]
+fn partial_redraws_write_only_the_changed_regions() {
+    let mut ui = Ui::new(&CONFIG);
+    let mut fb = Framebuffer::landscape();
+    let mut m = moving_model();
+    m.state = UiState::Moving { progress: 0.30 };
+    ui.draw(&m, &mut fb).unwrap();
+
+    // Nothing changed: nothing drawn.
+    let mut c = Counting::new(&mut fb);
+    assert!(ui.draw(&m, &mut c).unwrap().is_empty());
+    assert_eq!(c.total_writes(), 0);
+    // A change below display resolution draws nothing either.
+    m.joints[0] += 0.001;
+    let mut c = Counting::new(&mut fb);
+    assert!(ui.draw(&m, &mut c).unwrap().is_empty());
+    assert_eq!(c.total_writes(), 0);
+
+    // Joint angles: only their line.
+    m.joints[1] = 0.2;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::JOINTS));
+    assert_only_in(&c, &[L.joints()], "joints");
+    assert_eq!(c.touched(), 320 * 14);
+
+    // Progress 0.30 → 0.31: the bar columns between (69 → 71) and the percent.
+    m.state = UiState::Moving { progress: 0.31 };
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::DETAIL));
+    let bar_delta = Area::new(L.bar_fill().x + 69, L.bar_fill().y, 2, 12);
+    assert_only_in(&c, &[bar_delta, L.bar_text()], "progress");
+    assert_eq!(c.touched(), 2 * 12 + 72 * 16);
+
+    // A new touch: only the boxes of the old and new plus.
+    let old = ws_point_to_pixel(0.4, 0.5).unwrap();
+    m.touch = Some((-0.5, 0.2));
+    let new = ws_point_to_pixel(-0.5, 0.2).unwrap();
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::MARKERS));
+    assert_only_in(&c, &[Area::around(old.0, old.1, MARKER_R), Area::around(new.0, new.1, MARKER_R)], "markers");
+    // The unchanged target ring is restored where the old plus was.
+    assert_eq!(fb, full(&m), "partial result equals a full redraw");
+
+    // Speed preset: only the three preset buttons.
+    m.speed = SpeedPreset::Fast;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::SPEED));
+    assert_only_in(&c, &[L.slow(), L.normal(), L.fast()], "speed");
+    assert_eq!(fb, full(&m));
+}
+
+/// The More page on `lay`: opened from the main page, it repaints what lies
+/// under the map (the map is untouched) and leaves the same picture as a
+/// full draw; its buttons hit as drawn; the Grip label follows the gripper
+/// and each toggle's highlight its setting, repainting only that button;
+/// Back restores the main page.
+fn more_page(lay: Layout, name: &str) {
+    let mut ui = Ui::with_layout(&CONFIG, lay);
+    let (w, h) = (lay.width().into(), lay.height().into());
+    let mut fb = Framebuffer::new(w, h, Rgb565::BLACK);
+    let full_of = |m: &UiModel| {
+        let mut fb = Framebuffer::new(w, h, Rgb565::BLACK);
+        Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
+        fb
+    };
+    let main = moving_model();
+    ui.draw(&main, &mut fb).unwrap();
+    let mut more = main;
+    more.page = Page::More;
+    // `path line` set: the Line toggle shows on, Lift off.
+    more.path_line = true;
+    // Before the More page is on the glass, its buttons do not answer (the
+    // main page's do).
+    assert_eq!(ui.hit(lay.pose(0).x + 4, lay.pose(0).y + 4), None, "the main page's status lines");
+    let mut c = Counting::new(&mut fb);
+    let r = ui.draw(&more, &mut c).unwrap();
+    assert_eq!(r, Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::GAPS | Redrawn::ROW2 | Redrawn::TOGGLES));
+    // The map, STOP and the headline stay: only the guard bands and what
+    // lies under the headline are painted.
+    let head_end = lay.headline().bottom();
+    let under = Area::new(0, head_end, lay.width(), lay.height() - head_end as u16);
+    let gaps = lay.gaps(Page::More);
+    assert_only_in(&c, &[under, gaps[0], gaps[1]], "page change");
+    assert!(fb == full_of(&more), "{name}: the page change equals a full draw of the More page");
+    snapshot(&fb, name);
+    // A full draw of the More page reports its regions.
+    let mut scratch = Framebuffer::new(w, h, Rgb565::BLACK);
+    assert_eq!(Ui::with_layout(&CONFIG, lay).draw_full(&more, &mut scratch).unwrap(), Redrawn(Redrawn::ALL_MORE));
+    // Labels: Close while the gripper is open, the page key says Back.
+    let style = TextStyle::opaque(lay.text_scale(), theme::WHITE, theme::BUTTON_ON);
+    let ink = |a: Area, s: &str, style: &TextStyle| {
+        let (tw, th) = style.extent(s.len());
+        let x = a.x + (a.w - (tw - u16::from(style.gap))) as i16 / 2;
+        let y = a.y + (a.h - th) as i16 / 2;
+        (x, y)
+    };
+    let (gx, gy) = ink(lay.grip(), "Close", &style);
+    assert_text_at(&fb, b"Close", gx, gy, &style);
+    let key_style = TextStyle::opaque(lay.text_scale(), theme::TEXT, theme::BUTTON);
+    let (kx, ky) = ink(lay.page_key(), "Back", &key_style);
+    assert_text_at(&fb, b"Back", kx, ky, &key_style);
+    for (n, label) in [(0u8, "1"), (3, "4")] {
+        let (x, y) = ink(lay.pose(n), label, &key_style);
+        assert_text_at(&fb, label.as_bytes(), x, y, &key_style);
+    }
+    // Line highlighted (on), Lift plain (off).
+    let (x, y) = ink(lay.line_toggle(), "Line", &style);
+    assert_text_at(&fb, b"Line", x, y, &style);
+    let (x, y) = ink(lay.lift_toggle(), "Lift", &key_style);
+    assert_text_at(&fb, b"Lift", x, y, &key_style);
+    // Hits follow the More page.
+    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    for (a, hit) in [
+        (lay.pose(0), Hit::Pose(1)),
+        (lay.pose(1), Hit::Pose(2)),
+        (lay.pose(2), Hit::Pose(3)),
+        (lay.pose(3), Hit::Pose(4)),
+        (lay.grip(), Hit::Grip),
+        (lay.calibrate(), Hit::Calibrate),
+        (lay.line_toggle(), Hit::Line),
+        (lay.lift_toggle(), Hit::Lift),
+        (lay.page_key(), Hit::Page),
+        (lay.stop(), Hit::Stop),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit), "{name}: {a:?}");
+    }
+    // Gaps between the poses, the band under them, the gaps between Calib,
+    // the toggles and Back: nothing.
+    for g in lay.gaps(Page::More).iter().skip(2).filter(|g| !g.is_empty()) {
+        let (x, y) = centre(*g);
+        assert_eq!(ui.hit(x, y), None, "{name}: gap {g:?}");
+    }
+    // The gripper closes: only Grip is repainted, and now says Open.
+    let mut closed = more;
+    closed.grip_closed = true;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&closed, &mut c).unwrap(), Redrawn(Redrawn::ROW2));
+    assert_only_in(&c, &[lay.grip()], "grip label");
+    let (gx, gy) = ink(lay.grip(), "Open", &style);
+    assert_text_at(&fb, b"Open", gx, gy, &style);
+    assert!(fb == full_of(&closed));
+    // Line off: only Line is repainted, plain; then Lift on: only Lift,
+    // highlighted.
+    let mut joint = closed;
+    joint.path_line = false;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&joint, &mut c).unwrap(), Redrawn(Redrawn::TOGGLES));
+    assert_only_in(&c, &[lay.line_toggle()], "line toggle");
+    let (x, y) = ink(lay.line_toggle(), "Line", &key_style);
+    assert_text_at(&fb, b"Line", x, y, &key_style);
+    assert!(fb == full_of(&joint), "{name}: line off");
+    let mut lifted = joint;
+    lifted.lift = true;
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&lifted, &mut c).unwrap(), Redrawn(Redrawn::TOGGLES));
+    assert_only_in(&c, &[lay.lift_toggle()], "lift toggle");
+    let (x, y) = ink(lay.lift_toggle(), "Lift", &style);
+    assert_text_at(&fb, b"Lift", x, y, &style);
+    assert!(fb == full_of(&lifted), "{name}: lift on");
+    let closed = lifted;
+    // Progress and joints are not on the More page: no repaint for them.
+    let mut later = closed;
+    later.state = UiState::Moving { progress: 0.9 };
+    later.joints[1] = 0.1;
+    let mut c = Counting::new(&mut fb);
+    assert!(ui.draw(&later, &mut c).unwrap().is_empty());
+    assert_eq!(c.total_writes(), 0);
+    // Back: the main page again, as a full draw would paint it.
+    let mut back = later;
+    back.page = Page::Main;
+    ui.draw(&back, &mut fb).unwrap();
+    assert!(fb == full_of(&back), "{name}: back on the main page");
+    let (x, y) = centre(lay.slow());
+    assert_eq!(ui.hit(x, y), Some(Hit::Speed(SpeedPreset::Slow)));
+}
+
+#[test]
+fn the_more_page_holds_the_poses_grip_calib_and_toggles_on_both_sizes() {
+    more_page(Layout::QVGA, "more_page");
+    more_page(Layout::HVGA, "hvga_more_page");
+}
+
+/// Uniform in [0, 1), for model fields.
+fn unit(rng: &mut Rng) -> f32 {
+    rng.uniform() as f32
+}
+
+/// A model point: none, an edge or corner, or anywhere in the workspace.
+fn point(rng: &mut Rng) -> Option<(f32, f32)> {
+    match rng.below(4) {
+        0 => None,
+        // Edges and corners too.
+        1 => Some(([-1.0, 1.0, 0.0][rng.below(3) as usize], [0.0, 1.0][rng.below(2) as usize])),
+        _ => Some((unit(rng) * 2.0 - 1.0, unit(rng))),
+    }
+}
+
+/// Random model changes on `lay`: after each, the partially redrawn
+/// picture equals a full redraw.
+fn random_redraws(lay: Layout, steps: usize) {
+    let mut rng = Rng::new(7);
+    let mut ui = Ui::with_layout(&CONFIG, lay);
+    let mut fb = Framebuffer::new(lay.width().into(), lay.height().into(), Rgb565::BLACK);
+    let mut m = UiModel::new(SpeedPreset::Normal);
+    let full = |m: &UiModel| {
+        let mut fb = Framebuffer::new(lay.width().into(), lay.height().into(), Rgb565::BLACK);
+        Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
+        fb
+    };
+    for step in 0..steps {
+        match rng.below(8) {
+            0 => m.touch = point(&mut rng),
+            1 => m.target = point(&mut rng),
+            2 => {
+                m.state = match rng.below(7) {
+                    0 => UiState::Idle,
+                    1 | 2 => UiState::Moving { progress: unit(&mut rng) },
+                    3 => UiState::Holding,
+                    4 => UiState::Stopped,
+                    5 => UiState::Refused(Refusal::TooClose),
+                    _ => UiState::Refused(Refusal::JointLimit),
+                }
+            }
+            3 => m.joints[rng.below(3) as usize] = unit(&mut rng) * 3.0 - 1.0,
+            4 => m.speed = SpeedPreset::ALL[rng.below(3) as usize],
+            5 => m.warnings = rng.below(32) as u8,
+            7 if rng.below(3) == 0 => {
+                m.page = if m.page == Page::Main { Page::More } else { Page::Main };
+                m.grip_closed = rng.below(2) == 0;
+            }
+            7 => {
+                // Line and Lift, on either page (the main page ignores them).
+                m.path_line = rng.below(2) == 0;
+                m.lift = !m.path_line && rng.below(2) == 0;
+            }
+            6 => {
+                m.condition = [None, Some(Condition::C1), Some(Condition::C4)][rng.below(3) as usize];
+                m.alpha = unit(&mut rng) * 3.0;
+            }
+            _ => {
+                m.touch = point(&mut rng);
+                m.target = m.touch;
+            }
+        }
+        ui.draw(&m, &mut fb).unwrap();
+        assert!(fb == full(&m), "{lay:?} step {step}: partial redraws diverged from a full redraw of {m:?}");
+    }
+}
+
+#[test]
+fn any_sequence_of_partial_redraws_leaves_the_full_redraw_picture() {
+    random_redraws(Layout::QVGA, 300);
+    random_redraws(Layout::HVGA, 150);
+}
+
+// ---- calibration -------------------------------------------------------------
+
+/// What an ideal panel wired as `cal` reads at crosshair `i` (320×240).
+fn raw_at(cal: &Calibration, i: usize) -> (u16, u16) {
+    raw_at_on(&L, cal, i)
+}
+
+/// ... on the screen laid out as `lay`.
+fn raw_at_on(lay: &Layout, cal: &Calibration, i: usize) -> (u16, u16) {
+    let (x_p, y_p) = cal_point(lay, i).unwrap();
+    let raw = cal.unmap::<f64>(f64::from(x_p), f64::from(y_p)).unwrap();
+    (raw.x, raw.y)
+}
+
+/// The raw reading of a touch at the centre of screen area `a` (320×240).
+fn raw_on(cal: &Calibration, a: Area) -> (u16, u16) {
+    raw_on_screen(&L, cal, a)
+}
+
+/// ... on the screen laid out as `lay`.
+fn raw_on_screen(lay: &Layout, cal: &Calibration, a: Area) -> (u16, u16) {
+    let (x_p, y_p) = lay.pixel_center_to_panel(a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let raw = cal.unmap::<f64>(f64::from(x_p), f64::from(y_p)).unwrap();
+    (raw.x, raw.y)
+}
+
+/// Five readings with both channels equal.
+const DIAGONAL: [(u16, u16); 5] = [(300, 300), (700, 700), (650, 650), (250, 250), (480, 480)];
+
+fn panels() -> Vec<Calibration> {
+    let d = Calibration::DEFAULT;
+    vec![
+        d,
+        Calibration { swap_xy: true, ..d },
+        Calibration { invert_x: true, ..d },
+        Calibration { invert_y: true, x_min: 90, x_max: 960, ..d },
+        Calibration { swap_xy: true, invert_x: true, invert_y: true, x_min: 150, x_max: 880, y_min: 200, y_max: 850 },
+    ]
+}
+
+#[test]
+fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
+    for lay in [Layout::QVGA, Layout::HVGA] {
+        for truth in panels() {
+            let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay);
+            for i in 0..CAL_COUNT {
+                assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
+                assert_eq!(flow.crosshair_pixel(), cal_pixel(&lay, i));
+                let (x, y) = raw_at_on(&lay, &truth, i);
+                assert_eq!(flow.feed(x, y), None);
+            }
+            let CalPhase::Review { result: Ok(fit) } = flow.phase() else {
+                panic!("fit failed for {truth:?}: {:?}", flow.phase())
+            };
+            assert_eq!((fit.swap_xy, fit.invert_x, fit.invert_y), (truth.swap_xy, truth.invert_x, truth.invert_y));
+            for (a, b) in
+                [(fit.x_min, truth.x_min), (fit.x_max, truth.x_max), (fit.y_min, truth.y_min), (fit.y_max, truth.y_max)]
+            {
+                assert!(a.abs_diff(b) <= 1, "{lay:?}: fit {fit:?} vs truth {truth:?}");
+            }
+            // Touches outside the buttons do nothing; Save (mapped with the
+            // new calibration) hands the fit over.
+            let (x, y) = raw_on_screen(&lay, &truth, Area::new(lay.sx(150), lay.sy(40), 20, 20));
+            assert_eq!(flow.feed(x, y), None);
+            let (x, y) = raw_on_screen(&lay, &truth, save_area(&lay));
+            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Done(fit)));
+            // Cancel keeps the old one.
+            let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay);
+            for i in 0..CAL_COUNT {
+                let (x, y) = raw_at_on(&lay, &truth, i);
+                flow.feed(x, y);
+            }
+            let (x, y) = raw_on_screen(&lay, &truth, cancel_area(&lay));
+            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Cancelled));
+        }
+    }
+    // The 480×320 crosshairs: the same 10 % insets and the centre.
+    let big: Vec<_> = (0..CAL_COUNT).filter_map(|i| cal_pixel(&Layout::HVGA, i)).collect();
+    assert_eq!(big, [(48, 32), (432, 32), (432, 288), (48, 288), (240, 160)]);
+}
+
+#[test]
+fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
+    let truth = Calibration::DEFAULT;
+    let mut flow = CalibrationFlow::new(truth, &L);
+    let (x0, y0) = raw_at(&truth, 0);
+    flow.feed(x0, y0);
+    // The same spot again (a bounce, or the finger still on the first cross).
+    flow.feed(x0 + 10, y0 - 5);
+    assert_eq!(flow.phase(), CalPhase::Touch { index: 1 });
+    assert!(flow.last_rejected());
+    let (x1, y1) = raw_at(&truth, 1);
+    flow.feed(x1, y1);
+    assert!(!flow.last_rejected());
+    assert_eq!(flow.phase(), CalPhase::Touch { index: 2 });
+    // Readings where both channels say the same: neither assignment of
+    // channels to axes explains them.
+    let mut flow = CalibrationFlow::new(truth, &L);
+    for (x, y) in DIAGONAL {
+        flow.feed(x, y);
+    }
+    let CalPhase::Review { result: Err(e) } = flow.phase() else { panic!("{:?}", flow.phase()) };
+    assert_eq!(e, CalFailure::Fit(CalibrationError::AmbiguousAxes));
+    // On failure the old calibration maps the buttons: Retry starts over.
+    let (x, y) = raw_on(&truth, SAVE_AREA);
+    assert_eq!(flow.feed(x, y), None);
+    assert_eq!(flow.phase(), CalPhase::Touch { index: 0 });
+    assert_eq!(flow.cancel(), CalibrationEvent::Cancelled);
+}
+
+#[test]
+fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
+    let truth = panels()[4];
+    let mut ui = Ui::new(&CONFIG);
+    let mut fb = Framebuffer::landscape();
+    ui.draw(&moving_model(), &mut fb).unwrap();
+    let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L);
+    ui.draw_calibration(&flow, &mut fb).unwrap();
+    assert_eq!(ui.hit(280, 60), None, "main-screen buttons are off during calibration");
+    for i in 0..CAL_COUNT {
+        let (cx, cy) = CAL_PIXELS[i];
+        snapshot(&fb, &format!("calibration_{}", i + 1));
+        assert_eq!(fb.pixel(cx.into(), (cy - 10).into()), Some(theme::CROSSHAIR));
+        assert_eq!(fb.pixel((cx + 10).into(), cy.into()), Some(theme::CROSSHAIR));
+        assert_eq!(fb.pixel(cx.into(), cy.into()), Some(theme::TEXT));
+        let mut l = b"Point ".to_vec();
+        l.extend(format!("{} of 5", i + 1).bytes());
+        let style = TextStyle::opaque(2, theme::TEXT, theme::WHITE);
+        assert_text_at(&fb, &l, (320 - 12 * l.len() as i16 + 2) / 2, 146, &style);
+        // Only the previous cross is on the glass.
+        for (j, &(ox, oy)) in CAL_PIXELS.iter().enumerate() {
+            if j != i {
+                assert_eq!(fb.pixel(ox.into(), (oy - 10).into()), Some(theme::WHITE));
+            }
+        }
+        let (x, y) = raw_at(&truth, i);
+        flow.feed(x, y);
+        let mut c = Counting::new(&mut fb);
+        ui.draw_calibration(&flow, &mut c).unwrap();
+        if i + 1 < CAL_COUNT {
+            let (nx, ny) = CAL_PIXELS[i + 1];
+            let allowed = [Area::around(cx, cy, CROSS_R), Area::around(nx, ny, CROSS_R), Area::new(0, 146, 320, 16)];
+            assert_only_in(&c, &allowed, "next cross");
+        }
+    }
+    snapshot(&fb, "calibration_review");
+    let CalPhase::Review { result: Ok(fit) } = flow.phase() else { panic!() };
+    let style = TextStyle::opaque(2, theme::TEXT, theme::WHITE);
+    let l = format!("X {} - {}", fit.x_min, fit.x_max);
+    assert_text_at(&fb, l.as_bytes(), (320 - 12 * l.len() as i16 + 2) / 2, 48, &style);
+    let green = fb.count_in(&rect(SAVE_AREA), theme::RESUME_GREEN);
+    assert!(green > 5000, "{green} green pixels");
+    // A failed fit shows Retry.
+    let mut bad = CalibrationFlow::new(Calibration::DEFAULT, &L);
+    for (x, y) in DIAGONAL {
+        bad.feed(x, y);
+    }
+    assert!(matches!(bad.phase(), CalPhase::Review { result: Err(_) }));
+    let mut fb2 = fb.clone();
+    let mut ui2 = Ui::new(&CONFIG);
+    ui2.draw_calibration(&flow, &mut fb2).unwrap();
+    // Another result on the same glass is drawn anew.
+    let mut c = Counting::new(&mut fb2);
+    ui2.draw_calibration(&bad, &mut c).unwrap();
+    assert_eq!(c.touched(), 320 * 240);
+    snapshot(&fb2, "calibration_failed");
+    assert_text_at(
+        &fb2,
+        b"Calibration failed",
+        (320 - 12 * 18 + 2) / 2,
+        16,
+        &TextStyle::opaque(2, theme::REFUSED, theme::WHITE),
+    );
+    assert_text_at(&fb2, b"Touches did not line up", (320 - 12 * 23 + 2) / 2, 64, &style);
+    // Back to the main screen: a full redraw.
+    let mut c = Counting::new(&mut fb);
+    let r = ui.draw(&moving_model(), &mut c).unwrap();
+    assert_eq!(r, Redrawn(Redrawn::ALL_MAIN));
+    assert_eq!(fb, full(&moving_model()));
+}

@@ -1,0 +1,160 @@
+//! The repository tools' command lines: `cargo xtask <command>` (the `xtask`
+//! binary) and the two stand-alone binaries scripts/bench.sh runs
+//! (`avr-run`; `bench-report`, whose arguments and body are
+//! `bench_report::command`), which take the same arguments as their
+//! subcommands. A new tool is one more [`Command`] variant and its function.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use touch_arm_rig::firmware;
+
+use crate::bench_report::command as bench_report;
+use crate::bench_report::Budgets;
+use crate::elf;
+
+/// `cargo xtask`: the touch-arm repository's tooling.
+#[derive(Parser, Debug)]
+#[command(name = "xtask")]
+pub struct Xtask {
+    /// The tool to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// One tool of the repository.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// The post-link checks on firmware ELFs (memory budgets, code pointers,
+    /// stack-passed arguments); exits 1 if any check fails.
+    ElfCheck(ElfCheckArgs),
+    /// Writes BENCHMARKS.md from one bench run (scripts/bench.sh).
+    BenchReport(bench_report::Args),
+    /// Runs an AVR ELF in simavr until it prints `done`.
+    AvrRun(AvrRunArgs),
+}
+
+/// Runs the tool `cmd` names; its exit code.
+pub fn run(cmd: &Command) -> ExitCode {
+    match cmd {
+        Command::ElfCheck(a) => elf_check(a),
+        Command::BenchReport(a) => report(bench_report::run(a), "bench-report"),
+        Command::AvrRun(a) => avr_run(a),
+    }
+}
+
+/// Prints `Err` as `prog: message` and turns the result into an exit code.
+fn report(r: Result<(), String>, prog: &str) -> ExitCode {
+    match r {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{prog}: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The firmware ELFs to check.
+#[derive(Args, Debug)]
+pub struct ElfCheckArgs {
+    /// ELF files [default: every firmware and example `cargo avr` and
+    /// `cargo avr-mipidsi` build].
+    pub elfs: Vec<PathBuf>,
+}
+
+/// Runs every check of [`elf::checks::CHECKS`] on each ELF, one line per
+/// check and firmware; 1 if any check failed or an ELF could not be read.
+pub fn elf_check(args: &ElfCheckArgs) -> ExitCode {
+    let budgets = match std::fs::read_to_string(firmware::workspace_root().join("memory.x"))
+        .map_err(|e| format!("memory.x: {e}"))
+        .and_then(|text| Budgets::parse(&text))
+    {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("elf-check: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let elfs: Vec<(String, PathBuf)> = if args.elfs.is_empty() {
+        firmware::all_elfs().into_iter().map(|(n, p)| (n.to_string(), p)).collect()
+    } else {
+        args.elfs.iter().map(|p| (elf_name(p), p.clone())).collect()
+    };
+    let mut failed = false;
+    for (name, path) in &elfs {
+        let bytes = match std::fs::read(path) {
+            Ok(b) => b,
+            Err(e) => {
+                eprintln!("elf-check: {}: {e}: build the firmware first with `cargo avr`", path.display());
+                failed = true;
+                continue;
+            }
+        };
+        let image = match elf::Image::parse(&bytes) {
+            Ok(i) => i,
+            Err(e) => {
+                eprintln!("elf-check: {}: {e}", path.display());
+                failed = true;
+                continue;
+            }
+        };
+        let fw = elf::checks::Firmware { name, image: &image, budgets: &budgets };
+        for check in elf::checks::CHECKS {
+            match (check.run)(&fw) {
+                Ok(summary) => println!("ok   {name}: {}: {summary}", check.name),
+                Err(problems) => {
+                    failed = true;
+                    println!("FAIL {name}: {}:", check.name);
+                    for p in problems.lines() {
+                        println!("    {p}");
+                    }
+                }
+            }
+        }
+    }
+    if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// An ELF's firmware name, as `all_elfs` names them: the file stem.
+fn elf_name(path: &Path) -> String {
+    path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned())
+}
+
+/// Runs an AVR ELF (ATmega2560 at 16 MHz) in simavr until it prints `done`,
+/// then writes its UART output to stdout.
+#[derive(Parser, Debug)]
+#[command(name = "avr-run", allow_negative_numbers = true)]
+pub struct AvrRunArgs {
+    /// The firmware ELF
+    pub elf: PathBuf,
+    /// Simulated time limit in seconds
+    #[arg(default_value_t = 300.0, value_parser = positive_seconds)]
+    pub max_seconds: f64,
+}
+
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err("MAX_SECONDS must be a positive number".into()),
+    }
+}
+
+/// Runs the ELF and prints its output: 0 once it printed `done`, 1 if it
+/// could not be loaded or ran out of time.
+pub fn avr_run(args: &AvrRunArgs) -> ExitCode {
+    match firmware::run_to_done(&args.elf, args.max_seconds) {
+        Ok(text) => {
+            print!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("avr-run: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
