@@ -80,6 +80,7 @@ impl<R: Real> Iv<R> {
 }
 
 /// The range of c0 + c1·s + c2·s² over [sa, sb].
+#[inline(never)] // reason: code-size
 fn quad<R: Real>(c: &[R; 3], sa: R, sb: R) -> Iv<R> {
     let f = |s: R| c[0] + (c[1] + c[2] * s) * s;
     let mut iv = Iv::of(f(sa), f(sb));
@@ -110,6 +111,7 @@ struct Planar<R> {
     b2: Iv<R>,
 }
 
+#[inline(never)] // reason: code-size
 fn line<R: Real>(from: &[R; 3], d: &[R; 3], sa: R, sb: R) -> Option<Planar<R>> {
     let dot = |a: &[R; 3], b: &[R; 3], n: usize| {
         let mut acc = R::ZERO;
@@ -150,6 +152,7 @@ fn line<R: Real>(from: &[R; 3], d: &[R; 3], sa: R, sb: R) -> Option<Planar<R>> {
 
 /// The range of (|C|cos ψ, |C|sin ψ) for ψ from `a` to `b` (< π apart),
 /// given as (|C|cos ψ, |C|sin ψ) at both ends, |C| = `c`.
+#[inline(never)] // reason: code-size
 fn arc<R: Real>(a: (R, R), b: (R, R), c: R) -> (Iv<R>, Iv<R>) {
     let (mut ic, mut is) = (Iv::of(a.0, b.0), Iv::of(a.1, b.1));
     // A turn through ψ = 0, π/2, π, −π/2 (sin or cos changes sign on the
@@ -169,6 +172,7 @@ fn arc<R: Real>(a: (R, R), b: (R, R), c: R) -> (Iv<R>, Iv<R>) {
     (ic, is)
 }
 
+#[inline(never)] // reason: code-size
 fn circle<R: Real>(center: &[R; 3], radius: R, dir: &[R; 2], sa: R, sb: R) -> Planar<R> {
     let (rc, zc) = (center[0] * dir[0] + center[1] * dir[1], center[2]);
     let c = (rc * rc + zc * zc).sqrt();
@@ -212,7 +216,7 @@ pub fn jet_bound<R: Real>(
     planar_bound(links, branch, &p)
 }
 
-#[inline(never)]
+#[inline(never)] // avr-trap: frame-size
 fn planar_bound<R: Real>(links: &Links<R>, branch: Branch, p: &Planar<R>) -> Option<[(Iv<R>, Iv<R>); 3]> {
     let (l2, l3) = (links.l2(), links.l3());
     let l23 = l2 * l3;

@@ -346,6 +346,7 @@ pub fn law_jerk(kind: LawKind) -> Option<f64> {
 /// which next to the rim meets the large path rates of the move's very
 /// start. The linear law, which has no table, has constant rates between
 /// its steps: its ends' values.
+#[inline(never)] // reason: code-size
 fn law_bound<R: Real>(law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> (Iv<R>, Iv<R>) {
     let Some(tab) = cell_table(law.kind()) else {
         return (Iv::of(a.gv, b.gv), Iv::of(a.ga, b.ga));
@@ -392,6 +393,7 @@ fn law_bound<R: Real>(law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> (Iv<R>, Iv<R
 /// into `peaks`) and whether to halve it instead: `None` when the path
 /// bound is undefined there (base axis, rim, folded arm), else the bound's
 /// largest (speed/limit)² or accel/limit.
+#[inline(never)] // reason: code-size
 fn stretch_bound<R: Real>(c: &Checked<R>, law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> Option<([(R, R); JOINTS], R)> {
     let jb = jet_bound(&c.arm.links, c.arm.branch, &c.path, a.s, b.s)?;
     let (gv, ga) = law_bound(law, a, b);
@@ -553,7 +555,7 @@ impl<R: Real> Scan<R> {
     /// One unit of the bounds: the instant 0, or the far end of the stretch
     /// (i, j, d) and the stretch's bound, halving it instead when that
     /// bound is well above the largest rate so far.
-    #[inline(never)]
+    #[inline(never)] // avr-trap: frame-size
     fn bound(&mut self, c: &Checked<R>, law: &JointLaw<R>, i: u16, j: u16, d: u8) -> Result<(), PathError<R>> {
         let ts = law.duration();
         let Some(a) = self.prev else {
