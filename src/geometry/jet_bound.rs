@@ -216,8 +216,30 @@ pub fn jet_bound<R: Real>(
     planar_bound(links, branch, &p)
 }
 
+/// The elbow's rates, and its cosine for the shoulder's.
+struct Elbow<R> {
+    c3: Iv<R>,
+    d3: Iv<R>,
+    dd3: Iv<R>,
+}
+
 #[inline(never)] // avr-trap: frame-size
 fn planar_bound<R: Real>(links: &Links<R>, branch: Branch, p: &Planar<R>) -> Option<[(Iv<R>, Iv<R>); 3]> {
+    let e = elbow(links, branch, p)?;
+    let (d2, dd2) = shoulder(links, p, &e);
+    let out = [(p.b1, p.b2), (d2, dd2), (e.d3, e.dd3)];
+    for (v, a) in out {
+        // NaN too: from ∞·0 where a range reaches a singular pose.
+        if !(v.lo.is_finite() && v.hi.is_finite() && a.lo.is_finite() && a.hi.is_finite()) {
+            return None;
+        }
+    }
+    Some(out)
+}
+
+/// θ₃′ and θ₃″; `None` at the rim or the folded arm.
+#[inline(never)] // reason: code-size
+fn elbow<R: Real>(links: &Links<R>, branch: Branch, p: &Planar<R>) -> Option<Elbow<R>> {
     let (l2, l3) = (links.l2(), links.l3());
     let l23 = l2 * l3;
     let inv2 = (l23.twice()).recip();
@@ -236,19 +258,19 @@ fn planar_bound<R: Real>(links: &Links<R>, branch: Branch, p: &Planar<R>) -> Opt
     // θ₃′ = −σN/(l₂l₃|s₃|), θ₃″ = −σ(N′/(l₂l₃|s₃|) + c₃N²/((l₂l₃)²|s₃|³)).
     let d3 = p.n.times(inv_d).scale(-sigma);
     let dd3 = p.dn.times(inv_d).plus(c3.times(p.n.sqr()).times(inv_d.sqr().times(inv_d)).scale(l23)).scale(-sigma);
+    Some(Elbow { c3, d3, dd3 })
+}
+
+/// θ₂′ and θ₂″ from the elbow's.
+#[inline(never)] // reason: code-size
+fn shoulder<R: Real>(links: &Links<R>, p: &Planar<R>, e: &Elbow<R>) -> (Iv<R>, Iv<R>) {
+    let (l2, l3) = (links.l2(), links.l3());
     let inv_r2 = p.r2.recip_pos();
     let a1 = p.x1.times(inv_r2);
     let a2 = p.x2.times(inv_r2).minus(p.n.times(p.x1).times(inv_r2.sqr()).scale(R::TWO));
-    let k = c3.scale(l2).plus(Iv::pt(l3)).times(inv_r2).scale(l3);
+    let k = e.c3.scale(l2).plus(Iv::pt(l3)).times(inv_r2).scale(l3);
     let dk = p.n.times(Iv::pt(R::ONE).minus(k.scale(R::TWO))).times(inv_r2);
-    let d2 = a1.minus(k.times(d3));
-    let dd2 = a2.minus(dk.times(d3)).minus(k.times(dd3));
-    let out = [(p.b1, p.b2), (d2, dd2), (d3, dd3)];
-    for (v, a) in out {
-        // NaN too: from ∞·0 where a range reaches a singular pose.
-        if !(v.lo.is_finite() && v.hi.is_finite() && a.lo.is_finite() && a.hi.is_finite()) {
-            return None;
-        }
-    }
-    Some(out)
+    let d2 = a1.minus(k.times(e.d3));
+    let dd2 = a2.minus(dk.times(e.d3)).minus(k.times(e.dd3));
+    (d2, dd2)
 }
