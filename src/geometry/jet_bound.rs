@@ -73,6 +73,11 @@ impl<R: Real> Iv<R> {
     pub fn recip_pos(self) -> Self {
         Iv { lo: self.hi.recip(), hi: self.lo.recip() }
     }
+    /// Both ends finite (not NaN either).
+    #[inline(never)] // reason: code-size
+    pub fn is_finite(&self) -> bool {
+        self.lo.is_finite() && self.hi.is_finite()
+    }
     /// The largest |x|.
     pub fn mag(self) -> R {
         self.lo.abs().max(self.hi.abs())
@@ -122,31 +127,28 @@ fn line<R: Real>(from: &[R; 3], d: &[R; 3], sa: R, sb: R) -> Option<Planar<R>> {
     };
     let (a0, a1, a2) = (dot(from, from, 2), dot(from, d, 2), dot(d, d, 2));
     let rho2 = quad(&[a0, a1.twice(), a2], sa, sb);
-    let (z0, dz) = (from[2], d[2]);
-    let r2 = quad(&[a0 + z0 * z0, (a1 + z0 * dz).twice(), a2 + dz * dz], sa, sb);
-    let aff = |c0: R, c1: R| Iv::of(c0 + c1 * sa, c0 + c1 * sb);
-    let n = aff(a1 + z0 * dz, a2 + dz * dz);
-    let dn = Iv::pt(a2 + dz * dz);
-    let k = from[0] * d[1] - from[1] * d[0];
-    let dxy = aff(a1, a2);
-    // ρ²·z′ − z·(P_xy·P′_xy): affine in s.
-    let m = aff(dz * a0 - z0 * a1, dz * a1 - z0 * a2);
-    let z = aff(z0, dz);
     if !rho2.lo.is_positive() {
         return None;
     }
+    let (z0, dz) = (from[2], d[2]);
+    let k = from[0] * d[1] - from[1] * d[0];
+    let aff = |c0: R, c1: R| Iv::of(c0 + c1 * sa, c0 + c1 * sb);
     let rho = Iv { lo: rho2.lo.sqrt(), hi: rho2.hi.sqrt() };
     let inv_rho = rho.recip_pos();
     let inv_rho2 = rho2.recip_pos();
+    // Each range formed where it is stored: few of them live at once (a
+    // frame within the AVR's 63-byte reach of Y).
     Some(Planar {
-        r2,
-        n,
-        dn,
-        x1: m.times(inv_rho),
+        r2: quad(&[a0 + z0 * z0, (a1 + z0 * dz).twice(), a2 + dz * dz], sa, sb),
+        n: aff(a1 + z0 * dz, a2 + dz * dz),
+        dn: Iv::pt(a2 + dz * dz),
+        // ρ²·z′ − z·(P_xy·P′_xy): affine in s.
+        x1: aff(dz * a0 - z0 * a1, dz * a1 - z0 * a2).times(inv_rho),
         // u″ = (ρ″, 0), ρ″ = K²/ρ³.
-        x2: z.times(inv_rho2.times(inv_rho)).scale(-(k * k)),
+        x2: aff(z0, dz).times(inv_rho2.times(inv_rho)).scale(-(k * k)),
         b1: inv_rho2.scale(k),
-        b2: dxy.times(inv_rho2.sqr()).scale(-(k.twice())),
+        // P_xy·P′_xy.
+        b2: aff(a1, a2).times(inv_rho2.sqr()).scale(-(k.twice())),
     })
 }
 
@@ -157,16 +159,20 @@ fn arc<R: Real>(a: (R, R), b: (R, R), c: R) -> (Iv<R>, Iv<R>) {
     let (mut ic, mut is) = (Iv::of(a.0, b.0), Iv::of(a.1, b.1));
     // A turn through ψ = 0, π/2, π, −π/2 (sin or cos changes sign on the
     // side of the axis it crosses) reaches that extreme.
-    if !a.1.is_positive() && !b.1.is_negative() && (a.0.is_positive() || b.0.is_positive()) {
+    // Each sign tested once (the tests are opaque to LLVM, which would
+    // repeat them).
+    let [pa0, pa1, pb0, pb1] = [a.0, a.1, b.0, b.1].map(R::is_positive);
+    let [na0, na1, nb0, nb1] = [a.0, a.1, b.0, b.1].map(R::is_negative);
+    if !pa1 && !nb1 && (pa0 || pb0) {
         ic.hi = c;
     }
-    if !a.1.is_negative() && !b.1.is_positive() && (a.0.is_negative() || b.0.is_negative()) {
+    if !na1 && !pb1 && (na0 || nb0) {
         ic.lo = -c;
     }
-    if !a.0.is_negative() && !b.0.is_positive() && (a.1.is_positive() || b.1.is_positive()) {
+    if !na0 && !pb0 && (pa1 || pb1) {
         is.hi = c;
     }
-    if !a.0.is_positive() && !b.0.is_negative() && (a.1.is_negative() || b.1.is_negative()) {
+    if !pa0 && !nb0 && (na1 || nb1) {
         is.lo = -c;
     }
     (ic, is)
@@ -228,9 +234,9 @@ fn planar_bound<R: Real>(links: &Links<R>, branch: Branch, p: &Planar<R>) -> Opt
     let e = elbow(links, branch, p)?;
     let (d2, dd2) = shoulder(links, p, &e);
     let out = [(p.b1, p.b2), (d2, dd2), (e.d3, e.dd3)];
-    for (v, a) in out {
+    for (v, a) in &out {
         // NaN too: from ∞·0 where a range reaches a singular pose.
-        if !(v.lo.is_finite() && v.hi.is_finite() && a.lo.is_finite() && a.hi.is_finite()) {
+        if !(v.is_finite() && a.is_finite()) {
             return None;
         }
     }
