@@ -35,8 +35,21 @@ pub struct Iv<R> {
 
 impl<R: Real> Iv<R> {
     /// The interval between `a` and `b` (either order).
+    #[inline(never)] // reason: code-size
     pub fn of(a: R, b: R) -> Self {
-        Iv { lo: a.min(b), hi: a.max(b) }
+        if a.is_finite() && b.is_finite() {
+            // What min and max give, by `lt_num` (on the AVR a test of the
+            // bits, where a float comparison is a library call).
+            if b.lt_num(a) {
+                Iv { lo: b, hi: a }
+            } else if a.lt_num(b) {
+                Iv { lo: a, hi: b }
+            } else {
+                Iv { lo: a, hi: a }
+            }
+        } else {
+            Iv { lo: a.min(b), hi: a.max(b) }
+        }
     }
     /// The point `a`.
     pub fn pt(a: R) -> Self {

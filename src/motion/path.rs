@@ -369,7 +369,8 @@ fn law_bound<R: Real>(law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> (Iv<R>, Iv<R
             CELLS
         }
     };
-    let (v, acc): (R, R) = tab.max_over(cell(a.t, false), cell(b.t, true).max(cell(a.t, false) + 1));
+    let first = cell(a.t, false);
+    let (v, acc): (R, R) = tab.max_over(first, cell(b.t, true).max(first + 1));
     let h = b.t - a.t;
     let acc = acc * inv * inv;
     let (vs, dv) = (a.gv + b.gv, acc * h);
