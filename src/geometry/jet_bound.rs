@@ -168,7 +168,9 @@ fn line<R: Real>(from: &[R; 3], d: &[R; 3], sa: R, sb: R) -> Option<Planar<R>> {
 /// The range of (|C|cos ψ, |C|sin ψ) for ψ from `a` to `b` (< π apart),
 /// given as (|C|cos ψ, |C|sin ψ) at both ends, |C| = `c`.
 #[inline(never)] // reason: code-size
-fn arc<R: Real>(a: (R, R), b: (R, R), c: R) -> (Iv<R>, Iv<R>) {
+fn arc<R: Real>(ends: &[(R, R); 2], c: R) -> (Iv<R>, Iv<R>) {
+    // Both ends in one array (four numbers: not promoted back to values).
+    let [a, b] = *ends;
     let (mut ic, mut is) = (Iv::of(a.0, b.0), Iv::of(a.1, b.1));
     // A turn through ψ = 0, π/2, π, −π/2 (sin or cos changes sign on the
     // side of the axis it crosses) reaches that extreme.
@@ -191,8 +193,20 @@ fn arc<R: Real>(a: (R, R), b: (R, R), c: R) -> (Iv<R>, Iv<R>) {
     (ic, is)
 }
 
+/// A circle's stretch: its fields and [sa, sb], in one place (passed by
+/// reference: as values, or as references LLVM's argument promotion turns
+/// back into values, they would take the stack, docs/avr-traps.md trap 1).
+struct CircleStretch<R> {
+    center: [R; 3],
+    radius: R,
+    dir: [R; 2],
+    sa: R,
+    sb: R,
+}
+
 #[inline(never)] // reason: code-size
-fn circle<R: Real>(center: &[R; 3], radius: R, dir: &[R; 2], sa: R, sb: R) -> Planar<R> {
+fn circle<R: Real>(st: &CircleStretch<R>) -> Planar<R> {
+    let CircleStretch { center, radius, dir, sa, sb } = *st;
     let (rc, zc) = (center[0] * dir[0] + center[1] * dir[1], center[2]);
     let c = (rc * rc + zc * zc).sqrt();
     let w = R::PI.twice();
@@ -202,7 +216,7 @@ fn circle<R: Real>(center: &[R; 3], radius: R, dir: &[R; 2], sa: R, sb: R) -> Pl
         (rc * co + zc * si, rc * si - zc * co)
     };
     let (cc, cs) =
-        if R::lit(0.25) < sb - sa { (Iv { lo: -c, hi: c }, Iv { lo: -c, hi: c }) } else { arc(at(sa), at(sb), c) };
+        if R::lit(0.25) < sb - sa { (Iv { lo: -c, hi: c }, Iv { lo: -c, hi: c }) } else { arc(&[at(sa), at(sb)], c) };
     let rw = radius * w;
     let rww = rw * w;
     Planar {
@@ -230,7 +244,7 @@ pub fn jet_bound<R: Real>(
 ) -> Option<[(Iv<R>, Iv<R>); 3]> {
     let p = match *path {
         Path::Line { from, delta, .. } => line(&from, &delta, sa, sb)?,
-        Path::Circle { center, radius, dir } => circle(&center, radius, &dir, sa, sb),
+        Path::Circle { center, radius, dir } => circle(&CircleStretch { center, radius, dir, sa, sb }),
     };
     planar_bound(links, branch, &p)
 }
