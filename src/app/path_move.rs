@@ -65,7 +65,7 @@ use crate::servo::map::{Joint, TickMap};
 /// The longest unit of a path check, Timer5 ticks (8 cycles each): the
 /// 24-bisection search for a critical instant (BENCHMARKS.md
 /// `path_check_unit` max) and, as long, a unit of the bounds between the
-/// samples (a visit and the interval bound, 134 780 cycles at most:
+/// samples (a visit and the interval bound, 134 988 cycles at most:
 /// `hal-sim/rig/tests/bench_elf.rs` keeps it within this), rounded up with
 /// some room.
 pub const UNIT_MAX_TICKS: u16 = 17_500;

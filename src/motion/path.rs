@@ -338,6 +338,24 @@ pub fn law_jerk(kind: LawKind) -> Option<f64> {
     }
 }
 
+/// The cell of the law's table holding x = t/tₛ·`n` (`n` cells), or, with
+/// `up`, the one ending at or after it.
+#[inline(never)] // reason: code-size
+fn law_cell<R: Real>(x: R, n: R, up: bool) -> usize {
+    if !R::ZERO.lt_num(x) {
+        0
+    } else if x.lt_num(n) {
+        let i = x.to_f32() as usize;
+        if up && R::from_u16(i as u16) < x {
+            i + 1
+        } else {
+            i
+        }
+    } else {
+        CELLS
+    }
+}
+
 /// Ranges of ġ and g̈ over [a.t, b.t]: the law's cell bounds
 /// ([`cell_table`]), tightened by the ends' values and the next
 /// derivative's bound (a function with |f′| ≤ A between values fa, fb stays
@@ -354,23 +372,8 @@ fn law_bound<R: Real>(law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> (Iv<R>, Iv<R
     let ts = law.duration();
     let inv = ts.recip();
     let n = R::from_u16(CELLS as u16);
-    let cell = |t: R, up: bool| {
-        let x = t * inv * n;
-        if !R::ZERO.lt_num(x) {
-            0
-        } else if x.lt_num(n) {
-            let i = x.to_f32() as usize;
-            if up && R::from_u16(i as u16) < x {
-                i + 1
-            } else {
-                i
-            }
-        } else {
-            CELLS
-        }
-    };
-    let first = cell(a.t, false);
-    let (v, acc): (R, R) = tab.max_over(first, cell(b.t, true).max(first + 1));
+    let first = law_cell(a.t * inv * n, n, false);
+    let (v, acc): (R, R) = tab.max_over(first, law_cell(b.t * inv * n, n, true).max(first + 1));
     let h = b.t - a.t;
     let acc = acc * inv * inv;
     let (vs, dv) = (a.gv + b.gv, acc * h);
