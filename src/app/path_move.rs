@@ -15,7 +15,7 @@
 //! output window (angle ∩ pulse limits), on one IK branch, no joint over its speed or acceleration
 //! limit; slowed down to the shortest admissible duration, never clamped)
 //! takes far more than a frame: a unit of it (one visit, or the search for a
-//! critical instant) takes up to [`UNIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
+//! critical instant, or one stretch's bound) takes up to [`UNIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
 //! the via pose reachable, every joint inside its output window on a 513-point scan
 //! where the two terms can overshoot, the shortest duration within the
 //! speed and acceleration limits) likewise, a scan point a unit, up to
@@ -63,8 +63,11 @@ use crate::seam::{SerialPort, ServoOutputs};
 use crate::servo::map::{Joint, TickMap};
 
 /// The longest unit of a path check, Timer5 ticks (8 cycles each): the
-/// 24-bisection search for a critical instant, BENCHMARKS.md
-/// `path_check_unit` max, rounded up with some room.
+/// 24-bisection search for a critical instant (BENCHMARKS.md
+/// `path_check_unit` max) and, as long, a unit of the bounds between the
+/// samples (a visit and the interval bound, 134 988 cycles at most:
+/// `hal-sim/rig/tests/bench_elf.rs` keeps it within this), rounded up with
+/// some room.
 pub const UNIT_MAX_TICKS: u16 = 17_500;
 /// Left at the end of a checking frame for its reply line (float to
 /// decimal), telemetry and the jump back to the wait.

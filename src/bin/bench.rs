@@ -513,6 +513,16 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
         c
     };
     b.run_mut("path_check_unit", at, |c| c.step(1).is_some());
+    // One unit of the bounds between the scan's points (issue #24, F4: a
+    // visit of a stretch's far end, the path rates' interval bound and the
+    // law's cell bounds), after the grid and the refinement's 205 units.
+    const BOUND_AT: [u16; REPS] = [205, 206, 207, 208, 210, 212, 215, 218, 220, 224, 228, 232, 236, 240, 250];
+    let at = |i: usize| {
+        let Ok(mut c) = PathCheck::new(&req, &arm, &lim) else { halt() };
+        let _ = c.step(BOUND_AT.get(i).copied().unwrap_or(205));
+        c
+    };
+    b.run_mut("path_bound_unit", at, |c| c.step(1).is_some());
     lift_frames(b, maps, &lim);
     let p = ViaParams { q0: 0.0f32, theta_v: 0.0, sf: 0.0, tv: 1.5, ts: 3.0, a: 1.0, n: 2.0, av: 0.5, nv: 3.0 };
     let (Ok(gv), Ok(g)) = (

@@ -9,14 +9,18 @@
 //! so the scan's grid τ = t/tₛ sees the same path points for every tₛ and its
 //! peaks scale exactly as 1/tₛ and 1/tₛ²: the shortest admissible tₛ follows
 //! from one scan in closed form, which is how [`Pace::SlowDown`] lengthens a
-//! move instead of clamping any joint.
+//! move instead of clamping any joint. The peaks are bounds over every
+//! stretch between the scan's points ([`jet_bound`] for the path, the law's
+//! cell tables for g), so no spike between them escapes (issue #24, F4).
 
 use core::fmt;
 
 use crate::geometry::ik::{ik3, Branch, IkError, Links};
+use crate::geometry::jet_bound::{jet_bound, Iv};
 use crate::geometry::path::{ik_jet, JetError, JointJet, Path, PathShapeError, Vec3};
 use crate::math::real::Real;
 use crate::motion::plan::{JointLaw, LawKind, JOINTS};
+use crate::motion::planner::cells::{cell_table, CELLS};
 use crate::motion::zat::ShapeParams;
 use crate::motion::TrajError;
 
@@ -175,7 +179,8 @@ impl<R: Real> fmt::Display for PathError<R> {
     }
 }
 
-/// The peaks a scan found.
+/// The peaks a scan found: bounds of the joints' rates over the whole move
+/// (issue #24, F4), at or above every sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathPeaks<R> {
     /// max |θ̇_j|, rad/s.
@@ -248,10 +253,24 @@ fn check_limits<R: Real>(l: &PathLimits<R>) -> Result<(), PathError<R>> {
     }
 }
 
-/// Scans the move at `samples + 1` evenly spaced instants: every point
-/// reachable, non-singular and inside the angle limits, one IK branch
-/// throughout; returns the joints' peak speeds and accelerations.
-/// Checks one instant and folds its rates into `peaks`; returns the angles.
+/// What a visit of one instant leaves for the bound of the stretch it ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct End<R> {
+    /// Time, s.
+    t: R,
+    /// Progress g(t) and its rate ġ.
+    s: R,
+    gv: R,
+    /// g̈.
+    ga: R,
+    /// Joint angles.
+    q: Vec3<R>,
+    /// The joints' largest (speed/limit)² or acceleration/limit here.
+    f: R,
+}
+
+/// Checks one instant (reachable, non-singular, inside the angle limits)
+/// and folds its rates into `peaks`.
 fn visit<R: Real>(
     path: &Path<R>,
     law: &JointLaw<R>,
@@ -259,9 +278,10 @@ fn visit<R: Real>(
     lim: &PathLimits<R>,
     t: R,
     peaks: &mut PathPeaks<R>,
-) -> Result<Vec3<R>, PathError<R>> {
+) -> Result<End<R>, PathError<R>> {
     let g = law.g_derivs(t);
     let jj = ik_jet(&arm.links, arm.branch, &path.jet(g.s)).map_err(|e| jet_err(e, g.s))?;
+    let mut f = R::ZERO;
     for j in 0..JOINTS {
         let q = jj.q[j];
         if !(lim.min[j] <= q && q <= lim.max[j]) {
@@ -274,8 +294,125 @@ fn visit<R: Real>(
         }
         peaks.speed[j] = peaks.speed[j].max(v);
         peaks.accel[j] = peaks.accel[j].max(a);
+        let fv = v / lim.speed[j];
+        f = f.max(fv * fv).max(a / lim.accel[j]);
     }
-    Ok(jj.q)
+    Ok(End { t, s: g.s, gv: g.v, ga: g.acc, q: jj.q, f })
+}
+
+/// One IK branch from `a` to `b`: no joint changes by more than
+/// [`BRANCH_JUMP_RAD`] (angles are finite here: `visit` checked their rates).
+fn branch_kept<R: Real>(a: &End<R>, b: &End<R>) -> Result<(), PathError<R>> {
+    for k in 0..JOINTS {
+        if R::lit(BRANCH_JUMP_RAD).lt_num((b.q[k] - a.q[k]).abs()) {
+            return Err(PathError::Singular { s: b.s });
+        }
+    }
+    Ok(())
+}
+
+/// Deepest halving of a scan interval for its bound: 2⁻¹² of it (next to
+/// the rim and the base axis the bound closes in on the rates only there;
+/// at 2⁻⁸ the issue's line came out 5 % longer than its shortest, at 2⁻¹² 3 %).
+const BOUND_DEPTH: u8 = 12;
+/// A stretch is halved while its bound's (speed/limit)² or accel/limit
+/// exceeds by more than this share the largest the scan has visited (grid,
+/// refinement, the stretches' ends so far): about 3 % on the duration the
+/// bound asks for. Only stretches near the move's binding
+/// peak are halved; and the test is scale-free (all of them scale as
+/// 1/tₛ²), so the halving, and with it the bounds, are the same for every
+/// tₛ: one scan decides the shortest.
+const BOUND_TOL: f64 = 1.0 / 16.0;
+
+/// The largest |f‴| of a law's normalized profile (g(t) = f(t/tₛ)), for
+/// laws whose f″ is continuous: ζ-a-tₛ's is 62.34 (at τ = 0.091), the
+/// quintic's 60 (at the ends), the cubic's 12; `tests/path_bound.rs`
+/// checks each against the law's own f64 evaluation. The trapezoid's f″
+/// steps: its cells' bound alone.
+pub fn law_jerk(kind: LawKind) -> Option<f64> {
+    match kind {
+        LawKind::Zat => Some(62.5),
+        LawKind::Quintic => Some(60.0),
+        LawKind::Cubic => Some(12.0),
+        _ => None,
+    }
+}
+
+/// The cell of the law's table holding x = t/tₛ·`n` (`n` cells), or, with
+/// `up`, the one ending at or after it.
+#[inline(never)] // reason: code-size
+fn law_cell<R: Real>(x: R, n: R, up: bool) -> usize {
+    if !R::ZERO.lt_num(x) {
+        0
+    } else if x.lt_num(n) {
+        let i = x.to_f32() as usize;
+        if up && R::from_u16(i as u16) < x {
+            i + 1
+        } else {
+            i
+        }
+    } else {
+        CELLS
+    }
+}
+
+/// Ranges of ġ and g̈ over [a.t, b.t]: the law's cell bounds
+/// ([`cell_table`]), tightened by the ends' values and the next
+/// derivative's bound (a function with |f′| ≤ A between values fa, fb stays
+/// within (fa + fb ± A·h)/2): ġ's by the cells' |g̈|, g̈'s by [`law_jerk`] (the trapezoid's by its sign).
+/// Without the latter, a cell's |g̈| is its largest for the whole cell,
+/// which next to the rim meets the large path rates of the move's very
+/// start. The linear law, which has no table, has constant rates between
+/// its steps: its ends' values.
+#[inline(never)] // reason: code-size
+fn law_bound<R: Real>(law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> (Iv<R>, Iv<R>) {
+    let Some(tab) = cell_table(law.kind()) else {
+        return (Iv::of(a.gv, b.gv), Iv::of(a.ga, b.ga));
+    };
+    let ts = law.duration();
+    let inv = ts.recip();
+    let n = R::from_u16(CELLS as u16);
+    let first = law_cell(a.t * inv * n, n, false);
+    let (v, acc): (R, R) = tab.max_over(first, law_cell(b.t * inv * n, n, true).max(first + 1));
+    let h = b.t - a.t;
+    let acc = acc * inv * inv;
+    let (vs, dv) = (a.gv + b.gv, acc * h);
+    let v = Iv { lo: ((vs - dv) * R::HALF).max(R::ZERO), hi: (v * inv).min((vs + dv) * R::HALF) };
+    let g2 = match law_jerk(law.kind()) {
+        Some(jerk) => {
+            let (s2, d2) = (a.ga + b.ga, R::lit(jerk) * inv * inv * inv * h);
+            Iv { lo: ((s2 - d2) * R::HALF).max(-acc), hi: ((s2 + d2) * R::HALF).min(acc) }
+        }
+        // The trapezoid's f″ is +A, 0, −A by thirds: ≥ 0 on its first half,
+        // ≤ 0 on its second; without the sign a stretch would lose the
+        // cancellation of θ″·ġ² against θ′·g̈ (16 % too long a move seen).
+        None if (b.t + b.t).le_num(ts) => Iv { lo: R::ZERO, hi: acc },
+        None if ts.le_num(a.t + a.t) => Iv { lo: -acc, hi: R::ZERO },
+        None => Iv { lo: -acc, hi: acc },
+    };
+    (v, g2)
+}
+
+/// The bound over a stretch (speeds and accelerations per joint, folded
+/// into `peaks`) and whether to halve it instead: `None` when the path
+/// bound is undefined there (base axis, rim, folded arm), else the bound's
+/// largest (speed/limit)² or accel/limit.
+#[inline(never)] // reason: code-size
+fn stretch_bound<R: Real>(c: &Checked<R>, law: &JointLaw<R>, a: &End<R>, b: &End<R>) -> Option<([(R, R); JOINTS], R)> {
+    let jb = jet_bound(&c.arm.links, c.arm.branch, &c.path, a.s, b.s)?;
+    let (gv, ga) = law_bound(law, a, b);
+    let gv2 = gv.sqr();
+    let mut out = [(R::ZERO, R::ZERO); JOINTS];
+    let mut f_b = R::ZERO;
+    for j in 0..JOINTS {
+        let (d1, d2) = jb[j];
+        // ġ ≥ 0: |θ′·ġ| ≤ max|θ′|·max ġ.
+        let (v, acc) = (d1.mag() * gv.hi, d2.times(gv2).plus(d1.times(ga)).mag());
+        let fv = v / c.lim.speed[j];
+        out[j] = (v, acc);
+        f_b = f_b.max(fv * fv).max(acc / c.lim.accel[j]);
+    }
+    Some((out, f_b))
 }
 
 /// Bisections for the instant a critical progress is passed (g is monotone):
@@ -306,6 +443,13 @@ fn time_of<R: Real>(law: &JointLaw<R>, s: R) -> R {
 enum ScanAt<R> {
     /// The even grid's instant i of `samples`.
     Grid(u16),
+    /// The bound of the stretch of the grid's interval `i` that is its
+    /// `j`-th of 2^`d` (the instant 0 first).
+    Bound {
+        i: u16,
+        j: u16,
+        d: u8,
+    },
     /// The instant of critical point `crit` is still to be found.
     Critical(u8),
     /// Around critical instant `t_c`: offset step `m` (3: `t_c` itself) on
@@ -328,12 +472,18 @@ enum ScanAt<R> {
 /// zero while, next to the rim, a joint's path rate (∝ 1/sin θ₃) falls
 /// from a large value, and their product peaks between grid points; the
 /// grid alone let such a line reach 1.105 × max_accel. Grid-independent: the
-/// refinement sits at the same τ = t/tₛ for every tₛ.
+/// refinement sits at the same τ = t/tₛ for every tₛ. Last, the bounds
+/// over every stretch of the grid (`Scan::bound`), halved where loose: the
+/// samples only set the reference the halving is measured against, and the
+/// bounds decide.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Scan<R> {
     at: ScanAt<R>,
     peaks: PathPeaks<R>,
-    prev: Option<Vec3<R>>,
+    /// The last visited end of a bounded stretch.
+    prev: Option<End<R>>,
+    /// The largest rate visited so far, as (speed/limit)² or accel/limit.
+    f_max: R,
 }
 
 impl<R: Real> Scan<R> {
@@ -342,6 +492,7 @@ impl<R: Real> Scan<R> {
             at: ScanAt::Grid(0),
             peaks: PathPeaks { speed: [R::ZERO; JOINTS], accel: [R::ZERO; JOINTS] },
             prev: None,
+            f_max: R::ZERO,
         }
     }
 
@@ -351,16 +502,11 @@ impl<R: Real> Scan<R> {
         match self.at {
             ScanAt::Grid(i) => {
                 let t = if i >= c.samples { ts } else { ts * R::from_u16(i) / R::from_u16(c.samples) };
-                let q = visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
-                if let Some(p) = self.prev {
-                    for j in 0..JOINTS {
-                        // Angles are finite here (`visit` checked their rates).
-                        if R::lit(BRANCH_JUMP_RAD).lt_num((q[j] - p[j]).abs()) {
-                            return Err(PathError::Singular { s: law.g(t) });
-                        }
-                    }
+                let b = visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+                if let Some(a) = self.prev {
+                    branch_kept(&a, &b)?;
                 }
-                self.prev = Some(q);
+                self.prev = Some(b);
                 self.at = if i >= c.samples { ScanAt::Critical(0) } else { ScanAt::Grid(i + 1) };
             }
             ScanAt::Critical(crit) => {
@@ -375,7 +521,14 @@ impl<R: Real> Scan<R> {
                 };
                 self.at = match t_c {
                     Some(t_c) => ScanAt::Cluster { crit, t_c, off: ts * R::HALF, m: 3, late: false },
-                    None => ScanAt::Finished,
+                    None => {
+                        // The samples' largest rate, a floor for what the
+                        // bounds are measured against.
+                        self.f_max = stretch(&self.peaks, &c.lim).0;
+                        self.f_max = self.f_max * self.f_max;
+                        self.prev = None;
+                        ScanAt::Bound { i: 0, j: 0, d: 0 }
+                    }
                 };
             }
             ScanAt::Cluster { crit, t_c, off, m, late } => {
@@ -397,9 +550,67 @@ impl<R: Real> Scan<R> {
                     };
                 }
             }
+            ScanAt::Bound { i, j, d } => self.bound(c, law, i, j, d)?,
             ScanAt::Finished => return Ok(true),
         }
         Ok(self.at == ScanAt::Finished)
+    }
+
+    /// One unit of the bounds: the instant 0, or the far end of the stretch
+    /// (i, j, d) and the stretch's bound, halving it instead when that
+    /// bound is well above the largest rate so far.
+    #[inline(never)] // avr-trap: frame-size
+    fn bound(&mut self, c: &Checked<R>, law: &JointLaw<R>, i: u16, j: u16, d: u8) -> Result<(), PathError<R>> {
+        let ts = law.duration();
+        let Some(a) = self.prev else {
+            self.prev = Some(visit(&c.path, law, &c.arm, &c.lim, R::ZERO, &mut self.peaks)?);
+            return Ok(());
+        };
+        let t = if i + 1 >= c.samples && u32::from(j) + 1 >= 1u32 << d {
+            ts
+        } else {
+            let frac = R::from_u16(j + 1) / R::from_u16(1u16 << d);
+            ts * (R::from_u16(i) + frac) / R::from_u16(c.samples)
+        };
+        let b = visit(&c.path, law, &c.arm, &c.lim, t, &mut self.peaks)?;
+        branch_kept(&a, &b)?;
+        // Measured against rates the move has, never against bounds: each
+        // accepted bound would let the next be a share looser.
+        self.f_max = self.f_max.max(b.f);
+        let bound = stretch_bound(c, law, &a, &b);
+        let halve = match bound {
+            None => true,
+            Some((_, f_b)) => R::lit(BOUND_TOL) * self.f_max < f_b - self.f_max,
+        };
+        if halve && d < BOUND_DEPTH {
+            self.at = ScanAt::Bound { i, j: j * 2, d: d + 1 };
+            return Ok(());
+        }
+        let Some((rates, _)) = bound else {
+            return Err(PathError::Singular { s: a.s });
+        };
+        for (k, (v, acc)) in rates.iter().enumerate() {
+            self.peaks.speed[k] = self.peaks.speed[k].max(*v);
+            self.peaks.accel[k] = self.peaks.accel[k].max(*acc);
+        }
+
+        self.prev = Some(b);
+        // The next stretch: up while this one was a right half.
+        let (mut j, mut d) = (j, d);
+        while d > 0 && j % 2 == 1 {
+            j /= 2;
+            d -= 1;
+        }
+        self.at = if d == 0 {
+            if i + 1 >= c.samples {
+                ScanAt::Finished
+            } else {
+                ScanAt::Bound { i: i + 1, j: 0, d: 0 }
+            }
+        } else {
+            ScanAt::Bound { i, j: j + 1, d }
+        };
+        Ok(())
     }
 }
 
@@ -422,8 +633,6 @@ pub struct PathCheck<R> {
     c: Checked<R>,
     law: JointLaw<R>,
     kind: LawKind,
-    /// Already lengthened once (the second scan decides).
-    slowed: bool,
     scan: Scan<R>,
     /// Decided: `Ok` means the plan is the path, this law and the scan's
     /// peaks (not a copy of them: the chip keeps a check in its static RAM).
@@ -440,12 +649,13 @@ impl<R: Real> PathCheck<R> {
         let law = law_for(req.law, req.ts)?;
         let c =
             Checked { path: req.path, arm: *arm, lim: *lim, samples: req.samples, refine: req.refine, pace: req.pace };
-        Ok(PathCheck { c, law, kind: req.law, slowed: false, scan: Scan::new(), outcome: None })
+        Ok(PathCheck { c, law, kind: req.law, scan: Scan::new(), outcome: None })
     }
 
     /// Does up to `units` units of work (a unit is one visit of the move,
-    /// IK with rates, or one search for a critical instant); the plan or the
-    /// refusal once decided, and from then on.
+    /// IK with rates, one search for a critical instant, or one stretch's
+    /// visit and bound); the plan or the refusal once decided, and from
+    /// then on.
     pub fn step(&mut self, units: u16) -> Option<Result<PathPlan<R>, PathError<R>>> {
         for _ in 0..units {
             if self.outcome.is_some() {
@@ -461,8 +671,13 @@ impl<R: Real> PathCheck<R> {
             .map(|r| r.map(|()| PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks: self.scan.peaks }))
     }
 
-    /// After a complete scan: the plan, a refusal, or (slowing down, once)
-    /// `None` and a new scan at the shortest admissible duration.
+    /// After a complete scan: the plan at the asked duration, a refusal,
+    /// or (slowing down) the plan at the shortest admissible duration. Not
+    /// scanned again: the scan's grid, refinement and stretches sit at the
+    /// same τ = t/tₛ for every tₛ, so its samples and bounds scale exactly
+    /// as 1/tₛ and 1/tₛ² (and the angles do not change); `STRETCH_SLACK`
+    /// covers the rounding. A second scan would double the check's time on
+    /// the chip (issue #24, F4's bounds made a scan the longer part).
     fn decide(&mut self) -> Option<Result<(), PathError<R>>> {
         let (f, joint, accel) = stretch(&self.scan.peaks, &self.c.lim);
         if f <= R::ONE {
@@ -470,24 +685,28 @@ impl<R: Real> PathCheck<R> {
         }
         let ts = self.law.duration();
         let ts_min = ts * f;
-        if self.c.pace == Pace::Refuse || self.slowed {
+        if self.c.pace == Pace::Refuse {
             return Some(Err(if accel {
                 PathError::Accel { joint, ts_min }
             } else {
                 PathError::Speed { joint, ts_min }
             }));
         }
-        let ts = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
+        let ts_new = ts_min * (R::ONE + R::lit(STRETCH_SLACK));
         // ts is finite (from finite peaks and limits), as is ts_max.
-        if self.c.lim.ts_max.lt_num(ts) {
+        if self.c.lim.ts_max.lt_num(ts_new) {
             return Some(Err(PathError::TooSlow { ts_min }));
         }
-        match law_for(self.kind, ts) {
+        match law_for(self.kind, ts_new) {
             Ok(law) => {
                 self.law = law;
-                self.slowed = true;
-                self.scan = Scan::new();
-                None
+                let k = ts / ts_new;
+                let p = &mut self.scan.peaks;
+                for j in 0..JOINTS {
+                    p.speed[j] *= k;
+                    p.accel[j] *= k * k;
+                }
+                Some(Ok(()))
             }
             Err(e) => Some(Err(e)),
         }
@@ -511,9 +730,10 @@ fn stretch<R: Real>(peaks: &PathPeaks<R>, lim: &PathLimits<R>) -> (R, u8, bool) 
     worst
 }
 
-/// Rounding allowance when a slowed-down move is scanned again: its peaks
-/// scale exactly in exact arithmetic.
-const STRETCH_SLACK: f64 = 1e-5;
+/// Rounding allowance of a slowed-down move, whose peaks scale exactly in
+/// exact arithmetic: well above the f32 rounding of the scan's dozens of
+/// operations per bound.
+const STRETCH_SLACK: f64 = 1e-4;
 
 /// The joint angles at time t: the law's g, the path's point, the IK; the
 /// per-frame work of a path move (no derivatives).
@@ -557,7 +777,8 @@ impl<R: Real> PathPlan<R> {
         &self.law
     }
 
-    /// The joints' peak speeds and accelerations on the plan's scan.
+    /// Bounds of the joints' speeds and accelerations over the whole move
+    /// (the plan's scan and the bounds between its points).
     #[inline]
     pub fn peaks(&self) -> &PathPeaks<R> {
         &self.peaks

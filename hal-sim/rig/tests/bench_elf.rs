@@ -227,3 +227,16 @@ fn chip_plans_are_the_hosts_bit_for_bit() {
     // tₛ = 4 with n = 2 is past the smooth stop's monotone range (L·(tₛ − 1) > 2).
     assert_eq!(planned, 14);
 }
+
+/// Issue #24, F4: a unit of the path check's bounds between its samples
+/// (a visit and the interval bound) stays within the unit the app plans a
+/// frame's check for (`app::path_move::UNIT_MAX_TICKS`, 17 500 Timer5 ticks
+/// of 8 cycles), as the bisection unit does.
+#[test]
+fn path_bound_unit_fits_the_check_unit() {
+    let b = benches();
+    let [median, min, max, stack] = b["path_bound_unit"];
+    let unit = b["path_check_unit"];
+    eprintln!("path bound unit: median {median}, min {min}, max {max} cycles, stack {stack} B; check unit {unit:?}");
+    assert!(max <= 17_500 * 8, "bound unit {max} cycles > the check unit budget");
+}
