@@ -48,7 +48,7 @@ its code (pushes, the frame its prologue allocates through Y, 3-byte return addr
 calls resolved to the functions whose address a code-pointer relocation forms, recursion refused
 unless listed with its reason (`FIRMWARE_RECURSION`: `acc_scan` nests once), and the interrupt
 handlers on top at their worst nesting (one at a time where no handler executes `sei`).
-`hal-sim/tests/stack_bound.rs` fails when a bound exceeds its ELF's budget: memory.x's 2 KiB, but
+`xtask/tests/stack_bound.rs` fails when a bound exceeds its ELF's budget: memory.x's 2 KiB, but
 for the bench (it does not ship, its static RAM and its deepest frames, the harness's, are its own)
 the RAM its `.data` and `.bss` leave of the 8 KiB less a 512 B margin. Beside it, the
 painted high-water mark of the runs above (the product's busiest session, the bench's deepest
