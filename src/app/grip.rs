@@ -321,7 +321,7 @@ impl App {
     }
 
     /// [`Self::plan_grip`]'s plan by the law chosen, installed.
-    // the plan (the move's largest value) lives here,
+    // The plan (the move's largest value) lives here,
     // after the duration search has returned, not in plan_grip's frame.
     #[inline(never)] // avr-trap: frame-size
     fn start_grip_plan(

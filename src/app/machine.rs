@@ -412,7 +412,7 @@ impl App {
 
     /// A move from `start` at rest (not inlined: its plan and track would
     /// otherwise share the caller's stack frame with the re-plan's).
-    // only the request and the chosen law are in this
+    // Only the request and the chosen law are in this
     // frame during the duration search; the plan is built in `start_chosen`.
     #[inline(never)] // avr-trap: frame-size
     fn start_fresh(
@@ -433,7 +433,7 @@ impl App {
     }
 
     /// [`Self::start_fresh`]'s plan by the law chosen, started on the track.
-    // the plan (the move's largest value) lives here,
+    // The plan (the move's largest value) lives here,
     // after the duration search has returned, not in start_fresh's frame.
     #[inline(never)] // avr-trap: frame-size
     fn start_chosen(

@@ -63,7 +63,7 @@ impl App {
 
     /// Where a slew to the held pose under `maps` starts (each servo's present
     /// pulse as an angle of `maps`), or `None` if no pulse would change.
-    // its pulse temporaries stay out of
+    // Its pulse temporaries stay out of
     // replace_config's frame, which is on the slew's deep chain.
     #[inline(never)] // avr-trap: frame-size
     fn slew_start(&self, maps: &[ServoMap; JOINTS]) -> Result<Option<[f32; JOINTS]>, Refusal> {

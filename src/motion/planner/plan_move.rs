@@ -27,7 +27,7 @@ const ACC_SEARCH_TOL: f64 = 0.01;
 /// Plans a move under the speed and acceleration limits (see the module
 /// doc): [`choose_law`], then [`plan_chosen`]. Not inlined, so that the
 /// chosen law is not part of the caller's stack frame.
-// the ChosenLaw it holds across the search stays out
+// The ChosenLaw it holds across the search stays out
 // of its callers' frames.
 #[inline(never)] // avr-trap: frame-size
 pub fn plan_move<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<PlannedMove<R>, PlanError> {
@@ -54,7 +54,7 @@ pub struct ChosenLaw<R> {
 /// limits. Kept apart from [`plan_chosen`]'s plan (the move's largest
 /// value), so that a caller holding the plan's space is not on the stack
 /// during the search.
-// the duration searches below run deep; no plan
+// The duration searches below run deep; no plan
 // (nor the caller's plan space) may share their callers' frames.
 #[inline(never)] // avr-trap: frame-size
 pub fn choose_law<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<ChosenLaw<R>, PlanError> {
@@ -81,7 +81,7 @@ pub fn choose_law<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<
 
 /// The plan of a move by the law [`choose_law`] chose for it, checked
 /// against the limits again.
-// the plan's temporaries stay out of the callers'
+// The plan's temporaries stay out of the callers'
 // frames (plan_move's is on the duration search's chain).
 #[inline(never)] // avr-trap: frame-size
 pub fn plan_chosen<R: Real>(
@@ -151,7 +151,7 @@ pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>
 /// passes and is near the start of the passing range the search brackets,
 /// not always the shortest. The speed bound is verified again on the shape
 /// returned, with its P and max |G″|.
-// the acceleration search's candidates live in
+// The acceleration search's candidates live in
 // zat_acc_search's frame, not in this one across zat_duration's search.
 #[inline(never)] // avr-trap: frame-size
 fn zat_paper<R: Real>(ratio: R, acc_ratio: R, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
@@ -177,7 +177,7 @@ struct AccBracket<R> {
 }
 
 /// [`zat_paper`]'s search for a longer tₛ from the bracket's failing end.
-// its candidates are dead before zat_duration's deep
+// Its candidates are dead before zat_duration's deep
 // search runs (they would share zat_paper's frame).
 #[inline(never)] // avr-trap: frame-size
 fn zat_acc_search<R: Real>(b: &mut AccBracket<R>, lim: &PlanLimits<R>) -> Result<(ZatShape<R>, R, R), PlanError> {
