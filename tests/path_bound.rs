@@ -64,6 +64,78 @@ fn links() -> impl Strategy<Value = (Links<f64>, Branch)> {
     })
 }
 
+/// The soundness property of one stretch: [sa, sa + 10^w] of `p`.
+fn holds_between_samples(p: &Path<f64>, l: &Links<f64>, b: Branch, sa: f64, w: f64) -> Result<(), TestCaseError> {
+    let sb = (sa + 10f64.powf(w)).min(1.0);
+    let Some(m) = sampled(l, b, p, sa, sb, 10_000) else { return Ok(()) };
+    if let Some(bd) = jet_bound(l, b, p, sa, sb).map(|bd| bd.map(|(v, a)| (v.mag(), a.mag()))) {
+        for j in 0..3 {
+            // 1e-6: ik_jet's own rounding (a circle's base rate, 0, comes
+            // out up to 3e-9 next to the axis).
+            prop_assert!(
+                bd[j].0 >= m[j].0 * (1.0 - 1e-9) - 1e-6 && bd[j].1 >= m[j].1 * (1.0 - 1e-9) - 1e-6,
+                "joint {j}: bound {:?} below sampled {:?} on [{sa}, {sb}] of {p:?}",
+                bd[j],
+                m[j]
+            );
+        }
+    }
+    let p32 = match *p {
+        Path::Line { from, to, .. } => Path::line(&from.map(|v| v as f32), &to.map(|v| v as f32)).ok(),
+        Path::Circle { center, radius, .. } => Path::circle(&center.map(|v| v as f32), radius as f32).ok(),
+    };
+    let l32 = Links::new(l.l2() as f32, l.l3() as f32).unwrap();
+    // The f32 inputs move the path by ~1e-7, which next to the base axis
+    // moves the base's rate (K/ρ²) by more than any tolerance: sample the
+    // path the chip is given (its f32 ends, in f64), so the comparison
+    // measures the f32 arithmetic alone.
+    let given = match *p {
+        Path::Line { from, to, .. } => {
+            Path::line(&from.map(|v| f64::from(v as f32)), &to.map(|v| f64::from(v as f32))).ok()
+        }
+        Path::Circle { center, radius, .. } => {
+            Path::circle(&center.map(|v| f64::from(v as f32)), f64::from(radius as f32)).ok()
+        }
+    };
+    let Some(m) = given.and_then(|g| sampled(l, b, &g, f64::from(sa as f32), f64::from(sb as f32), 10_000)) else {
+        return Ok(());
+    };
+    if let Some(bd) =
+        p32.and_then(|p32| jet_bound(&l32, b, &p32, sa as f32, sb as f32)).map(|bd| bd.map(|(v, a)| (v.mag(), a.mag())))
+    {
+        for j in 0..3 {
+            // f32 rounding of the bound's own arithmetic (no directed
+            // rounding, docs/method.md §8.1). With ρ² taken from the stretch's
+            // ends (jet_bound.rs) 2·10⁴ cases stayed within 0.1 % of the
+            // sampled rates (before, ρ² as a quadratic lost its digits next to
+            // the axis: 31 % low, the test below); 0.2 % is allowed, which the
+            // app's planning at 98 % of every limit (`speed_margin`) covers ten
+            // times.
+            let tol = 2e-3 * m[j].0.max(1.0);
+            let tol2 = 2e-3 * m[j].1.max(1.0);
+            prop_assert!(
+                f64::from(bd[j].0) >= m[j].0 - tol && f64::from(bd[j].1) >= m[j].1 - tol2,
+                "f32 joint {j}: bound {:?} below sampled {:?}",
+                bd[j],
+                m[j]
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The case CI found (a line ending 6.3e-4 from the base axis): in f32
+/// the quadratic form of ρ² lost all its digits there and the base's rate
+/// bound came out 31 % below the sampled rate; ρ² from the stretch's ends
+/// keeps it sound.
+#[test]
+fn the_f32_bound_holds_next_to_the_axis() {
+    let from = [-0.7063786317333147, 1.5426529063897072, -0.9842696180615204];
+    let to = [0.0006292529898424474, 0.0, -0.6292526752158738];
+    let p = Path::line(&from, &to).unwrap();
+    holds_between_samples(&p, &Links::new(1.0, 1.0).unwrap(), Branch::Plus, 0.976918644197445, -0.5).unwrap();
+}
+
 proptest! {
     #![proptest_config(cfg())]
 
@@ -71,44 +143,7 @@ proptest! {
     /// the chip's f32, the latter within its rounding).
     #[test]
     fn the_bound_holds_between_samples(p in path(), (l, b) in links(), sa in 0.0f64..1.0, w in -4.0f64..-0.5) {
-        let sb = (sa + 10f64.powf(w)).min(1.0);
-        let Some(m) = sampled(&l, b, &p, sa, sb, 10_000) else { return Ok(()) };
-        if let Some(bd) = jet_bound(&l, b, &p, sa, sb).map(|bd| bd.map(|(v, a)| (v.mag(), a.mag()))) {
-            for j in 0..3 {
-                // 1e-6: ik_jet's own rounding (a circle's base rate, 0, comes
-                // out up to 3e-9 next to the axis).
-                prop_assert!(bd[j].0 >= m[j].0 * (1.0 - 1e-9) - 1e-6 && bd[j].1 >= m[j].1 * (1.0 - 1e-9) - 1e-6,
-                    "joint {j}: bound {:?} below sampled {:?} on [{sa}, {sb}] of {p:?}", bd[j], m[j]);
-            }
-        }
-        let p32 = match p {
-            Path::Line { from, to, .. } => Path::line(&from.map(|v| v as f32), &to.map(|v| v as f32)).ok(),
-            Path::Circle { center, radius, .. } => Path::circle(&center.map(|v| v as f32), radius as f32).ok(),
-        };
-        let l32 = Links::new(l.l2() as f32, l.l3() as f32).unwrap();
-        // The f32 inputs move the path by ~1e-7, which next to the base axis
-        // moves the base's rate (K/ρ²) by more than any tolerance: sample the
-        // path the chip is given (its f32 ends, in f64), so the comparison
-        // measures the f32 arithmetic alone.
-        let given = match p {
-            Path::Line { from, to, .. } => Path::line(&from.map(|v| f64::from(v as f32)), &to.map(|v| f64::from(v as f32))).ok(),
-            Path::Circle { center, radius, .. } => Path::circle(&center.map(|v| f64::from(v as f32)), f64::from(radius as f32)).ok(),
-        };
-        let Some(m) = given.and_then(|g| sampled(&l, b, &g, f64::from(sa as f32), f64::from(sb as f32), 10_000)) else { return Ok(()) };
-        if let Some(bd) = p32.and_then(|p32| jet_bound(&l32, b, &p32, sa as f32, sb as f32)).map(|bd| bd.map(|(v, a)| (v.mag(), a.mag()))) {
-            for j in 0..3 {
-                // f32 rounding of the bound's own arithmetic (no directed
-                // rounding, docs/method.md §8.1): next to the base axis ρ² is
-                // a difference of nearly equal terms and the base's rate bound
-                // came out 0.13 % low (the saved regression case). 1 % is the
-                // error allowed: the app plans at 98 % of every limit
-                // (`speed_margin`), which covers it.
-                let tol = 1e-2 * m[j].0.max(1.0);
-                let tol2 = 1e-2 * m[j].1.max(1.0);
-                prop_assert!(f64::from(bd[j].0) >= m[j].0 - tol && f64::from(bd[j].1) >= m[j].1 - tol2,
-                    "f32 joint {j}: bound {:?} below sampled {:?}", bd[j], m[j]);
-            }
-        }
+        holds_between_samples(&p, &l, b, sa, w)?;
     }
 
     /// Tight: the bound's excess over the sampled maximum shrinks with the

@@ -139,29 +139,47 @@ fn line<R: Real>(from: &[R; 3], d: &[R; 3], sa: R, sb: R) -> Option<Planar<R>> {
         acc
     };
     let (a0, a1, a2) = (dot(from, from, 2), dot(from, d, 2), dot(d, d, 2));
-    let rho2 = quad(&[a0, a1.twice(), a2], sa, sb);
+    let k = from[0] * d[1] - from[1] * d[0];
+    // ρ² and P_xy·P′_xy from the stretch's own ends, not from the quadratic
+    // a0 + 2a1·s + a2·s²: next to the base axis that is a difference of
+    // nearly equal terms, and in f32 its rounding (ε·a0) reached the size of
+    // ρ² itself (a line 6e-4 from the axis: the base's rate bound 31 % low,
+    // tests/path_bound.rs). The minimum inside is K²/a2, the line's distance
+    // from the axis, squared.
+    let xy = |s: R| [from[0] + d[0] * s, from[1] + d[1] * s];
+    let (pa, pb) = (xy(sa), xy(sb));
+    let (ra, rb) = (pa[0] * pa[0] + pa[1] * pa[1], pb[0] * pb[0] + pb[1] * pb[1]);
+    let (ga, gb) = (pa[0] * d[0] + pa[1] * d[1], pb[0] * d[0] + pb[1] * d[1]);
+    let mut rho2 = Iv::of(ra, rb);
+    if a2.is_positive() {
+        let v = -a1 / a2;
+        if sa < v && v < sb {
+            rho2.lo = rho2.lo.min(k * k / a2);
+        }
+    }
     if !rho2.lo.is_positive() {
         return None;
     }
     let (z0, dz) = (from[2], d[2]);
-    let k = from[0] * d[1] - from[1] * d[0];
     let aff = |c0: R, c1: R| Iv::of(c0 + c1 * sa, c0 + c1 * sb);
     let rho = Iv { lo: rho2.lo.sqrt(), hi: rho2.hi.sqrt() };
     let inv_rho = rho.recip_pos();
     let inv_rho2 = rho2.recip_pos();
+    let (za, zb) = (z0 + dz * sa, z0 + dz * sb);
     // Each range formed where it is stored: few of them live at once (a
     // frame within the AVR's 63-byte reach of Y).
     Some(Planar {
         r2: quad(&[a0 + z0 * z0, (a1 + z0 * dz).twice(), a2 + dz * dz], sa, sb),
         n: aff(a1 + z0 * dz, a2 + dz * dz),
         dn: Iv::pt(a2 + dz * dz),
-        // ρ²·z′ − z·(P_xy·P′_xy): affine in s.
-        x1: aff(dz * a0 - z0 * a1, dz * a1 - z0 * a2).times(inv_rho),
+        // ρ²·z′ − z·(P_xy·P′_xy): affine in s (its s² terms cancel), so its
+        // ends give its range.
+        x1: Iv::of(ra * dz - za * ga, rb * dz - zb * gb).times(inv_rho),
         // u″ = (ρ″, 0), ρ″ = K²/ρ³.
-        x2: aff(z0, dz).times(inv_rho2.times(inv_rho)).scale(-(k * k)),
+        x2: Iv::of(za, zb).times(inv_rho2.times(inv_rho)).scale(-(k * k)),
         b1: inv_rho2.scale(k),
         // P_xy·P′_xy.
-        b2: aff(a1, a2).times(inv_rho2.sqr()).scale(-(k.twice())),
+        b2: Iv::of(ga, gb).times(inv_rho2.sqr()).scale(-(k.twice())),
     })
 }
 
