@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use touch_arm::motion::Sample;
 
-use crate::cli::PathKind;
+use crate::path::PathKind;
 use crate::plot::{self, Curve, Panel};
 use crate::report::csv_row;
 
@@ -191,7 +191,7 @@ impl Item {
                 }
                 Ok(out)
             }
-            Figure::Path(k) => crate::cli::cmd_path(k),
+            Figure::Path(k) => crate::path::cmd_path(k),
         }
     }
 
@@ -221,7 +221,7 @@ impl Item {
                 plot::panels(out, title, t, &panels).map_err(|e| e.to_string())
             }
             Figure::Path(k) => {
-                crate::cli::plot_path(&crate::cli::PlotPath { kind: k.clone(), out: Some(out.to_path_buf()) })
+                crate::path::plot_path(&crate::path::PlotPath { kind: k.clone(), out: Some(out.to_path_buf()) })
                     .map(|_| ())
             }
         }

@@ -7,7 +7,8 @@ use touch_arm::motion::{Sample, TrajError};
 
 use super::poly::{max_on, poly_derivs, via_poly};
 use super::{Figure, Item, Quantity, Val};
-use crate::cli::{path_plan, LawKindArg, PathCircle, PathCommon, PathKind, PathLine, Times};
+use crate::opts::{LawKindArg, Times};
+use crate::path::{path_plan, PathCircle, PathCommon, PathKind, PathLine};
 
 /// Every item: id and one-line description (`armsim paper list`).
 pub const ITEMS: [(&str, &str); 12] = [
