@@ -33,6 +33,27 @@ pub fn parse<P: Parser>(prog: &str) -> Result<P, ExitCode> {
     }
 }
 
+/// Whether a tool's run kept [`parse`]'s convention for a bad argument:
+/// exit code 2, nothing on stdout, one line on stderr starting with the
+/// program's name and containing `needle`. `Err` says what was broken; the
+/// tests of every tool that parses with [`parse`] assert with it.
+pub fn bad_argument_report(name: &str, out: &std::process::Output, needle: &str) -> Result<(), String> {
+    let err = String::from_utf8_lossy(&out.stderr);
+    if out.status.code() != Some(2) {
+        return Err(format!("{name}: exit {:?}, not 2: {err}", out.status.code()));
+    }
+    if !out.stdout.is_empty() {
+        return Err(format!("{name} printed {:?}", String::from_utf8_lossy(&out.stdout)));
+    }
+    if err.trim_end().lines().count() != 1 {
+        return Err(format!("{name}: not one line: {err}"));
+    }
+    if !(err.starts_with(&format!("{name}: ")) && err.contains(needle)) {
+        return Err(format!("{name}: {err:?} lacks {needle:?}"));
+    }
+    Ok(())
+}
+
 /// Two finite numbers "X,Y".
 pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
     let (a, b) = s.split_once(',').ok_or_else(|| format!("expected X,Y, got {s:?}"))?;

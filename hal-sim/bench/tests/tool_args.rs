@@ -5,12 +5,10 @@ use std::process::Command;
 
 fn fails(bin: &str, args: &[&str], needle: &str) {
     let out = Command::new(bin).args(args).output().expect("run the tool");
-    let err = String::from_utf8_lossy(&out.stderr);
     let name = bin.rsplit('/').next().unwrap();
-    assert_eq!(out.status.code(), Some(2), "{name} {args:?}: {err}");
-    assert!(out.stdout.is_empty(), "{name} {args:?} printed {:?}", String::from_utf8_lossy(&out.stdout));
-    assert_eq!(err.trim_end().lines().count(), 1, "{name} {args:?}: {err}");
-    assert!(err.starts_with(&format!("{name}: ")) && err.contains(needle), "{name} {args:?}: {err:?} lacks {needle:?}");
+    if let Err(e) = armsim::args::bad_argument_report(name, &out, needle) {
+        panic!("{args:?}: {e}");
+    }
 }
 
 #[test]
