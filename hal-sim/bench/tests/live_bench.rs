@@ -2,7 +2,9 @@
 //! JSON API, as a script would use it: the real firmware in simavr paced to
 //! real time, a server on a free loopback port. A press on the map ends at
 //! the host's IK target, `stop` freezes the pulses, the faults do what the
-//! page promises, and bad requests get a 4xx with one line of reason.
+//! page promises, a checked move's late answer reaches `/api/serial`, the
+//! console log reads without gaps, and bad requests get a 4xx with one line
+//! of reason.
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -239,5 +241,60 @@ fn power_cycle_keeps_the_eeprom_a_corrupted_copy_is_reported_and_a_stall_trips_t
     let s = holding(a);
     assert_home(&s, "after the reset: the home pose");
     assert_eq!(get(a, "/api/bench")["stalled"], false);
+    bench.stop();
+}
+
+/// A move under `path line` is answered only once its plan-time check has
+/// decided, seconds later: `/api/serial` still returns that answer. And
+/// `GET /api/console?since=N` gives every line the firmware sent, numbered:
+/// the boot line, the answers, the unsolicited lines, with no gap or
+/// repeat between consecutive reads.
+#[test]
+fn a_checked_move_is_answered_and_the_console_reads_every_line() {
+    let bench = start();
+    let a = bench.addr();
+    holding(a);
+    // From a pose on the IK's branch (home is not: `path pose off IK
+    // range`), as hal-sim/twin/tests/scenarios/path_line.scn does.
+    assert!(serial(a, "goto 90 100 -100")[0].starts_with("ok goto"));
+    std::thread::sleep(Duration::from_millis(300));
+    holding(a);
+    assert_eq!(serial(a, "path line"), ["ok path line"]);
+    let t0 = get(a, "/api/state")["t_s"].as_f64().unwrap();
+    let replies = serial(a, "goto 40 70 -110");
+    let t1 = get(a, "/api/state")["t_s"].as_f64().unwrap();
+    assert!(
+        replies.len() == 1 && replies[0].starts_with("ok goto") && replies[0].contains(" path line ts_ms "),
+        "{replies:?}"
+    );
+    // The check took longer than the ordinary 1 s answer window.
+    assert!(t1 - t0 > 1.0, "answered after {:.2} s: was the check run?", t1 - t0);
+
+    let all = get(a, "/api/console?since=0");
+    let lines: Vec<&str> = all["lines"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    assert_eq!(all["first"], 0);
+    assert_eq!(all["next"].as_u64().unwrap(), lines.len() as u64);
+    assert!(lines[0].starts_with("info touch-arm "), "the boot line first: {:?}", &lines[..3]);
+    let at = |p: &str| lines.iter().position(|l| l.starts_with(p)).unwrap_or_else(|| panic!("no {p:?} in {lines:?}"));
+    assert!(
+        at("ok goto ts_ms") < at("ok path line") && at("ok path line") < at("ok goto path line"),
+        "in the order sent"
+    );
+    // Reading on from `next` repeats nothing and skips nothing.
+    let n = all["next"].as_u64().unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(serial(a, "version").len(), 1);
+    let more = get(a, &format!("/api/console?since={n}"));
+    let more_lines = more["lines"].as_array().unwrap();
+    assert_eq!(more["next"].as_u64().unwrap(), n + more_lines.len() as u64);
+    assert!(more_lines.iter().any(|l| l.as_str().unwrap().starts_with("ok version ")), "{more}");
+    let overlap = get(a, &format!("/api/console?since={}", n - 1));
+    assert_eq!(overlap["lines"][0].as_str(), lines.last().copied(), "line n - 1 is the last of the first read");
+    // Past the end: nothing, and `next` stays where the log ends.
+    let past = get(a, "/api/console?since=100000000");
+    assert_eq!(past["lines"], json!([]));
+    assert!(past["next"].as_u64().unwrap() >= more["next"].as_u64().unwrap());
+    let (status, body) = request(a, "GET", "/api/console?since=-3", "", &[]);
+    assert!(status == 400 && body.contains("since must be"), "{status} {body}");
     bench.stop();
 }

@@ -34,6 +34,24 @@ pub enum Control {
     Stall,
 }
 
+/// Most lines one `GET /api/console` returns; a script reads on from `next`.
+pub const MAX_CONSOLE_LINES: usize = 5_000;
+
+/// `GET /api/console?since=N`: the query's `since` (0 when absent).
+pub fn console_since(query: Option<&str>) -> Result<u64, Refusal> {
+    let mut since = 0;
+    for pair in query.unwrap_or("").split('&').filter(|p| !p.is_empty()) {
+        let (k, v) = pair.split_once('=').unwrap_or((pair, ""));
+        match k {
+            "since" => {
+                since = v.parse().map_err(|_| bad(format!("since must be a line number 0 or more, got {v:?}")))?
+            }
+            other => return Err(bad(format!("unknown parameter {other:?} (expected since)"))),
+        }
+    }
+    Ok(since)
+}
+
 /// A refusal: HTTP status and the one-line reason.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Refusal {
@@ -175,6 +193,16 @@ mod tests {
         }
         assert_eq!(press(br#"{"x_px": 5, "y_px": 6}"#), Ok(Press { x_px: 5, y_px: 6, ms: None }));
         assert!(release(b"").is_ok() && release(b"{}").is_ok() && release(b"{\"a\":1}").is_err());
+    }
+
+    #[test]
+    fn console_queries() {
+        assert_eq!(console_since(None), Ok(0));
+        assert_eq!(console_since(Some("since=17")), Ok(17));
+        assert_eq!(console_since(Some("")), Ok(0));
+        assert!(console_since(Some("since=-1")).unwrap_err().reason.starts_with("since must be"));
+        assert!(console_since(Some("since=x")).is_err());
+        assert!(console_since(Some("from=3")).unwrap_err().reason.contains("unknown parameter"));
     }
 
     #[test]

@@ -18,7 +18,7 @@ use super::LAYOUT;
 use serde_json::{json, Value};
 use touch_arm::servo::map::ServoMap;
 
-use super::api::{Control, Press};
+use super::api::{Control, Press, MAX_CONSOLE_LINES};
 use super::arm::{self, Target};
 use super::pacing::Pacer;
 use super::pulses::PulsePairing;
@@ -37,6 +37,10 @@ pub const TICK: Duration = Duration::from_millis(40);
 const SLICE_CYCLES: u64 = CPU_HZ as u64 / 100;
 /// Console lines kept for a page that connects.
 const CONSOLE_BACKLOG: usize = 400;
+/// Firmware lines kept for `GET /api/console` (about 40 minutes of
+/// telemetry at 50 lines/s; older ones are gone, and the answer's first
+/// line number says so).
+const FIRMWARE_LOG: usize = 120_000;
 /// A held press (`/api/press`) ends by itself after this long, so a page
 /// that vanished mid-drag does not leave a finger on the panel.
 const MAX_HOLD_S: f64 = 30.0;
@@ -51,6 +55,8 @@ pub enum Command {
     Release(Sender<Result<Value, String>>),
     Serial(String, Sender<Vec<String>>),
     Control(Control, Sender<Result<Value, String>>),
+    /// `GET /api/console?since=N`: the firmware's lines from number N on.
+    Console(u64, Sender<Value>),
     /// A page's event stream: the bench sends it the current picture,
     /// recent history and then every event.
     Subscribe(SyncSender<Arc<str>>),
@@ -114,6 +120,11 @@ struct Bench {
     router: SerialRouter,
     console_new: Vec<Value>,
     console_log: VecDeque<Value>,
+    /// Every line the firmware sent, numbered from 0 at the bench's start
+    /// (power cycles and resets included), the last [`FIRMWARE_LOG`] kept.
+    fw_log: VecDeque<String>,
+    /// The number of `fw_log`'s first line.
+    fw_first: u64,
     screen: ScreenTracker,
     subscribers: Vec<SyncSender<Arc<str>>>,
     noise: bool,
@@ -212,6 +223,8 @@ impl Bench {
             router: SerialRouter::default(),
             console_new: Vec::new(),
             console_log: VecDeque::new(),
+            fw_log: VecDeque::new(),
+            fw_first: 0,
             screen: ScreenTracker::default(),
             subscribers: Vec::new(),
             noise: false,
@@ -288,6 +301,11 @@ impl Bench {
         let lines = self.session.avr.take_lines();
         self.session.avr.forget_taken_output();
         for line in lines {
+            self.fw_log.push_back(line.clone());
+            if self.fw_log.len() > FIRMWARE_LOG {
+                self.fw_log.pop_front();
+                self.fw_first += 1;
+            }
             match arm::target_news(&line) {
                 Some(arm::TargetNews::Touched(t)) => self.target = Some(t),
                 Some(arm::TargetNews::Cleared) => self.target = None,
@@ -353,8 +371,24 @@ impl Bench {
                 let _ = done.send(r);
             }
             Command::Subscribe(tx) => self.subscribe(tx),
+            Command::Console(since, reply) => {
+                let _ = reply.send(self.console_since(since));
+            }
             Command::Stop => {}
         }
+    }
+
+    /// `{"lines", "next"}`: the firmware's lines from number `since` on (from
+    /// the oldest kept when `since` is older; none when it is past the last),
+    /// at most [`MAX_CONSOLE_LINES`]; `next` is the number to ask for next.
+    /// `first`, the oldest line number kept, tells a reader who fell behind
+    /// by how many lines.
+    fn console_since(&self, since: u64) -> Value {
+        let end = self.fw_first + self.fw_log.len() as u64;
+        let from = since.clamp(self.fw_first, end);
+        let lines: Vec<&String> =
+            self.fw_log.iter().skip((from - self.fw_first) as usize).take(MAX_CONSOLE_LINES).collect();
+        json!({ "lines": lines, "next": from + lines.len() as u64, "first": self.fw_first })
     }
 
     /// The finger at the centre of screen pixel (x, y), through the panel's

@@ -18,7 +18,7 @@ use tiny_http::{Header, Method, Request, Response, Server, StatusCode};
 
 use super::api::{self, refuse, Refusal};
 use super::bench::{Command, Snapshot, EVENT_QUEUE};
-use super::screen;
+use super::{screen, serial};
 
 const INDEX_HTML: &str = include_str!("assets/index.html");
 const APP_JS: &str = include_str!("assets/app.js");
@@ -31,9 +31,11 @@ const MAX_STREAMS: usize = 8;
 /// How long a request waits for the bench thread (it answers within a
 /// slice, ~10 ms, unless it is gone).
 const BENCH_TIMEOUT: Duration = Duration::from_secs(5);
-/// `/api/serial` waits this long in wall time for the bench to close the
-/// answer window (1 s simulated; more if the simulator is behind).
-const SERIAL_TIMEOUT: Duration = Duration::from_secs(3);
+/// `/api/serial` waits in wall time for the bench to close the answer
+/// window (`serial::answer_window_s`, simulated) this many times the window,
+/// plus [`SERIAL_SLACK`]: room for a simulator that runs behind.
+const SERIAL_TIMEOUT_FACTOR: f64 = 2.0;
+const SERIAL_SLACK: Duration = Duration::from_secs(1);
 /// A comment line on an idle event stream, so a closed page is noticed.
 const KEEPALIVE: Duration = Duration::from_secs(10);
 
@@ -173,6 +175,9 @@ fn handle(mut req: Request, ctx: &Context) {
         (Method::Get, "/favicon.ico") => Ok(response(204, "image/x-icon", Vec::new())),
         (Method::Get, "/api/state") => Ok(json_response(200, &ctx.snapshot().state_json())),
         (Method::Get, "/api/bench") => Ok(json_response(200, &ctx.snapshot().bench)),
+        (Method::Get, "/api/console") => api::console_since(req.url().split_once('?').map(|(_, q)| q))
+            .and_then(|since| ctx.ask(|tx| Command::Console(since, tx), BENCH_TIMEOUT))
+            .map(|v| json_response(200, &v)),
         (Method::Get, "/api/geometry") => Ok(response(200, "application/json", ctx.geometry.clone().into_bytes())),
         (Method::Get, "/api/screen.png") => screen::png(&ctx.snapshot().screen)
             .map(|png| response(200, "image/png", png))
@@ -183,7 +188,7 @@ fn handle(mut req: Request, ctx: &Context) {
         (
             _,
             "/" | "/index.html" | "/app.js" | "/style.css" | "/favicon.ico" | "/api/state" | "/api/bench"
-            | "/api/geometry" | "/api/screen.png",
+            | "/api/geometry" | "/api/screen.png" | "/api/console",
         ) => Err(refuse(405, format!("{path} takes GET"))),
         (_, "/api/touch" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
             Err(refuse(405, format!("{path} takes POST with a JSON body")))
@@ -217,9 +222,10 @@ fn post(path: &str, body: &[u8], ctx: &Context) -> Result<Body, Refusal> {
             let line = api::serial(body)?;
             // The bench answers when the firmware has, or when the answer
             // window closed (then with what arrived, possibly nothing).
+            let wait = Duration::from_secs_f64(serial::answer_window_s(&line) * SERIAL_TIMEOUT_FACTOR) + SERIAL_SLACK;
             let (tx, rx) = channel();
             ctx.send(Command::Serial(line, tx))?;
-            json!({ "replies": rx.recv_timeout(SERIAL_TIMEOUT).unwrap_or_default() })
+            json!({ "replies": rx.recv_timeout(wait).unwrap_or_default() })
         }
         "/api/control" => {
             let c = api::control(body, u64::from(touch_arm::config::store::EEPROM_SIZE))?;

@@ -6,6 +6,13 @@
 //! `err cal touch …`, `err screen …` and the `t …` telemetry. So the answers
 //! are matched to the commands in flight first in, first out.
 //!
+//! A command that plans a move (`move`, `goto`, `pose go`, `circle`) is
+//! answered only once the plan-time check of a line, circle or lift has
+//! decided (docs/serial.md, "Path and lift moves"): seconds for a line near
+//! the rim. Its answer window is [`CHECK_WINDOW_S`] instead of
+//! [`ANSWER_WINDOW_S`], so `/api/serial` returns that answer, not an empty
+//! list (the answer usually comes at once, and then so does the reply).
+//!
 //! Besides the user's commands the bench sends its own `status` every
 //! [`STATUS_PERIOD_S`], only when nothing else is in flight: the firmware's
 //! state word (holding, moving, stopped…) exists nowhere else outside the
@@ -18,9 +25,27 @@ use std::sync::mpsc::Sender;
 pub const STATUS_PERIOD_S: f64 = 0.1;
 /// How long an API client waits for its answer, simulated seconds.
 pub const ANSWER_WINDOW_S: f64 = 1.0;
-/// A command still unanswered after this long is given up (its answer, if
-/// it ever comes, then shows on the console only).
-pub const FORGET_AFTER_S: f64 = 3.0;
+/// How long a client waits for the answer to a command that may wait for a
+/// plan-time check, simulated seconds: well above the longest check the
+/// benchmark has (the rim line's, in BENCHMARKS.md).
+pub const CHECK_WINDOW_S: f64 = 30.0;
+/// A command still unanswered this long after its window closed is given
+/// up (its answer, if it ever comes, then shows on the console only).
+pub const FORGET_AFTER_S: f64 = 2.0;
+
+/// Command words whose answer may wait for a plan-time check.
+const PLANNING: [&str; 4] = ["move", "goto", "pose", "circle"];
+
+/// The answer window of a command line, simulated seconds: its first word
+/// decides (case-insensitive, as the firmware reads it).
+pub fn answer_window_s(line: &str) -> f64 {
+    let word = line.split_whitespace().next().unwrap_or("");
+    if PLANNING.iter().any(|w| w.eq_ignore_ascii_case(word)) {
+        CHECK_WINDOW_S
+    } else {
+        ANSWER_WINDOW_S
+    }
+}
 
 /// Lines the firmware sends unasked (see the module docs).
 pub fn unsolicited(line: &str) -> bool {
@@ -41,6 +66,8 @@ enum Asker {
 struct InFlight {
     asker: Asker,
     sent_s: f64,
+    /// Its answer window ([`answer_window_s`]).
+    window_s: f64,
     lines: Vec<String>,
 }
 
@@ -62,7 +89,13 @@ pub struct SerialRouter {
 impl SerialRouter {
     /// A client's command line: the bytes to send; `reply` gets the answer.
     pub fn client_line(&mut self, line: &str, reply: Sender<Vec<String>>, now_s: f64) -> Vec<u8> {
-        self.in_flight.push_back(InFlight { asker: Asker::Client(Some(reply)), sent_s: now_s, lines: Vec::new() });
+        let window_s = answer_window_s(line);
+        self.in_flight.push_back(InFlight {
+            asker: Asker::Client(Some(reply)),
+            sent_s: now_s,
+            window_s,
+            lines: Vec::new(),
+        });
         format!("{line}\n").into_bytes()
     }
 
@@ -72,7 +105,12 @@ impl SerialRouter {
             return None;
         }
         self.last_status_s = now_s;
-        self.in_flight.push_back(InFlight { asker: Asker::Bench, sent_s: now_s, lines: Vec::new() });
+        self.in_flight.push_back(InFlight {
+            asker: Asker::Bench,
+            sent_s: now_s,
+            window_s: ANSWER_WINDOW_S,
+            lines: Vec::new(),
+        });
         Some(b"status\n".to_vec())
     }
 
@@ -102,7 +140,7 @@ impl SerialRouter {
     /// gives up commands unanswered for too long.
     pub fn expire(&mut self, now_s: f64) {
         for f in self.in_flight.iter_mut() {
-            if now_s - f.sent_s >= ANSWER_WINDOW_S {
+            if now_s - f.sent_s >= f.window_s {
                 if let Asker::Client(tx) = &mut f.asker {
                     if let Some(tx) = tx.take() {
                         let _ = tx.send(f.lines.clone());
@@ -110,7 +148,7 @@ impl SerialRouter {
                 }
             }
         }
-        while self.in_flight.front().is_some_and(|f| now_s - f.sent_s >= FORGET_AFTER_S) {
+        while self.in_flight.front().is_some_and(|f| now_s - f.sent_s >= f.window_s + FORGET_AFTER_S) {
             self.in_flight.pop_front();
         }
     }
@@ -169,10 +207,36 @@ mod tests {
         r.on_line("ok cal show");
         r.on_line("ok stop");
         assert_eq!(rx2.recv().unwrap(), vec!["ok stop".to_string()]);
-        // Forgotten after FORGET_AFTER_S; a reset answers whatever is left.
+        // Forgotten FORGET_AFTER_S after its window; a reset answers whatever is left.
         let (tx3, rx3) = channel();
         r.client_line("status", tx3, 2.0);
         r.reset(2.1);
         assert_eq!(rx3.recv().unwrap(), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_planning_command_waits_for_its_check_and_others_do_not() {
+        assert_eq!(answer_window_s("status"), ANSWER_WINDOW_S);
+        assert_eq!(answer_window_s("GOTO 10 20 30"), CHECK_WINDOW_S);
+        assert_eq!(answer_window_s("pose go 2"), CHECK_WINDOW_S);
+        assert_eq!(answer_window_s("circle 0.2"), CHECK_WINDOW_S);
+        assert_eq!(answer_window_s("path line"), ANSWER_WINDOW_S);
+        let mut r = SerialRouter::default();
+        let (tx, rx) = channel();
+        r.client_line("move 500 400", tx, 0.0);
+        // The check runs for seconds; lines the firmware sends meanwhile are
+        // unsolicited, and the window stays open past the ordinary one.
+        r.on_line("info touch 1 2 cond 1");
+        r.expire(ANSWER_WINDOW_S + 5.0);
+        assert!(rx.try_recv().is_err(), "answered before the check decided");
+        r.on_line("ok move 500 400 path line ts_ms 1864");
+        assert_eq!(rx.recv().unwrap(), vec!["ok move 500 400 path line ts_ms 1864".to_string()]);
+        // A check that never answers: the client hears at the window's end.
+        let (tx, rx) = channel();
+        r.client_line("circle 0.2", tx, 10.0);
+        r.expire(10.0 + CHECK_WINDOW_S - 0.1);
+        assert!(rx.try_recv().is_err());
+        r.expire(10.0 + CHECK_WINDOW_S);
+        assert_eq!(rx.recv().unwrap(), Vec::<String>::new());
     }
 }
