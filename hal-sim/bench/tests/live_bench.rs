@@ -105,7 +105,11 @@ fn a_map_press_reaches_the_host_ik_target_and_stop_freezes_the_pulses() {
     let s0 = holding(a);
     assert_home(&s0, "home pose");
     let keys: Vec<&str> = s0.as_object().unwrap().keys().map(String::as_str).collect();
-    assert_eq!(keys, ["angles_deg", "pulses_us", "screen_seq", "state", "t_s"], "exactly the documented keys");
+    assert_eq!(
+        keys,
+        ["angles_deg", "grip_deg", "grip_pulse_us", "pulses_us", "screen_seq", "state", "t_s"],
+        "exactly the documented keys"
+    );
 
     // Press the map where the workspace point (0.4, 0.6) is drawn; the
     // firmware targets that pixel's centre, and so does the host's chain.
@@ -144,6 +148,23 @@ fn a_map_press_reaches_the_host_ik_target_and_stop_freezes_the_pulses() {
     assert!(later["t_s"].as_f64().unwrap() - stopped["t_s"].as_f64().unwrap() > 0.9, "time went on");
     let status = serial(a, "status");
     assert!(status.len() == 1 && status[0].starts_with("ok status stopped"), "{status:?}");
+    bench.stop();
+}
+
+/// The gripper's pulse and angle in the state (and so on the page): `grip
+/// 60` ends at 60° through the default calibration, 600 µs + 10 µs/°.
+#[test]
+fn the_gripper_shows_in_the_state() {
+    let bench = start();
+    let a = bench.addr();
+    holding(a);
+    let r = serial(a, "grip 60");
+    assert!(r.len() == 1 && r[0].starts_with("ok grip"), "{r:?}");
+    let s = wait_state(a, "the gripper reaches 60°", 10.0, |s| {
+        s["grip_deg"].as_f64().is_some_and(|g| (g - 60.0).abs() < 0.05)
+    });
+    let us = s["grip_pulse_us"].as_f64().unwrap();
+    assert!((us - 1200.0).abs() <= 0.5, "grip pulse {us} µs");
     bench.stop();
 }
 

@@ -70,6 +70,8 @@ pub struct Snapshot {
     pub t_s: f64,
     pub pulses_us: [Option<f64>; 3],
     pub angles_deg: [Option<f64>; 3],
+    pub grip_pulse_us: Option<f64>,
+    pub grip_deg: Option<f64>,
     pub screen_seq: u64,
     pub screen: Arc<Framebuffer>,
     /// Pacing and faults (`GET /api/bench`).
@@ -86,6 +88,8 @@ impl Snapshot {
             "t_s": self.t_s,
             "pulses_us": self.pulses_us,
             "angles_deg": self.angles_deg,
+            "grip_pulse_us": self.grip_pulse_us,
+            "grip_deg": self.grip_deg,
             "screen_seq": self.screen_seq,
         })
     }
@@ -113,6 +117,11 @@ struct Bench {
     power_ups: u32,
     resets_seen: u32,
     maps: [ServoMap; 3],
+    /// The gripper's default calibration (`config::grip::GRIP_DEFAULT`),
+    /// as `maps` are the joints' defaults.
+    grip_map: ServoMap,
+    /// The gripper's last pulse, µs (D11, Timer1).
+    last_grip: Option<f64>,
     pairing: PulsePairing,
     last_pulses: [Option<f64>; 3],
     new_samples: Vec<Value>,
@@ -208,6 +217,8 @@ impl Bench {
     fn new(opts: Options, shared: Arc<Mutex<Snapshot>>) -> Result<Bench, String> {
         let session = Session::start(&opts.elf, PanelWiring::A, opts.seed)?;
         let maps = firmware::default_servo_maps()?;
+        let grip_map =
+            ServoMap::new(&touch_arm::config::grip::GRIP_DEFAULT).map_err(|e| format!("gripper map: {e:?}"))?;
         let pacer = Pacer::new(Instant::now(), 0, f64::from(CPU_HZ));
         let mut b = Bench {
             opts,
@@ -216,6 +227,8 @@ impl Bench {
             power_ups: 1,
             resets_seen: 0,
             maps,
+            grip_map,
+            last_grip: None,
             pairing: PulsePairing::default(),
             last_pulses: [None; 3],
             new_samples: Vec::new(),
@@ -420,6 +433,8 @@ pub fn empty_snapshot() -> Snapshot {
         t_s: 0.0,
         pulses_us: [None; 3],
         angles_deg: [None; 3],
+        grip_pulse_us: None,
+        grip_deg: None,
         screen_seq: 0,
         screen: Arc::new(Framebuffer::landscape()),
         bench: json!({}),

@@ -10,7 +10,7 @@
 //!
 //! | request | answer |
 //! | --- | --- |
-//! | `GET /api/state` | `{"state", "t_s", "pulses_us": [b, s, e], "angles_deg": [b, s, e], "screen_seq"}` |
+//! | `GET /api/state` | `{"state", "t_s", "pulses_us": [b, s, e], "angles_deg": [b, s, e], "grip_pulse_us", "grip_deg", "screen_seq"}` |
 //! | `POST /api/touch` `{"x_px", "y_px", "ms"}` | a press of `ms` ms at screen pixel (x, y) |
 //! | `POST /api/serial` `{"line"}` | `{"replies": [...]}`: the firmware's answer lines within 1 s (30 s for a command that plans a move: its check may take seconds) |
 //! | `GET /api/console?since=N` | `{"lines": [...], "next": M, "first": F}`: every line the firmware sent from line N on (at most 5 000; `first` is the oldest kept) |

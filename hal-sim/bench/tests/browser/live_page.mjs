@@ -1,7 +1,8 @@
 // Drives the live bench page in Debian's headless Chromium through
 // Playwright, as a person would: click on the map in the screen image and
 // watch the drawn arm reach the target, click STOP on the screen image and
-// see the pulses freeze, type `status` in the console and see the reply.
+// see the pulses freeze, type `status` in the console and see the reply,
+// then `resume` and `grip 60` and see the gripper's row reach 60°.
 // Run by hal-sim/bench/tests/live_page.rs, which starts the bench and passes:
 //   node live_page.mjs URL OUT_DIR MAP_X,MAP_Y TARGET_B,TARGET_S,TARGET_E STOP_X,STOP_Y
 // Prints one line per step; exits 0 when every check held, 1 otherwise.
@@ -106,6 +107,19 @@ async function main() {
   const reply = await page.evaluate(() => [...document.querySelectorAll('#console-log div')]
     .map((d) => d.textContent).filter((t) => t.startsWith('ok status')).pop());
   console.log(`console: ${reply}`);
+  // 4. The gripper: `resume`, then `grip 60`; its row in the joints table
+  // shows 60° (the default calibration: 600 µs + 10 µs per degree).
+  for (const line of ['resume', 'grip 60']) {
+    await page.fill('#console-input', line);
+    await page.press('#console-input', 'Enter');
+    await page.waitForFunction((l) => [...document.querySelectorAll('#console-log div')]
+      .some((d) => d.textContent.startsWith(`ok ${l.split(' ')[0]}`)), line);
+  }
+  await page.waitForFunction(() => Math.abs(Number(document.getElementById('angle-3').textContent) - 60) < 0.05,
+    null, { timeout: 15_000 });
+  const grip = await page.evaluate(() => [3].map((j) => [document.getElementById(`pulse-${j}`).textContent,
+    document.getElementById(`angle-${j}`).textContent])[0]);
+  console.log(`gripper row: pulse ${grip[0]} us, angle ${grip[1]} deg`);
   await page.screenshot({ path: join(outDir, 'live-page-console.png'), fullPage: true });
   if (errors.length) throw new Error(`errors on the page: ${errors.join('; ')}`);
   await cleanup();

@@ -188,6 +188,18 @@ function polyline(g, v, pts, color, width) {
   g.stroke();
 }
 
+// The gripper's two jaws at the tip, along the forearm: spread 40° each
+// way when open (0°), together when closed (90°).
+function drawJaws(g, v, elbow, tip, gripDeg) {
+  const dir = Math.atan2(tip[1] - elbow[1], tip[0] - elbow[0]);
+  const spread = (1 - Math.min(Math.max(gripDeg, 0), 90) / 90) * 40 * Math.PI / 180;
+  const len = 0.16;
+  for (const side of [-1, 1]) {
+    const a = dir + side * spread;
+    polyline(g, v, [tip, [tip[0] + len * Math.cos(a), tip[1] + len * Math.sin(a)]], '#5b6573', 3);
+  }
+}
+
 function drawViews(st) {
   const arm = st.arm, tgt = st.target;
   const t = VIEW.top, s = VIEW.side;
@@ -214,6 +226,7 @@ function drawViews(st) {
     dot(gs, s, [0, 0], 6, JOINT_COLORS[1]);
     dot(gs, s, arm.elbow, 4.5, JOINT_COLORS[2]);
     dot(gs, s, arm.tip, 4.5, '#1d2430');
+    if (st.grip_deg != null) drawJaws(gs, s, arm.elbow, arm.tip, st.grip_deg);
     gt.fillStyle = '#1d2430'; gt.font = '12px system-ui, sans-serif';
     gt.fillText(`α = ${arm.angles_deg[0].toFixed(1)}°`, t.canvas.width - 86, 14);
     $('arm-views').dataset.angles = arm.angles_deg.map((x) => x.toFixed(3)).join(',');
@@ -318,6 +331,8 @@ function showState(st) {
     $(`angle-${j}`).textContent = a == null ? '–' : a.toFixed(2);
     $(`target-${j}`).textContent = st.target ? st.target.angles_deg[j].toFixed(2) : '–';
   }
+  $('pulse-3').textContent = st.grip_pulse_us == null ? '–' : st.grip_pulse_us.toFixed(2);
+  $('angle-3').textContent = st.grip_deg == null ? '–' : st.grip_deg.toFixed(2);
   const t = st.target;
   $('target-info').textContent = t
     ? `Last touch the firmware confirmed: map pixel (${t.px[0]}, ${t.px[1]}) → point (${t.x_p.toFixed(3)}, ${t.y_p.toFixed(3)}), zone ${t.condition}, α ${t.alpha_deg.toFixed(2)}°` +

@@ -65,6 +65,7 @@ impl Bench {
         self.resets_seen = 0;
         self.finger = None;
         self.last_pulses = [None; 3];
+        self.last_grip = None;
         if self.halted.take().is_some() {
             self.pacer.restart(Instant::now(), base);
         }

@@ -11,7 +11,7 @@ use serde_json::{json, Value};
 use super::{round3, Bench};
 use crate::live::arm::{self, Target};
 use crate::live::pacing::BEHIND_LAG_S;
-use touch_arm_rig::firmware::{CPU_HZ, SERVO_PINS};
+use touch_arm_rig::firmware::{CPU_HZ, GRIPPER_PIN, SERVO_PINS};
 
 /// Plot samples kept for a page that connects (seconds of history).
 const PLOT_HISTORY_S: f64 = 12.0;
@@ -48,6 +48,9 @@ impl Bench {
                 self.last_pulses[j] = Some(width);
                 self.pairing.push(j, self.cycle_base + p.rise_cycle, width);
             }
+        }
+        if let Some(p) = self.session.avr.drain_pulses(GRIPPER_PIN).last() {
+            self.last_grip = Some(p.width_us(CPU_HZ));
         }
         for (rise, widths) in self.pairing.frames() {
             let t = rise as f64 / f64::from(CPU_HZ);
@@ -87,6 +90,8 @@ impl Bench {
         snap.t_s = self.now_s();
         snap.pulses_us = self.last_pulses;
         snap.angles_deg = self.angles_deg();
+        snap.grip_pulse_us = self.last_grip;
+        snap.grip_deg = self.grip_deg();
         snap.screen_seq = self.screen.seq();
         if screen_changed {
             snap.screen = Arc::new(self.screen.current().clone());
@@ -97,6 +102,10 @@ impl Bench {
 
     fn angles_deg(&self) -> [Option<f64>; 3] {
         std::array::from_fn(|j| self.last_pulses[j].map(|us| arm::pulse_to_angle_deg(&self.maps[j], us)))
+    }
+
+    fn grip_deg(&self) -> Option<f64> {
+        self.last_grip.map(|us| arm::pulse_to_angle_deg(&self.grip_map, us))
     }
 
     /// The `state` event: the API's state plus what the page draws.
@@ -110,6 +119,8 @@ impl Bench {
             "t_s": self.now_s(),
             "pulses_us": self.last_pulses,
             "angles_deg": self.angles_deg(),
+            "grip_pulse_us": self.last_grip,
+            "grip_deg": self.grip_deg(),
             "screen_seq": self.screen.seq(),
             "arm": pose.map(|p| json!({ "angles_deg": p.angles_deg, "elbow": p.elbow, "tip": p.tip })),
             "target": self.target.as_ref().map(Target::to_json),
