@@ -8,7 +8,8 @@
 #                                            --path line: along the straight line;
 #                                            --lift H: through a via pose H higher
 #   scripts/run.sh --live [--port P]         the live bench at http://127.0.0.1:P/
-#                                            (default 8080; Ctrl-C stops it)
+#       [--lcd C] [--wiring W]               (default 8080; Ctrl-C stops it), on
+#                                            the shield --lcd/--wiring name
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # What this command needs, no more (no Chromium, npm or ravedude).

@@ -16,8 +16,7 @@ use touch_arm_bench::live::{self, LiveBench, Options};
 use touch_arm_rig::firmware;
 
 fn start() -> LiveBench {
-    live::start(&Options { port: 0, elf: firmware::default_elf(), seed: 5 })
-        .expect("live bench (firmware ELF: cargo avr)")
+    live::start(&Options::new(0, firmware::default_elf(), 5)).expect("live bench (firmware ELF: cargo avr)")
 }
 
 /// One HTTP/1.1 exchange on a fresh connection: status and body text.
@@ -317,5 +316,46 @@ fn a_checked_move_is_answered_and_the_console_reads_every_line() {
     assert!(past["next"].as_u64().unwrap() >= more["next"].as_u64().unwrap());
     let (status, body) = request(a, "GET", "/api/console?since=-3", "", &[]);
     assert!(status == 400 && body.contains("since must be"), "{status} {body}");
+    bench.stop();
+}
+
+/// `--lcd ili9486 --wiring c` (`Options::lcd`, `Options::wiring`): the
+/// 480×320 screen and the mirrored panel wiring, set up as the main job sets
+/// them (the calibration wiring c's screen would find, sent at boot). A
+/// press on the map still ends at the host's IK target for its pixel, and
+/// the geometry and the screen are the larger screen's.
+#[test]
+fn a_larger_screen_and_wiring_c_still_land_on_the_host_target() {
+    let mut opts = Options::new(0, firmware::default_elf(), 7);
+    opts.lcd = touch_arm_rig::lcd_bus::Chip::Ili9486;
+    opts.wiring = touch_arm_rig::panel::PanelWiring::C;
+    let lay = opts.layout();
+    let bench = live::start(&opts).expect("live bench (firmware ELF: cargo avr)");
+    let a = bench.addr();
+    let g = get(a, "/api/geometry");
+    assert_eq!(
+        (g["screen"].clone(), g["lcd"].clone(), g["wiring"].clone()),
+        (json!([480, 320]), json!("ili9486"), json!("c"))
+    );
+    holding(a);
+    let (px, py) = lay.ws_point_to_pixel(0.4, 0.6).unwrap();
+    assert!(u32::from(lay.width()) > 320 && px >= 0);
+    let (x_p, y_p) = lay.ws_pixel_to_point(px, py).unwrap();
+    let host = firmware::host_target(f64::from(x_p), f64::from(y_p)).unwrap();
+    let r = ok(a, "/api/touch", json!({ "x_px": px, "y_px": py, "ms": 300 }));
+    assert_eq!(r["target"]["pulses_us"], json!(host.pulses_us), "{r}");
+    wait_state(a, "the pulses reach the host's IK target", 12.0, |s| {
+        s["state"] == "holding" && pulses(s).iter().zip(host.pulses_us).all(|(p, t)| (p - t).abs() <= 1.0)
+    });
+    // The firmware reported the touch where the host put it, through the
+    // mirrored calibration: the bench's own reading of the line agrees.
+    let lines = get(a, "/api/console?since=0");
+    let lines: Vec<&str> = lines["lines"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    assert!(lines.iter().any(|l| l.starts_with("info lcd ili9486")), "{lines:?}");
+    assert_eq!(lines.iter().filter(|l| **l == "ok cal set").count(), 7, "the seven calibration lines answered");
+    let (status, png) = request_bytes(a, "GET", "/api/screen.png", "", &[]);
+    assert_eq!(status, 200);
+    // PNG IHDR: width and height, big-endian, at bytes 16..24.
+    assert_eq!((&png[16..20], &png[20..24]), (&480u32.to_be_bytes()[..], &320u32.to_be_bytes()[..]));
     bench.stop();
 }

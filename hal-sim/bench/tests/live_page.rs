@@ -29,8 +29,8 @@ fn the_page_moves_the_arm_stops_it_and_talks_to_the_console() {
         script_dir.display()
     );
 
-    let bench = live::start(&Options { port: 0, elf: firmware::default_elf(), seed: 9 })
-        .expect("live bench (firmware ELF: cargo avr)");
+    let bench =
+        live::start(&Options::new(0, firmware::default_elf(), 9)).expect("live bench (firmware ELF: cargo avr)");
     // A map point left of the base (condition 3), and the host's angles for
     // the pixel's centre, which is what the firmware targets.
     let (px, py) = LAYOUT.ws_point_to_pixel(-0.3, 0.5).unwrap();

@@ -10,10 +10,12 @@ use std::time::Duration;
 use touch_arm_bench::live::{self, Options};
 use touch_arm_rig::firmware;
 
-const USAGE: &str = "usage: touch-arm-live [--port P] [--elf FILE] [--seed N]
+const USAGE: &str = "usage: touch-arm-live [--port P] [--elf FILE] [--seed N] [--lcd CONTROLLER] [--wiring a|b|c]
        touch-arm-live --pacing-report SECONDS [--elf FILE] [--out FILE]
 Runs the firmware ELF in simavr paced to real time and serves the bench page
 on http://127.0.0.1:P/ (default port 8080; 0 picks a free one). Ctrl-C stops.
+--lcd and --wiring choose the simulated shield as for scripts/run.sh (default
+ili9341, a).
 --pacing-report measures the pacing for SECONDS idle and SECONDS moving and
 prints (or writes to FILE) a Markdown section.";
 
@@ -39,8 +41,14 @@ fn value<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, Strin
     v.parse().map_err(|_| format!("{flag}: bad value {v:?}\n{USAGE}"))
 }
 
+/// A shield option's value through the parser the main job uses.
+fn shield<T>(v: Option<String>, flag: &str, parse: fn(&str) -> Result<T, String>) -> Result<T, String> {
+    let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
+    parse(&v).map_err(|e| format!("{flag}: {e}\n{USAGE}"))
+}
+
 fn run() -> Result<(), String> {
-    let mut opts = Options { port: 8080, elf: firmware::default_elf(), seed: 1 };
+    let mut opts = Options::new(8080, firmware::default_elf(), 1);
     let mut report: Option<f64> = None;
     let mut out: Option<PathBuf> = None;
     let mut args = std::env::args().skip(1);
@@ -49,6 +57,8 @@ fn run() -> Result<(), String> {
             "--port" => opts.port = value("--port", args.next())?,
             "--elf" => opts.elf = value("--elf", args.next())?,
             "--seed" => opts.seed = value("--seed", args.next())?,
+            "--lcd" => opts.lcd = shield(args.next(), "--lcd", touch_arm_bench::shield::lcd_chip)?,
+            "--wiring" => opts.wiring = shield(args.next(), "--wiring", touch_arm_bench::shield::panel_wiring)?,
             "--pacing-report" => report = Some(value("--pacing-report", args.next())?).filter(|s: &f64| *s > 0.0),
             "--out" => out = Some(value("--out", args.next())?),
             "-h" | "--help" => {

@@ -52,7 +52,7 @@ use armsim::args::{parse_pair, parse_raw};
 use armsim::plot::{self, Curve, Panel};
 use armsim::report::Json;
 use clap::Parser;
-use touch_arm::touch::map::Calibration;
+use touch_arm_bench::shield;
 use touch_arm_rig::firmware::{self, Session};
 use touch_arm_rig::lcd_bus::Chip;
 use touch_arm_rig::panel::PanelWiring;
@@ -68,10 +68,10 @@ struct Args {
     #[arg(long, value_name = "X,Y", value_parser = map_point, allow_hyphen_values = true)]
     xy: Option<(f64, f64)>,
     /// The display controller on the simulated shield: ili9341, st7789, ili9486 or ili9325
-    #[arg(long, value_name = "CONTROLLER", value_parser = lcd_chip, default_value = "ili9341")]
+    #[arg(long, value_name = "CONTROLLER", value_parser = shield::lcd_chip, default_value = "ili9341")]
     lcd: Chip,
     /// The touch panel's wiring on the simulated shield: a, b or c
-    #[arg(long, value_name = "WIRING", value_parser = panel_wiring, default_value = "a")]
+    #[arg(long, value_name = "WIRING", value_parser = shield::panel_wiring, default_value = "a")]
     wiring: PanelWiring,
     /// A raw panel reading (ADC counts 0..=1023), wherever it lands: map, button or nothing
     #[arg(long, value_name = "X,Y", value_parser = parse_raw, conflicts_with = "xy")]
@@ -144,41 +144,6 @@ fn map_point(s: &str) -> Result<(f64, f64), String> {
     }
 }
 
-/// `--wiring`: a preset of the pin map by its letter.
-fn panel_wiring(s: &str) -> Result<PanelWiring, String> {
-    match s {
-        "a" => Ok(PanelWiring::A),
-        "b" => Ok(PanelWiring::B),
-        "c" => Ok(PanelWiring::C),
-        _ => Err(format!("unknown wiring {s:?} (a, b or c)")),
-    }
-}
-
-/// What the calibration screen finds on a wiring-c panel read as b: a c
-/// reading (x, y) arrives as (1023 − y, 1023 − x), so the axes swap, both
-/// run backwards, and each span is the default one mirrored.
-fn mirrored_calibration() -> Vec<String> {
-    let d = Calibration::DEFAULT;
-    let m = |v: u16| 1023 - v;
-    [
-        ("x_min", m(d.x_max)),
-        ("x_max", m(d.x_min)),
-        ("y_min", m(d.y_max)),
-        ("y_max", m(d.y_min)),
-        ("swap", 1),
-        ("invert_x", 1),
-        ("invert_y", 1),
-    ]
-    .iter()
-    .map(|(f, v)| format!("cal set touch {f} {v}"))
-    .collect()
-}
-
-/// `--lcd`: a supported controller by name.
-fn lcd_chip(s: &str) -> Result<Chip, String> {
-    Chip::from_name(s).ok_or_else(|| format!("unknown controller {s:?} (ili9341, st7789, ili9486 or ili9325)"))
-}
-
 fn main() -> ExitCode {
     let args: Args = match armsim::args::parse("touch-arm-sim") {
         Ok(a) => a,
@@ -249,7 +214,7 @@ fn run(args: Args) -> Result<(), String> {
         .ok_or_else(|| format!("the firmware did not identify the touch wiring:\n{boot}"))?
         .to_string();
     if args.wiring == PanelWiring::C {
-        for cmd in mirrored_calibration() {
+        for cmd in shield::calibration_lines(args.wiring) {
             let reply = s.command(&cmd)?;
             if reply != "ok cal set" {
                 return Err(format!("the firmware refused `{cmd}`: {reply}"));

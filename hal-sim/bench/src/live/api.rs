@@ -2,8 +2,8 @@
 //! is one line that says what is wrong, sent back with a 4xx status; nothing
 //! a client sends reaches the simulator unchecked.
 
-use super::LAYOUT;
 use serde_json::{Map, Value};
+use touch_arm::ui::layout::Layout;
 
 /// Largest request body read, bytes.
 pub const MAX_BODY: usize = 16 * 1024;
@@ -88,25 +88,25 @@ fn required(m: &Map<String, Value>, key: &str, lo: u64, hi: u64) -> Result<u64, 
     int(m, key, lo, hi)?.ok_or_else(|| bad(format!("missing field {key}")))
 }
 
-fn pixel(m: &Map<String, Value>) -> Result<(i16, i16), Refusal> {
-    let x = required(m, "x_px", 0, u64::from(LAYOUT.width()) - 1)?;
-    let y = required(m, "y_px", 0, u64::from(LAYOUT.height()) - 1)?;
+fn pixel(m: &Map<String, Value>, lay: &Layout) -> Result<(i16, i16), Refusal> {
+    let x = required(m, "x_px", 0, u64::from(lay.width()) - 1)?;
+    let y = required(m, "y_px", 0, u64::from(lay.height()) - 1)?;
     Ok((x as i16, y as i16))
 }
 
 /// `POST /api/touch`: `{"x_px": X, "y_px": Y, "ms": M}`.
-pub fn touch(body: &[u8]) -> Result<Press, Refusal> {
+pub fn touch(body: &[u8], lay: &Layout) -> Result<Press, Refusal> {
     let m = object(body, &["x_px", "y_px", "ms"])?;
-    let (x_px, y_px) = pixel(&m)?;
+    let (x_px, y_px) = pixel(&m, lay)?;
     let ms = required(&m, "ms", 1, MAX_PRESS_MS)?;
     Ok(Press { x_px, y_px, ms: Some(ms) })
 }
 
 /// `POST /api/press`: `{"x_px": X, "y_px": Y}`, held until `/api/release`
 /// (the page's press and drag).
-pub fn press(body: &[u8]) -> Result<Press, Refusal> {
+pub fn press(body: &[u8], lay: &Layout) -> Result<Press, Refusal> {
     let m = object(body, &["x_px", "y_px"])?;
-    let (x_px, y_px) = pixel(&m)?;
+    let (x_px, y_px) = pixel(&m, lay)?;
     Ok(Press { x_px, y_px, ms: None })
 }
 
@@ -172,6 +172,15 @@ pub const DEFAULT_CORRUPT_ADDR: u16 = touch_arm::config::store::SLOT_A_ADDR + 5;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::live::LAYOUT;
+
+    fn touch(body: &[u8]) -> Result<Press, Refusal> {
+        super::touch(body, &LAYOUT)
+    }
+
+    fn press(body: &[u8]) -> Result<Press, Refusal> {
+        super::press(body, &LAYOUT)
+    }
 
     #[test]
     fn touch_bodies() {

@@ -3,9 +3,10 @@
 //! the touched target by the host's f64 chain, and the region of the map
 //! the arm can reach.
 
-use super::LAYOUT;
 use touch_arm::geometry::ik::Links;
 use touch_arm::servo::map::ServoMap;
+use touch_arm::touch::map::Calibration;
+use touch_arm::ui::layout::Layout;
 
 use hal_sim::arm::effector;
 use touch_arm_rig::firmware::{self, HostTarget};
@@ -56,8 +57,8 @@ pub struct Target {
 }
 
 /// The target a press at screen pixel (x, y) picks, if the pixel is on the map.
-pub fn target_at_pixel(x: i16, y: i16) -> Option<Target> {
-    let (x_p, y_p) = LAYOUT.ws_pixel_to_point(x, y)?;
+pub fn target_at_pixel(lay: &Layout, x: i16, y: i16) -> Option<Target> {
+    let (x_p, y_p) = lay.ws_pixel_to_point(x, y)?;
     let (x_p, y_p) = (f64::from(x_p), f64::from(y_p));
     let host = firmware::host_target(x_p, y_p).ok()?;
     Some(Target { px: (x, y), x_p, y_p, host, refused: None })
@@ -74,7 +75,19 @@ pub enum TargetNews {
     Cleared,
 }
 
-pub fn target_news(line: &str) -> Option<TargetNews> {
+/// The map point a raw reading names through `cal` on a screen laid out as
+/// `lay` (the firmware's own chain: calibration, panel to pixel, pixel to
+/// the map).
+fn raw_to_map_point(cal: &Calibration, lay: &Layout, raw_x: u16, raw_y: u16) -> Option<(f64, f64)> {
+    let m = cal.map::<f32>(raw_x, raw_y).ok()?;
+    let (px, py) = lay.panel_to_pixel(m.x_p, m.y_p)?;
+    let (wx, wy) = lay.ws_pixel_to_point(px, py)?;
+    Some((f64::from(wx), f64::from(wy)))
+}
+
+/// What `line` says about the target, read with the touch calibration the
+/// firmware runs with and the screen's layout.
+pub fn target_news(cal: &Calibration, lay: &Layout, line: &str) -> Option<TargetNews> {
     if line.starts_with("ok goto ") || line.starts_with("ok move ") {
         return Some(TargetNews::Cleared);
     }
@@ -86,8 +99,8 @@ pub fn target_news(line: &str) -> Option<TargetNews> {
     let mut words = rest.split_whitespace();
     let raw_x: u16 = words.next()?.parse().ok()?;
     let raw_y: u16 = words.next()?.parse().ok()?;
-    let (x_p, y_p) = firmware::raw_to_map_point(raw_x, raw_y)?;
-    let px = LAYOUT.ws_point_to_pixel(x_p as f32, y_p as f32)?;
+    let (x_p, y_p) = raw_to_map_point(cal, lay, raw_x, raw_y)?;
+    let px = lay.ws_point_to_pixel(x_p as f32, y_p as f32)?;
     let host = firmware::host_target(x_p, y_p).ok()?;
     let refused = refused.then(|| words.collect::<Vec<_>>().join(" "));
     Some(TargetNews::Touched(Target { px, x_p, y_p, host, refused }))
@@ -114,32 +127,33 @@ impl Target {
 
 /// Which map pixels the arm can reach: one string per map row, top row
 /// first, `1` where the host chain gives a pose within every joint's limits.
-pub fn reach_rows() -> Vec<String> {
-    let ws = LAYOUT.ws();
+pub fn reach_rows(lay: &Layout) -> Vec<String> {
+    let ws = lay.ws();
     (ws.y..ws.bottom())
         .map(|y| {
             (ws.x..ws.right())
-                .map(|x| if target_at_pixel(x, y).is_some_and(|t| t.host.within_limits) { '1' } else { '0' })
+                .map(|x| if target_at_pixel(lay, x, y).is_some_and(|t| t.host.within_limits) { '1' } else { '0' })
                 .collect()
         })
         .collect()
 }
 
 /// What the page needs to draw the views, sent once.
-pub fn geometry_json() -> serde_json::Value {
-    let ws = LAYOUT.ws();
+pub fn geometry_json(lay: &Layout) -> serde_json::Value {
+    let ws = lay.ws();
     serde_json::json!({
         "l2": L2,
         "l3": L3,
-        "screen": [LAYOUT.width(), LAYOUT.height()],
-        "map": { "x": ws.x, "y": ws.y, "w": ws.w, "h": ws.h, "scale": LAYOUT.scale(), "origin_x": LAYOUT.ws_origin_x() },
-        "reach_rows": reach_rows(),
+        "screen": [lay.width(), lay.height()],
+        "map": { "x": ws.x, "y": ws.y, "w": ws.w, "h": ws.h, "scale": lay.scale(), "origin_x": lay.ws_origin_x() },
+        "reach_rows": reach_rows(lay),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::live::LAYOUT;
 
     #[test]
     fn home_pulses_give_the_home_pose() {
@@ -157,11 +171,12 @@ mod tests {
     #[test]
     fn a_map_pixel_targets_its_centre_through_the_host_chain() {
         let (x, y) = LAYOUT.ws_point_to_pixel(0.4, 0.6).unwrap();
-        let t = target_at_pixel(x, y).unwrap();
+        let t = target_at_pixel(&LAYOUT, x, y).unwrap();
         let h = firmware::host_target(t.x_p, t.y_p).unwrap();
         assert_eq!(t.host, h);
         assert!((t.x_p - 0.4).abs() < 0.01 && (t.y_p - 0.6).abs() < 0.01);
-        assert!(target_at_pixel(300, 50).is_none(), "STOP is not on the map");
+        assert!(target_at_pixel(&LAYOUT, 300, 50).is_none(), "STOP is not on the map");
+        let target_news = |l: &str| target_news(&Calibration::DEFAULT, &LAYOUT, l);
         // The firmware's own report of the same touch names the same target.
         let ((rx, ry), _) = firmware::map_touch(0.4, 0.6).unwrap();
         let line = format!("info touch {rx} {ry} cond 2 ts_ms 2498");
@@ -172,7 +187,7 @@ mod tests {
         assert_eq!(r.refused.as_deref(), Some("joint limit elbow"));
         assert_eq!(target_news("ok goto ts_ms 3064"), Some(TargetNews::Cleared));
         assert_eq!(target_news("info touch-arm 0.1.0 reset power-on"), None);
-        let rows = reach_rows();
+        let rows = reach_rows(&LAYOUT);
         assert_eq!((rows.len(), rows[0].len()), (120, 240));
         assert!(rows.iter().any(|r| r.contains('1')));
     }

@@ -14,9 +14,11 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender, TryRecvErr
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use super::LAYOUT;
+use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use serde_json::{json, Value};
 use touch_arm::servo::map::ServoMap;
+use touch_arm::touch::map::Calibration;
+use touch_arm::ui::layout::Layout;
 
 use super::api::{Control, Press, MAX_CONSOLE_LINES};
 use super::arm::{self, Target};
@@ -26,6 +28,7 @@ use super::screen::ScreenTracker;
 use super::serial::SerialRouter;
 use hal_sim::display::Framebuffer;
 use touch_arm_rig::firmware::{self, Session, CPU_HZ};
+use touch_arm_rig::lcd_bus::Chip;
 use touch_arm_rig::panel::PanelWiring;
 
 mod faults;
@@ -99,6 +102,8 @@ pub struct Options {
     pub elf: PathBuf,
     /// Seed of the panel model's noise (varied per power-up).
     pub seed: u64,
+    pub lcd: Chip,
+    pub wiring: PanelWiring,
 }
 
 /// The current press on the panel.
@@ -111,6 +116,11 @@ struct Finger {
 
 struct Bench {
     opts: Options,
+    /// The simulated screen's layout (`opts.lcd`'s).
+    layout: Layout,
+    /// The touch calibration the firmware runs with on `opts.wiring`
+    /// (`shield::touch_calibration`; the bench sets it at every boot).
+    cal: Calibration,
     session: Session,
     /// Bench cycles before the current power-up (bench time never restarts).
     cycle_base: u64,
@@ -137,6 +147,11 @@ struct Bench {
     screen: ScreenTracker,
     subscribers: Vec<SyncSender<Arc<str>>>,
     noise: bool,
+    /// Lines the bench still has to send after a boot: on wiring c the
+    /// calibration its calibration screen would find, as the main job sets
+    /// it (`shield::calibration_lines`), one at a time once the firmware
+    /// holds (it refuses settings while homing) and nothing else is in flight.
+    setup: VecDeque<String>,
     /// Bench time at which the frame loop was stalled, until the watchdog fires.
     stalled_at: Option<f64>,
     halted: Option<String>,
@@ -215,13 +230,17 @@ fn schedule(prev: Instant) -> Instant {
 
 impl Bench {
     fn new(opts: Options, shared: Arc<Mutex<Snapshot>>) -> Result<Bench, String> {
-        let session = Session::start(&opts.elf, PanelWiring::A, opts.seed)?;
+        let session = Session::start_with_lcd(&opts.elf, opts.wiring, opts.lcd, opts.seed)?;
+        let (layout, cal) = (opts.lcd.layout(), crate::shield::touch_calibration(opts.wiring));
+        let opts_wiring = opts.wiring;
         let maps = firmware::default_servo_maps()?;
         let grip_map =
             ServoMap::new(&touch_arm::config::grip::GRIP_DEFAULT).map_err(|e| format!("gripper map: {e:?}"))?;
         let pacer = Pacer::new(Instant::now(), 0, f64::from(CPU_HZ));
         let mut b = Bench {
             opts,
+            layout,
+            cal,
             session,
             cycle_base: 0,
             power_ups: 1,
@@ -238,9 +257,10 @@ impl Bench {
             console_log: VecDeque::new(),
             fw_log: VecDeque::new(),
             fw_first: 0,
-            screen: ScreenTracker::default(),
+            screen: ScreenTracker::new(u32::from(layout.width()), u32::from(layout.height())),
             subscribers: Vec::new(),
             noise: false,
+            setup: crate::shield::calibration_lines(opts_wiring).into(),
             stalled_at: None,
             halted: None,
             finger: None,
@@ -304,6 +324,12 @@ impl Bench {
         self.router.expire(t);
         let line_free = self.session.avr.uart_rx_pending() == 0;
         if self.stalled_at.is_none() && self.halted.is_none() {
+            if self.state == "holding" && line_free && self.router.idle() {
+                if let Some(cmd) = self.setup.pop_front() {
+                    let bytes = self.router.bench_line(&cmd, t);
+                    self.session.avr.uart_send(&bytes);
+                }
+            }
             if let Some(bytes) = self.router.poll_status(t, line_free) {
                 self.session.avr.uart_send(&bytes);
             }
@@ -319,7 +345,7 @@ impl Bench {
                 self.fw_log.pop_front();
                 self.fw_first += 1;
             }
-            match arm::target_news(&line) {
+            match arm::target_news(&self.cal, &self.layout, &line) {
                 Some(arm::TargetNews::Touched(t)) => self.target = Some(t),
                 Some(arm::TargetNews::Cleared) => self.target = None,
                 None => {}
@@ -345,6 +371,7 @@ impl Bench {
         self.stalled_at = None;
         self.target = None;
         self.state = "booting".into();
+        self.setup = crate::shield::calibration_lines(self.opts.wiring).into();
         self.note(why.into());
     }
 
@@ -408,14 +435,14 @@ impl Bench {
     /// true response (`SimPanel::touch_xy` on panel coordinates), so the
     /// firmware's own driver reads it through the ADC, noise included.
     fn press(&mut self, p: Press) -> Result<Value, String> {
-        let (panel_x, panel_y) = LAYOUT.pixel_center_to_panel(p.x_px, p.y_px);
+        let (panel_x, panel_y) = self.layout.pixel_center_to_panel(p.x_px, p.y_px);
         self.session.press_xy(f64::from(panel_x), f64::from(panel_y))?;
         let hold_s = p.ms.map_or(MAX_HOLD_S, |ms| ms as f64 / 1000.0);
         let until = self.cycles() + Self::s_to_cycles(hold_s);
         self.finger = Some(Finger { px: (p.x_px, p.y_px), until });
         // What this pixel would target; the drawn target changes only when
         // the firmware reports the touch it confirmed.
-        let target = arm::target_at_pixel(p.x_px, p.y_px);
+        let target = arm::target_at_pixel(&self.layout, p.x_px, p.y_px);
         Ok(json!({
             "x_px": p.x_px,
             "y_px": p.y_px,
@@ -427,7 +454,7 @@ impl Bench {
 }
 
 /// An initial snapshot for the HTTP side before the first tick.
-pub fn empty_snapshot() -> Snapshot {
+pub fn empty_snapshot(lay: &Layout) -> Snapshot {
     Snapshot {
         state: "booting".into(),
         t_s: 0.0,
@@ -436,7 +463,7 @@ pub fn empty_snapshot() -> Snapshot {
         grip_pulse_us: None,
         grip_deg: None,
         screen_seq: 0,
-        screen: Arc::new(Framebuffer::landscape()),
+        screen: Arc::new(Framebuffer::new(u32::from(lay.width()), u32::from(lay.height()), Rgb565::BLACK)),
         bench: json!({}),
         taken: Instant::now(),
     }

@@ -15,6 +15,7 @@ use std::time::Duration;
 
 use serde_json::{json, Value};
 use tiny_http::{Header, Method, Request, Response, Server, StatusCode};
+use touch_arm::ui::layout::Layout;
 
 use super::api::{self, refuse, Refusal};
 use super::bench::{Command, Snapshot, EVENT_QUEUE};
@@ -44,17 +45,26 @@ pub struct Context {
     pub snapshot: Arc<Mutex<Snapshot>>,
     /// `GET /api/geometry`, computed once.
     pub geometry: String,
+    /// The simulated screen's layout (the pixels a press may name).
+    pub layout: Layout,
     pub port: u16,
     handlers: AtomicUsize,
     streams: AtomicUsize,
 }
 
 impl Context {
-    pub fn new(bench: Sender<Command>, snapshot: Arc<Mutex<Snapshot>>, geometry: String, port: u16) -> Context {
+    pub fn new(
+        bench: Sender<Command>,
+        snapshot: Arc<Mutex<Snapshot>>,
+        geometry: String,
+        layout: Layout,
+        port: u16,
+    ) -> Context {
         Context {
             bench: Mutex::new(bench),
             snapshot,
             geometry,
+            layout,
             port,
             handlers: AtomicUsize::new(0),
             streams: AtomicUsize::new(0),
@@ -207,11 +217,11 @@ fn post(path: &str, body: &[u8], ctx: &Context) -> Result<Body, Refusal> {
     let conflict = |r: Result<Value, String>| r.map_err(|e| refuse(409, e));
     let v = match path {
         "/api/touch" => {
-            let p = api::touch(body)?;
+            let p = api::touch(body, &ctx.layout)?;
             conflict(ctx.ask(|tx| Command::Press(p, tx), BENCH_TIMEOUT)?)?
         }
         "/api/press" => {
-            let p = api::press(body)?;
+            let p = api::press(body, &ctx.layout)?;
             conflict(ctx.ask(|tx| Command::Press(p, tx), BENCH_TIMEOUT)?)?
         }
         "/api/release" => {

@@ -37,10 +37,15 @@ use std::sync::mpsc::{channel, Sender};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
+use touch_arm::ui::layout::Layout;
+use touch_arm_rig::lcd_bus::Chip;
+use touch_arm_rig::panel::PanelWiring;
+
 pub use report::pacing_report;
 
-/// The screen the bench simulates: the default shield's ILI9341, 320×240 in
-/// landscape, laid out as the firmware lays it out.
+/// The screen of the default shield (its ILI9341, 320×240 in landscape),
+/// laid out as the firmware lays it out; `--lcd` picks another
+/// ([`Options::layout`]).
 pub const LAYOUT: touch_arm::ui::layout::Layout = touch_arm::ui::layout::Layout::QVGA;
 
 /// How to start a bench.
@@ -52,12 +57,30 @@ pub struct Options {
     pub elf: PathBuf,
     /// Seed of the panel model's noise.
     pub seed: u64,
+    /// The display controller simulated around the ELF (`--lcd`).
+    pub lcd: Chip,
+    /// The touch panel's wiring on the simulated shield (`--wiring`).
+    pub wiring: PanelWiring,
+}
+
+impl Options {
+    /// The default shield's bench on `port`: ILI9341, wiring a.
+    pub fn new(port: u16, elf: PathBuf, seed: u64) -> Options {
+        Options { port, elf, seed, lcd: Chip::Ili9341, wiring: PanelWiring::A }
+    }
+
+    /// The firmware's layout of the simulated screen.
+    pub fn layout(&self) -> Layout {
+        self.lcd.layout()
+    }
 }
 
 /// A running bench: the simulator thread and the HTTP server. Dropping it
 /// stops both.
 pub struct LiveBench {
     addr: SocketAddr,
+    /// The simulated screen's layout.
+    layout: Layout,
     server: Arc<tiny_http::Server>,
     bench_tx: Sender<bench::Command>,
     snapshot: Arc<Mutex<bench::Snapshot>>,
@@ -68,10 +91,10 @@ pub struct LiveBench {
 /// Loads the firmware, starts it and serves the page on 127.0.0.1 (never
 /// another address). Returns once the server listens.
 pub fn start(opts: &Options) -> Result<LiveBench, String> {
-    let snapshot = Arc::new(Mutex::new(bench::empty_snapshot()));
+    let snapshot = Arc::new(Mutex::new(bench::empty_snapshot(&opts.layout())));
     let (bench_tx, bench_rx) = channel();
     let (ready_tx, ready_rx) = channel();
-    let bench_opts = bench::Options { elf: opts.elf.clone(), seed: opts.seed };
+    let bench_opts = bench::Options { elf: opts.elf.clone(), seed: opts.seed, lcd: opts.lcd, wiring: opts.wiring };
     let shared = snapshot.clone();
     let sim = std::thread::Builder::new()
         .name("live-sim".into())
@@ -86,14 +109,18 @@ pub fn start(opts: &Options) -> Result<LiveBench, String> {
         .map_err(|e| format!("listening on 127.0.0.1:{}: {e}", opts.port))?;
     let addr = server.server_addr().to_ip().ok_or("the server has no IP address")?;
     let server = Arc::new(server);
-    let ctx =
-        Arc::new(http::Context::new(bench_tx.clone(), snapshot.clone(), arm::geometry_json().to_string(), addr.port()));
+    let lay = opts.layout();
+    let mut geometry = arm::geometry_json(&lay);
+    geometry["lcd"] = opts.lcd.name().into();
+    geometry["wiring"] = crate::shield::wiring_name(opts.wiring).into();
+    let geometry = geometry.to_string();
+    let ctx = Arc::new(http::Context::new(bench_tx.clone(), snapshot.clone(), geometry, lay, addr.port()));
     let srv = server.clone();
     let http = std::thread::Builder::new()
         .name("live-http".into())
         .spawn(move || http::serve(srv, ctx))
         .map_err(|e| format!("starting the server thread: {e}"))?;
-    Ok(LiveBench { addr, server, bench_tx, snapshot, sim: Some(sim), http: Some(http) })
+    Ok(LiveBench { addr, layout: lay, server, bench_tx, snapshot, sim: Some(sim), http: Some(http) })
 }
 
 impl LiveBench {

@@ -8,8 +8,6 @@ use std::sync::mpsc::{channel, sync_channel};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::LAYOUT;
-
 use super::api::Press;
 use super::bench::{Command, Snapshot, EVENT_QUEUE};
 use super::{start, LiveBench, Options};
@@ -56,7 +54,7 @@ impl LiveBench {
     }
 
     fn touch_map(&self, x: f32, y: f32) -> Result<(), String> {
-        let (px, py) = LAYOUT.ws_point_to_pixel(x, y).ok_or("point off the map")?;
+        let (px, py) = self.layout.ws_point_to_pixel(x, y).ok_or("point off the map")?;
         let (tx, rx) = channel();
         self.bench_tx
             .send(Command::Press(Press { x_px: px, y_px: py, ms: Some(TOUCH_MS) }, tx))

@@ -7,6 +7,7 @@
 
 use base64::Engine;
 
+use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use hal_sim::display::Framebuffer;
 use touch_arm_rig::lcd_bus::raw565;
 
@@ -39,12 +40,17 @@ pub struct ScreenTracker {
 
 impl Default for ScreenTracker {
     fn default() -> Self {
-        // The controller's power-on GRAM is black.
-        ScreenTracker { current: Framebuffer::landscape(), seq: 0 }
+        ScreenTracker::new(320, 240)
     }
 }
 
 impl ScreenTracker {
+    /// A screen of `width`×`height` in landscape, black as the
+    /// controller's power-on GRAM.
+    pub fn new(width: u32, height: u32) -> Self {
+        ScreenTracker { current: Framebuffer::new(width, height, Rgb565::BLACK), seq: 0 }
+    }
+
     /// Takes `now` as the current picture; the patch covering every changed
     /// pixel, or `None` if nothing changed.
     pub fn update(&mut self, now: Framebuffer) -> Option<Patch> {
@@ -110,7 +116,6 @@ pub fn png(fb: &Framebuffer) -> std::io::Result<Vec<u8>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 
     fn filled(c: Rgb565) -> Framebuffer {
         Framebuffer::new(320, 240, c)

@@ -99,6 +99,22 @@ impl SerialRouter {
         format!("{line}\n").into_bytes()
     }
 
+    /// Whether nothing is in flight.
+    pub fn idle(&self) -> bool {
+        self.in_flight.is_empty()
+    }
+
+    /// A line the bench itself sends (its answer stays off the console).
+    pub fn bench_line(&mut self, line: &str, now_s: f64) -> Vec<u8> {
+        self.in_flight.push_back(InFlight {
+            asker: Asker::Bench,
+            sent_s: now_s,
+            window_s: ANSWER_WINDOW_S,
+            lines: Vec::new(),
+        });
+        format!("{line}\n").into_bytes()
+    }
+
     /// The bench's own `status`, when one is due and the line is free.
     pub fn poll_status(&mut self, now_s: f64, line_free: bool) -> Option<Vec<u8>> {
         if !line_free || !self.in_flight.is_empty() || now_s - self.last_status_s < STATUS_PERIOD_S {

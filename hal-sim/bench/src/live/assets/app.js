@@ -11,7 +11,6 @@ const PLOT_SECONDS = 10;
 // press over 3 frames (60 ms), as on a real panel.
 const MIN_TAP_MS = 200;
 const MAX_CONSOLE_LINES = 600;
-const SCREEN_W = 320, SCREEN_H = 240;
 
 const screenEl = $('screen');
 const sctx = screenEl.getContext('2d');
@@ -34,6 +33,12 @@ async function post(path, body) {
 
 // RGB565 (little-endian) to RGBA, with the bit replication the host's PNGs use.
 function drawPatch(p) {
+  // The screen's size comes with the first (full) picture: 320×240, or
+  // 480×320 for the larger controllers (`--lcd`). Resizing clears it.
+  if (p.x === 0 && p.y === 0 && (p.w !== screenEl.width || p.h !== screenEl.height) &&
+      (p.w > screenEl.width || p.h > screenEl.height || p.w * p.h === 320 * 240)) {
+    screenEl.width = p.w; screenEl.height = p.h;
+  }
   const bin = atob(p.rgb565);
   const img = sctx.createImageData(p.w, p.h);
   const d = img.data;
@@ -62,8 +67,8 @@ function pixelOf(ev) {
   const b = screenBox();
   const clamp = (v, hi) => Math.min(hi, Math.max(0, v));
   return {
-    x_px: clamp(Math.floor((ev.clientX - b.left) * SCREEN_W / b.width), SCREEN_W - 1),
-    y_px: clamp(Math.floor((ev.clientY - b.top) * SCREEN_H / b.height), SCREEN_H - 1),
+    x_px: clamp(Math.floor((ev.clientX - b.left) * screenEl.width / b.width), screenEl.width - 1),
+    y_px: clamp(Math.floor((ev.clientY - b.top) * screenEl.height / b.height), screenEl.height - 1),
   };
 }
 
@@ -116,8 +121,8 @@ function showFinger(px) {
   if (!px) { f.hidden = true; return; }
   const b = screenEl.getBoundingClientRect(), w = screenEl.parentElement.getBoundingClientRect();
   const box = screenBox();
-  f.style.left = `${box.left - w.left + (px[0] + 0.5) * box.width / SCREEN_W}px`;
-  f.style.top = `${box.top - w.top + (px[1] + 0.5) * box.height / SCREEN_H}px`;
+  f.style.left = `${box.left - w.left + (px[0] + 0.5) * box.width / screenEl.width}px`;
+  f.style.top = `${box.top - w.top + (px[1] + 0.5) * box.height / screenEl.height}px`;
   f.hidden = b.width === 0;
 }
 
@@ -436,13 +441,14 @@ function connect() {
 window.bench = {
   pixelToClient(x, y) {
     const b = screenBox();
-    return { x: b.left + (x + 0.5) * b.width / SCREEN_W, y: b.top + (y + 0.5) * b.height / SCREEN_H };
+    return { x: b.left + (x + 0.5) * b.width / screenEl.width, y: b.top + (y + 0.5) * b.height / screenEl.height };
   },
   state: () => lastState,
 };
 
 fetch('/api/geometry').then((r) => r.json()).then((g) => {
   geometry = g;
+  $('screen-caption').textContent = `${g.lcd.toUpperCase()} ${g.screen[0]}×${g.screen[1]}, touch wiring ${g.wiring}, rebuilt from the firmware's writes on the LCD bus`;
   buildReach();
   if (lastState) drawViews(lastState);
 }).catch((e) => showResult(`geometry: ${e.message}`, true));

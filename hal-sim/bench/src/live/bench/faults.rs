@@ -8,7 +8,6 @@ use serde_json::{json, Value};
 use super::Bench;
 use crate::live::api::Control;
 use touch_arm_rig::firmware::Session;
-use touch_arm_rig::panel::PanelWiring;
 
 /// The noisy-panel fault: the noisy-touch scenario's ADC noise (σ, counts)
 /// and glitch probability (`hal-sim/twin/tests/scenarios/touch_noisy.scn`).
@@ -57,7 +56,7 @@ impl Bench {
         let eeprom = self.session.avr.eeprom().map_err(|e| e.to_string())?;
         let base = self.cycles();
         let seed = self.opts.seed.wrapping_add(u64::from(self.power_ups));
-        let mut s = Session::start(&self.opts.elf, PanelWiring::A, seed)?;
+        let mut s = Session::start_with_lcd(&self.opts.elf, self.opts.wiring, self.opts.lcd, seed)?;
         s.avr.set_eeprom(0, &eeprom).map_err(|e| e.to_string())?;
         self.session = s;
         self.cycle_base = base;
