@@ -1,5 +1,6 @@
 //! Where everything sits on the landscape screen, for both panel sizes the
-//! firmware drives (320×240: ILI9341, ST7789V, ILI9325; 480×320: ILI9486),
+//! firmware drives (320×240: ILI9341, ST7789V, ILI9325; 480×320: ILI9486,
+//! ST7796S),
 //! and the two coordinate mappings.
 //!
 //! One description: every region is placed by the same arithmetic from a
@@ -76,7 +77,7 @@ use super::model::Page;
 /// buttons, pixels (both sizes).
 pub const GUARD: u16 = 8;
 
-/// The screen's arrangement for one panel size (14 bytes; every region is
+/// The screen's arrangement for one panel size (16 bytes; every region is
 /// computed from these numbers by the methods below).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Layout {
@@ -87,14 +88,15 @@ pub struct Layout {
     row: u16,
     small_row: u16,
     button_h: u16,
+    turned: bool,
 }
 
 impl Layout {
     /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 240×120.
-    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40 };
-    /// 480×320 (ILI9486 in landscape): map 320×160, STOP 152×160, buttons
+    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40, turned: false };
+    /// 480×320 (ILI9486, ST7796S in landscape): map 320×160, STOP 152×160, buttons
     /// 52 px tall, headline and buttons in 3× text.
-    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52 };
+    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52, turned: false };
 
     /// The layout for a `w`×`h` landscape screen, if there is one.
     pub const fn for_size(w: u16, h: u16) -> Option<Layout> {
@@ -103,6 +105,15 @@ impl Layout {
             (480, 320) => Some(Layout::HVGA),
             _ => None,
         }
+    }
+
+    /// This layout on a screen turned by 180° (`cal set lcd rotate 180`:
+    /// the controller draws every pixel at the opposite corner), so the
+    /// panel mappings turn too: a panel point `(x_p, y_p)` of the glass lies
+    /// under the screen's `(−x_p, 1 − y_p)`, and a touch on a drawn button
+    /// still hits that button. The touch calibration stays the glass's.
+    pub const fn turned(self, on: bool) -> Layout {
+        Layout { turned: on, ..self }
     }
 
     /// Screen width, pixels.
@@ -357,8 +368,10 @@ impl Layout {
 
     /// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]`
     /// or not finite. `x = ⌊(x_p + 1)·w/2⌋`, `y = ⌊(1 − y_p)·h⌋`, the far
-    /// edges folded onto the last pixel.
+    /// edges folded onto the last pixel (after the turn of
+    /// [`Layout::turned`]).
     pub fn panel_to_pixel(&self, x_p: f32, y_p: f32) -> Option<(i16, i16)> {
+        let (x_p, y_p) = self.turn(x_p, y_p);
         let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
         if !inside {
             return None;
@@ -373,7 +386,17 @@ impl Layout {
     pub fn pixel_center_to_panel(&self, x: i16, y: i16) -> (f32, f32) {
         let x_p = (2.0 * f32::from(x) + 1.0) / self.w as f32 - 1.0;
         let y_p = 1.0 - (2.0 * f32::from(y) + 1.0) / (2.0 * self.h as f32);
-        (x_p, y_p)
+        self.turn(x_p, y_p)
+    }
+
+    /// Between the glass's and the screen's panel coordinates (its own
+    /// inverse): the same point unless [`Layout::turned`].
+    fn turn(&self, x_p: f32, y_p: f32) -> (f32, f32) {
+        if self.turned {
+            (-x_p, 1.0 - y_p)
+        } else {
+            (x_p, y_p)
+        }
     }
 
     /// Workspace point of a map pixel's centre; `None` outside the map.

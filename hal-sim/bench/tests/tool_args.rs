@@ -29,7 +29,7 @@ fn touch_arm_sim_rejects_bad_arguments_in_one_line() {
     fails(bin, &["--then", "0.5,0.5@soon"], "whole number of milliseconds");
     fails(bin, &["--then", "2.5,0.5@300"], "not on the map");
     fails(bin, &["--law", "sine"], "invalid value 'sine'");
-    fails(bin, &["--lcd", "ssd1289"], "unknown controller \"ssd1289\" (ili9341, st7789, ili9486 or ili9325)");
+    fails(bin, &["--lcd", "ssd1289"], "unknown controller \"ssd1289\" (ili9341, st7789, ili9486, ili9325 or st7796)");
     fails(bin, &["--lcd"], "a value is required");
     fails(bin, &["--wiring", "d"], "unknown wiring \"d\" (a, b or c)");
     fails(bin, &["--wiring"], "a value is required");
