@@ -7,7 +7,7 @@ use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
 use super::App;
-use crate::config::lcd::{self, LcdSet, LcdSettings};
+use crate::config::lcd::{self, LcdSet};
 use crate::seam::Storage;
 
 impl App {
@@ -24,11 +24,13 @@ impl App {
         }
         Ok(Done::CalLcd(saved))
     }
-}
 
-/// `lcd <name> invert on|off rotate 0|180`.
-pub(super) fn lcd_words(s: &LcdSettings, line: &mut Line) {
-    line.str(t!("lcd ")).str(s.controller.name());
-    line.word(t!("invert")).word(if s.invert { t!("on") } else { t!("off") });
-    line.word(t!("rotate")).word(if s.rotate_180 { t!("180") } else { t!("0") });
+    /// `lcd <name> invert on|off rotate 0|180`: the stored overrides in
+    /// `cal set`'s words (`cal show`, the reply to `cal set lcd`).
+    pub(super) fn lcd_words(&self, line: &mut Line) {
+        let s = &self.lcd;
+        line.str(t!("lcd ")).str(s.controller.name());
+        line.word(t!("invert")).word(if s.invert { t!("on") } else { t!("off") });
+        line.word(t!("rotate")).word(if s.rotate_180 { t!("180") } else { t!("0") });
+    }
 }

@@ -366,7 +366,7 @@ impl App {
             }
             Done::CalLcd(Ok(seq)) => {
                 r.str(t!("ok cal set "));
-                super::lcd::lcd_words(&self.lcd, r);
+                self.lcd_words(r);
                 r.word(t!("seq")).num(i32::from(seq)).word(t!("(next boot)"));
             }
             Done::CalSaved(Err(SaveError::Storage(_))) | Done::CalLcd(Err(SaveError::Storage(_))) => {

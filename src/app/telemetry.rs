@@ -146,7 +146,7 @@ impl App {
         }
         if i == 5 {
             line.str(t!("cal "));
-            super::lcd::lcd_words(&self.lcd, line);
+            self.lcd_words(line);
             return;
         }
         if i == 3 {

@@ -43,8 +43,8 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
-use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 use crate::config::lcd::{LcdChoice, LcdSet};
+use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchField, RAW_MAX};
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;

@@ -93,10 +93,12 @@ pub struct Layout {
 
 impl Layout {
     /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 240×120.
-    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40, turned: false };
+    pub const QVGA: Layout =
+        Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40, turned: false };
     /// 480×320 (ILI9486, ST7796S in landscape): map 320×160, STOP 152×160, buttons
     /// 52 px tall, headline and buttons in 3× text.
-    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52, turned: false };
+    pub const HVGA: Layout =
+        Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52, turned: false };
 
     /// The layout for a `w`×`h` landscape screen, if there is one.
     pub const fn for_size(w: u16, h: u16) -> Option<Layout> {

@@ -605,7 +605,10 @@ fn the_lcd_record_round_trips_and_refuses_what_it_should() {
     assert_eq!(lcd::decode(&r), Ok((0x1234, s)));
     for (k, c) in LcdChoice::ALL.into_iter().enumerate() {
         assert_eq!(c as usize, k);
-        assert_eq!(lcd::decode(&lcd::encode(&LcdSettings { controller: c, ..LCD_DEFAULT }, 1)).unwrap().1.controller, c);
+        assert_eq!(
+            lcd::decode(&lcd::encode(&LcdSettings { controller: c, ..LCD_DEFAULT }, 1)).unwrap().1.controller,
+            c
+        );
     }
     let mut bad = r;
     bad[2] = 2;

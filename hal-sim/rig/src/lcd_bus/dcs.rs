@@ -254,9 +254,17 @@ impl Dcs {
             }
             (cmd::MADCTL, 1) => self.madctl = b,
             (cmd::COLMOD, 1) => self.colmod = b,
-            (cmd::SWRESET | cmd::SLPIN | cmd::SLPOUT | cmd::DISPON | cmd::DISPOFF | cmd::INVON | cmd::INVOFF | cmd::NOP, _) => {
-                self.stats.stray_data += 1
-            }
+            (
+                cmd::SWRESET
+                | cmd::SLPIN
+                | cmd::SLPOUT
+                | cmd::DISPON
+                | cmd::DISPOFF
+                | cmd::INVON
+                | cmd::INVOFF
+                | cmd::NOP,
+                _,
+            ) => self.stats.stray_data += 1,
             _ => {}
         }
     }
