@@ -229,8 +229,7 @@ fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>, dis
     }
     let forced = Controller::forced(display.controller);
     let missed = forced.is_some() && forced != found;
-    let mut line: Line<72> = Line::new();
-    line.str(if missed { touch_arm::t!("warn lcd ") } else { touch_arm::t!("info lcd ") });
+    line.clear().str(if missed { touch_arm::t!("warn lcd ") } else { touch_arm::t!("info lcd ") });
     if forced.is_some() {
         line.str(touch_arm::t!("forced "));
     }

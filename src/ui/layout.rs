@@ -110,10 +110,10 @@ impl Layout {
     }
 
     /// This layout on a screen turned by 180° (`cal set lcd rotate 180`:
-    /// the controller draws every pixel at the opposite corner), so the
-    /// panel mappings turn too: a panel point `(x_p, y_p)` of the glass lies
-    /// under the screen's `(−x_p, 1 − y_p)`, and a touch on a drawn button
-    /// still hits that button. The touch calibration stays the glass's.
+    /// the controller draws pixel `(x, y)` where the glass's
+    /// `(w − 1 − x, h − 1 − y)` is), so the panel mappings turn with it: a
+    /// touch on a drawn button still hits that button, and the touch
+    /// calibration stays the glass's.
     pub const fn turned(self, on: bool) -> Layout {
         Layout { turned: on, ..self }
     }
@@ -370,34 +370,34 @@ impl Layout {
 
     /// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]`
     /// or not finite. `x = ⌊(x_p + 1)·w/2⌋`, `y = ⌊(1 − y_p)·h⌋`, the far
-    /// edges folded onto the last pixel (after the turn of
+    /// edges folded onto the last pixel (then the opposite pixel when
     /// [`Layout::turned`]).
     pub fn panel_to_pixel(&self, x_p: f32, y_p: f32) -> Option<(i16, i16)> {
-        let (x_p, y_p) = self.turn(x_p, y_p);
         let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
         if !inside {
             return None;
         }
         let x = ((x_p + 1.0) * (self.w / 2) as f32) as i16;
         let y = ((1.0 - y_p) * self.h as f32) as i16;
-        Some((x.min(self.w as i16 - 1), y.min(self.h as i16 - 1)))
+        Some(self.turn(x.min(self.w as i16 - 1), y.min(self.h as i16 - 1)))
     }
 
     /// The panel coordinates of a pixel's centre (inverse of
     /// [`Layout::panel_to_pixel`]).
     pub fn pixel_center_to_panel(&self, x: i16, y: i16) -> (f32, f32) {
+        let (x, y) = self.turn(x, y);
         let x_p = (2.0 * f32::from(x) + 1.0) / self.w as f32 - 1.0;
         let y_p = 1.0 - (2.0 * f32::from(y) + 1.0) / (2.0 * self.h as f32);
-        self.turn(x_p, y_p)
+        (x_p, y_p)
     }
 
-    /// Between the glass's and the screen's panel coordinates (its own
-    /// inverse): the same point unless [`Layout::turned`].
-    fn turn(&self, x_p: f32, y_p: f32) -> (f32, f32) {
+    /// Between the glass's pixel and the screen's (its own inverse): the
+    /// same pixel unless [`Layout::turned`], else the opposite one.
+    const fn turn(&self, x: i16, y: i16) -> (i16, i16) {
         if self.turned {
-            (-x_p, 1.0 - y_p)
+            (self.w as i16 - 1 - x, self.h as i16 - 1 - y)
         } else {
-            (x_p, y_p)
+            (x, y)
         }
     }
 

@@ -310,8 +310,7 @@ fn the_turned_layouts_map_each_pixel_to_the_opposite_corner_of_the_glass() {
         }
         for (x, y) in [(0, 0), (w - 1, h - 1), (17, 200), (w / 2, h / 2), (w - 3, 5)] {
             let (tx, ty) = t.pixel_center_to_panel(x, y);
-            let (gx, gy) = lay.pixel_center_to_panel(w - 1 - x, h - 1 - y);
-            assert!((tx - gx).abs() < 1e-6 && (ty - gy).abs() < 1e-6, "{x},{y}: {tx},{ty} vs {gx},{gy}");
+            assert_eq!((tx, ty), lay.pixel_center_to_panel(w - 1 - x, h - 1 - y), "{x},{y}");
             // The unturned screen reads that point as the opposite pixel.
             assert_eq!(lay.panel_to_pixel(tx, ty), Some((w - 1 - x, h - 1 - y)), "{x},{y}");
         }
