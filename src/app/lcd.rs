@@ -12,7 +12,10 @@ use crate::seam::Storage;
 
 impl App {
     /// `cal set lcd …`: the stored overrides with `set` applied, saved (not
-    /// while the arm moves: a save holds the frame for tens of ms).
+    /// while the arm moves: a save holds the frame for tens of ms). Out of
+    /// line: its record buffers stay out of `execute`'s frame, which is on
+    /// the deepest stack chain.
+    #[inline(never)] // reason: cold
     pub(super) fn cal_lcd<E: Storage>(&mut self, set: LcdSet, storage: &mut E) -> Result<Done, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);
