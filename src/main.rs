@@ -25,6 +25,7 @@ use touch_arm::board::shield::TouchWiring;
 use touch_arm::board::tick::Tick;
 use touch_arm::board::usart::Usart0;
 use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
+use touch_arm::config::lcd::{LcdSettings, LCD_DEFAULT};
 use touch_arm::config::settings::Config;
 use touch_arm::seam::SerialPort;
 use touch_arm::text::line::Line;
@@ -44,8 +45,10 @@ struct Board {
     eeprom: Eeprom,
     pwm: ServoPwm,
     dog: Watchdog,
-    /// The display controller found at boot.
+    /// The display controller found (or forced) at boot.
     lcd: Controller,
+    /// Its orientation: landscape, or turned by 180° (`cal set lcd rotate`).
+    rotation: Rotation,
     /// The panel's wiring being measured (`touch::wiring`), if the app asked.
     probe: Option<Probe>,
 }
@@ -68,6 +71,7 @@ fn main() -> ! {
         pwm: ServoPwm::new(dp.TC5, dp.TC1, &dp.PORTL, &dp.PORTB, &[SERVO_RANGE; CHANNELS]),
         dog,
         lcd: Controller::Ili9341,
+        rotation: Rotation::Landscape,
         probe: None,
     };
     // SAFETY: every peripheral the interrupt handlers touch is initialised.
@@ -75,16 +79,24 @@ fn main() -> ! {
 
     report_boot(&mut board.serial, cause);
     // The screen: reset, which controller, its initialisation, landscape
-    // (≈ 270 ms, more for the ILI9325; before the watchdog runs). An unknown
-    // controller is driven as an ILI9341; the arm works over serial either way.
-    let (ids, found) = Lcd::new(&mut board.bus).start(Rotation::Landscape);
-    board.lcd = found.unwrap_or(Controller::Ili9341);
-    report_lcd(&mut board.serial, &ids, found);
+    // (≈ 270 ms, more for the ILI9325; before the watchdog runs), with the
+    // stored display overrides (`config::lcd`: a forced controller, colours
+    // inverted, turned by 180°). An unknown controller is driven as an
+    // ILI9341; the arm works over serial either way.
+    let display = touch_arm::config::lcd::load(&mut board.eeprom).2;
+    let forced = Controller::forced(display.controller);
+    if display.rotate_180 {
+        board.rotation = Rotation::LandscapeFlipped;
+    }
+    let (ids, found) = Lcd::new(&mut board.bus).start_forced(forced, board.rotation, display.invert);
+    board.lcd = forced.or(found).unwrap_or(Controller::Ili9341);
+    report_lcd(&mut board.serial, &ids, found, &display);
     let Some(app) = start_app() else {
         let _ = uwriteln!(board.serial, "err app parameters invalid");
         halt()
     };
-    app.set_screen_layout(board.lcd.layout());
+    // Turned, the touch mapping turns with the picture (`ui::layout`).
+    app.set_screen_layout(board.lcd.layout().turned(display.rotate_180));
     board.dog.enable(WATCHDOG);
     // The overflow flag has been set since Timer5 started: drop it, so the
     // first frame starts at a period start like every other.
@@ -140,7 +152,7 @@ fn frame(app: &mut App, b: &mut Board) {
     // After the touch read, never during it: drawing holds the shared pins.
     // Only what changed is redrawn, and only as much as the period leaves;
     // the rest in the next frames.
-    let _ = app.draw_screen_sliced(&mut Lcd::with_controller(&mut b.bus, b.lcd), &mut FrameBudget::new(&b.pwm));
+    let _ = app.draw_screen_sliced(&mut Lcd::oriented(&mut b.bus, b.lcd, b.rotation), &mut FrameBudget::new(&b.pwm));
     if frame::record(&b.pwm, app_ticks) {
         app.frame_was_late();
     }
@@ -190,9 +202,13 @@ fn report_boot(serial: &mut Usart0, cause: ResetCause) {
 }
 
 /// `info lcd <name> id 0x… <w>x<h>`, or `warn lcd unknown id 0x…` with the
-/// Read ID4 answer and then the other two probes.
+/// Read ID4 answer and then the other two probes: what the probe found.
+/// With display overrides (`cal set lcd`) a second line says which:
+/// `info lcd forced <name>` (or `auto`), ` invert`, ` rotate 180`; a forced
+/// controller the probe did not find makes it `warn lcd forced <name> …
+/// not detected`.
 #[inline(never)] // avr-trap: frame-size
-fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>) {
+fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>, display: &LcdSettings) {
     let mut line: Line<72> = Line::new();
     match found {
         Some(c) => {
@@ -206,6 +222,26 @@ fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>) {
             line.str(touch_arm::t!(" reg00 ")).hex(u32::from(ids.reg00_value()), 4);
             line.str(touch_arm::t!(" rddid ")).hex(ids.rddid_value(), 6);
         }
+    }
+    serial.write(line.finish());
+    if *display == LCD_DEFAULT {
+        return;
+    }
+    let forced = Controller::forced(display.controller);
+    let missed = forced.is_some() && forced != found;
+    line.clear().str(if missed { touch_arm::t!("warn lcd ") } else { touch_arm::t!("info lcd ") });
+    if forced.is_some() {
+        line.str(touch_arm::t!("forced "));
+    }
+    line.str(display.controller.name());
+    if display.invert {
+        line.str(touch_arm::t!(" invert"));
+    }
+    if display.rotate_180 {
+        line.str(touch_arm::t!(" rotate 180"));
+    }
+    if missed {
+        line.str(touch_arm::t!(" not detected"));
     }
     serial.write(line.finish());
 }

@@ -17,6 +17,8 @@ fn each_datasheet_id_picks_its_controller() {
     // ILI9341 / ILI9486 datasheets, Read ID4 (D3h): dummy, 00h, 93h 41h / 94h 86h.
     assert_eq!(IdReads { id4: [0x5A, 0x00, 0x93, 0x41], ..SILENT }.identify(), Some(Controller::Ili9341));
     assert_eq!(IdReads { id4: [0x00, 0x00, 0x94, 0x86], ..SILENT }.identify(), Some(Controller::Ili9486));
+    // ST7796S datasheet, Read ID4 (D3h): dummy, 00h, 77h 96h.
+    assert_eq!(IdReads { id4: [0x00, 0x00, 0x77, 0x96], ..SILENT }.identify(), Some(Controller::St7796));
     // ST7789V datasheet, RDDID (04h): dummy, 85h 85h 52h.
     assert_eq!(IdReads { rddid: [0x00, 0x85, 0x85, 0x52], ..SILENT }.identify(), Some(Controller::St7789));
     // What each prints is what it answered.
@@ -26,6 +28,7 @@ fn each_datasheet_id_picks_its_controller() {
             Controller::St7789 => 0x85_8552,
             Controller::Ili9486 => 0x9486,
             Controller::Ili9325 => 0x9325,
+            Controller::St7796 => 0x7796,
         };
         assert_eq!(c.id(), shown);
     }
@@ -52,6 +55,7 @@ fn anything_else_is_unknown() {
         IdReads { id4: [0x00, 0x01, 0x93, 0x41], ..SILENT },
         IdReads { id4: [0x00, 0x00, 0x94, 0x88], ..SILENT },
         IdReads { reg00: [0x93, 0x28], ..SILENT },
+        IdReads { id4: [0x00, 0x00, 0x77, 0x89], ..SILENT },
         IdReads { rddid: [0x85, 0x85, 0x52, 0x00], ..SILENT },
     ] {
         assert_eq!(ids.identify(), None, "{ids:?}");
@@ -68,6 +72,21 @@ fn sizes_layouts_and_protocols() {
         assert_eq!(c.protocol() == Protocol::Indexed, c == Controller::Ili9325);
     }
     assert_eq!(Controller::Ili9486.size(), (480, 320));
+    assert_eq!(Controller::St7796.size(), (480, 320));
+    assert_eq!(Controller::St7796.layout(), Layout::HVGA);
     let names: Vec<String> = Controller::ALL.iter().map(|c| c.name().bytes().map(char::from).collect()).collect();
-    assert_eq!(names, ["ili9341", "st7789", "ili9486", "ili9325"]);
+    assert_eq!(names, ["ili9341", "st7789", "ili9486", "ili9325", "st7796"]);
+}
+
+/// `cal set lcd <name>` forces each controller by its own name; `auto`
+/// forces none.
+#[test]
+fn each_controller_is_forced_by_its_name() {
+    use touch_arm::config::lcd::LcdChoice;
+    assert_eq!(Controller::forced(LcdChoice::Auto), None);
+    for c in Controller::ALL {
+        assert_eq!(Controller::forced(c.choice()), Some(c));
+        assert_eq!(c.choice().name(), c.name());
+    }
+    assert_eq!(LcdChoice::ALL.len(), Controller::ALL.len() + 1);
 }

@@ -87,6 +87,7 @@ impl App {
         let loaded = store::load(storage);
         self.poses = crate::config::poses::load(storage).poses;
         self.grip_boot(storage, serial);
+        self.lcd = crate::config::lcd::load(storage).2;
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {

@@ -106,6 +106,7 @@
 //!   `text.rs`: one reason text per refusal, one line type.
 
 mod grip;
+mod lcd;
 mod machine;
 mod path_move;
 mod poses;
@@ -521,6 +522,8 @@ pub struct App {
     grip: grip::Grip,
     /// The path move being checked or run (`path_move`).
     path: path_move::PathRun,
+    /// The display overrides as stored (`lcd.rs`), loaded at boot.
+    lcd: crate::config::lcd::LcdSettings,
 }
 
 /// Servo maps of a configuration.
@@ -583,6 +586,7 @@ impl App {
             poses: crate::config::poses::Poses::EMPTY,
             grip,
             path: path_move::PathRun::Idle,
+            lcd: crate::config::lcd::LCD_DEFAULT,
         })
     }
 

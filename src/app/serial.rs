@@ -114,6 +114,8 @@ pub(super) enum Done {
     Lift(Option<u8>),
     /// A circle, once its check decided.
     Circled,
+    /// `cal set lcd …`: the display overrides' new sequence number.
+    CalLcd(Result<u16, SaveError>),
 }
 
 impl App {
@@ -250,6 +252,7 @@ impl App {
             Command::Pose(p) => self.pose(p, storage).map(Done::Pose),
             Command::Grip(g) => self.grip_command(g),
             Command::CalResetGrip => self.grip_reset(),
+            Command::CalLcd(set) => self.cal_lcd(set, storage),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -361,10 +364,15 @@ impl App {
                     r.word(t!("grip_seq")).num(i32::from(g));
                 }
             }
-            Done::CalSaved(Err(SaveError::Storage(_))) => {
+            Done::CalLcd(Ok(seq)) => {
+                r.str(t!("ok cal set "));
+                self.lcd_words(r);
+                r.word(t!("seq")).num(i32::from(seq)).word(t!("(next boot)"));
+            }
+            Done::CalSaved(Err(SaveError::Storage(_))) | Done::CalLcd(Err(SaveError::Storage(_))) => {
                 r.str(t!("err save failed: storage"));
             }
-            Done::CalSaved(Err(SaveError::Verify)) => {
+            Done::CalSaved(Err(SaveError::Verify)) | Done::CalLcd(Err(_)) => {
                 r.str(t!("err save failed: verify"));
             }
             Done::Lost(n) => {

@@ -11,7 +11,7 @@ use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
 /// `cal show` lines before its final `ok` line.
-const CAL_SHOW_LINES: u8 = 5;
+const CAL_SHOW_LINES: u8 = 6;
 
 impl App {
     /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
@@ -142,6 +142,11 @@ impl App {
         }
         if i == 4 {
             self.grip_show_line(line);
+            return;
+        }
+        if i == 5 {
+            line.str(t!("cal "));
+            self.lcd_words(line);
             return;
         }
         if i == 3 {

@@ -1,11 +1,11 @@
 //! The display controller on the UNO-form shield's 8-bit parallel bus
 //! (docs/hardware.md), as an embedded-graphics `DrawTarget<Color = Rgb565>` and a UI
-//! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486) and the
+//! [`Canvas`]: the MIPI DCS controllers (ILI9341, ST7789V, ILI9486, ST7796S) and the
 //! register-indexed ILI9325, told apart at boot by their ID registers
 //! ([`Lcd::start`], `lcd/start.rs`). They differ only in their
 //! initialisation, their size and how a window is set (`lcd/indexed.rs` for
 //! the ILI9325); the pixel stream after the window is the same RGB565 byte
-//! pairs, so every fast path below serves all four.
+//! pairs, so every fast path below serves all five.
 //!
 //! Pins: RD PF0, WR PF1, RS PF2, CS PF3, RST PF4; D0 PH5, D1 PH6, D2 PE4,
 //! D3 PE5, D4 PG5, D5 PE3, D6 PH3, D7 PH4. A byte is three port stores (the
@@ -33,7 +33,9 @@
 //! Timing: the WR low and high phases are one cycle (62.5 ns) each and
 //! back-to-back strobes are 2 cycles apart (125 ns), within the ILI9341's
 //! and ST7789V's 8080-I write cycle (≥ 66 ns, each phase ≥ 15 ns) and the
-//! slowest of the four, the ILI9325's (≥ 100 ns, each phase ≥ 50 ns).
+//! slowest of the five, the ILI9325's (≥ 100 ns, each phase ≥ 50 ns); the
+//! ST7796S is taken to be the ST7789V's sibling here (not checked against
+//! its datasheet's timing table).
 
 use crate::board::shield::ShieldBus;
 use core::ptr::{read_volatile, write_volatile};
@@ -437,7 +439,13 @@ impl<B: Bus8> Lcd<B> {
     /// Wraps a bus whose `controller` is already initialised in landscape
     /// (what [`Lcd::start`] found at boot).
     pub fn with_controller(bus: B, controller: Controller) -> Self {
-        Self { bus, controller, rotation: Rotation::Landscape, columns: None, pages: None }
+        Self::oriented(bus, controller, Rotation::Landscape)
+    }
+
+    /// Wraps a bus whose `controller` is already initialised in `rotation`
+    /// (what [`Lcd::start_forced`] set up at boot).
+    pub fn oriented(bus: B, controller: Controller, rotation: Rotation) -> Self {
+        Self { bus, controller, rotation, columns: None, pages: None }
     }
 
     /// The controller driven.
@@ -460,7 +468,7 @@ impl<B: Bus8> Lcd<B> {
     /// controllers). Leaves the chip selected.
     pub fn init(&mut self, rotation: Rotation) {
         self.hardware_reset();
-        self.configure(rotation);
+        self.configure(rotation, false);
     }
 
     /// Sets the scan direction; the window cache is dropped, since the

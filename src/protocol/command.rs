@@ -25,6 +25,7 @@
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
 //! | `cal set grip <field> <value>` | the gripper, in the joints' fields ([`JointField`]) |
 //! | `cal reset grip` | the gripper's calibration back to its defaults (in RAM) |
+//! | `cal set lcd <auto\|ili9341\|st7789\|ili9486\|ili9325\|st7796>`, `cal set lcd invert on\|off`, `cal set lcd rotate 0\|180` | the display overrides, stored at once, used from the next boot ([`LcdSet`]) |
 //! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
 //! | `log <on\|off\|plot>` | per-frame telemetry: `t …` lines for programs, or `base:<deg>,…` lines for the Arduino Serial Plotter; `off` stops both |
 //! | `help` / `version` | the commands in one line / the crate version and git commit |
@@ -42,6 +43,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
+use crate::config::lcd::{LcdChoice, LcdSet};
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchField, RAW_MAX};
 use crate::motion::plan::LawKind;
@@ -117,6 +119,8 @@ pub enum Command {
     Help,
     /// `version`: the crate version and the git commit built from.
     Version,
+    /// `cal set lcd …`: one display override.
+    CalLcd(LcdSet),
 }
 
 /// What `log` prints every frame.
@@ -471,6 +475,23 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     })
 }
 
+/// `auto|<controller>`, `invert on|off` or `rotate 0|180` after `cal set lcd`.
+fn parse_lcd_set(t: &mut Tokens) -> Result<LcdSet, CmdError> {
+    let w = t.arg()?;
+    let invert = is(w, t!("invert"));
+    if invert || is(w, t!("rotate")) {
+        let v = t.arg()?;
+        let (on, off) = if invert { (t!("on"), t!("off")) } else { (t!("180"), t!("0")) };
+        let on = match v {
+            v if is(v, on) => true,
+            v if is(v, off) => false,
+            _ => return Err(CmdError::BadArgument),
+        };
+        return Ok(if invert { LcdSet::Invert(on) } else { LcdSet::Rotate180(on) });
+    }
+    (0..).map_while(LcdChoice::from_id).find(|c| is(w, c.name())).map(LcdSet::Controller).ok_or(CmdError::BadArgument)
+}
+
 /// Parses one line (without or with its terminator).
 pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
     // A line from the buffer is at most LINE_LEN bytes; allow a caller that
@@ -521,7 +542,15 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
                 Some(w) if is(w, t!("grip")) => Command::CalResetGrip,
                 Some(_) => return Err(CmdError::ExtraArgument),
             },
-            w if is(w, t!("set")) => Command::CalSet(parse_cal_set(&mut t)?),
+            w if is(w, t!("set")) => {
+                let mut after = Tokens { rest: t.rest };
+                if after.next().is_some_and(|w| is(w, t!("lcd"))) {
+                    t = after;
+                    Command::CalLcd(parse_lcd_set(&mut t)?)
+                } else {
+                    Command::CalSet(parse_cal_set(&mut t)?)
+                }
+            }
             _ => return Err(CmdError::BadArgument),
         },
         Verb::Pose => {

@@ -10,7 +10,8 @@
 //!    the two bytes are NOPs and nothing answers.
 //! 2. Command D3h (Read ID4), four bytes read: a dummy byte, the IC version,
 //!    then the model (ILI9341 datasheet, "Read ID4 (D3h)": 00h 93h 41h;
-//!    ILI9486 datasheet, "Read ID4 (D3h)": 00h 94h 86h).
+//!    ILI9486 datasheet, "Read ID4 (D3h)": 00h 94h 86h; ST7796S datasheet,
+//!    "Read ID4 (D3h)": 00h 77h 96h, what MCUFRIEND_kbv reads as 7796h).
 //! 3. Command 04h (RDDID), four bytes read: a dummy byte, then ID1 ID2 ID3
 //!    (ST7789V datasheet, "RDDID (04h)": 85h 85h 52h).
 //!
@@ -18,8 +19,13 @@
 //! controllers, the upper index byte for the ILI932x, so the probe keeps
 //! both in step. A controller that answers none of these is unknown: the
 //! firmware says so on serial and drives it as an ILI9341, the commonest.
+//!
+//! `cal set lcd <name>` (`config::lcd`) forces a controller instead: the
+//! probe still runs, only to say at boot whether the shield answered as the
+//! forced controller should.
 
 use super::layout::Layout;
+use crate::config::lcd::LcdChoice;
 use crate::text::Text;
 
 /// A display controller the firmware drives.
@@ -33,6 +39,8 @@ pub enum Controller {
     Ili9486,
     /// ILITEK ILI9325, 240×320, register-indexed.
     Ili9325,
+    /// Sitronix ST7796S, 320×480, MIPI DCS (the 3.5"/4" shields).
+    St7796,
 }
 
 /// How a controller is addressed.
@@ -48,17 +56,35 @@ pub enum Protocol {
 
 impl Controller {
     /// Every controller the firmware drives.
-    pub const ALL: [Controller; 4] =
-        [Controller::Ili9341, Controller::St7789, Controller::Ili9486, Controller::Ili9325];
+    pub const ALL: [Controller; 5] =
+        [Controller::Ili9341, Controller::St7789, Controller::Ili9486, Controller::Ili9325, Controller::St7796];
 
-    /// The name used on serial and by `scripts/run.sh --lcd`.
+    /// The name used on serial, by `cal set lcd` and by `scripts/run.sh --lcd`.
     pub fn name(self) -> Text {
+        self.choice().name()
+    }
+
+    /// The `cal set lcd` choice that forces this controller.
+    pub const fn choice(self) -> LcdChoice {
         match self {
-            Controller::Ili9341 => t!("ili9341"),
-            Controller::St7789 => t!("st7789"),
-            Controller::Ili9486 => t!("ili9486"),
-            Controller::Ili9325 => t!("ili9325"),
+            Controller::Ili9341 => LcdChoice::Ili9341,
+            Controller::St7789 => LcdChoice::St7789,
+            Controller::Ili9486 => LcdChoice::Ili9486,
+            Controller::Ili9325 => LcdChoice::Ili9325,
+            Controller::St7796 => LcdChoice::St7796,
         }
+    }
+
+    /// The controller a `cal set lcd` choice forces (`None`: auto).
+    pub fn forced(choice: LcdChoice) -> Option<Controller> {
+        Some(match choice {
+            LcdChoice::Auto => return None,
+            LcdChoice::Ili9341 => Controller::Ili9341,
+            LcdChoice::St7789 => Controller::St7789,
+            LcdChoice::Ili9486 => Controller::Ili9486,
+            LcdChoice::Ili9325 => Controller::Ili9325,
+            LcdChoice::St7796 => Controller::St7796,
+        })
     }
 
     /// How the controller is addressed.
@@ -72,7 +98,7 @@ impl Controller {
     /// The panel held in landscape, as the UI uses it: width, height.
     pub const fn size(self) -> (u16, u16) {
         match self {
-            Controller::Ili9486 => (480, 320),
+            Controller::Ili9486 | Controller::St7796 => (480, 320),
             _ => (320, 240),
         }
     }
@@ -80,19 +106,20 @@ impl Controller {
     /// The UI's layout for this panel.
     pub const fn layout(self) -> Layout {
         match self {
-            Controller::Ili9486 => Layout::HVGA,
+            Controller::Ili9486 | Controller::St7796 => Layout::HVGA,
             _ => Layout::QVGA,
         }
     }
 
     /// The identification the probe reads from it, as printed on serial:
-    /// 9341h, 858552h, 9486h, 9325h.
+    /// 9341h, 858552h, 9486h, 9325h, 7796h.
     pub const fn id(self) -> u32 {
         match self {
             Controller::Ili9341 => 0x9341,
             Controller::St7789 => 0x85_8552,
             Controller::Ili9486 => 0x9486,
             Controller::Ili9325 => 0x9325,
+            Controller::St7796 => 0x7796,
         }
     }
 }
@@ -117,6 +144,7 @@ impl IdReads {
         match self.id4 {
             [_, 0x00, 0x93, 0x41] => return Some(Controller::Ili9341),
             [_, 0x00, 0x94, 0x86] => return Some(Controller::Ili9486),
+            [_, 0x00, 0x77, 0x96] => return Some(Controller::St7796),
             _ => {}
         }
         match self.rddid {

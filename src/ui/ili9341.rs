@@ -16,6 +16,10 @@ pub const RDDID: u8 = 0x04;
 pub const SLPIN: u8 = 0x10;
 /// Leave sleep mode; wait 120 ms before the next command.
 pub const SLPOUT: u8 = 0x11;
+/// Display inversion off (the default after a reset).
+pub const INVOFF: u8 = 0x20;
+/// Display inversion on: every pixel shown with its colour inverted.
+pub const INVON: u8 = 0x21;
 /// Display off (the frame memory is kept).
 pub const DISPOFF: u8 = 0x28;
 /// Display on.

@@ -1,5 +1,6 @@
 //! Where everything sits on the landscape screen, for both panel sizes the
-//! firmware drives (320×240: ILI9341, ST7789V, ILI9325; 480×320: ILI9486),
+//! firmware drives (320×240: ILI9341, ST7789V, ILI9325; 480×320: ILI9486,
+//! ST7796S),
 //! and the two coordinate mappings.
 //!
 //! One description: every region is placed by the same arithmetic from a
@@ -76,7 +77,7 @@ use super::model::Page;
 /// buttons, pixels (both sizes).
 pub const GUARD: u16 = 8;
 
-/// The screen's arrangement for one panel size (14 bytes; every region is
+/// The screen's arrangement for one panel size (16 bytes; every region is
 /// computed from these numbers by the methods below).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Layout {
@@ -87,14 +88,17 @@ pub struct Layout {
     row: u16,
     small_row: u16,
     button_h: u16,
+    turned: bool,
 }
 
 impl Layout {
     /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 240×120.
-    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40 };
-    /// 480×320 (ILI9486 in landscape): map 320×160, STOP 152×160, buttons
+    pub const QVGA: Layout =
+        Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40, turned: false };
+    /// 480×320 (ILI9486, ST7796S in landscape): map 320×160, STOP 152×160, buttons
     /// 52 px tall, headline and buttons in 3× text.
-    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52 };
+    pub const HVGA: Layout =
+        Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52, turned: false };
 
     /// The layout for a `w`×`h` landscape screen, if there is one.
     pub const fn for_size(w: u16, h: u16) -> Option<Layout> {
@@ -103,6 +107,15 @@ impl Layout {
             (480, 320) => Some(Layout::HVGA),
             _ => None,
         }
+    }
+
+    /// This layout on a screen turned by 180° (`cal set lcd rotate 180`:
+    /// the controller draws pixel `(x, y)` where the glass's
+    /// `(w − 1 − x, h − 1 − y)` is), so the panel mappings turn with it: a
+    /// touch on a drawn button still hits that button, and the touch
+    /// calibration stays the glass's.
+    pub const fn turned(self, on: bool) -> Layout {
+        Layout { turned: on, ..self }
     }
 
     /// Screen width, pixels.
@@ -357,7 +370,8 @@ impl Layout {
 
     /// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]`
     /// or not finite. `x = ⌊(x_p + 1)·w/2⌋`, `y = ⌊(1 − y_p)·h⌋`, the far
-    /// edges folded onto the last pixel.
+    /// edges folded onto the last pixel (then the opposite pixel when
+    /// [`Layout::turned`]).
     pub fn panel_to_pixel(&self, x_p: f32, y_p: f32) -> Option<(i16, i16)> {
         let inside = (-1.0..=1.0).contains(&x_p) && (0.0..=1.0).contains(&y_p);
         if !inside {
@@ -365,15 +379,26 @@ impl Layout {
         }
         let x = ((x_p + 1.0) * (self.w / 2) as f32) as i16;
         let y = ((1.0 - y_p) * self.h as f32) as i16;
-        Some((x.min(self.w as i16 - 1), y.min(self.h as i16 - 1)))
+        Some(self.turn(x.min(self.w as i16 - 1), y.min(self.h as i16 - 1)))
     }
 
     /// The panel coordinates of a pixel's centre (inverse of
     /// [`Layout::panel_to_pixel`]).
     pub fn pixel_center_to_panel(&self, x: i16, y: i16) -> (f32, f32) {
+        let (x, y) = self.turn(x, y);
         let x_p = (2.0 * f32::from(x) + 1.0) / self.w as f32 - 1.0;
         let y_p = 1.0 - (2.0 * f32::from(y) + 1.0) / (2.0 * self.h as f32);
         (x_p, y_p)
+    }
+
+    /// Between the glass's pixel and the screen's (its own inverse): the
+    /// same pixel unless [`Layout::turned`], else the opposite one.
+    const fn turn(&self, x: i16, y: i16) -> (i16, i16) {
+        if self.turned {
+            (self.w as i16 - 1 - x, self.h as i16 - 1 - y)
+        } else {
+            (x, y)
+        }
     }
 
     /// Workspace point of a map pixel's centre; `None` outside the map.

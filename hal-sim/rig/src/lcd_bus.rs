@@ -47,6 +47,8 @@ pub enum Chip {
     Ili9486,
     /// ILI9325, 240×320, register-indexed.
     Ili9325,
+    /// ST7796S, 320×480 (the 3.5"/4" shields).
+    St7796,
     /// A DCS controller with the ILI9341's geometry that answers zeros on
     /// every ID read (what an unknown clone does): the firmware must warn and
     /// still draw through its ILI9341 driver.
@@ -55,7 +57,7 @@ pub enum Chip {
 
 impl Chip {
     /// The controllers the firmware supports, by their `--lcd` names.
-    pub const SUPPORTED: [Chip; 4] = [Chip::Ili9341, Chip::St7789, Chip::Ili9486, Chip::Ili9325];
+    pub const SUPPORTED: [Chip; 5] = [Chip::Ili9341, Chip::St7789, Chip::Ili9486, Chip::Ili9325, Chip::St7796];
 
     /// The name used by `--lcd` and in the firmware's `info lcd` line.
     pub fn name(self) -> &'static str {
@@ -64,6 +66,7 @@ impl Chip {
             Chip::St7789 => "st7789",
             Chip::Ili9486 => "ili9486",
             Chip::Ili9325 => "ili9325",
+            Chip::St7796 => "st7796",
             Chip::Unknown => "unknown",
         }
     }
@@ -76,7 +79,7 @@ impl Chip {
     /// The screen held in landscape: width, height.
     pub fn landscape_size(self) -> (u16, u16) {
         match self {
-            Chip::Ili9486 => (480, 320),
+            Chip::Ili9486 | Chip::St7796 => (480, 320),
             _ => (320, 240),
         }
     }
@@ -91,7 +94,7 @@ impl Chip {
 /// A controller model.
 #[derive(Debug, Clone)]
 pub enum Model {
-    /// ILI9341, ST7789V, ILI9486 or the unknown clone.
+    /// ILI9341, ST7789V, ILI9486, ST7796S or the unknown clone.
     Dcs(Dcs),
     /// The ILI9325.
     Indexed(Ili9325),
@@ -163,6 +166,16 @@ impl Model {
         match self {
             Model::Dcs(m) => m.display_on,
             Model::Indexed(m) => m.display_on(),
+        }
+    }
+
+    /// The panel shows its colours inverted: INVON on a DCS controller;
+    /// on the ILI9325, R61h's REV cleared (its panels need REV set to show
+    /// colours as sent, as the reference initialisation does).
+    pub fn inverted(&self) -> bool {
+        match self {
+            Model::Dcs(m) => m.inverted,
+            Model::Indexed(m) => m.reg(touch_arm::ui::ili9325::BASE_IMAGE) & 1 == 0,
         }
     }
 

@@ -342,6 +342,7 @@ fn each_dcs_chip_answers_its_datasheet_ids() {
         (Chip::Ili9341, [0x00, 0x00, 0x00], Some([0x00, 0x93, 0x41])),
         (Chip::St7789, [0x85, 0x85, 0x52], None),
         (Chip::Ili9486, [0x00, 0x00, 0x00], Some([0x00, 0x94, 0x86])),
+        (Chip::St7796, [0x00, 0x00, 0x00], Some([0x00, 0x77, 0x96])),
     ] {
         let mut lcd = Dcs::of(chip);
         lcd.command(cmd::RDDID);
@@ -357,7 +358,8 @@ fn each_dcs_chip_answers_its_datasheet_ids() {
         lcd.command(cmd::NOP);
         assert_eq!(lcd.read(), None);
     }
-    // The ILI9486's GRAM is 320×480: landscape 480×320.
+    // The ILI9486's GRAM is 320×480 (the ST7796S's too): landscape 480×320.
+    assert_eq!(Dcs::of(Chip::St7796).gram_size(), (320, 480));
     let mut lcd = Dcs::of(Chip::Ili9486);
     assert_eq!(lcd.gram_size(), (320, 480));
     lcd.command(cmd::MADCTL);
@@ -375,4 +377,22 @@ fn each_dcs_chip_answers_its_datasheet_ids() {
     assert_eq!((fb.width(), fb.height()), (480, 320));
     assert_eq!(fb.pixel(479, 319), Some(Rgb565::WHITE));
     assert_eq!(lcd.stats.pixels_clipped, 0);
+}
+
+/// INVON/INVOFF (21h/20h): the panel's inversion, cleared by a reset; the
+/// GRAM is untouched and the commands take no parameter.
+#[test]
+fn dcs_inversion_follows_invon_and_invoff() {
+    let mut lcd = Dcs::of(Chip::St7796);
+    assert!(!lcd.inverted);
+    lcd.command(cmd::INVON);
+    assert!(lcd.inverted);
+    lcd.command(cmd::INVOFF);
+    assert!(!lcd.inverted);
+    lcd.command(cmd::INVON);
+    lcd.command(cmd::SWRESET);
+    assert!(!lcd.inverted, "a reset clears it");
+    lcd.command(cmd::INVON);
+    lcd.data(0x00);
+    assert_eq!(lcd.stats.stray_data, 1);
 }

@@ -5,13 +5,17 @@
 //! protocol in its layout (the decoded screen equals the host's rendering of
 //! what the screen must show), and a touch on its map moves the arm to the
 //! IK pose. An unknown controller gets a `warn lcd unknown id` line, the
-//! ILI9341 driver, and an arm that works over serial.
+//! ILI9341 driver, and an arm that works over serial. The display
+//! overrides (`cal set lcd`, stored in their own EEPROM record) are decoded
+//! here too: a forced controller, inversion, and a screen turned by 180°
+//! whose buttons still answer where they are drawn.
 
 use std::f64::consts::PI;
 
 use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use hal_sim::display::Framebuffer;
-use touch_arm::config::settings::Config;
+use touch_arm::config::lcd::{LcdChoice, LcdSettings, LCD_DEFAULT, LCD_SLOT_A};
+use touch_arm::config::{self, settings::Config};
 use touch_arm::geometry::workspace::condition;
 use touch_arm::ui::draw::Area;
 use touch_arm::ui::{warn, Layout, Page, Ui, UiConfig, UiModel, UiState};
@@ -26,8 +30,16 @@ const REACH: UiConfig = UiConfig { reach_min: 0.0, reach_max: 2.0 };
 
 /// Booted, homed, taking targets.
 fn boot(chip: Chip) -> Session {
+    boot_with(chip, None)
+}
+
+/// [`boot`] with the display overrides `lcd` stored in the EEPROM first.
+fn boot_with(chip: Chip, lcd: Option<LcdSettings>) -> Session {
     let mut s =
         Session::start_with_lcd(&firmware::default_elf(), PanelWiring::A, chip, 5).expect("firmware (cargo avr)");
+    if let Some(set) = lcd {
+        s.avr.set_eeprom(LCD_SLOT_A, &config::lcd::encode(&set, 1)).unwrap();
+    }
     s.run_for(1.5).unwrap();
     s.run_until_ready(2.0).unwrap();
     s
@@ -40,6 +52,7 @@ fn datasheet_id(chip: Chip) -> &'static str {
         Chip::St7789 => "0x858552",
         Chip::Ili9486 => "0x9486",
         Chip::Ili9325 => "0x9325",
+        Chip::St7796 => "0x7796",
         Chip::Unknown => unreachable!(),
     }
 }
@@ -91,6 +104,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
         assert_eq!(stats.reads, 10, "{name}: the probe's 2 + 4 + 4 strobes");
         assert_eq!(stats.read_conflicts, 0, "{name}");
         assert!(s.lcd.model().display_on(), "{name}");
+        assert!(!s.lcd.model().inverted(), "{name}: no inversion unless asked");
+        assert_eq!(out.lines().filter(|l| l.contains(" lcd ")).count(), 1, "{name}: no override line:\n{out}");
 
         // A touch on the map pixel showing (0.4, 0.6), in this screen's layout.
         let lay = chip.layout();
@@ -274,5 +289,136 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             ..more
         };
         assert_screen(&s, &host_screen(lay, &main), &format!("lcd_{name}_back"));
+    }
+}
+
+/// The idle screen after boot (home pose, nothing touched).
+fn idle_model() -> UiModel {
+    UiModel {
+        state: UiState::Idle,
+        touch: None,
+        target: None,
+        condition: None,
+        alpha: f32::NAN,
+        joints: [90.0f32, 90.0, -90.0].map(f32::to_radians),
+        speed: Config::DEFAULT.speed,
+        warnings: warn::DEFAULT_SETTINGS,
+        page: Page::Main,
+        grip_closed: false,
+        path_line: false,
+        lift: false,
+    }
+}
+
+/// The lines of the boot report about the display.
+fn lcd_lines(s: &Session) -> Vec<String> {
+    s.avr.uart_output_string().lines().filter(|l| l.contains(" lcd ")).map(str::to_string).collect()
+}
+
+/// `cal set lcd <controller>` is MCUFRIEND_kbv's `begin(ID)`: the probe
+/// still runs, but the forced controller is driven. An ST7796S (480×320)
+/// forced to `ili9341` gets the ILI9341's 320×240 layout, drawn into the top
+/// left of its GRAM exactly as the host draws it, and the boot report says
+/// the probe found another controller; forced to itself it is confirmed;
+/// an unknown clone forced to `st7789` is driven as one (the default would
+/// be the ILI9341 driver) and warned about.
+#[test]
+fn a_forced_controller_is_driven_whatever_the_probe_finds() {
+    let forced = |c| Some(LcdSettings { controller: c, ..LCD_DEFAULT });
+    let mut s = boot_with(Chip::St7796, forced(LcdChoice::Ili9341));
+    assert_eq!(lcd_lines(&s), ["info lcd st7796 id 0x7796 480x320", "warn lcd forced ili9341 not detected"]);
+    let want = host_screen(Layout::QVGA, &idle_model());
+    let got = s.lcd.landscape();
+    assert_eq!((got.width(), got.height()), (480, 320));
+    let mut top_left = Framebuffer::new(320, 240, Rgb565::BLACK);
+    for y in 0..240 {
+        for x in 0..320 {
+            top_left.set_pixel(x, y, got.pixel(x, y).unwrap());
+        }
+    }
+    if top_left != want {
+        let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/ui-snapshots");
+        top_left.save_png(dir.join("lcd_forced_ili9341_chip.png")).unwrap();
+        panic!("forced ili9341 on an st7796: the top left differs from the host's 320x240 screen");
+    }
+    s.command("cal show").unwrap();
+    s.run_for(0.3).unwrap();
+    let out = s.avr.uart_output_string();
+    assert!(out.lines().any(|l| l == "cal lcd ili9341 invert off rotate 0"), "{out}");
+
+    let s = boot_with(Chip::St7796, forced(LcdChoice::St7796));
+    assert_eq!(lcd_lines(&s), ["info lcd st7796 id 0x7796 480x320", "info lcd forced st7796"]);
+    assert_screen(&s, &host_screen(Layout::HVGA, &idle_model()), "lcd_forced_st7796");
+
+    let s = boot_with(Chip::Unknown, forced(LcdChoice::St7789));
+    let lines = lcd_lines(&s);
+    assert_eq!(lines[1], "warn lcd forced st7789 not detected", "{lines:?}");
+    assert!(lines[0].starts_with("warn lcd unknown id"), "{lines:?}");
+    assert_screen(&s, &host_screen(Layout::QVGA, &idle_model()), "lcd_forced_st7789_on_unknown");
+}
+
+/// `cal set lcd invert on`: INVON on a DCS controller, R61h's REV cleared on
+/// the ILI9325; the GRAM holds the same picture (the panel inverts it).
+#[test]
+fn invert_uses_each_controllers_inversion() {
+    for chip in [Chip::Ili9341, Chip::Ili9325] {
+        let name = chip.name();
+        let s = boot_with(chip, Some(LcdSettings { invert: true, ..LCD_DEFAULT }));
+        assert_eq!(lcd_lines(&s)[1], "info lcd auto invert", "{name}");
+        assert!(s.lcd.model().inverted(), "{name}");
+        assert_screen(&s, &host_screen(chip.layout(), &idle_model()), &format!("lcd_{name}_inverted"));
+    }
+}
+
+/// The host's screen turned by 180°: what the glass shows when the
+/// controller draws every pixel at the opposite corner.
+fn turned(fb: &Framebuffer) -> Framebuffer {
+    let (w, h) = (fb.width() as i32, fb.height() as i32);
+    let mut out = Framebuffer::new(fb.width(), fb.height(), Rgb565::BLACK);
+    for y in 0..h {
+        for x in 0..w {
+            out.set_pixel(w - 1 - x, h - 1 - y, fb.pixel(x, y).unwrap());
+        }
+    }
+    out
+}
+
+/// `cal set lcd rotate 180` on a DCS controller (MADCTL MX|MY|MV), the
+/// ILI9325 (its entry mode and GRAM mapping) and the 480×320 ST7796S: the
+/// glass shows the host's screen turned by 180°, and a finger on the glass
+/// where the Fast button is drawn (the unturned layout's opposite corner,
+/// computed here without the firmware's mapping) selects the fast preset;
+/// one on the map where (0.4, 0.6) is drawn moves the arm there.
+#[test]
+fn rotate_180_turns_the_picture_and_the_touches_with_it() {
+    for chip in [Chip::Ili9341, Chip::Ili9325, Chip::St7796] {
+        let name = chip.name();
+        let lay = chip.layout();
+        let mut s = boot_with(chip, Some(LcdSettings { rotate_180: true, ..LCD_DEFAULT }));
+        assert_eq!(lcd_lines(&s)[1], "info lcd auto rotate 180", "{name}");
+        assert_screen(&s, &turned(&host_screen(lay, &idle_model())), &format!("lcd_{name}_turned"));
+
+        // Where Fast is on the glass: its box at the opposite corner.
+        let f = lay.fast();
+        let glass = Area::new(lay.width() as i16 - f.x - f.w as i16, lay.height() as i16 - f.y - f.h as i16, f.w, f.h);
+        let lines = press(&mut s, &lay, glass);
+        assert!(lines.iter().any(|l| l == "info screen speed fast"), "{name}: {lines:?}");
+        assert!(s.command("status").unwrap().contains(" speed fast"), "{name}");
+
+        // The map pixel showing (0.4, 0.6), found on the glass.
+        let (px, py) = lay.ws_point_to_pixel(0.4, 0.6).unwrap();
+        let (wx, wy) = lay.ws_pixel_to_point(px, py).unwrap();
+        let (gx, gy) = (lay.width() as i16 - 1 - px, lay.height() as i16 - 1 - py);
+        let (rx, ry) = firmware::raw_at_pixel(&lay, gx, gy).unwrap();
+        s.press_raw(rx, ry).unwrap();
+        s.run_for(0.3).unwrap();
+        s.release();
+        let out = s.avr.uart_output_string();
+        let reply = out.lines().rfind(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("{name}:\n{out}"));
+        s.run_for(ts_s(reply) + 0.5).unwrap();
+        let (pulses, _) = expected(f64::from(wx), f64::from(wy));
+        for (j, got) in s.last_pulses().into_iter().enumerate() {
+            assert!((got.unwrap() - pulses[j]).abs() <= 1.0, "{name} joint {j}: {got:?} us, want {:.2}", pulses[j]);
+        }
     }
 }

@@ -1235,6 +1235,7 @@ mod config {
 
 mod command {
     use super::*;
+    use touch_arm::config::lcd::{LcdChoice, LcdSet};
     use touch_arm::config::settings::{CalSet, JointField, TouchField};
     use touch_arm::config::settings::{PathMode, SpeedPreset};
     use touch_arm::math::units::centideg_to_rad;
@@ -1309,6 +1310,17 @@ mod command {
             ("grip 45.5", C::Grip(GripCmd::Centideg(4550))),
             ("grip -360", C::Grip(GripCmd::Centideg(-36_000))),
             ("cal reset grip", C::CalResetGrip),
+            // The display overrides (issue #21 §3).
+            ("cal set lcd auto", C::CalLcd(LcdSet::Controller(LcdChoice::Auto))),
+            ("cal set lcd ili9341", C::CalLcd(LcdSet::Controller(LcdChoice::Ili9341))),
+            ("cal set lcd st7789", C::CalLcd(LcdSet::Controller(LcdChoice::St7789))),
+            ("cal set lcd ili9486", C::CalLcd(LcdSet::Controller(LcdChoice::Ili9486))),
+            ("cal set lcd ili9325", C::CalLcd(LcdSet::Controller(LcdChoice::Ili9325))),
+            ("CAL SET LCD ST7796", C::CalLcd(LcdSet::Controller(LcdChoice::St7796))),
+            ("cal set lcd invert on", C::CalLcd(LcdSet::Invert(true))),
+            ("cal set lcd Invert OFF", C::CalLcd(LcdSet::Invert(false))),
+            ("cal set lcd rotate 180", C::CalLcd(LcdSet::Rotate180(true))),
+            ("cal set lcd rotate 0", C::CalLcd(LcdSet::Rotate180(false))),
             ("cal set grip max_deg 60", C::CalSet(CalSet::Grip { field: JointField::MaxDeg, value: 6000 })),
             ("cal set grip min_us 700", C::CalSet(CalSet::Grip { field: JointField::MinUs, value: 700 })),
             ("path line", C::Path(PathMode::Line)),
@@ -1352,6 +1364,13 @@ mod command {
             (b"help me", E::ExtraArgument),
             (b"version 2", E::ExtraArgument),
             (b"log plotter", E::BadArgument),
+            (b"cal set lcd", E::MissingArgument),
+            (b"cal set lcd ssd1289", E::BadArgument),
+            (b"cal set lcd rotate 90", E::BadArgument),
+            (b"cal set lcd rotate", E::MissingArgument),
+            (b"cal set lcd invert yes", E::BadArgument),
+            (b"cal set lcd invert on off", E::ExtraArgument),
+            (b"cal set lcd auto now", E::ExtraArgument),
             // `!` is the port's one-byte STOP, never a command word.
             (b"!", E::UnknownCommand),
             (b"movex 1 2", E::UnknownCommand),

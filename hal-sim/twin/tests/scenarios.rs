@@ -41,6 +41,7 @@ scenarios!(
     home_pulse_window,
     idle_noise,
     law_switch,
+    lcd_settings,
     lift,
     line_timeout,
     log_plot,

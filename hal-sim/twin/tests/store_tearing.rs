@@ -495,3 +495,138 @@ fn the_grip_record_round_trips_and_refuses_what_it_should() {
     let l = grip::load(&mut e);
     assert!(l.damaged && l.source == Source::Defaults);
 }
+
+/// The display overrides (`config::lcd`) are stored the same way: a power
+/// loss at any byte of their save, with every kind of value in the torn
+/// byte, from blank, equal, unequal, corrupt and uncommitted copies, loads
+/// the overrides before the save or the new ones, and the new ones once the
+/// first copy is complete. No byte outside their two slots is written (the
+/// configuration's, the poses' and the gripper's records stay as they were).
+#[test]
+fn a_power_loss_at_any_byte_of_an_lcd_save_loads_the_old_or_the_new_overrides() {
+    use touch_arm::config::lcd::{self, LcdChoice, LcdSettings, LCD_DEFAULT, LCD_RECORD_LEN, LCD_SLOT_A, LCD_SLOT_B};
+    let forced = LcdSettings { controller: LcdChoice::St7796, ..LCD_DEFAULT };
+    // One flag apart: a record differing in one byte (and its CRC).
+    let inverted = LcdSettings { invert: true, ..forced };
+    let all = LcdSettings { controller: LcdChoice::Ili9325, invert: true, rotate_180: true };
+    let sets = [LCD_DEFAULT, forced, inverted, all];
+    #[derive(Clone, Copy, Debug)]
+    enum P {
+        Blank,
+        Valid(usize, u16),
+        Corrupt(usize, u16),
+        Uncommitted(usize, u16),
+    }
+    let fill = |e: &mut SimEeprom, at: u16, p: P| {
+        let bytes = match p {
+            P::Blank => vec![0xFF; LCD_RECORD_LEN],
+            P::Valid(k, seq) => lcd::encode(&sets[k], seq).to_vec(),
+            P::Corrupt(k, seq) => {
+                let mut r = lcd::encode(&sets[k], seq);
+                r[5] ^= 0x01;
+                r.to_vec()
+            }
+            P::Uncommitted(k, seq) => {
+                let mut r = lcd::encode(&sets[k], seq);
+                r[0] = UNCOMMITTED;
+                r.to_vec()
+            }
+        };
+        e.mem[at as usize..at as usize + LCD_RECORD_LEN].copy_from_slice(&bytes);
+    };
+    use P::*;
+    let priors = [
+        (Blank, Blank),
+        (Valid(1, 4), Valid(1, 4)),
+        (Valid(2, 4), Valid(1, 4)),
+        (Valid(1, 9), Valid(2, 8)),
+        (Valid(1, 0xFFFF), Valid(2, 0)),
+        (Valid(2, 5), Corrupt(1, 6)),
+        (Corrupt(1, 6), Valid(2, 5)),
+        (Valid(1, 5), Uncommitted(3, 6)),
+        (Uncommitted(3, 6), Valid(1, 5)),
+    ];
+    let mut cases = 0u64;
+    for (pa, pb) in priors {
+        let mut prior = SimEeprom::new();
+        fill(&mut prior, LCD_SLOT_A, pa);
+        fill(&mut prior, LCD_SLOT_B, pb);
+        let before = lcd::load(&mut prior.clone());
+        for new in &sets {
+            let mut dry = prior.clone();
+            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+            let seq = lcd::save(&mut rec, new).expect("a save without power loss succeeds");
+            let writes = rec.writes;
+            let inside = |a: u16| {
+                (LCD_SLOT_A..LCD_SLOT_A + LCD_RECORD_LEN as u16).contains(&a)
+                    || (LCD_SLOT_B..LCD_SLOT_B + LCD_RECORD_LEN as u16).contains(&a)
+            };
+            assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the overrides' slots written");
+            let slot_of = |a: u16| if a >= LCD_SLOT_B { LCD_SLOT_B } else { LCD_SLOT_A };
+            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+            for cut in 0..=writes.len() {
+                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                let old_byte = prior.mem[addr as usize];
+                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                    let mut e = prior.clone();
+                    e.power_loss_after(cut);
+                    e.torn_value = torn;
+                    let _ = lcd::save(&mut e, new);
+                    e.restore_power();
+                    let l = lcd::load(&mut e);
+                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                    let is_new = (l.2, l.1) == (*new, seq) && l.0 != Source::Defaults;
+                    assert!(is_new || l == before, "{ctx}: loaded {l:?}");
+                    if cut >= first_len {
+                        assert_eq!((l.2, l.1), (*new, seq), "{ctx}: the first copy was complete");
+                    }
+                    let again = lcd::save(&mut e, &sets[3]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                    assert_eq!(lcd::load(&mut e).1, again, "{ctx}");
+                    assert_eq!(lcd::load(&mut e).2, sets[3], "{ctx}");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{cases} torn lcd saves");
+    // 9 priors × 4 records × (9 or 10 bytes a slot, twice, + the uncut
+    // save) × 6 torn values.
+    assert!(cases > 4_000);
+}
+
+/// The overrides' record layout: the documented offsets, and what load
+/// refuses (each refusal leaves the defaults: probe, no inversion, no turn).
+#[test]
+fn the_lcd_record_round_trips_and_refuses_what_it_should() {
+    use touch_arm::config::lcd::{self, LcdChoice, LcdSettings, LCD_DEFAULT, LCD_RECORD_LEN, LCD_SLOT_A};
+    let s = LcdSettings { controller: LcdChoice::St7796, invert: false, rotate_180: true };
+    let r = lcd::encode(&s, 0x1234);
+    assert_eq!(&r[..7], &[b'T', b'L', 1, 0x34, 0x12, 5, 0b10]);
+    assert_eq!(lcd::decode(&r), Ok((0x1234, s)));
+    for (k, c) in LcdChoice::ALL.into_iter().enumerate() {
+        assert_eq!(c as usize, k);
+        assert_eq!(
+            lcd::decode(&lcd::encode(&LcdSettings { controller: c, ..LCD_DEFAULT }, 1)).unwrap().1.controller,
+            c
+        );
+    }
+    let mut bad = r;
+    bad[2] = 2;
+    assert_eq!(lcd::decode(&bad), Err(RecordError::Version(2)));
+    let mut bad = r;
+    bad[LCD_RECORD_LEN - 1] ^= 1;
+    assert_eq!(lcd::decode(&bad), Err(RecordError::Crc));
+    // A valid CRC over an unknown controller id or an unknown flag.
+    for (at, v) in [(5, 6), (6, 0b100)] {
+        let mut odd = r;
+        odd[at] = v;
+        let crc = touch_arm::config::crc::crc16(&odd[..LCD_RECORD_LEN - 2]).to_le_bytes();
+        odd[LCD_RECORD_LEN - 2..].copy_from_slice(&crc);
+        assert_eq!(lcd::decode(&odd), Err(RecordError::Invalid), "byte {at} = {v}");
+    }
+    // Never written, or damaged: the defaults.
+    let mut e = SimEeprom::new();
+    assert_eq!(lcd::load(&mut e), (Source::Defaults, 0, LCD_DEFAULT));
+    e.mem[LCD_SLOT_A as usize..LCD_SLOT_A as usize + LCD_RECORD_LEN].copy_from_slice(&bad);
+    assert_eq!(lcd::load(&mut e), (Source::Defaults, 0, LCD_DEFAULT));
+}

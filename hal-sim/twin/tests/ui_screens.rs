@@ -291,6 +291,34 @@ fn pixel_and_coordinate_mappings_round_trip() {
     assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
 }
 
+/// A screen turned by 180° (`cal set lcd rotate 180`): the two panel
+/// mappings still round-trip on every pixel (the regions are the unturned
+/// layout's: `check_mappings_and_tiling`), and a pixel's panel point is
+/// the unturned screen's at the opposite corner (where the controller draws
+/// it on the glass), on both sizes.
+#[test]
+fn the_turned_layouts_map_each_pixel_to_the_opposite_corner_of_the_glass() {
+    for lay in [L, Layout::HVGA] {
+        let t = lay.turned(true);
+        assert_eq!(t.turned(false), lay);
+        let (w, h) = (lay.width() as i16, lay.height() as i16);
+        for y in 0..h {
+            for x in 0..w {
+                let (x_p, y_p) = t.pixel_center_to_panel(x, y);
+                assert_eq!(t.panel_to_pixel(x_p, y_p), Some((x, y)));
+            }
+        }
+        for (x, y) in [(0, 0), (w - 1, h - 1), (17, 200), (w / 2, h / 2), (w - 3, 5)] {
+            let (tx, ty) = t.pixel_center_to_panel(x, y);
+            assert_eq!((tx, ty), lay.pixel_center_to_panel(w - 1 - x, h - 1 - y), "{x},{y}");
+            // The unturned screen reads that point as the opposite pixel.
+            assert_eq!(lay.panel_to_pixel(tx, ty), Some((w - 1 - x, h - 1 - y)), "{x},{y}");
+        }
+        // The glass's far corner is the turned screen's first pixel.
+        assert_eq!(t.panel_to_pixel(1.0, 0.0), Some((0, 0)));
+    }
+}
+
 #[test]
 fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
     let big = Layout::HVGA;

@@ -7,7 +7,7 @@
 //! value (n = 2, upper byte first); `WAIT` adds a delay in milliseconds.
 //! Where the values come from:
 //!
-//! - DCS (ILI9341, ST7789V, ILI9486): SWRESET, 5 ms, SLPOUT, 120 ms (each
+//! - DCS (ILI9341, ST7789V, ILI9486, ST7796S): SWRESET, 5 ms, SLPOUT, 120 ms (each
 //!   datasheet's "Software Reset (01h)" and "Sleep Out (11h)": wait 5 ms
 //!   before the next command, 120 ms after sleep out), COLMOD 55h (16 bits
 //!   per pixel on the MCU interface, "Pixel Format Set / Interface Pixel
@@ -116,11 +116,24 @@ impl<B: Bus8> Lcd<B> {
     /// driver (an ILI9341 when nothing matched) and initialises it in
     /// `rotation`. Returns what the probe read and the controller found.
     pub fn start(&mut self, rotation: Rotation) -> (IdReads, Option<Controller>) {
+        self.start_forced(None, rotation, false)
+    }
+
+    /// [`Lcd::start`] with the display overrides (`config::lcd`): a
+    /// `forced` controller is driven whatever the probe found (the probe
+    /// still runs, so the caller can say whether the shield answered as
+    /// that controller), `invert` sends the controller's inversion command.
+    pub fn start_forced(
+        &mut self,
+        forced: Option<Controller>,
+        rotation: Rotation,
+        invert: bool,
+    ) -> (IdReads, Option<Controller>) {
         self.hardware_reset();
         let ids = self.probe();
         let found = ids.identify();
-        self.controller = found.unwrap_or(Controller::Ili9341);
-        self.configure(rotation);
+        self.controller = forced.or(found).unwrap_or(Controller::Ili9341);
+        self.configure(rotation, invert);
         (ids, found)
     }
 
@@ -165,17 +178,27 @@ impl<B: Bus8> Lcd<B> {
         self.bus.data(&value.to_be_bytes());
     }
 
-    /// The controller's script, `rotation`, display on.
-    pub(super) fn configure(&mut self, rotation: Rotation) {
+    /// The controller's script, `rotation`, the inversion if asked, display
+    /// on. Inverted is the opposite of what the script leaves: INVON on the
+    /// DCS controllers (INVOFF is their reset state), R61h's REV cleared on
+    /// the ILI9325 (its script sets REV, as the shields' reference code does
+    /// for their normally-black panels), as MCUFRIEND_kbv's `invertDisplay`.
+    pub(super) fn configure(&mut self, rotation: Rotation, invert: bool) {
         match self.controller.protocol() {
             Protocol::Dcs => {
                 self.run_script(&DCS_INIT);
                 self.set_rotation(rotation);
+                if invert {
+                    self.bus.command(cmd::INVON);
+                }
                 self.bus.command(cmd::DISPON);
             }
             Protocol::Indexed => {
                 self.run_script(&ILI9325_INIT);
                 self.set_rotation(rotation);
+                if invert {
+                    self.write_reg(reg::BASE_IMAGE, 0x0000);
+                }
                 self.write_reg(reg::DISPLAY_CONTROL, 0x0133);
             }
         }

@@ -29,7 +29,7 @@
 //! a path or lift move).
 //!
 //! `--lcd` chooses the display controller simulated around the same ELF
-//! (ili9341, st7789, ili9486 or ili9325; the firmware probes it at boot),
+//! (ili9341, st7789, ili9486, ili9325 or st7796; the firmware probes it at boot),
 //! `--wiring` the pins the touch panel is on (a, b or c; the firmware
 //! measures it at boot and prints `info wiring …`). Wiring c is the same two
 //! plates as b with X and Y exchanged and reversed, so the firmware reads it
@@ -67,7 +67,7 @@ struct Args {
     /// A workspace point picked on the screen's map, in [-1,1]x[0,1] [default: 0.4,0.6]
     #[arg(long, value_name = "X,Y", value_parser = map_point, allow_hyphen_values = true)]
     xy: Option<(f64, f64)>,
-    /// The display controller on the simulated shield: ili9341, st7789, ili9486 or ili9325
+    /// The display controller on the simulated shield: ili9341, st7789, ili9486, ili9325 or st7796
     #[arg(long, value_name = "CONTROLLER", value_parser = shield::lcd_chip, default_value = "ili9341")]
     lcd: Chip,
     /// The touch panel's wiring on the simulated shield: a, b or c

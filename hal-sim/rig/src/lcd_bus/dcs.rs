@@ -1,7 +1,9 @@
-//! The MIPI DCS controllers: ILI9341 and ST7789V (240×320 GRAM) and ILI9486
-//! (320×480), one model with each chip's GRAM size and ID answers.
+//! The MIPI DCS controllers: ILI9341 and ST7789V (240×320 GRAM), ILI9486
+//! and ST7796S (320×480), one model with each chip's GRAM size and ID
+//! answers.
 //!
-//! Implemented: SWRESET (01h), SLPIN/SLPOUT (10h/11h), DISPOFF/DISPON
+//! Implemented: SWRESET (01h), SLPIN/SLPOUT (10h/11h), INVOFF/INVON
+//! (20h/21h, [`Dcs::inverted`]), DISPOFF/DISPON
 //! (28h/29h), CASET (2Ah), PASET (2Bh), RAMWR (2Ch), RAMWR continue (3Ch),
 //! MADCTL (36h), COLMOD (3Ah), and the two ID reads: RDDID (04h) and Read
 //! ID4 (D3h), each a dummy byte and then the ID bytes the chip's datasheet
@@ -48,6 +50,9 @@ fn id_answers(chip: Chip) -> ([u8; 3], Option<[u8; 3]>) {
         Chip::St7789 => ([0x85, 0x85, 0x52], None),
         // ILI9486 datasheet, "Read ID4 (D3h)": 00h 94h 86h.
         Chip::Ili9486 => ([0x00, 0x00, 0x00], Some([0x00, 0x94, 0x86])),
+        // ST7796S datasheet, "Read ID4 (D3h)": 00h 77h 96h (MCUFRIEND_kbv
+        // reads 7796h there); RDDID modelled unprogrammed.
+        Chip::St7796 => ([0x00, 0x00, 0x00], Some([0x00, 0x77, 0x96])),
         // A clone that answers zeros everywhere.
         Chip::Ili9325 | Chip::Unknown => ([0x00, 0x00, 0x00], Some([0x00, 0x00, 0x00])),
     }
@@ -68,6 +73,9 @@ pub struct Dcs {
     pub sleeping: bool,
     /// DISPON received (and no DISPOFF since).
     pub display_on: bool,
+    /// INVON received (and no INVOFF or reset since): the panel shows every
+    /// colour inverted (the GRAM keeps what was written).
+    pub inverted: bool,
     /// Column and page windows (inclusive ends) and the write pointer.
     pub sc: u16,
     /// End column of the window.
@@ -109,7 +117,7 @@ impl Dcs {
     /// ILI9325 and the unknown chip get the ILI9341's geometry and zeros on
     /// both ID reads).
     pub fn of(chip: Chip) -> Self {
-        let (gram_w, gram_h) = if chip == Chip::Ili9486 { (320, 480) } else { (GRAM_W, GRAM_H) };
+        let (gram_w, gram_h) = if matches!(chip, Chip::Ili9486 | Chip::St7796) { (320, 480) } else { (GRAM_W, GRAM_H) };
         let mut s = Self {
             chip,
             gram_w,
@@ -119,6 +127,7 @@ impl Dcs {
             colmod: 0x66,
             sleeping: true,
             display_on: false,
+            inverted: false,
             sc: 0,
             ec: gram_w - 1,
             sp: 0,
@@ -153,6 +162,7 @@ impl Dcs {
         self.colmod = 0x66;
         self.sleeping = true;
         self.display_on = false;
+        self.inverted = false;
         self.sc = 0;
         self.ec = self.gram_w - 1;
         self.sp = 0;
@@ -183,6 +193,8 @@ impl Dcs {
             cmd::SLPOUT => self.sleeping = false,
             cmd::DISPOFF => self.display_on = false,
             cmd::DISPON => self.display_on = true,
+            cmd::INVOFF => self.inverted = false,
+            cmd::INVON => self.inverted = true,
             cmd::RAMWR => {
                 self.col = self.sc;
                 self.page = self.sp;
@@ -242,9 +254,17 @@ impl Dcs {
             }
             (cmd::MADCTL, 1) => self.madctl = b,
             (cmd::COLMOD, 1) => self.colmod = b,
-            (cmd::SWRESET | cmd::SLPIN | cmd::SLPOUT | cmd::DISPON | cmd::DISPOFF | cmd::NOP, _) => {
-                self.stats.stray_data += 1
-            }
+            (
+                cmd::SWRESET
+                | cmd::SLPIN
+                | cmd::SLPOUT
+                | cmd::DISPON
+                | cmd::DISPOFF
+                | cmd::INVON
+                | cmd::INVOFF
+                | cmd::NOP,
+                _,
+            ) => self.stats.stray_data += 1,
             _ => {}
         }
     }
