@@ -10,6 +10,7 @@
 pub mod arm;
 pub mod devices;
 pub mod display;
+pub mod finger;
 pub mod host;
 pub mod panel;
 pub mod random_input;
