@@ -18,6 +18,8 @@ pub mod rng;
 pub mod scenario;
 pub mod servos;
 pub mod sim;
+pub mod touch_mc;
+pub mod touches;
 
 pub use devices::{SimClock, SimEeprom, SimSerial};
 pub use panel::{Drive, PanelModel, PanelPins, Pin, SimPanel};
