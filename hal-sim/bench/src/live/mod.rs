@@ -11,7 +11,8 @@
 //! | request | answer |
 //! | --- | --- |
 //! | `GET /api/state` | `{"state", "t_s", "pulses_us": [b, s, e], "angles_deg": [b, s, e], "screen_seq"}` |
-//! | `POST /api/touch` `{"x_px", "y_px", "ms"}` | a press of `ms` ms at screen pixel (x, y) |
+//! | `POST /api/touch` `{"x_px", "y_px", "ms"}` | a steady finger of `ms` ms at screen pixel (x, y) |
+//! | `POST /api/finger` `{"samples": [[t_ms, x_px, y_px, force], ...], "second"?: [...]}` | a finger script starting now (≤ 10 000 samples, ≤ 60 s): `{"t_s"}` |
 //! | `POST /api/serial` `{"line"}` | `{"replies": [...]}`: the firmware's answer lines within 1 s |
 //! | `GET /api/screen.png` | the screen as the firmware drew it |
 //! | `POST /api/press` `{"x_px", "y_px"}` / `POST /api/release` | the page's press-and-drag |
