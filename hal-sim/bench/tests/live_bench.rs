@@ -167,11 +167,15 @@ fn a_finger_script_starts_at_once_and_moves_the_arm() {
     let r = ok(a, "/api/finger", json!({ "samples": samples }));
     let t0 = r["t_s"].as_f64().unwrap();
     assert!(t0 >= before && r.as_object().unwrap().len() == 1, "{r}");
-    let s = wait_state(a, "the arm leaves its pose", 6.0, |s| pulses(s).iter().zip(p0).any(|(p, q)| (p - q).abs() > 20.0));
+    let s =
+        wait_state(a, "the arm leaves its pose", 6.0, |s| pulses(s).iter().zip(p0).any(|(p, q)| (p - q).abs() > 20.0));
     assert!(s["t_s"].as_f64().unwrap() > t0);
     let (status, body) = request(a, "POST", "/api/finger", r#"{"samples": [[5, 1, 1, 1], [2, 1, 1, 1]]}"#, &[]);
     assert_eq!(status, 400);
-    assert!(body.contains("samples: sample 1: t_ms 2 before the previous sample's 5") && !body.trim_end().contains('\n'), "{body}");
+    assert!(
+        body.contains("samples: sample 1: t_ms 2 before the previous sample's 5") && !body.trim_end().contains('\n'),
+        "{body}"
+    );
     let (status, _) = request(a, "GET", "/api/finger", "", &[]);
     assert_eq!(status, 405);
     bench.stop();

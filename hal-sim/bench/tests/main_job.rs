@@ -366,7 +366,8 @@ fn main_job_plays_a_finger_script() {
     // A script that does not parse: the job says which line and fails.
     let bad = std::env::temp_dir().join(format!("touch-arm-sim-bad-finger-{}.csv", std::process::id()));
     std::fs::write(&bad, "t_ms,x_px,y_px,force\n0,1,2\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(["--finger", bad.to_str().unwrap()]).output().unwrap();
+    let out =
+        Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(["--finger", bad.to_str().unwrap()]).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("line 2: 3 values, the header has 4"));
     let _ = std::fs::remove_file(&bad);

@@ -364,9 +364,8 @@ pub mod gen {
             let tau = std::f64::consts::TAU;
             let w = tau / self.f_period_s;
             // ∫0^t 2π f0 (1 + 0.1 sin(w s + p)) ds
-            let integral = tau
-                * self.tremor.freq_hz
-                * (t_s - 0.1 / w * ((w * t_s + self.f_phase).cos() - self.f_phase.cos()));
+            let integral =
+                tau * self.tremor.freq_hz * (t_s - 0.1 / w * ((w * t_s + self.f_phase).cos() - self.f_phase.cos()));
             self.amp_mm(t_s) * (self.phase + integral).sin()
         }
 
@@ -491,9 +490,15 @@ pub mod gen {
         let first = Track { knots };
         let second = plan.palm.map(|p| {
             let (a, b) = p.window_ms;
-            let (x, y) = (plan.centre_px.0 + glass.mm_to_px(p.offset_mm.0), plan.centre_px.1 + glass.mm_to_px(p.offset_mm.1));
+            let (x, y) =
+                (plan.centre_px.0 + glass.mm_to_px(p.offset_mm.0), plan.centre_px.1 + glass.mm_to_px(p.offset_mm.1));
             Track {
-                knots: vec![Knot::new(a, x, y, 0.0), Knot::new(a, x, y, p.force), Knot::new(b, x, y, p.force), Knot::new(b, x, y, 0.0)],
+                knots: vec![
+                    Knot::new(a, x, y, 0.0),
+                    Knot::new(a, x, y, p.force),
+                    Knot::new(b, x, y, p.force),
+                    Knot::new(b, x, y, 0.0),
+                ],
             }
         });
         FingerScript { first, second }
@@ -540,7 +545,10 @@ mod tests {
         assert_eq!(Track::new(vec![k(5.0), k(4.0)]).unwrap_err(), "sample 1: t_ms 4 before the previous sample's 5");
         assert_eq!(Track::new(vec![k(-1.0)]).unwrap_err(), "sample 0: t_ms -1 outside 0..=60000");
         assert_eq!(Track::new(vec![k(60_001.0)]).unwrap_err(), "sample 0: t_ms 60001 outside 0..=60000");
-        assert_eq!(Track::new(vec![Knot::new(0.0, 1.0, 1.0, -0.5)]).unwrap_err(), "sample 0: force -0.5 outside 0..=100");
+        assert_eq!(
+            Track::new(vec![Knot::new(0.0, 1.0, 1.0, -0.5)]).unwrap_err(),
+            "sample 0: force -0.5 outside 0..=100"
+        );
         assert!(Track::new(vec![Knot::new(0.0, f64::NAN, 1.0, 1.0)]).unwrap_err().contains("finite"));
         let many = Track::new((0..6000).map(|i| k(f64::from(i))).collect()).unwrap();
         assert_eq!(FingerScript::new(many.clone(), None).map(|s| s.end_ms()), Ok(5999.0));
@@ -549,19 +557,26 @@ mod tests {
 
     #[test]
     fn csv_round_trips_and_its_errors_name_the_line() {
-        let s = FingerScript::parse_csv("# a tap\nt_ms,x_px,y_px,force\n0,100,120,1\n\n250,101.5,120,1\r\n250,101.5,120,0\n")
-            .unwrap();
+        let s = FingerScript::parse_csv(
+            "# a tap\nt_ms,x_px,y_px,force\n0,100,120,1\n\n250,101.5,120,1\r\n250,101.5,120,0\n",
+        )
+        .unwrap();
         assert_eq!(s.first.knots().len(), 3);
         assert_eq!(s.second, None);
         assert_eq!(s.first.at(125.0), Some((100.75, 120.0, 1.0)));
         assert_eq!(FingerScript::parse_csv(&s.to_csv()).unwrap(), s);
-        let two = FingerScript::parse_csv("t_ms,x_px,y_px,force,x2_px,y2_px,force2\n0,10,20,1,50,200,3\n100,10,20,1,50,200,3\n")
-            .unwrap();
+        let two = FingerScript::parse_csv(
+            "t_ms,x_px,y_px,force,x2_px,y2_px,force2\n0,10,20,1,50,200,3\n100,10,20,1,50,200,3\n",
+        )
+        .unwrap();
         assert_eq!(two.at(50.0), [Some((10.0, 20.0, 1.0)), Some((50.0, 200.0, 3.0))]);
         assert_eq!(FingerScript::parse_csv(&two.to_csv()).unwrap(), two);
         for (text, err) in [
             ("", "empty file: expected the header t_ms,x_px,y_px,force"),
-            ("t,x,y,f\n", "line 1: header must be t_ms,x_px,y_px,force (optionally ,x2_px,y2_px,force2), got \"t,x,y,f\""),
+            (
+                "t,x,y,f\n",
+                "line 1: header must be t_ms,x_px,y_px,force (optionally ,x2_px,y2_px,force2), got \"t,x,y,f\"",
+            ),
             ("t_ms,x_px,y_px,force\n0,1,2\n", "line 2: 3 values, the header has 4"),
             ("t_ms,x_px,y_px,force\n0,1,2,1\n5,x,2,1\n", "line 3: x_px is not a number: \"x\""),
             ("t_ms,x_px,y_px,force\n0,1,2,1\n\n# c\n-5,1,2,1\n", "line 5: t_ms -5 outside 0..=60000"),
@@ -619,12 +634,13 @@ mod tests {
             // 10 s at 6 Hz ±10 %: 2 crossings a period.
             let f = f64::from(crossings) / 2.0 / 10.0;
             assert!((5.4..=6.6).contains(&f), "seed {seed}: {f} Hz");
-            assert!(peak <= 2.4 + 1e-9 && peak >= 2.0, "seed {seed}: peak {peak}");
+            assert!((2.0..=2.4 + 1e-9).contains(&peak), "seed {seed}: peak {peak}");
             assert!(lo >= 1.6 * 0.95, "seed {seed}: smallest half-cycle peak {lo}");
         }
         // The generated tap follows the draw at its knots, in pixels.
         let mut rng = Rng::new(7);
-        let plan = TapPlan { tremor: Some(Tremor { amp_mm: 3.0, freq_hz: 4.0 }), ..TapPlan::steady((100.0, 120.0), 500.0) };
+        let plan =
+            TapPlan { tremor: Some(Tremor { amp_mm: 3.0, freq_hz: 4.0 }), ..TapPlan::steady((100.0, 120.0), 500.0) };
         let s = tap(&mut rng, &glass, &plan);
         let mut rng = Rng::new(7);
         let tr = TremorDraw::new(&mut rng, Tremor { amp_mm: 3.0, freq_hz: 4.0 });

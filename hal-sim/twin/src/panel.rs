@@ -148,8 +148,10 @@ impl PanelModel {
     /// Each plate is cut at its contact points (in order along it) into
     /// segments; each contact joins its two points through its resistance.
     fn plates(&self) -> Vec<(usize, usize, f64)> {
-        let contacts: Vec<(Contact, usize, usize)> =
-            [(self.contact, CX, CY), (self.second, CX2, CY2)].into_iter().filter_map(|(c, x, y)| Some((c?, x, y))).collect();
+        let contacts: Vec<(Contact, usize, usize)> = [(self.contact, CX, CY), (self.second, CX2, CY2)]
+            .into_iter()
+            .filter_map(|(c, x, y)| Some((c?, x, y)))
+            .collect();
         let mut res = Vec::new();
         for (lo, hi, r, x_plate) in [(XM, XP, self.rx, true), (YM, YP, self.ry, false)] {
             let mut points: Vec<(f64, usize)> =
@@ -463,7 +465,10 @@ mod tests {
         assert!(i_r1 > 0.0);
         // Untouched second contact: the one-contact model is unchanged.
         let single = pressed(0.3, 0.8, 100.0);
-        assert_eq!(single.voltage(&PanelPins::READ_X, Pin::Yp), PanelModel { second: None, ..single }.voltage(&PanelPins::READ_X, Pin::Yp));
+        assert_eq!(
+            single.voltage(&PanelPins::READ_X, Pin::Yp),
+            PanelModel { second: None, ..single }.voltage(&PanelPins::READ_X, Pin::Yp)
+        );
     }
 
     #[test]

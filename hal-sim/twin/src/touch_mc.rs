@@ -140,7 +140,10 @@ pub fn grid() -> Vec<Cell> {
     cells.push(Cell { name: "bounces (1-4, gaps 20-300 ms)".into(), kind: Kind::Bounce });
     cells.push(Cell { name: "brief contacts 20-140 ms".into(), kind: Kind::Brief });
     for &freq_hz in &[3.0, 5.0, 8.0] {
-        cells.push(Cell { name: format!("force tremor {freq_hz} Hz, 50 % duty, 1.5 s"), kind: Kind::ForceTremor { freq_hz } });
+        cells.push(Cell {
+            name: format!("force tremor {freq_hz} Hz, 50 % duty, 1.5 s"),
+            kind: Kind::ForceTremor { freq_hz },
+        });
     }
     cells.push(Cell { name: "palm + finger".into(), kind: Kind::Palm });
     cells.push(Cell { name: "single finger, force 0.1-10".into(), kind: Kind::Force });

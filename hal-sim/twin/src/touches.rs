@@ -30,7 +30,8 @@ pub struct TouchAction {
 /// The touch action of one serial line, if it is one.
 pub fn touch_action(line: &str) -> Option<TouchAction> {
     let w: Vec<&str> = line.split_whitespace().collect();
-    let act = |a: &str, raw, why: Option<&str>| Some(TouchAction { action: a.to_string(), raw, why: why.map(String::from) });
+    let act =
+        |a: &str, raw, why: Option<&str>| Some(TouchAction { action: a.to_string(), raw, why: why.map(String::from) });
     let point = |x: &str, y: &str| Some((x.parse::<u16>().ok()?, y.parse::<u16>().ok()?));
     match w[..] {
         ["info", "touch", x, y, ..] => act("move", Some(point(x, y)?), None),
@@ -56,10 +57,7 @@ mod tests {
     fn lines_of_today_and_of_the_new_touch_logic() {
         let a = |l| touch_action(l).map(|t| (t.action, t.raw, t.why));
         let s = |v: &str| v.to_string();
-        assert_eq!(
-            a("info touch 612 700 cond 2 ts_ms 840 vend 0 0 0"),
-            Some((s("move"), Some((612, 700)), None))
-        );
+        assert_eq!(a("info touch 612 700 cond 2 ts_ms 840 vend 0 0 0"), Some((s("move"), Some((612, 700)), None)));
         assert_eq!(
             a("err touch 130 880 outside workspace"),
             Some((s("ignored"), Some((130, 880)), Some(s("outside workspace"))))

@@ -61,7 +61,7 @@ fn long_run_meets_the_issue_goals() {
             }
             let limit = match slide {
                 Some(_) => 1.0 + 0.25 * amp_mm,
-                None if amp_mm <= 3.0 => (0.25 * amp_mm).min(1.0).max(0.25),
+                None if amp_mm <= 3.0 => (0.25 * amp_mm).clamp(0.25, 1.0),
                 None => 0.25 * amp_mm,
             };
             if r.err_p99_mm.is_none_or(|e| e > limit) {

@@ -271,6 +271,25 @@ fn off_map(line: Option<&str>) -> Option<String> {
     })
 }
 
+/// The last `move` line (`info touch <x> <y> …`) after byte `from` of the
+/// firmware's output, with the time (s) of its first byte.
+fn last_move(s: &Session, from: usize) -> Option<(String, f64)> {
+    let out = s.avr.uart_output();
+    let cycles = s.avr.uart_output_cycles();
+    let mut found = None;
+    let mut start = from;
+    for i in from..out.len() {
+        if out[i] == b'\n' {
+            let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
+            if line.starts_with("info touch ") && hal_sim::touches::touch_action(&line).is_some() {
+                found = Some((line, cycles.get(start).map_or(0.0, |c| *c as f64 / f64::from(firmware::CPU_HZ))));
+            }
+            start = i + 1;
+        }
+    }
+    found
+}
+
 /// The raw reading of a `move` action's line.
 struct TouchRaw(u16, u16);
 
@@ -363,23 +382,7 @@ fn run(args: Args) -> Result<(), String> {
         s.finger(script);
         s.run_for(end_s + FINGER_TAIL_S)?;
         // The arm ends on the last move; its reply may come later under a path or lift check.
-        let last_move = |s: &Session| -> Option<(String, f64)> {
-            let out = s.avr.uart_output();
-            let cycles = s.avr.uart_output_cycles();
-            let mut found = None;
-            let mut start = from;
-            for i in from..out.len() {
-                if out[i] == b'\n' {
-                    let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
-                    if line.starts_with("info touch ") && hal_sim::touches::touch_action(&line).is_some() {
-                        found = Some((line, cycles.get(start).map_or(0.0, |c| *c as f64 / f64::from(firmware::CPU_HZ))));
-                    }
-                    start = i + 1;
-                }
-            }
-            found
-        };
-        first = last_move(&s);
+        first = last_move(&s, from);
         if first.is_none() && deferred {
             first = s.await_line(from, &["info touch "], 5.0)?;
         }

@@ -97,7 +97,8 @@ fn track(m: &Map<String, Value>, key: &str) -> Result<Option<Track>, Refusal> {
     }
     let mut knots = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
-        let vals: Option<Vec<f64>> = r.as_array().filter(|a| a.len() == 4).map(|a| a.iter().filter_map(Value::as_f64).collect());
+        let vals: Option<Vec<f64>> =
+            r.as_array().filter(|a| a.len() == 4).map(|a| a.iter().filter_map(Value::as_f64).collect());
         match vals {
             Some(v) if v.len() == 4 => knots.push(Knot::new(v[0], v[1], v[2], v[3])),
             _ => return Err(bad(format!("{key}[{i}] must be [t_ms, x_px, y_px, force] (four numbers), got {r}"))),
@@ -216,8 +217,10 @@ mod tests {
         assert_eq!(s.first.knots().len(), 3);
         assert_eq!(s.first.at(125.0), Some((101.25, 60.0, 1.0)));
         assert_eq!(s.second, None);
-        let two = finger(br#"{"samples": [[0, 10, 10, 1], [100, 10, 10, 1]], "second": [[0, 200, 100, 3], [100, 200, 100, 3]]}"#)
-            .unwrap();
+        let two = finger(
+            br#"{"samples": [[0, 10, 10, 1], [100, 10, 10, 1]], "second": [[0, 200, 100, 3], [100, 200, 100, 3]]}"#,
+        )
+        .unwrap();
         assert_eq!(two.at(50.0)[1], Some((200.0, 100.0, 3.0)));
         let many = format!(r#"{{"samples": [{}]}}"#, vec!["[0, 1, 1, 1]"; 10_001].join(","));
         let split = format!(
@@ -228,10 +231,16 @@ mod tests {
         for (body, why) in [
             (&br#"{}"#[..], "missing field samples"),
             (br#"{"samples": 5}"#, "samples must be an array of [t_ms, x_px, y_px, force]"),
-            (br#"{"samples": [[0, 1, 2]]}"#, "samples[0] must be [t_ms, x_px, y_px, force] (four numbers), got [0,1,2]"),
+            (
+                br#"{"samples": [[0, 1, 2]]}"#,
+                "samples[0] must be [t_ms, x_px, y_px, force] (four numbers), got [0,1,2]",
+            ),
             (br#"{"samples": [[0, 1, 2, "x"]]}"#, "samples[0] must be"),
             (br#"{"samples": []}"#, "samples: a track needs at least one sample"),
-            (br#"{"samples": [[10, 1, 1, 1], [5, 1, 1, 1]]}"#, "samples: sample 1: t_ms 5 before the previous sample's 10"),
+            (
+                br#"{"samples": [[10, 1, 1, 1], [5, 1, 1, 1]]}"#,
+                "samples: sample 1: t_ms 5 before the previous sample's 10",
+            ),
             (br#"{"samples": [[60001, 1, 1, 1]]}"#, "samples: sample 0: t_ms 60001 outside 0..=60000"),
             (br#"{"samples": [[0, 1, 1, -1]]}"#, "samples: sample 0: force -1 outside 0..=100"),
             (br#"{"samples": [[0, 1, 1, 1]], "second": [[0, 1]]}"#, "second[0] must be"),

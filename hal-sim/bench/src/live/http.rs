@@ -177,7 +177,9 @@ fn handle(mut req: Request, ctx: &Context) {
         (Method::Get, "/api/screen.png") => screen::png(&ctx.snapshot().screen)
             .map(|png| response(200, "image/png", png))
             .map_err(|e| refuse(500, format!("encoding the screen: {e}"))),
-        (Method::Post, "/api/finger") => read_body(&mut req, api::MAX_FINGER_BODY).and_then(|body| post(&path, &body, ctx)),
+        (Method::Post, "/api/finger") => {
+            read_body(&mut req, api::MAX_FINGER_BODY).and_then(|body| post(&path, &body, ctx))
+        }
         (Method::Post, "/api/touch" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
             read_body(&mut req, api::MAX_BODY).and_then(|body| post(&path, &body, ctx))
         }

@@ -36,7 +36,9 @@ fn run() -> Result<(), String> {
             "--before" => before = Some(val()?.into()),
             "--only" => only = Some(val()?),
             "-h" | "--help" => {
-                println!("touch-mc [--taps N] [--seed S] [--out FILE.md] [--csv FILE.csv] [--before FILE.csv] [--only TEXT]");
+                println!(
+                    "touch-mc [--taps N] [--seed S] [--out FILE.md] [--csv FILE.csv] [--before FILE.csv] [--only TEXT]"
+                );
                 return Ok(());
             }
             other => return Err(format!("unknown argument {other:?}")),
@@ -53,7 +55,12 @@ fn run() -> Result<(), String> {
         }
         let t0 = std::time::Instant::now();
         let r = touch_mc::run_cell(cell, taps, seed.wrapping_add(i as u64))?;
-        eprintln!("{:<48} {:>6.1} s  {}", cell.name, t0.elapsed().as_secs_f64(), touch_mc::to_csv(std::slice::from_ref(&r)).lines().nth(1).unwrap_or(""));
+        eprintln!(
+            "{:<48} {:>6.1} s  {}",
+            cell.name,
+            t0.elapsed().as_secs_f64(),
+            touch_mc::to_csv(std::slice::from_ref(&r)).lines().nth(1).unwrap_or("")
+        );
         rows.push(r);
     }
     if let Some(p) = &csv {
