@@ -152,6 +152,15 @@ pub fn grid() -> Vec<Cell> {
     cells
 }
 
+/// One tap of `kind` as the Monte Carlo draws it from `rng` on the 2.8"
+/// glass: its script and the intended point (raw counts; `None` where no
+/// target is intended). The simavr cross-check plays the same scripts on
+/// the real ELF.
+pub fn tap_script(rng: &mut Rng, kind: &Kind) -> (FingerScript, Option<(f64, f64)>) {
+    let t = trial(rng, kind, &Glass::QVGA_28, &Calibration::DEFAULT, &Layout::QVGA);
+    (t.script, t.intended)
+}
+
 /// One tap as planned: its script and where it was meant to land.
 struct Trial {
     script: FingerScript,
