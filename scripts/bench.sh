@@ -35,7 +35,13 @@ PACING=$(mktemp)
 trap 'rm -f "$RAW" "$UI" "$PACING"' EXIT
 cargo run --release -q -p touch-arm-bench --bin touch-arm-live -- --pacing-report 60 --out "$PACING" || { echo "pacing report failed"; exit 1; }
 
+echo "== touch for an unsteady hand (seeded Monte Carlo in the twin, 1000 taps a cell)"
+TOUCH=$(mktemp)
+trap 'rm -f "$RAW" "$UI" "$PACING" "$TOUCH"' EXIT
+cargo run --release -q -p hal-sim --bin touch-mc -- --taps 1000 --out "$TOUCH" || { echo "touch-mc failed"; exit 1; }
+
 cargo run --release -q -p xtask --bin bench-report -- \
     --bench-output "$RAW" --ui-output "$UI" --firmware "$FW" --bench-elf "$BENCH" --out "$OUT"
-# The pacing section follows the generated document, after one blank line.
+# The pacing and touch sections follow the generated document, each after one blank line.
 printf '\n%s\n' "$(cat "$PACING")" >>"$OUT"
+printf '\n%s\n' "$(cat "$TOUCH")" >>"$OUT"

@@ -4,7 +4,8 @@
 //! and each `scripts/run.sh …` through the binary run.sh starts
 //! (`touch-arm-live` after `--live`, else `touch-arm-sim`) with
 //! [`armsim::args::CHECK_ARGS`] set, so it parses and exits without
-//! simulating. (The paths and sections the docs cite: the core crate's
+//! simulating; a `--finger FILE` names a file of the repository that parses
+//! as a finger script. (The paths and sections the docs cite: the core crate's
 //! `tests/docs.rs`.)
 
 use std::fs;
@@ -121,6 +122,19 @@ fn documented_main_job_and_live_bench_commands_parse() {
             _ => (env!("CARGO_BIN_EXE_touch-arm-sim"), &w[1..], 0),
         };
         checked[k] += 1;
+        // A documented finger script exists and parses (docs/simulation.md).
+        if let Some(i) = args.iter().position(|a| a == "--finger") {
+            let file = args.get(i + 1).map(|f| root().join(f));
+            match file.as_ref().map(|f| fs::read_to_string(f).map_err(|e| e.to_string())) {
+                Some(Ok(text)) => {
+                    if let Err(e) = hal_sim::finger::FingerScript::parse_csv(&text) {
+                        bad.push(format!("{doc}:{n}: {line}\n  the finger script does not parse: {e}"));
+                    }
+                }
+                Some(Err(e)) => bad.push(format!("{doc}:{n}: {line}\n  the finger script: {e}")),
+                None => bad.push(format!("{doc}:{n}: {line}\n  --finger without a file")),
+            }
+        }
         let out = Command::new(bin).args(args).env(armsim::args::CHECK_ARGS, "1").output().unwrap();
         if !out.status.success() {
             bad.push(format!("{doc}:{n}: {line}\n  {}", String::from_utf8_lossy(&out.stderr).trim()));

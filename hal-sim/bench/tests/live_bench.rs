@@ -167,6 +167,42 @@ fn the_gripper_shows_in_the_state() {
     bench.stop();
 }
 
+/// `POST /api/finger`: a scripted finger (a 4 Hz, 1 mm tremor of 0.5 s on
+/// the map pixel of (0.4, 0.6)) answers at once with the bench time it
+/// starts at, and the firmware acts on it: the arm leaves its pose. A bad
+/// script is a 400 with one line of reason.
+#[test]
+fn a_finger_script_starts_at_once_and_moves_the_arm() {
+    let bench = start();
+    let a = bench.addr();
+    let s0 = holding(a);
+    let p0 = pulses(&s0);
+    let (px, py) = LAYOUT.ws_point_to_pixel(0.4, 0.6).unwrap();
+    let samples: Vec<Value> = (0..=250)
+        .map(|i| {
+            let t = f64::from(i) * 2.0;
+            let d = (1.0 / 0.18) * (std::f64::consts::TAU * 4.0 * t / 1000.0).sin();
+            json!([t, f64::from(px) + d, f64::from(py), 1])
+        })
+        .collect();
+    let before = get(a, "/api/state")["t_s"].as_f64().unwrap();
+    let r = ok(a, "/api/finger", json!({ "samples": samples }));
+    let t0 = r["t_s"].as_f64().unwrap();
+    assert!(t0 >= before && r.as_object().unwrap().len() == 1, "{r}");
+    let s =
+        wait_state(a, "the arm leaves its pose", 6.0, |s| pulses(s).iter().zip(p0).any(|(p, q)| (p - q).abs() > 20.0));
+    assert!(s["t_s"].as_f64().unwrap() > t0);
+    let (status, body) = request(a, "POST", "/api/finger", r#"{"samples": [[5, 1, 1, 1], [2, 1, 1, 1]]}"#, &[]);
+    assert_eq!(status, 400);
+    assert!(
+        body.contains("samples: sample 1: t_ms 2 before the previous sample's 5") && !body.trim_end().contains('\n'),
+        "{body}"
+    );
+    let (status, _) = request(a, "GET", "/api/finger", "", &[]);
+    assert_eq!(status, 405);
+    bench.stop();
+}
+
 /// Method, path, body, extra headers, expected status, expected reason.
 type BadRequest<'a> = (&'a str, &'a str, &'a str, &'a [(&'a str, &'a str)], u16, &'a str);
 

@@ -321,3 +321,54 @@ fn main_job_path_line_and_lift() {
     let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(["--lift", "0.55"]).output().unwrap();
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("(0, 0.5]"));
 }
+
+/// `--finger FILE`: a scripted finger instead of the press, on the real ELF
+/// (each ADC conversion at its own cycle). A 1 mm, 4 Hz tremor tap on the
+/// pixel of (0.4, 0.6) commits once, within the tremor's reach (1.2 mm at
+/// its drift-free amplitude, 6.7 px: 0.056 workspace units at 120 px a
+/// unit) of the pixel, and `touches` is that one move at the summary's
+/// point. STOP held then bounced on: the first action is STOP, within 60 ms
+/// and a frame of contact, and no move; summary.json is `touches` and `wiring` only.
+#[test]
+fn main_job_plays_a_finger_script() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tremor = root.join("fingers/tremor_1mm_4hz.csv");
+    let (_, summary, _) = run_job(&["--finger", tremor.to_str().unwrap()], "finger_tremor");
+    let touches = summary["touches"].as_array().unwrap();
+    assert_eq!(touches.len(), 1, "{summary}");
+    assert_eq!(touches[0]["action"], "move");
+    assert_eq!(touches[0]["x_p"], summary["x_p"]);
+    assert_eq!(touches[0]["y_p"], summary["y_p"]);
+    let (x_p, y_p) = (summary["x_p"].as_f64().unwrap(), summary["y_p"].as_f64().unwrap());
+    assert!((x_p - 0.4).abs() <= 0.06 && (y_p - 0.6).abs() <= 0.01, "({x_p}, {y_p})");
+    assert!(touches[0]["t_s"].as_f64().unwrap() > 0.0);
+
+    let stop = root.join("fingers/stop.csv");
+    let dir = std::env::temp_dir().join(format!("touch-arm-sim-finger-stop-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_touch-arm-sim"))
+        .args(["--finger", stop.to_str().unwrap(), "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let mut keys: Vec<&str> = summary.as_object().unwrap().keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    assert_eq!(keys, ["touches", "wiring"], "{summary}");
+    let touches = summary["touches"].as_array().unwrap();
+    assert_eq!(touches[0]["action"], "stop", "{summary}");
+    assert!(touches[0]["x_p"].is_null() && touches[0]["y_p"].is_null());
+    assert!(touches[0]["t_s"].as_f64().unwrap() <= 0.08, "{summary}");
+    assert!(touches.iter().all(|t| t["action"] != "move"));
+    assert!(dir.join("screen.png").exists() && !dir.join("pulses.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // A script that does not parse: the job says which line and fails.
+    let bad = std::env::temp_dir().join(format!("touch-arm-sim-bad-finger-{}.csv", std::process::id()));
+    std::fs::write(&bad, "t_ms,x_px,y_px,force\n0,1,2\n").unwrap();
+    let out =
+        Command::new(env!("CARGO_BIN_EXE_touch-arm-sim")).args(["--finger", bad.to_str().unwrap()]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("line 2: 3 values, the header has 4"));
+    let _ = std::fs::remove_file(&bad);
+}

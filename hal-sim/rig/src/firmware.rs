@@ -315,6 +315,21 @@ impl Session {
         self.panel.borrow_mut().panel.touch_xy(x_p, y_p, 1.0)
     }
 
+    /// Plays a finger script from now on (its t_ms = 0 is the current
+    /// simulated time), evaluated at every ADC conversion's own cycle; it
+    /// replaces any press and ends by itself after its last knot. The
+    /// script's pixels are on the 2.8" glass unless [`Session::set_glass`]
+    /// says otherwise.
+    pub fn finger(&mut self, script: hal_sim::finger::FingerScript) {
+        let now = self.avr.time_s();
+        self.panel.borrow_mut().panel.set_finger(script, now);
+    }
+
+    /// The glass the finger scripts' pixels lie on (the screen's size and mm per pixel).
+    pub fn set_glass(&mut self, glass: hal_sim::finger::Glass) {
+        self.panel.borrow_mut().panel.glass = glass;
+    }
+
     /// Lifts the finger from the panel.
     pub fn release(&mut self) {
         self.panel.borrow_mut().panel.release();

@@ -3,6 +3,8 @@
 //! registers, fed to the twin's panel model (`twin::panel`), whose voltage
 //! becomes what the simulated ADC converts. So the real firmware's touch
 //! driver, with its own drive/float/settle/sample sequence, is what is tested.
+//! A scripted finger (`hal_sim::finger`) is evaluated at each conversion's
+//! own cycle (the moment simavr samples the input).
 
 use crate::avr::{AdcRequest, Pin, PortsSnapshot};
 use hal_sim::panel::{Drive, PanelPins, Pin as Terminal, SimPanel};
@@ -77,6 +79,7 @@ impl PanelOnPins {
     pub fn read(&mut self, req: &AdcRequest<'_>) -> Option<u16> {
         let t = self.wiring.terminal_on_channel(req.channel)?;
         let pins = self.wiring.drives(req.ports);
+        self.panel.set_time(req.cycle as f64 / f64::from(crate::firmware::CPU_HZ));
         Some(self.panel.adc(&pins, t))
     }
 

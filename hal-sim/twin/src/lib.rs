@@ -10,6 +10,7 @@
 pub mod arm;
 pub mod devices;
 pub mod display;
+pub mod finger;
 pub mod host;
 pub mod panel;
 pub mod random_input;
@@ -17,6 +18,8 @@ pub mod rng;
 pub mod scenario;
 pub mod servos;
 pub mod sim;
+pub mod touch_mc;
+pub mod touches;
 
 pub use devices::{SimClock, SimEeprom, SimSerial};
 pub use panel::{Drive, PanelModel, PanelPins, Pin, SimPanel};

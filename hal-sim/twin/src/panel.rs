@@ -23,7 +23,15 @@ use touch_arm::seam::{TouchError, TouchPanel};
 use touch_arm::touch::filter::{pressure, ADC_MAX};
 use touch_arm::touch::map::Calibration;
 
+use super::finger::{FingerScript, Glass};
 use super::rng::Rng;
+
+/// Time between two conversions of a panel read on the chip, s: 104 µs of
+/// conversion (13 ADC clocks at 125 kHz) after the driver's 20 µs plate and
+/// 10 µs channel settle (`board::touch`, `board::adc`), rounded. The twin
+/// spaces its conversions by this; the simavr rig uses each conversion's own
+/// cycle instead.
+pub const CONVERSION_S: f64 = 125e-6;
 
 /// State of one panel pin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,6 +101,9 @@ pub struct PanelModel {
     pub ry: f64,
     /// The finger's contact between the plates; `None`: not touched.
     pub contact: Option<Contact>,
+    /// A second contact (a palm, a knuckle, another finger), if any: the
+    /// network then has two paths between the plates.
+    pub second: Option<Contact>,
 }
 
 /// Contact resistance of a touch of force 1 (a firm fingertip).
@@ -102,7 +113,7 @@ const R_MIN: f64 = 1e-3;
 /// The ATmega2560's I/O pull-up (datasheet: 20–50 kΩ).
 pub const R_PULLUP: f64 = 35_000.0;
 
-const NODES: usize = 7;
+const NODES: usize = 9;
 const XP: usize = 0;
 const XM: usize = 1;
 const YP: usize = 2;
@@ -111,10 +122,13 @@ const CX: usize = 4;
 const CY: usize = 5;
 /// Vcc, the far end of the pull-ups.
 const VCC: usize = 6;
+/// The second contact's points on the X and Y plates.
+const CX2: usize = 7;
+const CY2: usize = 8;
 
 impl Default for PanelModel {
     fn default() -> Self {
-        PanelModel { rx: 300.0, ry: 500.0, contact: None }
+        PanelModel { rx: 300.0, ry: 500.0, contact: None, second: None }
     }
 }
 
@@ -131,17 +145,29 @@ impl PanelModel {
         res
     }
 
+    /// Each plate is cut at its contact points (in order along it) into
+    /// segments; each contact joins its two points through its resistance.
     fn plates(&self) -> Vec<(usize, usize, f64)> {
-        match self.contact {
-            None => vec![(XM, XP, self.rx), (YM, YP, self.ry)],
-            Some(c) => vec![
-                (XM, CX, (self.rx * c.fx).max(R_MIN)),
-                (CX, XP, (self.rx * (1.0 - c.fx)).max(R_MIN)),
-                (YM, CY, (self.ry * c.fy).max(R_MIN)),
-                (CY, YP, (self.ry * (1.0 - c.fy)).max(R_MIN)),
-                (CX, CY, c.r_touch.max(R_MIN)),
-            ],
+        let contacts: Vec<(Contact, usize, usize)> = [(self.contact, CX, CY), (self.second, CX2, CY2)]
+            .into_iter()
+            .filter_map(|(c, x, y)| Some((c?, x, y)))
+            .collect();
+        let mut res = Vec::new();
+        for (lo, hi, r, x_plate) in [(XM, XP, self.rx, true), (YM, YP, self.ry, false)] {
+            let mut points: Vec<(f64, usize)> =
+                contacts.iter().map(|(c, nx, ny)| if x_plate { (c.fx, *nx) } else { (c.fy, *ny) }).collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let (mut at, mut node) = (0.0, lo);
+            for (f, n) in points {
+                res.push((node, n, (r * (f - at)).max(R_MIN)));
+                (at, node) = (f, n);
+            }
+            res.push((node, hi, (r * (1.0 - at)).max(R_MIN)));
         }
+        for (c, nx, ny) in &contacts {
+            res.push((*nx, *ny, c.r_touch.max(R_MIN)));
+        }
+        res
     }
 
     /// Voltage of `pin` as a fraction of Vcc, or `None` if it floats (no
@@ -242,6 +268,15 @@ pub struct SimPanel {
     rng: Rng,
     /// Samples delivered so far.
     pub samples: u64,
+    /// The scripted finger and the panel time (s) its t_ms = 0 is at; while
+    /// set, it decides the contacts at every conversion.
+    pub finger: Option<(FingerScript, f64)>,
+    /// The glass the finger's pixels lie on.
+    pub glass: Glass,
+    /// Panel time of the next conversion, s ([`SimPanel::set_time`]).
+    pub t_s: f64,
+    /// How far each conversion advances [`SimPanel::t_s`], s.
+    pub conversion_s: f64,
 }
 
 impl SimPanel {
@@ -254,7 +289,42 @@ impl SimPanel {
             spike_prob: 0.0,
             rng: Rng::new(seed),
             samples: 0,
+            finger: None,
+            glass: Glass::QVGA_28,
+            t_s: 0.0,
+            conversion_s: CONVERSION_S,
         }
+    }
+
+    /// Sets the panel time of the next conversion, s.
+    pub fn set_time(&mut self, t_s: f64) {
+        self.t_s = t_s;
+    }
+
+    /// Plays `script` from panel time `start_s` on (replacing any finger or
+    /// press); it ends by itself after its last knot.
+    pub fn set_finger(&mut self, script: FingerScript, start_s: f64) {
+        self.finger = Some((script, start_s));
+        self.apply_finger();
+    }
+
+    /// The contacts the finger script puts on the plates at [`SimPanel::t_s`].
+    fn apply_finger(&mut self) {
+        let Some((script, start)) = &self.finger else { return };
+        let [a, b] = script.at((self.t_s - start) * 1000.0);
+        let contact = |c: Option<(f64, f64, f64)>| {
+            let (x, y, force) = c?;
+            let (rx, ry) = self.glass.px_to_raw(&self.cal, x, y);
+            let lim = -0.5..(ADC_MAX as f64 + 0.5);
+            (lim.contains(&rx) && lim.contains(&ry)).then(|| Contact {
+                fx: (rx + 0.5) / 1024.0,
+                fy: (ry + 0.5) / 1024.0,
+                r_touch: R_TOUCH_FIRM / force,
+            })
+        };
+        let (c1, c2) = (contact(a), contact(b));
+        // One contact alone is the finger, whichever track it came from.
+        (self.model.contact, self.model.second) = if c1.is_some() { (c1, c2) } else { (c2, None) };
     }
 
     /// Presses at raw channel values (as read, fractional allowed): an ideal
@@ -267,6 +337,8 @@ impl SimPanel {
         if !(lim.contains(&raw_x) && lim.contains(&raw_y)) {
             return Err(format!("raw point ({raw_x}, {raw_y}) is off the panel"));
         }
+        self.finger = None;
+        self.model.second = None;
         self.model.contact =
             Some(Contact { fx: (raw_x + 0.5) / 1024.0, fy: (raw_y + 0.5) / 1024.0, r_touch: R_TOUCH_FIRM / force });
         Ok(())
@@ -280,11 +352,15 @@ impl SimPanel {
 
     /// Lifts the finger: no contact until the next touch.
     pub fn release(&mut self) {
+        self.finger = None;
         self.model.contact = None;
+        self.model.second = None;
     }
 
     /// One ADC conversion of `pin` with the pins driven as given.
     pub fn adc(&mut self, pins: &PanelPins, pin: Pin) -> u16 {
+        self.apply_finger();
+        self.t_s += self.conversion_s;
         if self.spike_prob > 0.0 && self.rng.uniform() < self.spike_prob {
             return self.rng.below(ADC_MAX as u64 + 1) as u16;
         }
@@ -324,7 +400,7 @@ mod tests {
     use super::*;
 
     fn pressed(fx: f64, fy: f64, r_touch: f64) -> PanelModel {
-        PanelModel { rx: 300.0, ry: 500.0, contact: Some(Contact { fx, fy, r_touch }) }
+        PanelModel { rx: 300.0, ry: 500.0, contact: Some(Contact { fx, fy, r_touch }), second: None }
     }
 
     #[test]
@@ -347,6 +423,88 @@ mod tests {
             1.0 + m.voltage(&PanelPins::READ_Z, Pin::Xm).unwrap() - m.voltage(&PanelPins::READ_Z, Pin::Yp).unwrap()
         };
         assert!(z(50.0) > z(100.0) && z(100.0) > z(1000.0));
+    }
+
+    #[test]
+    fn two_contacts_solve_as_the_hand_network() {
+        // Finger at (0.3, 0.8) through 100 Ω, palm at (0.6, 0.2) through 40 Ω.
+        let (rx, ry) = (300.0, 500.0);
+        let (f1, f2) = (Contact { fx: 0.3, fy: 0.8, r_touch: 100.0 }, Contact { fx: 0.6, fy: 0.2, r_touch: 40.0 });
+        let m = PanelModel { rx, ry, contact: Some(f1), second: Some(f2) };
+        // X read: XM –a– CX1 –b– CX2 –c– XP, and b shunted by the path
+        // CX1 –r1– CY1 –Ry·0.6– CY2 –r2– CX2 through the floating Y plate.
+        let (a, b, c) = (rx * 0.3, rx * 0.3, rx * 0.4);
+        let rs = 100.0 + ry * 0.6 + 40.0;
+        let bp = b * rs / (b + rs);
+        let i = 1.0 / (a + bp + c);
+        let (v1, v2) = (i * a, i * (a + bp));
+        let is = (v2 - v1) / rs;
+        let (vy1, vy2) = (v1 + is * 100.0, v2 - is * 40.0);
+        // YP sits beyond the contact nearer to it (fy 0.8: the finger's), no current.
+        let yp = m.voltage(&PanelPins::READ_X, Pin::Yp).unwrap();
+        let ym = m.voltage(&PanelPins::READ_X, Pin::Ym).unwrap();
+        assert!((yp - vy1).abs() < 1e-12 && (ym - vy2).abs() < 1e-12, "{yp} {vy1} {ym} {vy2}");
+        // A point between the contacts: the X read lands between 0.3 and 0.6.
+        assert!(yp > 0.3 && yp < 0.6, "{yp}");
+        // Pressure: YM high, XP low; two parallel paths YM → X plate. z1 on XM
+        // (beyond CX1, no current) = V(CX1), z2 on YP (beyond CY1) = V(CY1).
+        // Node equations at CX1, CX2, CY1, CY2 solved by hand (Cramer is long:
+        // check the currents balance instead).
+        let z1 = m.voltage(&PanelPins::READ_Z, Pin::Xm).unwrap();
+        let z2 = m.voltage(&PanelPins::READ_Z, Pin::Yp).unwrap();
+        let one = PanelModel { second: None, ..m };
+        let z1_one = one.voltage(&PanelPins::READ_Z, Pin::Xm).unwrap();
+        let z2_one = one.voltage(&PanelPins::READ_Z, Pin::Yp).unwrap();
+        // Two contacts conduct more: a higher pressure measure than the finger alone.
+        assert!(1.0 + z1 - z2 > 1.0 + z1_one - z2_one + 0.05, "{z1} {z2} vs {z1_one} {z2_one}");
+        // Kirchhoff at CY2 with the solved node voltages: in from YM = out via r2 + along to CY1.
+        let v = |pin| m.voltage(&PanelPins::READ_Z, pin).unwrap();
+        let (vcx1, vcy1) = (v(Pin::Xm), v(Pin::Yp));
+        // CX1 carries: from CY1 through r1 = to XP through the X plate (via CX2).
+        let i_r1 = (vcy1 - vcx1) / 100.0;
+        assert!(i_r1 > 0.0);
+        // Untouched second contact: the one-contact model is unchanged.
+        let single = pressed(0.3, 0.8, 100.0);
+        assert_eq!(
+            single.voltage(&PanelPins::READ_X, Pin::Yp),
+            PanelModel { second: None, ..single }.voltage(&PanelPins::READ_X, Pin::Yp)
+        );
+    }
+
+    #[test]
+    fn a_finger_script_is_evaluated_at_each_conversion() {
+        use crate::finger::{FingerScript, Knot, Track};
+        let mut p = SimPanel::new(1);
+        // Pixel (150, 100) is raw (503.48, 574.98), read as floor(raw + 0.5);
+        // a slide of 8 px in x over 10 ms.
+        let t = Track::new(vec![Knot::new(0.0, 150.0, 100.0, 1.0), Knot::new(10.0, 158.0, 100.0, 1.0)]).unwrap();
+        p.set_time(2.0);
+        p.set_finger(FingerScript::new(t, None).unwrap(), 2.0);
+        let s = p.sample();
+        assert_eq!((s.x, s.y), (503, 575));
+        // Conversion k happens k·125 µs in: at 5 ms the finger is 4 px on.
+        p.set_time(2.005);
+        let x = p.adc(&PanelPins::READ_X, Pin::Yp);
+        let expect = ((503.484_375f64 + 4.0 * 809.0 / 320.0) + 0.5).floor() as u16;
+        assert_eq!(expect, 514);
+        assert_eq!(x, expect);
+        // After the script: lifted.
+        p.set_time(2.011);
+        assert!(p.sample().z < 5);
+        // A palm beside the finger reads between the two.
+        let f = Track::new(vec![Knot::new(0.0, 60.0, 60.0, 1.0), Knot::new(100.0, 60.0, 60.0, 1.0)]).unwrap();
+        let palm = Track::new(vec![Knot::new(0.0, 260.0, 200.0, 3.0), Knot::new(100.0, 260.0, 200.0, 3.0)]).unwrap();
+        p.set_time(0.0);
+        p.set_finger(FingerScript::new(f.clone(), None).unwrap(), 0.0);
+        let alone = p.sample();
+        p.set_time(0.0);
+        p.set_finger(FingerScript::new(f, Some(palm)).unwrap(), 0.0);
+        let both = p.sample();
+        let (fx, _) = Glass::QVGA_28.px_to_raw(&Calibration::DEFAULT, 60.0, 60.0);
+        let (px, _) = Glass::QVGA_28.px_to_raw(&Calibration::DEFAULT, 260.0, 200.0);
+        assert_eq!(alone.x, (fx + 0.5).floor() as u16);
+        assert!(f64::from(both.x) > fx + 50.0 && f64::from(both.x) < px - 50.0, "{both:?} {fx} {px}");
+        assert!(both.z > alone.z, "{both:?} {alone:?}");
     }
 
     #[test]

@@ -25,6 +25,11 @@
 //!   `grip`, `calib`, `line`, `lift`, `pose1`…`pose4` (the last five and
 //!   the poses are on the More page; on the main page the same place is the
 //!   status lines or Slow | Normal | Fast).
+//! - `finger <t,x,y,f> … [second <t,x,y,f> …]`: a finger script
+//!   (`hal_sim::finger`) from the next frame on: knots of t in ms from its
+//!   start, x and y in pixels of the 320×240 screen, force (0 no contact, 1
+//!   firm), linearly interpolated and evaluated at each conversion; after
+//!   `second`, a second contact's knots. It ends by itself after its last knot.
 //! - `release`
 //! - `run <duration>`; `run_until <state> within <duration>`: runs at least
 //!   one frame (so a line just sent is read), then until the state holds
@@ -158,6 +163,7 @@ enum Step {
     PanelSpikes(f64),
     TouchXy(f64, f64, f64),
     TouchRaw(f64, f64, f64),
+    Finger(Box<crate::finger::FingerScript>),
     Release,
     Run(u64),
     RunUntil(State, u64),
@@ -504,6 +510,28 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
             }
             w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
         },
+        "finger" => {
+            let mut tracks = [Vec::new(), Vec::new()];
+            let mut k = 0;
+            while a.pos < a.toks.len() {
+                let w = a.word()?;
+                if w == "second" && k == 0 {
+                    k = 1;
+                    continue;
+                }
+                let v: Vec<f64> = w
+                    .split(',')
+                    .map(str::parse)
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| format!("knot {w:?}: expected t,x,y,f"))?;
+                let [t, x, y, f] = v[..] else { return Err(format!("knot {w:?}: expected t,x,y,f")) };
+                tracks[k].push(crate::finger::Knot::new(t, x, y, f));
+            }
+            let [first, second] = tracks;
+            let first = crate::finger::Track::new(first)?;
+            let second = if k == 1 { Some(crate::finger::Track::new(second)?) } else { None };
+            Step::Finger(Box::new(crate::finger::FingerScript::new(first, second)?))
+        }
         "release" => Step::Release,
         "run" => Step::Run(a.duration()?),
         "run_until" => {
@@ -657,6 +685,7 @@ impl Runner {
             Step::PanelSpikes(p) => sim.panel.spike_prob = *p,
             Step::TouchXy(x, y, f) => sim.panel.touch_xy(*x, *y, *f)?,
             Step::TouchRaw(x, y, f) => sim.panel.touch_raw(*x, *y, *f)?,
+            Step::Finger(script) => sim.finger((**script).clone()),
             Step::Release => sim.panel.release(),
             Step::Run(frames) => sim.run_frames(*frames),
             Step::RunUntil(state, max) => {
@@ -1056,6 +1085,23 @@ mod tests {
         assert!(Scenario::parse("# only a comment\n").is_err());
         let e = Scenario::parse("expect angles_deg 1 2 3 tol\n").unwrap_err();
         assert!(e.contains("missing argument"), "{e}");
+    }
+
+    #[test]
+    fn finger_steps_parse_their_knots() {
+        let sc = Scenario::parse("finger 0,10,20,1 100,12,20,1 second 0,200,100,3").unwrap();
+        let Step::Finger(f) = &sc.steps[0].1 else { panic!("{:?}", sc.steps) };
+        assert_eq!(f.first.at(50.0), Some((11.0, 20.0, 1.0)));
+        assert_eq!(f.at(0.0)[1], Some((200.0, 100.0, 3.0)));
+        for (text, err) in [
+            ("finger 0,1,2", "knot \"0,1,2\": expected t,x,y,f"),
+            ("finger 0,1,2,x", "knot \"0,1,2,x\": expected t,x,y,f"),
+            ("finger", "a track needs at least one sample"),
+            ("finger 5,1,1,1 4,1,1,1", "sample 1: t_ms 4 before the previous sample's 5"),
+        ] {
+            let e = Scenario::parse(text).unwrap_err();
+            assert!(e.contains(err), "{text}: {e}");
+        }
     }
 
     #[test]

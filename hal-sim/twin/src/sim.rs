@@ -113,6 +113,9 @@ impl Sim {
     /// One PWM period: the app's frame, then 20 ms of servo motion.
     pub fn step(&mut self) {
         self.serial.advance_frame();
+        // The frame's panel read starts at the frame's start; its
+        // conversions follow each other by `panel::CONVERSION_S`.
+        self.panel.set_time(self.time_s());
         let mut io = Io {
             panel: &mut self.panel,
             servos: &mut self.servos,
@@ -140,6 +143,19 @@ impl Sim {
         self.frames += 1;
         self.boot_frames += 1;
         self.clock.ms = self.clock.ms.wrapping_add(FRAME_MS);
+    }
+
+    /// Simulated time since the simulation started (reboots included), s:
+    /// the start of the next frame.
+    pub fn time_s(&self) -> f64 {
+        self.frames as f64 * f64::from(FRAME_MS) * 1e-3
+    }
+
+    /// Plays a finger script from the next frame on (its t_ms = 0 at
+    /// [`Sim::time_s`]).
+    pub fn finger(&mut self, script: crate::finger::FingerScript) {
+        let t = self.time_s();
+        self.panel.set_finger(script, t);
     }
 
     /// Runs `n` frames.

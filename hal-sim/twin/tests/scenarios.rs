@@ -35,6 +35,7 @@ scenarios!(
     case,
     circle,
     eeprom_corrupt,
+    finger_script,
     flood,
     grip,
     help_version,

@@ -7,7 +7,7 @@
 //!   (µs to the timer's 0.5 µs tick), with `--grip` one more column, `grip_us`:
 //!   the gripper's pulse of the same period (D11, Timer1, started with Timer5);
 //! - `summary.json`: `{raw, x_p, y_p, condition, alpha_deg, q, target_pulses_us,
-//!   final_pulses_us, arrival_s, law, ts_s, wiring}` for the point the arm ends on,
+//!   final_pulses_us, arrival_s, law, ts_s, wiring, touches}` for the point the arm ends on,
 //!   `path` (joint or line) and `lift_h` (null without a lift), and with
 //!   `--then` `first_raw`, `then_delay_ms`, `then_confirmed_after_s`,
 //!   `then_ts_s`, `then_reply`; with `--grip` `grip`, `grip_reply`,
@@ -44,6 +44,23 @@
 //!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
+//!
+//! `--finger FILE` replaces the press with a finger script (`hal_sim::finger`):
+//! a CSV with header `t_ms,x_px,y_px,force` (optionally `,x2_px,y2_px,force2`
+//! for a second contact), in the screen's pixels, started once the firmware
+//! is ready and evaluated at each ADC conversion's own cycle. The job runs
+//! until 1 s after the script's last knot; the arm's end point is the last
+//! `move`. Without any move it writes `screen.png` and a `summary.json` of
+//! `touches` (and `wiring`) only.
+//!
+//! `touches` (every run) lists every action the firmware took on a touch,
+//! from its own serial lines (`hal_sim::touches`): `[{t_s, action, x_p,
+//! y_p}]`, `t_s` from the start of the press or script, `action` one of
+//! `move`, `stop`, `resume`, `cancel`, `ignored` or a button's word (`speed`,
+//! `page`, `pose`, `grip`, `path`, `lift`, `calibrate`), `x_p`/`y_p` the map
+//! point of the line's raw reading (default calibration; `null` for lines
+//! without one or off the map). `err touch <x> <y> <reason>` (a refused map
+//! touch, nothing moves) is `ignored` with its point.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -97,6 +114,41 @@ struct Args {
     /// Lift by H (workspace units, 0 < H <= 0.5, two decimals at most) through a via pose, sent over serial (`lift H`) before the touch
     #[arg(long, value_name = "H", value_parser = lift_height, conflicts_with = "then")]
     lift: Option<u8>,
+    /// A finger script instead of the press: CSV t_ms,x_px,y_px,force[,x2_px,y2_px,force2] in screen pixels
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["xy", "raw", "then"])]
+    finger: Option<PathBuf>,
+}
+
+/// Time the job runs on after a finger script's last knot, s (the new touch
+/// logic commits on lift-off; a move's reply comes once planned).
+const FINGER_TAIL_S: f64 = 1.0;
+
+/// The touch actions in the firmware's output after byte `from`, with their
+/// times from `t0` (s): the JSON array of `summary.json`'s `touches`.
+fn touches_json(s: &Session, lay: &touch_arm::ui::Layout, from: usize, t0: f64) -> String {
+    let out = s.avr.uart_output();
+    let cycles = s.avr.uart_output_cycles();
+    let mut items = Vec::new();
+    let mut start = from;
+    for i in from..out.len() {
+        if out[i] != b'\n' {
+            continue;
+        }
+        let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
+        let t = cycles.get(start).map_or(f64::NAN, |c| *c as f64 / f64::from(firmware::CPU_HZ)) - t0;
+        start = i + 1;
+        let Some(a) = hal_sim::touches::touch_action(&line) else { continue };
+        let p = a.raw.and_then(|(x, y)| firmware::raw_to_map_point_on(lay, x, y));
+        let n = |v: Option<f64>| v.map_or("null".to_string(), armsim::report::num);
+        items.push(format!(
+            "{{\"t_s\": {}, \"action\": \"{}\", \"x_p\": {}, \"y_p\": {}}}",
+            armsim::report::num(t),
+            a.action.replace(['"', '\\'], ""),
+            n(p.map(|p| p.0)),
+            n(p.map(|p| p.1))
+        ));
+    }
+    format!("[{}]", items.join(", "))
 }
 
 /// `--lift H`: hundredths of a workspace unit, 1..=50 (what the firmware's
@@ -184,6 +236,34 @@ fn off_map(line: Option<&str>) -> Option<String> {
     })
 }
 
+/// The last `move` line (`info touch <x> <y> …`) after byte `from` of the
+/// firmware's output, with the time (s) of its first byte.
+fn last_move(s: &Session, from: usize) -> Option<(String, f64)> {
+    let out = s.avr.uart_output();
+    let cycles = s.avr.uart_output_cycles();
+    let mut found = None;
+    let mut start = from;
+    for i in from..out.len() {
+        if out[i] == b'\n' {
+            let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
+            if line.starts_with("info touch ") && hal_sim::touches::touch_action(&line).is_some() {
+                found = Some((line, cycles.get(start).map_or(0.0, |c| *c as f64 / f64::from(firmware::CPU_HZ))));
+            }
+            start = i + 1;
+        }
+    }
+    found
+}
+
+/// The raw reading of a `move` action's line.
+struct TouchRaw(u16, u16);
+
+fn move_raw(line: &str) -> Option<TouchRaw> {
+    let a = hal_sim::touches::touch_action(line)?;
+    let (x, y) = a.raw?;
+    Some(TouchRaw(x, y))
+}
+
 /// The lines the firmware answers a confirmed press with.
 const TOUCH_REPLIES: [&str; 4] = ["info touch ", "err touch ", "info screen ", "err screen "];
 
@@ -202,6 +282,13 @@ fn run(args: Args) -> Result<(), String> {
         (Some((x, y)), _) => (f64::from(x), f64::from(y)),
         (None, Some(xy)) => on_map(xy)?,
         (None, None) => on_map((0.4, 0.6))?,
+    };
+    let script = match &args.finger {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            Some(hal_sim::finger::FingerScript::parse_csv(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+        }
+        None => None,
     };
 
     let mut s = Session::start_with_lcd(&elf, args.wiring, args.lcd, 1)?;
@@ -249,19 +336,55 @@ fn run(args: Args) -> Result<(), String> {
     let deferred = path != "joint" || lift.is_some();
     let t_touch = s.avr.time_s();
     let from = s.avr.uart_output().len();
-    s.press_raw(raw.0, raw.1)?;
-    let mut first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
-    // The second touch needs the finger lifted at once; otherwise it rests
-    // as long as a tap does.
-    if then.is_none() {
-        s.run_for((t_touch + 0.3 - s.avr.time_s()).max(0.0))?;
-    }
-    s.release();
-    if then.is_none() {
-        s.run_for(0.2)?;
-    }
-    if first.is_none() && deferred {
-        first = s.await_line(from, &TOUCH_REPLIES, 5.0)?;
+    let touch_from = from;
+    let mut raw = raw;
+    let mut first;
+    if let Some(script) = script {
+        let glass = hal_sim::finger::Glass::for_size(lay.width(), lay.height())
+            .ok_or_else(|| format!("no glass of {}x{}", lay.width(), lay.height()))?;
+        s.set_glass(glass);
+        let end_s = script.end_ms() / 1000.0;
+        s.finger(script);
+        s.run_for(end_s + FINGER_TAIL_S)?;
+        // The arm ends on the last move; its reply may come later under a path or lift check.
+        first = last_move(&s, from);
+        if first.is_none() && deferred {
+            first = s.await_line(from, &["info touch "], 5.0)?;
+        }
+        let Some((line, _)) = &first else {
+            s.run_for(0.2)?;
+            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            let screen = out.join("screen.png");
+            s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
+            let json = Json::new()
+                .set("wiring", armsim::report::Val::Str(found.clone()))
+                .set("touches", armsim::report::Val::Raw(touches_json(&s, &lay, touch_from, t_touch)))
+                .render();
+            let json_path = out.join("summary.json");
+            std::fs::write(&json_path, json + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
+            print_boot(&s.avr.uart_output_string());
+            println!("finger script: no move");
+            println!("wrote {} and {}", screen.display(), json_path.display());
+            return Ok(());
+        };
+        if let Some(TouchRaw(x, y)) = move_raw(line) {
+            raw = (f64::from(x), f64::from(y));
+        }
+    } else {
+        s.press_raw(raw.0, raw.1)?;
+        first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
+        // The second touch needs the finger lifted at once; otherwise it rests
+        // as long as a tap does.
+        if then.is_none() {
+            s.run_for((t_touch + 0.3 - s.avr.time_s()).max(0.0))?;
+        }
+        s.release();
+        if then.is_none() {
+            s.run_for(0.2)?;
+        }
+        if first.is_none() && deferred {
+            first = s.await_line(from, &TOUCH_REPLIES, 5.0)?;
+        }
     }
     let text = s.avr.uart_output_string();
     let line = first.as_ref().map(|(l, _)| l.clone());
@@ -390,7 +513,8 @@ fn run(args: Args) -> Result<(), String> {
         .set("ts_s", ts)
         .set("wiring", armsim::report::Val::Str(found.clone()))
         .set("path", armsim::report::Val::Str(path))
-        .set("lift_h", armsim::report::Val::Raw(lift.map_or("null".to_string(), armsim::report::num)));
+        .set("lift_h", armsim::report::Val::Raw(lift.map_or("null".to_string(), armsim::report::num)))
+        .set("touches", armsim::report::Val::Raw(touches_json(&s, &lay, touch_from, t_touch)));
     let json = match &second {
         Some((then, line2, after)) => json
             .set("first_raw", armsim::report::Val::Raw(format!("[{}, {}]", first_raw.0, first_raw.1)))

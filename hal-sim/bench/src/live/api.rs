@@ -2,11 +2,15 @@
 //! is one line that says what is wrong, sent back with a 4xx status; nothing
 //! a client sends reaches the simulator unchecked.
 
+use hal_sim::finger::{self, FingerScript, Knot, Track};
 use serde_json::{Map, Value};
 use touch_arm::ui::layout::Layout;
 
 /// Largest request body read, bytes.
 pub const MAX_BODY: usize = 16 * 1024;
+/// Largest body of `/api/finger`, bytes: 10 000 samples of four numbers
+/// (~40 bytes each as a client writes them).
+pub const MAX_FINGER_BODY: usize = 512 * 1024;
 /// Longest command line passed to the firmware, bytes. The firmware itself
 /// refuses lines over 64 bytes (`err line too long`); a tester may want to
 /// see that, so the bench allows more, but not without bound.
@@ -100,6 +104,36 @@ pub fn touch(body: &[u8], lay: &Layout) -> Result<Press, Refusal> {
     let (x_px, y_px) = pixel(&m, lay)?;
     let ms = required(&m, "ms", 1, MAX_PRESS_MS)?;
     Ok(Press { x_px, y_px, ms: Some(ms) })
+}
+
+/// One contact's samples: `[[t_ms, x_px, y_px, force], ...]`.
+fn track(m: &Map<String, Value>, key: &str) -> Result<Option<Track>, Refusal> {
+    let Some(v) = m.get(key) else { return Ok(None) };
+    let rows = v.as_array().ok_or_else(|| bad(format!("{key} must be an array of [t_ms, x_px, y_px, force]")))?;
+    if rows.len() > finger::MAX_KNOTS {
+        return Err(bad(format!("{key}: {} samples, at most {}", rows.len(), finger::MAX_KNOTS)));
+    }
+    let mut knots = Vec::with_capacity(rows.len());
+    for (i, r) in rows.iter().enumerate() {
+        let vals: Option<Vec<f64>> =
+            r.as_array().filter(|a| a.len() == 4).map(|a| a.iter().filter_map(Value::as_f64).collect());
+        match vals {
+            Some(v) if v.len() == 4 => knots.push(Knot::new(v[0], v[1], v[2], v[3])),
+            _ => return Err(bad(format!("{key}[{i}] must be [t_ms, x_px, y_px, force] (four numbers), got {r}"))),
+        }
+    }
+    Track::new(knots).map(Some).map_err(|e| bad(format!("{key}: {e}")))
+}
+
+/// `POST /api/finger`: `{"samples": [[t_ms, x_px, y_px, force], ...],
+/// "second": [[...], ...]}` (`second` optional), a finger script starting
+/// now (`hal_sim::finger`): t_ms from 0, force 0 no contact and 1 a firm
+/// press, at most 10 000 samples and 60 s.
+pub fn finger(body: &[u8]) -> Result<FingerScript, Refusal> {
+    let m = object(body, &["samples", "second"])?;
+    let first = track(&m, "samples")?.ok_or_else(|| bad("missing field samples"))?;
+    let second = track(&m, "second")?;
+    FingerScript::new(first, second).map_err(bad)
 }
 
 /// `POST /api/press`: `{"x_px": X, "y_px": Y}`, held until `/api/release`
@@ -212,6 +246,50 @@ mod tests {
         assert!(console_since(Some("since=-1")).unwrap_err().reason.starts_with("since must be"));
         assert!(console_since(Some("since=x")).is_err());
         assert!(console_since(Some("from=3")).unwrap_err().reason.contains("unknown parameter"));
+    }
+
+    #[test]
+    fn finger_bodies() {
+        let s = finger(br#"{"samples": [[0, 100, 60, 1], [250, 102.5, 60, 1], [250, 102.5, 60, 0]]}"#).unwrap();
+        assert_eq!(s.first.knots().len(), 3);
+        assert_eq!(s.first.at(125.0), Some((101.25, 60.0, 1.0)));
+        assert_eq!(s.second, None);
+        let two = finger(
+            br#"{"samples": [[0, 10, 10, 1], [100, 10, 10, 1]], "second": [[0, 200, 100, 3], [100, 200, 100, 3]]}"#,
+        )
+        .unwrap();
+        assert_eq!(two.at(50.0)[1], Some((200.0, 100.0, 3.0)));
+        let many = format!(r#"{{"samples": [{}]}}"#, vec!["[0, 1, 1, 1]"; 10_001].join(","));
+        let split = format!(
+            r#"{{"samples": [{}], "second": [{}]}}"#,
+            vec!["[0, 1, 1, 1]"; 6000].join(","),
+            vec!["[0, 1, 1, 1]"; 6000].join(",")
+        );
+        for (body, why) in [
+            (&br#"{}"#[..], "missing field samples"),
+            (br#"{"samples": 5}"#, "samples must be an array of [t_ms, x_px, y_px, force]"),
+            (
+                br#"{"samples": [[0, 1, 2]]}"#,
+                "samples[0] must be [t_ms, x_px, y_px, force] (four numbers), got [0,1,2]",
+            ),
+            (br#"{"samples": [[0, 1, 2, "x"]]}"#, "samples[0] must be"),
+            (br#"{"samples": []}"#, "samples: a track needs at least one sample"),
+            (
+                br#"{"samples": [[10, 1, 1, 1], [5, 1, 1, 1]]}"#,
+                "samples: sample 1: t_ms 5 before the previous sample's 10",
+            ),
+            (br#"{"samples": [[60001, 1, 1, 1]]}"#, "samples: sample 0: t_ms 60001 outside 0..=60000"),
+            (br#"{"samples": [[0, 1, 1, -1]]}"#, "samples: sample 0: force -1 outside 0..=100"),
+            (br#"{"samples": [[0, 1, 1, 1]], "second": [[0, 1]]}"#, "second[0] must be"),
+            (br#"{"samples": [[0, 1, 1, 1]], "third": []}"#, "unknown field \"third\""),
+            (many.as_bytes(), "samples: 10001 samples, at most 10000"),
+            (split.as_bytes(), "12000 samples, at most 10000"),
+        ] {
+            let r = finger(body).unwrap_err();
+            assert_eq!(r.status, 400);
+            assert!(r.reason.starts_with(why), "{} vs {why}", r.reason);
+            assert!(!r.reason.contains('\n'));
+        }
     }
 
     #[test]

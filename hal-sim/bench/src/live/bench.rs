@@ -27,6 +27,7 @@ use super::pulses::PulsePairing;
 use super::screen::ScreenTracker;
 use super::serial::SerialRouter;
 use hal_sim::display::Framebuffer;
+use hal_sim::finger::Glass;
 use touch_arm_rig::firmware::{self, Session, CPU_HZ};
 use touch_arm_rig::lcd_bus::Chip;
 use touch_arm_rig::panel::PanelWiring;
@@ -55,6 +56,8 @@ const STALL_GIVE_UP_S: f64 = 2.0;
 /// What the HTTP threads ask of the bench. Each carries where the answer goes.
 pub enum Command {
     Press(Press, Sender<Result<Value, String>>),
+    /// A finger script (`/api/finger`), starting now.
+    Finger(Box<hal_sim::finger::FingerScript>, Sender<Result<Value, String>>),
     Release(Sender<Result<Value, String>>),
     Serial(String, Sender<Vec<String>>),
     Control(Control, Sender<Result<Value, String>>),
@@ -230,7 +233,8 @@ fn schedule(prev: Instant) -> Instant {
 
 impl Bench {
     fn new(opts: Options, shared: Arc<Mutex<Snapshot>>) -> Result<Bench, String> {
-        let session = Session::start_with_lcd(&opts.elf, opts.wiring, opts.lcd, opts.seed)?;
+        let mut session = Session::start_with_lcd(&opts.elf, opts.wiring, opts.lcd, opts.seed)?;
+        session.set_glass(glass_of(opts.lcd));
         let (layout, cal) = (opts.lcd.layout(), crate::shield::touch_calibration(opts.wiring));
         let opts_wiring = opts.wiring;
         let maps = firmware::default_servo_maps()?;
@@ -394,6 +398,11 @@ impl Bench {
             Command::Press(p, done) => {
                 let _ = done.send(self.press(p));
             }
+            Command::Finger(f, done) => {
+                self.session.finger(*f);
+                self.finger = None;
+                let _ = done.send(Ok(json!({ "t_s": self.now_s() })));
+            }
             Command::Release(done) => {
                 self.session.release();
                 self.finger = None;
@@ -432,14 +441,26 @@ impl Bench {
     }
 
     /// The finger at the centre of screen pixel (x, y), through the panel's
-    /// true response (`SimPanel::touch_xy` on panel coordinates), so the
-    /// firmware's own driver reads it through the ADC, noise included.
+    /// true response, so the firmware's own driver reads it through the ADC,
+    /// noise included: a timed press (`/api/touch`) is a steady finger
+    /// script of that duration; a held one (`/api/press`) stays until released.
     fn press(&mut self, p: Press) -> Result<Value, String> {
-        let (panel_x, panel_y) = self.layout.pixel_center_to_panel(p.x_px, p.y_px);
-        self.session.press_xy(f64::from(panel_x), f64::from(panel_y))?;
-        let hold_s = p.ms.map_or(MAX_HOLD_S, |ms| ms as f64 / 1000.0);
-        let until = self.cycles() + Self::s_to_cycles(hold_s);
-        self.finger = Some(Finger { px: (p.x_px, p.y_px), until });
+        match p.ms {
+            Some(ms) => {
+                self.session.finger(hal_sim::finger::FingerScript::steady(
+                    f64::from(p.x_px),
+                    f64::from(p.y_px),
+                    ms as f64,
+                ));
+                self.finger = None;
+            }
+            None => {
+                let (panel_x, panel_y) = self.layout.pixel_center_to_panel(p.x_px, p.y_px);
+                self.session.press_xy(f64::from(panel_x), f64::from(panel_y))?;
+                let until = self.cycles() + Self::s_to_cycles(MAX_HOLD_S);
+                self.finger = Some(Finger { px: (p.x_px, p.y_px), until });
+            }
+        }
         // What this pixel would target; the drawn target changes only when
         // the firmware reports the touch it confirmed.
         let target = arm::target_at_pixel(&self.layout, p.x_px, p.y_px);
@@ -451,6 +472,12 @@ impl Bench {
             "target": target.as_ref().map(Target::to_json),
         }))
     }
+}
+
+/// The glass finger scripts' pixels lie on: the controller's screen.
+fn glass_of(lcd: Chip) -> Glass {
+    let (w, h) = lcd.landscape_size();
+    Glass::for_size(w, h).unwrap_or(Glass::QVGA_28)
 }
 
 /// An initial snapshot for the HTTP side before the first tick.

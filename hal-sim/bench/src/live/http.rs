@@ -156,14 +156,14 @@ fn check_origin(req: &Request, port: u16) -> Result<(), Refusal> {
     Ok(())
 }
 
-fn read_body(req: &mut Request) -> Result<Vec<u8>, Refusal> {
+fn read_body(req: &mut Request, max: usize) -> Result<Vec<u8>, Refusal> {
     let mut body = Vec::new();
     req.as_reader()
-        .take(api::MAX_BODY as u64 + 1)
+        .take(max as u64 + 1)
         .read_to_end(&mut body)
         .map_err(|e| refuse(400, format!("reading the body: {e}")))?;
-    if body.len() > api::MAX_BODY {
-        return Err(refuse(413, format!("body over {} bytes", api::MAX_BODY)));
+    if body.len() > max {
+        return Err(refuse(413, format!("body over {max} bytes")));
     }
     Ok(body)
 }
@@ -192,15 +192,18 @@ fn handle(mut req: Request, ctx: &Context) {
         (Method::Get, "/api/screen.png") => screen::png(&ctx.snapshot().screen)
             .map(|png| response(200, "image/png", png))
             .map_err(|e| refuse(500, format!("encoding the screen: {e}"))),
+        (Method::Post, "/api/finger") => {
+            read_body(&mut req, api::MAX_FINGER_BODY).and_then(|body| post(&path, &body, ctx))
+        }
         (Method::Post, "/api/touch" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
-            read_body(&mut req).and_then(|body| post(&path, &body, ctx))
+            read_body(&mut req, api::MAX_BODY).and_then(|body| post(&path, &body, ctx))
         }
         (
             _,
             "/" | "/index.html" | "/app.js" | "/style.css" | "/favicon.ico" | "/api/state" | "/api/bench"
             | "/api/geometry" | "/api/screen.png" | "/api/console",
         ) => Err(refuse(405, format!("{path} takes GET"))),
-        (_, "/api/touch" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
+        (_, "/api/touch" | "/api/finger" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
             Err(refuse(405, format!("{path} takes POST with a JSON body")))
         }
         _ => Err(refuse(404, format!("no such endpoint: {path}"))),
@@ -219,6 +222,10 @@ fn post(path: &str, body: &[u8], ctx: &Context) -> Result<Body, Refusal> {
         "/api/touch" => {
             let p = api::touch(body, &ctx.layout)?;
             conflict(ctx.ask(|tx| Command::Press(p, tx), BENCH_TIMEOUT)?)?
+        }
+        "/api/finger" => {
+            let f = api::finger(body)?;
+            conflict(ctx.ask(|tx| Command::Finger(Box::new(f), tx), BENCH_TIMEOUT)?)?
         }
         "/api/press" => {
             let p = api::press(body, &ctx.layout)?;

@@ -11,7 +11,8 @@
 //! | request | answer |
 //! | --- | --- |
 //! | `GET /api/state` | `{"state", "t_s", "pulses_us": [b, s, e], "angles_deg": [b, s, e], "grip_pulse_us", "grip_deg", "screen_seq"}` |
-//! | `POST /api/touch` `{"x_px", "y_px", "ms"}` | a press of `ms` ms at screen pixel (x, y) |
+//! | `POST /api/touch` `{"x_px", "y_px", "ms"}` | a steady finger of `ms` ms at screen pixel (x, y) |
+//! | `POST /api/finger` `{"samples": [[t_ms, x_px, y_px, force], ...], "second"?: [...]}` | a finger script starting now (≤ 10 000 samples, ≤ 60 s): `{"t_s"}` |
 //! | `POST /api/serial` `{"line"}` | `{"replies": [...]}`: the firmware's answer lines within 1 s (30 s for a command that plans a move: its check may take seconds) |
 //! | `GET /api/console?since=N` | `{"lines": [...], "next": M, "first": F}`: every line the firmware sent from line N on (at most 5 000; `first` is the oldest kept) |
 //! | `GET /api/screen.png` | the screen as the firmware drew it |

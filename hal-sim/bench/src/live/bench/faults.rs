@@ -57,6 +57,7 @@ impl Bench {
         let base = self.cycles();
         let seed = self.opts.seed.wrapping_add(u64::from(self.power_ups));
         let mut s = Session::start_with_lcd(&self.opts.elf, self.opts.wiring, self.opts.lcd, seed)?;
+        s.set_glass(super::glass_of(self.opts.lcd));
         s.avr.set_eeprom(0, &eeprom).map_err(|e| e.to_string())?;
         self.session = s;
         self.cycle_base = base;
