@@ -15,7 +15,7 @@
 //! | `POST /api/serial` `{"line"}` | `{"replies": [...]}`: the firmware's answer lines within 1 s |
 //! | `GET /api/screen.png` | the screen as the firmware drew it |
 //! | `POST /api/press` `{"x_px", "y_px"}` / `POST /api/release` | the page's press-and-drag |
-//! | `POST /api/control` `{"action", "addr"?}` | `power_cycle`, `corrupt_eeprom`, `noise_on`, `noise_off`, `stall` |
+//! | `POST /api/control` `{"action", "addr"?}` | `power_cycle`, `reset` (the RESET pin: RAM kept), `corrupt_eeprom`, `noise_on`, `noise_off`, `stall` |
 //! | `GET /api/bench` | pacing figures and fault switches |
 //! | `GET /api/geometry` | arm links, map layout and reachable map pixels |
 //! | `GET /api/events` | server-sent events: `screen`, `history`, `serial`, `state` |
