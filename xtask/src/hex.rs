@@ -12,7 +12,6 @@
 use std::collections::BTreeMap;
 
 use object::read::elf::ProgramHeader;
-use object::Object;
 
 use crate::elf::{Image, DATA_SPACE};
 
