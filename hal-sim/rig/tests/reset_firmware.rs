@@ -3,8 +3,10 @@
 //! mid-hold and mid-move, the first pulses of every servo (the gripper's
 //! too) are the last ones before the reset, to the tick; the arm holds there
 //! and its first move runs at the slow preset; a power cycle (SRAM garbage
-//! or zero) still homes; a resumed pulse the saved calibration does not
-//! allow is pulled into its window and reported, never sent.
+//! or zero) still homes, and so does a brown-out that RAM survived, while a
+//! reset with no flag (a bootloader that cleared MCUSR) resumes; a resumed
+//! pulse the saved calibration does not allow is pulled into its window and
+//! reported, never sent.
 //!
 //! Speed bounds, in Timer5 ticks (0.5 µs) per 20 ms frame, with the default
 //! calibration (1800/π ≈ 572.96 µs/rad, 3 rad/s max): at full speed
@@ -222,5 +224,25 @@ fn a_resumed_pulse_outside_the_saved_limits_is_clamped_and_reported() {
     assert!(after[0].iter().all(|t| *t == 4000), "{:?}", after[0]);
     for j in 1..4 {
         assert!(after[j].iter().all(|t| *t == before[j]), "output {j}");
+    }
+}
+
+/// The reset flags decide with the block: a brown-out that RAM survived
+/// still homes (the supply failed; the servos may have sagged), and a reset
+/// with no flag at all (a bootloader that read and cleared MCUSR) resumes
+/// on the block's validity alone.
+#[test]
+fn a_brown_out_homes_and_a_reset_without_flags_resumes() {
+    for (flags, first, want) in [
+        (4u8, " reset brownout\r\n", "info reset brown-out home"),
+        (0, " reset unknown\r\n", "info reset unknown resume pulses 1500 1600 1400 600"),
+    ] {
+        let mut s = moved();
+        to_mid_period(&mut s);
+        let from = s.avr.uart_output().len();
+        s.avr.reset_with_mcusr(flags);
+        assert_eq!(reset_line(&mut s, from), want);
+        let out = String::from_utf8_lossy(&s.avr.uart_output()[from..]).to_string();
+        assert!(out.contains(first), "{out}");
     }
 }

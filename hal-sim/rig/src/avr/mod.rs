@@ -458,6 +458,16 @@ impl Avr {
         self.reset_with_flags(MCUSR_PORF);
     }
 
+    /// A reset that keeps SRAM with MCUSR set to exactly `flags` (PORF 1,
+    /// EXTRF 2, BORF 4, WDRF 8): a brown-out that RAM survived (BORF), or
+    /// what the app sees behind a bootloader that cleared the flags (0).
+    pub fn reset_with_mcusr(&mut self, flags: u8) {
+        if let Some(m) = self.data_mut().get_mut(MCUSR) {
+            *m = 0;
+        }
+        self.reset_with_flags(flags);
+    }
+
     fn reset_with_flags(&mut self, flags: u8) {
         // avr_reset keeps the MCUSR flags it finds (it clears the other
         // I/O registers), so they are set first.
