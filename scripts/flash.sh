@@ -8,10 +8,10 @@
 # FILE defaults to target/avr-none/release/touch-arm.elf. The port comes from
 # --port, else $TOUCH_ARM_PORT, else the first /dev/ttyACM* or /dev/ttyUSB*.
 # --dry-run prints the exact ravedude command and changes nothing.
-# Also the cargo runner for avr-none: `cargo avr-run` (cargo run --release for
-# the firmware) builds, flashes and opens the console; `cargo avr-run
-# --example panel-probe` does the same with an example, and options go after
-# `--` (`cargo avr-run -- --port /dev/ttyUSB0`).
+# The cargo runner is ravedude itself (.cargo/config.toml): `cargo avr-run`
+# builds, flashes and opens the console on any OS, ravedude finding the Mega
+# by its USB ids; this script stays for --dry-run and the port rules above,
+# and flashes any ELF given (`scripts/flash.sh target/.../panel-probe.elf`).
 set -euo pipefail
 caller=$PWD
 cd "$(dirname "$0")/.."
@@ -60,4 +60,13 @@ fi
 command -v ravedude >/dev/null || { echo "flash: ravedude not installed (scripts/setup.sh installs it)" >&2; exit 1; }
 command -v avrdude >/dev/null || { echo "flash: avrdude not installed (scripts/setup.sh installs it)" >&2; exit 1; }
 echo "flash: ${cmd[*]}"
+if [ "$console" -eq 0 ]; then
+    # Ravedude.toml opens the console (open-console, for `cargo avr-run`):
+    # without it, ravedude runs beside a copy that does not.
+    case "$elf" in /*) ;; *) elf=$PWD/$elf ;; esac
+    cmd[${#cmd[@]}-1]=$elf
+    tmp=$(mktemp -d)
+    grep -v '^open-console' Ravedude.toml >"$tmp/Ravedude.toml"
+    cd "$tmp"
+fi
 exec "${cmd[@]}"

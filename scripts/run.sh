@@ -3,6 +3,7 @@
 #   scripts/run.sh [--xy X,Y | --raw X,Y]    one touch, results in out/
 #       [--lcd C] [--wiring a|b|c]           the simulated display controller and touch wiring
 #       [--grip open|close]                  a grip after the move
+#       [--reset]                            the RESET pin once the arm has arrived
 #       [--law LAW] [--path joint|line | --lift H] [--then X2,Y2@MS]
 #                                            sent over serial before the touch:
 #                                            --path line: along the straight line;

@@ -5,20 +5,24 @@
 //! filtered touch read, the motion setpoint, the servo pulses), then redraws
 //! what changed on the screen (whichever controller the boot probe found,
 //! `ui::controller`), as much as fits in the period (`board::frame`). The watchdog
-//! is fed once per frame, so a hang resets the chip into its power-up state
-//! (no pulses until the configuration is loaded and the home pose commanded).
+//! is fed once per frame, so a hang resets the chip. A reset that keeps RAM
+//! (watchdog, RESET pin) resumes the pulses the servos had (`board::resume`,
+//! `app::resume`); a power-up sends no pulse until the configuration is
+//! loaded and then the home pose.
 #![no_std]
 #![no_main]
 
 use core::mem::MaybeUninit;
 
 use avr_device::atmega2560 as pac;
+use touch_arm::app::resume::{ResetKind, Restart};
 use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
 use touch_arm::board::frame::{self, FrameBudget};
 use touch_arm::board::lcd::{Controller, IdReads, Lcd, Rotation};
+use touch_arm::board::resume;
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS, SERVO_RANGE};
 use touch_arm::board::shield::ShieldBus;
 use touch_arm::board::shield::TouchWiring;
@@ -78,6 +82,8 @@ fn main() -> ! {
     unsafe { avr_device::interrupt::enable() };
 
     report_boot(&mut board.serial, cause);
+    // Taken after the boot frame (below): resume or home.
+    let mut restart = Some(cause);
     // The screen: reset, which controller, its initialisation, landscape
     // (≈ 270 ms, more for the ILI9325; before the watchdog runs), with the
     // stored display overrides (`config::lcd`: a forced controller, colours
@@ -104,7 +110,14 @@ fn main() -> ! {
     loop {
         while !board.pwm.period_started() {}
         board.dog.feed();
+        // The widths this period sends (set in the previous frame), so a
+        // reset from here on resumes the pulses the servos last got.
+        resume::record(&board.pwm);
         frame(app, &mut board);
+        // After the boot frame (configuration loaded), before any pulse.
+        if let Some(cause) = restart.take() {
+            resume_or_home(app, cause, &mut board.serial);
+        }
         if !app.pulses_started() && app.wiring_probe_wanted() {
             // First boot: the whole probe before the first pulse, outside the
             // frame cadence like the display's start-up (no pulse is due
@@ -249,6 +262,31 @@ fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>, dis
 /// The configured pulse limits per joint, in Timer5 ticks (0.5 µs).
 fn tick_limits(cfg: &Config) -> [TickLimits; CHANNELS] {
     cfg.joints.map(|j| TickLimits::of_joint(&j))
+}
+
+/// After the boot frame: the pulses of the last period before the reset,
+/// if RAM kept them and the cause allows, else the home pose; the app says
+/// which (`info reset …`). Out of line, so the block's copy is not in
+/// `main`'s frame, which sits under every other.
+#[inline(never)] // avr-trap: frame-size
+fn resume_or_home(app: &mut App, cause: ResetCause, serial: &mut Usart0) {
+    app.restart(&Restart { kind: reset_kind(cause), pulses: resume::load() }, serial);
+}
+
+/// The reset flags as `app::resume` judges them: a power-on or brown-out
+/// flag wins over the others (RAM may be lost then).
+fn reset_kind(c: ResetCause) -> ResetKind {
+    if c.power_on() {
+        ResetKind::PowerOn
+    } else if c.brown_out() {
+        ResetKind::BrownOut
+    } else if c.watchdog() {
+        ResetKind::Watchdog
+    } else if c.external() {
+        ResetKind::External
+    } else {
+        ResetKind::Unknown
+    }
 }
 
 fn reset_name(c: ResetCause) -> touch_arm::text::Text {

@@ -88,20 +88,21 @@ fn unknown_option_is_refused() {
 }
 
 /// `cargo avr-run` is `cargo run --release` for the firmware: cargo builds
-/// the ELF and hands it to the runner (`scripts/flash.sh`) with the options
-/// after `--`. The firmware is already built by the test command, so this is
-/// a fingerprint check, not a build.
+/// the ELF and hands it to the runner, ravedude itself (no shell script, so
+/// it runs on every OS), with the options after `--`. `--dump-config` shows
+/// ravedude got them and reads Ravedude.toml, its console on. The firmware is
+/// already built by the test command, so this is a fingerprint check, not a
+/// build.
 #[test]
-fn cargo_avr_run_hands_the_firmware_to_the_runner() {
+fn cargo_avr_run_hands_the_firmware_to_ravedude() {
     let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-    cmd.args(["avr-run", "--quiet", "--", "--dry-run", "--port", "/dev/ttyACM9"]).current_dir(root());
+    cmd.args(["avr-run", "--quiet", "--", "--dump-config"]).current_dir(root());
     let (code, out, err) = run(cmd, &[]);
     assert_eq!(code, 0, "{err}");
-    let elf = out.trim_end().strip_prefix("ravedude -P /dev/ttyACM9 -c ").unwrap_or_else(|| panic!("{out}"));
-    assert!(elf.ends_with("/avr-none/release/touch-arm.elf") && PathBuf::from(elf).is_file(), "{out}");
-    // The alias no longer shadows probe-rs's `cargo flash`.
+    assert!(out.contains("board = \"mega2560\"") && out.contains("open-console = true"), "{out}");
     let config = std::fs::read_to_string(root().join(".cargo/config.toml")).unwrap();
-    assert!(config.contains("runner = \"scripts/flash.sh\""));
+    assert!(config.contains("runner = \"ravedude\""), "{config}");
+    // The alias no longer shadows probe-rs's `cargo flash`.
     assert!(!config.lines().any(|l| l.trim_start().starts_with("flash =")), "{config}");
 }
 
@@ -125,4 +126,7 @@ fn ravedude_config_is_the_mega_bootloader_and_a_115200_console() {
     assert_eq!(value("baudrate"), "115200");
     // No chip erase (avrdude -D, as the flash script always did).
     assert_eq!(value("do-chip-erase"), "false");
+    // `cargo avr-run` opens the console after flashing (avr-hal-template's
+    // `open-console`).
+    assert_eq!(value("open-console"), "true");
 }

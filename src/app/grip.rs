@@ -144,6 +144,13 @@ impl App {
         }
     }
 
+    /// After a reset that kept RAM (`resume.rs`): the gripper holds the
+    /// resumed pulse's angle `q` instead of opening.
+    pub(super) fn grip_hold_resumed(&mut self, q: f32) {
+        self.grip.commanded = q;
+        self.grip.target = q;
+    }
+
     /// `grip open|close|<deg>`: checked now, planned after the pulses.
     // The gripper's commands are not inlined into `execute`: their locals
     // would sit in its frame under the deepest path (a calibration slew's

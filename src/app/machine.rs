@@ -121,6 +121,17 @@ impl App {
         }
     }
 
+    /// After a reset that kept RAM (`resume.rs`): hold `pose` (the resumed
+    /// pulses' angles, inside the output windows) instead of homing, and
+    /// take targets from the next frame; the first move stays slow.
+    pub(super) fn hold_resumed(&mut self, pose: &[f32; JOINTS]) {
+        // The track is idle (nothing has moved since `App::new`): the next
+        // move starts from `commanded`.
+        self.commanded = *pose;
+        self.last_move.target = *pose;
+        self.mode = Mode::Run;
+    }
+
     /// `pose` with every angle pulled into its joint's output window (angle
     /// and pulse limits), so the pose describes the pulses the servos get.
     fn clamp_to_limits(&self, pose: &[f32; JOINTS]) -> [f32; JOINTS] {

@@ -112,6 +112,7 @@ mod path_move;
 mod poses;
 mod recalibrate;
 pub mod refusal;
+pub mod resume;
 mod screen;
 mod serial;
 mod telemetry;

@@ -12,10 +12,15 @@ use super::usart::Usart0;
 /// sleep with interrupts off ends the run.
 pub fn halt() -> ! {
     avr_device::interrupt::disable();
-    // SAFETY: normal operation is abandoned; only the Timer5 compare outputs
+    // SAFETY: normal operation is abandoned; only the Timer5 and Timer1 compare outputs
     // and the sleep control are touched.
     let dp = unsafe { pac::Peripherals::steal() };
     dp.TC5.tccr5a().write(|w| w.com5a().disconnected().com5b().disconnected().com5c().disconnected());
+    // The gripper's OC1A too (it kept pulsing before issue #21).
+    dp.TC1.tccr1a().write(|w| w.com1a().disconnected().com1b().disconnected().com1c().disconnected());
+    // The servos go limp: a reset after this must not command the pulses
+    // they had (`board::resume`).
+    super::resume::forget();
     dp.CPU.smcr().write(|w| w.se().set_bit());
     loop {
         avr_device::asm::sleep();

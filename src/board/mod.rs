@@ -23,6 +23,7 @@ pub mod gpio;
 pub mod lcd;
 #[cfg(feature = "mipidsi")]
 pub mod mipidsi;
+pub mod resume;
 pub mod servo_pwm;
 pub mod shield;
 pub mod stack;

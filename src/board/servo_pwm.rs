@@ -164,6 +164,29 @@ impl ServoPwm {
         self.enabled = [false; OUTPUTS];
     }
 
+    /// The widths set last, for the reset block (`board::resume`): read at
+    /// a period start, they are the pulses of that period. `None` until
+    /// every joint has a pulse; the gripper's is `None` until it has one.
+    pub fn snapshot(&self) -> Option<crate::app::resume::Snapshot> {
+        let [eb, es, ee, eg] = self.enabled;
+        if !(eb && es && ee) {
+            return None;
+        }
+        // OCRnx reads its buffer, the width set last (kept here rather than
+        // in a copy: `ServoPwm` lives in `main`'s frame). 16-bit reads go
+        // through the shared TEMP byte: no interrupt in between.
+        let [b, s, e, g] = avr_device::interrupt::free(|_| {
+            [
+                self.tc5.ocr5a().read().bits(),
+                self.tc5.ocr5b().read().bits(),
+                self.tc5.ocr5c().read().bits(),
+                self.tc1.ocr1a().read().bits(),
+            ]
+        })
+        .map(|ocr| ocr.wrapping_add(1));
+        Some(crate::app::resume::Snapshot { joints: [b, s, e], grip: eg.then_some(g) })
+    }
+
     /// Timer ticks (0.5 µs, 8 CPU cycles) since the current period started.
     pub fn ticks(&self) -> u16 {
         // 16-bit read through the shared TEMP byte: keep interrupts out.

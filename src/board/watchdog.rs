@@ -1,6 +1,8 @@
-//! Watchdog: a hung main loop resets the chip, and a reset is a safe state
-//! (the servo PWM starts with its outputs disconnected, so the arm goes limp
-//! instead of holding or chasing a stale target).
+//! Watchdog: a hung main loop resets the chip, and a reset is a safe state:
+//! the servo PWM starts with its outputs disconnected until the app has
+//! loaded its configuration, and then sends the pulses the servos had before
+//! the reset (`board::resume`: the arm holds where it was, the interrupted
+//! move is not continued) or, after a power-up, the home pose.
 //!
 //! Boot order matters. After a watchdog reset the hardware sets WDRF, and
 //! while WDRF is set the watchdog stays enabled (WDE forced on) with its

@@ -33,6 +33,9 @@ pub enum Command {
     BenchReport(bench_report::Args),
     /// Runs an AVR ELF in simavr until it prints `done`.
     AvrRun(AvrRunArgs),
+    /// Builds the firmware and writes it as Intel HEX (`cargo avr-hex`):
+    /// target/avr-none/release/touch-arm.hex, for avrdude or any uploader.
+    AvrHex(AvrHexArgs),
     /// Prints BENCHMARKS.md's section on the time-optimal reference, which
     /// the host computes alone (no bench run).
     BenchOptimal,
@@ -44,6 +47,7 @@ pub fn run(cmd: &Command) -> ExitCode {
         Command::ElfCheck(a) => elf_check(a),
         Command::BenchReport(a) => report(bench_report::run(a), "bench-report"),
         Command::AvrRun(a) => avr_run(a),
+        Command::AvrHex(a) => report(avr_hex(a), "avr-hex"),
         Command::BenchOptimal => {
             report(crate::bench_report::optimal::section().map(|s| print!("{s}")), "bench-optimal")
         }
@@ -59,6 +63,49 @@ fn report(r: Result<(), String>, prog: &str) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// `cargo avr-hex`'s arguments.
+#[derive(Args, Debug)]
+pub struct AvrHexArgs {
+    /// The ELF to convert, as it is (no build) [default: build the firmware
+    /// (the `touch-arm` binary, release, avr-none) and convert
+    /// target/avr-none/release/touch-arm.elf]
+    #[arg(long, value_name = "FILE")]
+    pub elf: Option<PathBuf>,
+    /// Where to write [default: the ELF's path with `.hex`]
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Builds (unless `--elf`) and writes the Intel HEX; prints where and how
+/// many bytes.
+pub fn avr_hex(args: &AvrHexArgs) -> Result<(), String> {
+    let elf = match &args.elf {
+        Some(p) => p.clone(),
+        None => {
+            // The product binary only, as `cargo avr` builds it.
+            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+            let status = std::process::Command::new(cargo)
+                .current_dir(firmware::workspace_root())
+                .args(["build", "--release", "--target", "avr-none", "-Z", "build-std=core"])
+                .args(["--features", "firmware", "-p", "touch-arm", "--bin", "touch-arm"])
+                .status()
+                .map_err(|e| format!("cargo: {e}"))?;
+            if !status.success() {
+                return Err("building the firmware failed".into());
+            }
+            firmware::default_elf()
+        }
+    };
+    let bytes = std::fs::read(&elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let image = elf::Image::parse(&bytes).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let segments = crate::hex::flash_segments(&image)?;
+    let out = args.out.clone().unwrap_or_else(|| elf.with_extension("hex"));
+    std::fs::write(&out, crate::hex::encode(&segments)).map_err(|e| format!("{}: {e}", out.display()))?;
+    let total: usize = segments.iter().map(|(_, b)| b.len()).sum();
+    println!("avr-hex: wrote {} ({total} bytes of flash)", out.display());
+    Ok(())
 }
 
 /// The firmware ELFs to check.

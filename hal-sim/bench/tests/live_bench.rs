@@ -395,3 +395,34 @@ fn a_larger_screen_and_wiring_c_still_land_on_the_host_target() {
     assert_eq!((&png[16..20], &png[20..24]), (&480u32.to_be_bytes()[..], &320u32.to_be_bytes()[..]));
     bench.stop();
 }
+
+/// `POST /api/control {"action": "reset"}`: the RESET pin. The chip
+/// restarts with its RAM, so the firmware resumes the pulses the servos had
+/// (a moved pose, not home) and says so; it is no watchdog reset.
+#[test]
+fn an_external_reset_resumes_the_pulses_the_servos_had() {
+    let bench = start();
+    let a = bench.addr();
+    holding(a);
+    let replies = serial(a, "goto 60 120 -70");
+    assert!(replies.last().is_some_and(|l| l.starts_with("ok goto")), "{replies:?}");
+    // 60° 120° −70°: 1200, 1800 and 1700 µs (600 + 10 µs per degree; the elbow 2400 − 700).
+    let want = [1200.0, 1800.0, 1700.0];
+    let moved = wait_state(a, "the arm arrives", 10.0, |s| {
+        s["state"] == "holding" && pulses(s).iter().zip(want).all(|(p, w)| (p - w).abs() < 0.5)
+    });
+    let r = ok(a, "/api/control", json!({ "action": "reset" }));
+    assert_eq!(r["external_resets"], 1, "{r}");
+    assert!(r["t_s"].as_f64().unwrap() >= moved["t_s"].as_f64().unwrap());
+    assert_eq!(get(a, "/api/state")["state"], "booting");
+    let s = holding(a);
+    for (j, (p, w)) in pulses(&s).iter().zip(want).enumerate() {
+        assert!((p - w).abs() < 0.5, "joint {j} after the reset: {p} µs, not the {w} µs it had");
+    }
+    let b = get(a, "/api/bench");
+    assert_eq!(b["watchdog_resets"], 0, "{b}");
+    assert_eq!(b["external_resets"], 1, "{b}");
+    let status = serial(a, "status");
+    assert!(status[0].starts_with("ok status holding") && status[0].contains("first_move_slow"), "{status:?}");
+    bench.stop();
+}

@@ -372,3 +372,30 @@ fn main_job_plays_a_finger_script() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("line 2: 3 values, the header has 4"));
     let _ = std::fs::remove_file(&bad);
 }
+
+/// `--reset`: the RESET pin once the arm has arrived. The firmware reboots
+/// with its RAM and resumes the pulses it had: pulses.csv runs on through
+/// the reboot, its last row before the gap and its first after it equal,
+/// and every row after the arrival holds the final pulses (no jump home).
+#[test]
+fn main_job_resets_once_the_arm_has_arrived_and_the_pulses_run_on() {
+    let (dir, summary, stdout) = run_job(&["--xy", "0.4,0.6", "--reset"], "reset");
+    let line = summary["reset_line"].as_str().unwrap();
+    assert_eq!(line, "info reset external resume pulses 1162 1849 1026 600", "{summary}");
+    assert_eq!(summary["pulses_before_reset_us"], summary["pulses_after_reset_us"], "{summary}");
+    assert_eq!(summary["pulses_after_reset_us"], summary["final_pulses_us"], "{summary}");
+    let gap = summary["reset_gap_s"].as_f64().unwrap();
+    // The display's start-up and the boot frame: no pulse for a few hundred ms.
+    assert!(gap > 0.1 && gap < 1.0, "{gap}");
+    assert!(stdout.contains("external reset at "), "{stdout}");
+    let csv = std::fs::read_to_string(dir.join("pulses.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    let at = summary["reset_at_s"].as_f64().unwrap();
+    let k = rows.iter().position(|r| r[0] > at).expect("rows after the reset");
+    assert!(rows[k][0] - rows[k - 1][0] > 0.1, "the gap is in pulses.csv");
+    assert!(rows.len() - k > 40, "a second of pulses after the reboot");
+    let finals: Vec<f64> = summary["final_pulses_us"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    for r in &rows[k - 5..] {
+        assert_eq!(&r[1..4], &finals[..], "row {r:?}");
+    }
+}

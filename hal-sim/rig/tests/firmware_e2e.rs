@@ -375,7 +375,7 @@ fn the_boot_line_names_the_version_and_the_commit() {
 }
 
 #[test]
-fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
+fn a_hang_resets_through_the_watchdog_and_the_arm_holds_where_it_was() {
     let mut s = start();
     assert!(s.command("goto 30 120 -60").unwrap().starts_with("ok goto"));
     s.run_for(0.5).unwrap();
@@ -383,6 +383,7 @@ fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
     // for a PWM period that never comes, so nothing feeds the watchdog.
     s.avr.write_io(0x121, 0).unwrap();
     let t_hang = s.avr.time_s();
+    let last = s.last_pulses();
     s.avr.run_until_output(b"reset watchdog", firmware::CPU_HZ as u64).expect("watchdog reset within 1 s");
     let t_reset = s.avr.time_s();
     assert!(
@@ -390,16 +391,20 @@ fn a_hang_resets_through_the_watchdog_into_the_safe_state() {
         "watchdog fired after {:.3} s (500 ms timeout)",
         t_reset - t_hang
     );
-    // After the reset: no pulses until the configuration is loaded, then the
-    // home pose, never the interrupted move's target.
+    // After the reset: no pulses until the configuration is loaded, then
+    // the pulses of the last frame before the hang (RAM kept them,
+    // `board::resume`): neither home nor the interrupted move's target.
     s.avr.clear_edges();
     s.run_for(1.5).unwrap();
     let out = s.avr.uart_output_string();
     assert!(out.contains("info boot config"), "{out}");
-    for p in s.pulses() {
+    assert!(out.contains("info reset watchdog resume pulses "), "{out}");
+    for (p, was) in s.pulses().iter().zip(last) {
+        let was = was.expect("pulses before the hang");
         assert!(!p.is_empty());
-        assert!(p.iter().all(|(_, w)| (w - 1500.0).abs() <= 0.5), "after the reset the servos get the home pose");
+        assert!(p.iter().all(|(_, w)| *w == was), "after the reset the servos hold {was} us: {p:?}");
     }
+    assert!(s.last_pulses()[0] != Some(1500.0) && s.last_pulses()[0] != Some(900.0), "{:?}", s.last_pulses());
     assert!(s.command("status").unwrap().starts_with("ok status holding"));
 }
 

@@ -157,7 +157,7 @@ fn the_firmware_survives_ten_thousand_random_inputs() {
     let out = soak.s.avr.uart_output_string();
     assert!(!out.contains("PANIC"), "the firmware panicked");
     assert_eq!(soak.s.avr.resets(), soak.provoked, "resets other than the provoked watchdog ones");
-    assert_eq!(out.matches("reset watchdog").count() as u32, soak.provoked);
+    assert_eq!(out.matches("info reset watchdog ").count() as u32, soak.provoked);
     eprintln!(
         "soak: {lines} lines ({} to answer, all answered; {floods} floods), {touches} touches, {} watchdog resets provoked, {} pulses checked, {:.0} s simulated",
         soak.sent,

@@ -173,11 +173,16 @@ pub fn of(image: &Image) -> FlashMap {
     let mut unattributed = Vec::new();
     let mut total = 0;
     // The sections whose bytes are written to flash: code below the data
-    // space, and `.data` (its initializers), not the EEPROM.
+    // space, and `.data` (its initializers), not the EEPROM, nor `.noinit`
+    // (RAM the start-up code leaves alone, `board::resume`; rustc gives it
+    // contents, zeros that no loader writes anywhere).
     for section in image.file.sections() {
         let (start, size) = (section.address(), section.size());
+        let noinit = section.name().is_ok_and(|n| n.starts_with(".noinit"));
         let flash = section.kind() == object::SectionKind::Text && start < DATA_SPACE
-            || section.kind() == object::SectionKind::Data && (DATA_SPACE..DATA_SPACE + 0x1_0000).contains(&start);
+            || section.kind() == object::SectionKind::Data
+                && (DATA_SPACE..DATA_SPACE + 0x1_0000).contains(&start)
+                && !noinit;
         if !flash || size == 0 {
             continue;
         }

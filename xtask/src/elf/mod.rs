@@ -128,7 +128,8 @@ impl<'a> Image<'a> {
             .sum()
     }
 
-    /// Static RAM: `.data` + `.bss` (every allocated section in data space).
+    /// Static RAM: `.data` + `.bss` + `.noinit` (every allocated section in
+    /// data space).
     pub fn static_ram(&self) -> u64 {
         self.loaded_sections()
             .filter(|s| s.address() >= DATA_SPACE && s.address() < DATA_SPACE + 0x1_0000)

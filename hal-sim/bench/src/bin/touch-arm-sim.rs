@@ -42,6 +42,16 @@
 //! arrived and records the gripper's pulses until it rests (the first grip
 //! after power-up runs at the slow preset).
 //!
+//! `--reset` pulls the RESET pin once the arm has arrived (after the grip,
+//! with `--grip`), in the middle of a PWM period (a reset during a pulse
+//! cuts that pulse short, on the chip too): the chip restarts with its RAM, and the firmware resumes
+//! the pulses the servos had (issue #21 §1). `pulses.csv` runs on through
+//! the reboot (no row for the ~0.3 s without pulses while it boots), and
+//! `summary.json` gains `reset_line` (the firmware's `info reset …`),
+//! `reset_at_s`, `reset_gap_s` (from the last pulse before to the first
+//! after), `pulses_before_reset_us` and `pulses_after_reset_us` (the last
+//! and the first, per joint).
+//!
 //! A `--raw` press on a button or a guard band moves nothing: the job prints
 //! what the screen did with it and writes `screen.png` only.
 //!
@@ -114,6 +124,9 @@ struct Args {
     /// Lift by H (workspace units, 0 < H <= 0.5, two decimals at most) through a via pose, sent over serial (`lift H`) before the touch
     #[arg(long, value_name = "H", value_parser = lift_height, conflicts_with = "then")]
     lift: Option<u8>,
+    /// An external reset (the RESET pin, RAM kept) once the arm has arrived; pulses.csv runs on through the reboot
+    #[arg(long)]
+    reset: bool,
     /// A finger script instead of the press: CSV t_ms,x_px,y_px,force[,x2_px,y2_px,force2] in screen pixels
     #[arg(long, value_name = "FILE", conflicts_with_all = ["xy", "raw", "then"])]
     finger: Option<PathBuf>,
@@ -441,6 +454,30 @@ fn run(args: Args) -> Result<(), String> {
         }
         None => None,
     };
+    // The RESET pin once the arm rests: the firmware reboots with its RAM.
+    let reset = if args.reset {
+        // In the middle of a PWM period, clear of the pulses (at most 2.5 ms
+        // after each period start): a reset during one cuts it short, on the
+        // chip as here (a twitch towards a shorter pulse).
+        if let Some((last, _)) = s.pulse_ticks()[0].last().copied() {
+            let period = 0.02;
+            let phase = (s.avr.time_s() - last).rem_euclid(period);
+            s.run_for((period / 2.0 - phase).rem_euclid(period).max(1e-6))?;
+        }
+        let from = s.avr.uart_output().len();
+        let at = s.avr.time_s();
+        s.avr.external_reset();
+        let Some((line, _)) = s.await_line(from, &["info reset "], 3.0)? else {
+            return Err(format!(
+                "no `info reset` line after the external reset:\n{}",
+                String::from_utf8_lossy(&s.avr.uart_output()[from..])
+            ));
+        };
+        s.run_for(1.0)?;
+        Some((at, line))
+    } else {
+        None
+    };
     let first_raw = raw;
     let raw = end_raw;
 
@@ -531,6 +568,24 @@ fn run(args: Args) -> Result<(), String> {
             .set("grip_ts_s", *ts)
             .set("grip_final_us", grip_rows.iter().rev().find_map(|w| *w).unwrap_or(f64::NAN)),
         None => json,
+    };
+    // The last pulse before the reset and the first after, per joint.
+    let around = reset.as_ref().map(|(at, _)| {
+        let last =
+            |j: usize| trains[j].iter().take(n).rev().find(|(t, _)| t < at).copied().unwrap_or((f64::NAN, f64::NAN));
+        let next = |j: usize| trains[j].iter().take(n).find(|(t, _)| t > at).copied().unwrap_or((f64::NAN, f64::NAN));
+        let before: Vec<f64> = (0..3).map(|j| last(j).1).collect();
+        let after: Vec<f64> = (0..3).map(|j| next(j).1).collect();
+        (before, after, next(0).0 - last(0).0)
+    });
+    let json = match (&reset, &around) {
+        (Some((at, line)), Some((before, after, gap))) => json
+            .set("reset_line", armsim::report::Val::Str(line.clone()))
+            .set("reset_at_s", *at)
+            .set("reset_gap_s", *gap)
+            .set("pulses_before_reset_us", armsim::report::Val::Raw(list(before)))
+            .set("pulses_after_reset_us", armsim::report::Val::Raw(list(after))),
+        _ => json,
     }
     .render();
     let json_path = out.join("summary.json");
@@ -627,6 +682,11 @@ fn run(args: Args) -> Result<(), String> {
     if let Some((_, reply, _)) = &grip {
         let last = grip_rows.iter().rev().find_map(|w| *w).unwrap_or(f64::NAN);
         println!("firmware: {reply}; gripper pulse at the end {last} us");
+    }
+    if let (Some((at, line)), Some((before, after, gap))) = (&reset, &around) {
+        println!(
+            "external reset at {at:.3} s: firmware: {line}; pulses {before:?} us before, {after:?} us after ({gap:.3} s without pulses)"
+        );
     }
     println!(
         "wrote {}, {}, {}, {}, {}, {}",

@@ -30,6 +30,9 @@ pub struct Press {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Control {
     PowerCycle,
+    /// The RESET pin: the chip restarts with its RAM (the firmware resumes
+    /// the pulses it had, issue #21 §1).
+    Reset,
     /// Invert the bits of one EEPROM byte.
     CorruptEeprom {
         addr: u16,
@@ -170,7 +173,7 @@ pub fn serial(body: &[u8]) -> Result<String, Refusal> {
     Ok(line.to_string())
 }
 
-/// `POST /api/control`: `{"action": "power_cycle" | "corrupt_eeprom" |
+/// `POST /api/control`: `{"action": "power_cycle" | "reset" | "corrupt_eeprom" |
 /// "noise_on" | "noise_off" | "stall", "addr": A}` (`addr` only with
 /// `corrupt_eeprom`, default [`DEFAULT_CORRUPT_ADDR`]).
 pub fn control(body: &[u8], eeprom_size: u64) -> Result<Control, Refusal> {
@@ -179,6 +182,7 @@ pub fn control(body: &[u8], eeprom_size: u64) -> Result<Control, Refusal> {
     let action = v.as_str().ok_or_else(|| bad(format!("action must be a string, got {v}")))?;
     let c = match action {
         "power_cycle" => Control::PowerCycle,
+        "reset" => Control::Reset,
         "corrupt_eeprom" => {
             let addr = int(&m, "addr", 0, eeprom_size - 1)?.unwrap_or(u64::from(DEFAULT_CORRUPT_ADDR));
             return Ok(Control::CorruptEeprom { addr: addr as u16 });
@@ -188,7 +192,7 @@ pub fn control(body: &[u8], eeprom_size: u64) -> Result<Control, Refusal> {
         "stall" => Control::Stall,
         other => {
             return Err(bad(format!(
-                "unknown action {other:?} (expected power_cycle, corrupt_eeprom, noise_on, noise_off, stall)"
+                "unknown action {other:?} (expected power_cycle, reset, corrupt_eeprom, noise_on, noise_off, stall)"
             )))
         }
     };
@@ -301,6 +305,8 @@ mod tests {
         let long = format!(r#"{{"line": "{}"}}"#, "a".repeat(MAX_LINE + 1));
         assert!(serial(long.as_bytes()).is_err());
         assert_eq!(control(br#"{"action": "stall"}"#, 4096), Ok(Control::Stall));
+        assert_eq!(control(br#"{"action": "reset"}"#, 4096), Ok(Control::Reset));
+        assert!(control(br#"{"action": "Reset"}"#, 4096).is_err());
         assert_eq!(control(br#"{"action": "corrupt_eeprom"}"#, 4096), Ok(Control::CorruptEeprom { addr: 5 }));
         assert_eq!(
             control(br#"{"action": "corrupt_eeprom", "addr": 4095}"#, 4096),

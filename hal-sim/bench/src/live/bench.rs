@@ -163,6 +163,8 @@ struct Bench {
     state: String,
     pacer: Pacer,
     watchdog_resets: u32,
+    /// `reset` controls so far.
+    external_resets: u32,
     /// What the GET endpoints read.
     shared: Arc<Mutex<Snapshot>>,
 }
@@ -272,6 +274,7 @@ impl Bench {
             state: "booting".into(),
             pacer,
             watchdog_resets: 0,
+            external_resets: 0,
             shared,
         };
         let name = b

@@ -72,6 +72,22 @@ const DEFAULT_BATCH_CYCLES: u64 = 256;
 /// `rjmp .-2`: the endless loop avr-libc's `exit` and most panic handlers end in.
 const RJMP_SELF: u16 = 0xcfff;
 
+/// MCUSR's data address on the ATmega2560 (I/O 0x34) and its flags.
+const MCUSR: usize = 0x54;
+const MCUSR_PORF: u8 = 1 << 0;
+const MCUSR_EXTRF: u8 = 1 << 1;
+/// The first SRAM byte of the ATmega2560 (below: registers and I/O).
+const SRAM_START: usize = 0x200;
+
+/// What SRAM holds after [`Avr::power_cycle`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PowerFill {
+    /// Every byte 0.
+    Zero,
+    /// Pseudo-random bytes from the seed (RAM's power-up garbage).
+    Noise(u64),
+}
+
 /// The data-space offset the AVR toolchain gives SRAM symbols in ELF files.
 const DATA_SEGMENT: u32 = 0x0080_0000;
 
@@ -402,9 +418,74 @@ impl Avr {
         unsafe { self.shared().now() }
     }
 
-    /// Resets of the core since load (watchdog).
+    /// Resets of the core since load (watchdog, [`Avr::external_reset`],
+    /// [`Avr::power_cycle`]).
     pub fn resets(&self) -> u32 {
         self.shared().resets
+    }
+
+    /// The RESET pin pulled low and released: simavr's reset (I/O registers
+    /// cleared, PC 0, timers stopped) with EXTRF set in MCUSR and SRAM kept,
+    /// as on the chip (the reset button, a console opening the port).
+    pub fn external_reset(&mut self) {
+        self.reset_with_flags(MCUSR_EXTRF);
+    }
+
+    /// Power off and on with the same core: SRAM holds `fill` (what RAM
+    /// comes up with is undefined on the chip; [`PowerFill`] picks it),
+    /// MCUSR says power-on (PORF), and the EEPROM keeps its contents.
+    pub fn power_cycle(&mut self, fill: PowerFill) {
+        let ram = usize::from(self.ramend()) + 1;
+        let bytes: Vec<u8> = match fill {
+            PowerFill::Zero => vec![0; ram - SRAM_START],
+            PowerFill::Noise(seed) => {
+                let mut x = seed | 1;
+                (SRAM_START..ram)
+                    .map(|_| {
+                        // xorshift64
+                        x ^= x << 13;
+                        x ^= x >> 7;
+                        x ^= x << 17;
+                        (x >> 24) as u8
+                    })
+                    .collect()
+            }
+        };
+        let _ = self.write_sram(SRAM_START as u16, &bytes);
+        if let Some(m) = self.data_mut().get_mut(MCUSR) {
+            *m = 0;
+        }
+        self.reset_with_flags(MCUSR_PORF);
+    }
+
+    /// A reset that keeps SRAM with MCUSR set to exactly `flags` (PORF 1,
+    /// EXTRF 2, BORF 4, WDRF 8): a brown-out that RAM survived (BORF), or
+    /// what the app sees behind a bootloader that cleared the flags (0).
+    pub fn reset_with_mcusr(&mut self, flags: u8) {
+        if let Some(m) = self.data_mut().get_mut(MCUSR) {
+            *m = 0;
+        }
+        self.reset_with_flags(flags);
+    }
+
+    fn reset_with_flags(&mut self, flags: u8) {
+        // avr_reset keeps the MCUSR flags it finds (it clears the other
+        // I/O registers), so they are set first.
+        if let Some(m) = self.data_mut().get_mut(MCUSR) {
+            *m |= flags;
+        }
+        // A reset revives a core that had stopped (a `sleep` with
+        // interrupts off after a panic), as on the chip.
+        self.halt = None;
+        self.shared_mut().bad_opcode = None;
+        // SAFETY: live core, not inside a callback (we hold &mut self).
+        unsafe { ffi::avr_reset(self.avr) };
+        if let Some(p) = self.shared_mut().callback_panic.take() {
+            std::panic::resume_unwind(p);
+        }
+        if self.shared().reset_pending {
+            self.after_reset();
+        }
     }
 
     /// Simulated seconds since load.
@@ -819,6 +900,11 @@ impl Avr {
     }
 
     // ---- memory and symbols ------------------------------------------------
+
+    fn data_mut(&mut self) -> &mut [u8] {
+        // SAFETY: as in `data`; &mut self keeps simavr's callbacks out.
+        unsafe { std::slice::from_raw_parts_mut((*self.avr).data, usize::from((*self.avr).ramend) + 1) }
+    }
 
     fn data(&self) -> &[u8] {
         // SAFETY: simavr allocates ramend + 1 bytes of data space at init and

@@ -389,6 +389,7 @@ async function control(body, describe) {
   }
 }
 
+$('btn-reset').onclick = () => control({ action: 'reset' }, (v) => `external reset #${v.external_resets} at t = ${v.t_s.toFixed(2)} s: RAM kept, the pulses resume`);
 $('btn-power').onclick = () => control({ action: 'power_cycle' }, (v) => `power cycle: power-up #${v.power_ups} at t = ${v.t_s.toFixed(2)} s`);
 $('btn-eeprom').onclick = () => {
   const addr = Number($('eeprom-addr').value);

@@ -20,6 +20,7 @@ impl Bench {
     pub(super) fn control(&mut self, c: Control) -> Result<Value, String> {
         match c {
             Control::PowerCycle => self.power_cycle(),
+            Control::Reset => self.external_reset(),
             Control::CorruptEeprom { addr } => {
                 let ee = self.session.avr.eeprom().map_err(|e| e.to_string())?;
                 let old = *ee.get(usize::from(addr)).ok_or_else(|| format!("no EEPROM byte {addr}"))?;
@@ -72,6 +73,21 @@ impl Bench {
         self.apply_noise();
         self.after_restart("power cycle (the EEPROM keeps its contents)");
         Ok(json!({ "power_ups": self.power_ups, "t_s": self.now_s() }))
+    }
+
+    /// The RESET pin pulled low (the board's button, or a console opening
+    /// the port): the same core restarts with its RAM, so the firmware
+    /// resumes the pulses it had (`info reset external resume pulses …`).
+    fn external_reset(&mut self) -> Result<Value, String> {
+        self.session.avr.external_reset();
+        // Not a watchdog reset: the tick's reset counter must not count it.
+        self.resets_seen = self.session.avr.resets();
+        self.external_resets += 1;
+        if self.halted.take().is_some() {
+            self.pacer.restart(Instant::now(), self.cycles());
+        }
+        self.after_restart("external reset (the RESET pin): RAM kept, the firmware resumes its pulses");
+        Ok(json!({ "external_resets": self.external_resets, "t_s": self.now_s() }))
     }
 
     /// The watchdog's case. The firmware has no command that hangs it, so

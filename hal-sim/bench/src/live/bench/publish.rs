@@ -150,6 +150,7 @@ impl Bench {
             "halted": self.halted,
             "power_ups": self.power_ups,
             "watchdog_resets": self.watchdog_resets,
+            "external_resets": self.external_resets,
             "eeprom_size": self.session.avr.eeprom_size(),
         })
     }
