@@ -66,6 +66,15 @@ pub enum MarkKind {
     TouchRefused,
     /// The arm's target: a ring.
     Target,
+    /// The candidate under a finger (issue #19): a frame whose sides fill
+    /// one by one over the hold (`ring` of 4), green if the arm reaches
+    /// it, red if not.
+    Candidate {
+        /// The arm can reach it.
+        ok: bool,
+        /// Sides filled, 0..=4.
+        ring: u8,
+    },
 }
 
 /// A marker at a map pixel.
@@ -322,7 +331,31 @@ fn draw_mark<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark) -> Result<(), D::Erro
             frame(d, outer.shrink(1), 3, theme::TARGET_MARK)?;
             frame(d, outer.shrink(4), 1, theme::WHITE)
         }
+        MarkKind::Candidate { ok, ring } => draw_candidate(d, lay, m, ok, ring),
     }
+}
+
+/// The candidate: a white frame, its four sides (top, right, bottom, left)
+/// in the verdict's colour as the hold fills, and a dot in the middle.
+/// Out of line: only the preview draws it, rarely.
+#[inline(never)] // reason: cold
+fn draw_candidate<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark, ok: bool, ring: u8) -> Result<(), D::Error> {
+    let big_r = marker_r(lay);
+    let outer = Area::around(m.x, m.y, big_r);
+    frame(d, outer, 1, theme::WHITE)?;
+    let ink = if ok { theme::RESUME_GREEN } else { theme::REFUSED };
+    let a = outer.shrink(1);
+    let (w, t) = (a.w, 3u16);
+    let sides = [
+        Area::new(a.x, a.y, w, t),
+        Area::new(a.right() - t as i16, a.y, t, a.h),
+        Area::new(a.x, a.bottom() - t as i16, w, t),
+        Area::new(a.x, a.y, t, a.h),
+    ];
+    for (i, s) in (0u8..).zip(sides) {
+        fill(d, s, if i < ring { ink } else { theme::WHITE })?;
+    }
+    fill(d, Area::around(m.x, m.y, 2), ink)
 }
 
 /// The whole map: background, base, labels, markers.

@@ -17,14 +17,18 @@
 //!
 //! Actions:
 //! - `panel noise <σ counts>` / `panel spikes <probability>`
-//! - `touch xy <x_p> <y_p> [force <f>]` / `touch raw <x> <y> [force <f>]`:
-//!   the finger goes down (and stays until `release` or another `touch`).
-//!   `touch button <name> [force <f>]`: on the centre of a button of the
+//! - `press xy <x_p> <y_p> [force <f>]` / `press raw <x> <y> [force <f>]`:
+//!   the finger goes down (and stays until `release` or another press).
+//!   `press button <name> [force <f>]`: on the centre of a button of the
 //!   320×240 screen, read through the default calibration: `stop` (also
 //!   RESUME), `slow`, `normal`, `fast`, `more` / `back` (the page key),
 //!   `grip`, `calib`, `line`, `lift`, `pose1`…`pose4` (the last five and
 //!   the poses are on the More page; on the main page the same place is the
 //!   status lines or Slow | Normal | Fast).
+//! - `touch xy|raw|button …` (the same arguments): a tap, as the app acts
+//!   on lift-off (issue #19): the press, 200 ms held ([`TAP_FRAMES`]), the
+//!   release and the 80 ms ([`LIFT_FRAMES`]) in which the release is read
+//!   and the tap acts. A `release` after it changes nothing.
 //! - `release`
 //! - `run <duration>`; `run_until <state> within <duration>`: runs at least
 //!   one frame (so a line just sent is read), then until the state holds
@@ -158,6 +162,8 @@ enum Step {
     PanelSpikes(f64),
     TouchXy(f64, f64, f64),
     TouchRaw(f64, f64, f64),
+    /// A tap: the press, [`TAP_FRAMES`] held, the release, [`LIFT_FRAMES`].
+    Tap(Box<Step>),
     Release,
     Run(u64),
     RunUntil(State, u64),
@@ -461,6 +467,31 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
     })
 }
 
+/// Frames a `touch` tap holds the finger down (200 ms: past the default
+/// hold of 0.10 s with room for a hold of up to 0.16 s).
+pub const TAP_FRAMES: u64 = 10;
+/// Frames a `touch` tap runs after the release: the release's three reads
+/// and the frame that acts and plans.
+pub const LIFT_FRAMES: u64 = 4;
+
+fn parse_press(a: &mut Args) -> Result<Step, String> {
+    Ok(match a.word()?.as_str() {
+        "xy" => {
+            let (x, y) = (a.num()?, a.num()?);
+            Step::TouchXy(x, y, force(a)?)
+        }
+        "raw" => {
+            let (x, y) = (a.num()?, a.num()?);
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        "button" => {
+            let (x, y) = button_raw(&a.word()?)?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
+    })
+}
+
 fn parse_step(a: &mut Args) -> Result<Step, String> {
     let d = a.word()?;
     Ok(match d.as_str() {
@@ -489,21 +520,8 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
             "spikes" => Step::PanelSpikes(a.num()?),
             w => return Err(format!("unknown panel setting {w:?}")),
         },
-        "touch" => match a.word()?.as_str() {
-            "xy" => {
-                let (x, y) = (a.num()?, a.num()?);
-                Step::TouchXy(x, y, force(a)?)
-            }
-            "raw" => {
-                let (x, y) = (a.num()?, a.num()?);
-                Step::TouchRaw(x, y, force(a)?)
-            }
-            "button" => {
-                let (x, y) = button_raw(&a.word()?)?;
-                Step::TouchRaw(x, y, force(a)?)
-            }
-            w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
-        },
+        "touch" => Step::Tap(Box::new(parse_press(a)?)),
+        "press" => parse_press(a)?,
         "release" => Step::Release,
         "run" => Step::Run(a.duration()?),
         "run_until" => {
@@ -657,6 +675,13 @@ impl Runner {
             Step::PanelSpikes(p) => sim.panel.spike_prob = *p,
             Step::TouchXy(x, y, f) => sim.panel.touch_xy(*x, *y, *f)?,
             Step::TouchRaw(x, y, f) => sim.panel.touch_raw(*x, *y, *f)?,
+            Step::Tap(press) => {
+                self.step(press)?;
+                let sim = &mut self.sim;
+                sim.run_frames(TAP_FRAMES);
+                sim.panel.release();
+                sim.run_frames(LIFT_FRAMES);
+            }
             Step::Release => sim.panel.release(),
             Step::Run(frames) => sim.run_frames(*frames),
             Step::RunUntil(state, max) => {
