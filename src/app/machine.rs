@@ -102,7 +102,6 @@ impl App {
             }
         }
         self.filter.reset();
-        self.press = super::press::Press::IDLE;
         self.probe_wanted = self.config.wiring.is_none();
         self.commanded = self.clamp_to_limits(&self.params.home);
         self.last_move.target = self.commanded;

@@ -98,6 +98,8 @@ impl Acc {
         if self.n == 0 {
             self.lo = p;
             self.hi = p;
+            self.sx = 0;
+            self.sy = 0;
         } else {
             self.lo = TouchPoint { x: self.lo.x.min(p.x), y: self.lo.y.min(p.y) };
             self.hi = TouchPoint { x: self.hi.x.max(p.x), y: self.hi.y.max(p.y) };
@@ -180,18 +182,22 @@ impl Contact {
     pub fn update(&mut self, read: &Read, now_ms: u32, cfg: &ContactConfig) -> Option<ContactEvent> {
         match *read {
             Read::Touched { point, z } if !self.down => {
-                *self = Contact {
-                    down: true,
-                    reads: 1,
-                    tail_n: 1,
-                    last_z: z,
-                    start_ms: now_ms,
-                    last_ms: now_ms,
-                    first: point,
-                    last: point,
-                    tail: [point; LIFT_READS],
-                    ..Contact::IDLE
-                };
+                // Field by field: a whole new value would be a constant
+                // copied from RAM.
+                self.down = true;
+                self.misses = 0;
+                self.wandered = false;
+                self.palm = false;
+                self.reads = 1;
+                self.tail_n = 1;
+                self.last_z = z;
+                self.start_ms = now_ms;
+                self.last_ms = now_ms;
+                self.first = point;
+                self.last = point;
+                self.tail = [point; LIFT_READS];
+                self.early.n = 0;
+                self.late.n = 0;
                 Some(ContactEvent::Landed)
             }
             Read::Touched { point, z } => {

@@ -115,6 +115,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
         let (xf, yf) = (wx as f32, wy as f32);
         let model = UiModel {
             state: UiState::Holding,
+            preview: None,
+            resume: None,
             touch: Some((xf, yf)),
             target: Some((xf, yf)),
             condition: Some(condition(xf, yf).unwrap()),
@@ -142,6 +144,8 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
     let home = [90.0f32, 90.0, -90.0].map(f32::to_radians);
     let idle = UiModel {
         state: UiState::Idle,
+        preview: None,
+        resume: None,
         touch: None,
         target: None,
         condition: None,
@@ -209,6 +213,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         assert_eq!(lines, ["info screen page more"], "{name}");
         let mut more = UiModel {
             state: UiState::Holding,
+            preview: None,
+            resume: None,
             touch: None,
             target: None,
             condition: None,

@@ -77,6 +77,8 @@ fn moving_model() -> UiModel {
     let (x, y) = (0.4f32, 0.5f32);
     UiModel {
         state: UiState::Moving { progress: 0.63 },
+        preview: None,
+        resume: None,
         touch: Some((x, y)),
         target: Some((x, y)),
         condition: Some(condition(x, y).unwrap()),
@@ -503,7 +505,7 @@ fn status_lines_say_what_happens_in_words() {
         (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
         (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
         (UiState::Holding, b"Holding", theme::TEXT, Some(b"Touch the map to move")),
-        (UiState::Stopped, b"Stopped - tap RESUME", theme::REFUSED, Some(b"The arm holds still")),
+        (UiState::Stopped, b"Stopped - hold RESUME", theme::REFUSED, Some(b"The arm holds still")),
         (UiState::Refused(Refusal::TooFar), b"Out of reach", theme::REFUSED, Some(b"Try closer to the base")),
         (UiState::Refused(Refusal::TooClose), b"Out of reach", theme::REFUSED, Some(b"Try further from base")),
         (UiState::Refused(Refusal::OffMap), b"Not on the map", theme::REFUSED, Some(b"Touch inside the map")),
