@@ -38,14 +38,19 @@ pub const RESUME_MS: u32 = 600;
 /// Steps of the ring that fills over the hold (and of RESUME's countdown).
 pub const RING_STEPS: u8 = 4;
 
-/// What the contact on the glass is doing.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What the contact on the glass is doing. Fieldless, `Idle` first, and
+/// where it landed beside it in [`Press::landed`]: so [`Press::IDLE`] is all
+/// zero bytes and initializing `App` copies no constant from RAM.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
 pub(super) enum Role {
     /// No contact yet.
-    Idle,
-    /// It acts on lift-off by where it landed: the map, a button, the
-    /// calibration's crosshair, or (no screen) the workspace.
-    Pending(Option<Hit>),
+    Idle = 0,
+    /// It acts on lift-off by where it landed ([`Press::landed`]): the map,
+    /// a button, the calibration's crosshair, or (no screen) the workspace.
+    Pending,
+    /// As `Pending`, landed on nothing (a gap, the status lines).
+    Blank,
     /// It may become RESUME (landed in its box late enough after STOP).
     Resume,
     /// Already acted (STOP) or voided: nothing at lift-off.
@@ -62,6 +67,8 @@ pub(super) enum Role {
 pub(super) struct Press {
     pub(super) contact: Contact,
     pub(super) role: Role,
+    /// Where a `Pending` contact landed.
+    landed: Hit,
     /// Consecutive touched reads in STOP's hit area.
     stop_reads: u8,
     /// A read of this contact was no touch (RESUME needs none).
@@ -79,6 +86,7 @@ impl Press {
     pub(super) const IDLE: Press = Press {
         contact: Contact::IDLE,
         role: Role::Idle,
+        landed: Hit::Stop,
         stop_reads: 0,
         dropped: false,
         lifted_ms: None,
@@ -170,7 +178,7 @@ impl App {
                     self.press.ring = ring_of(held, RESUME_MS);
                 }
             }
-            Role::Pending(Some(Hit::Map { .. })) => {
+            Role::Pending if matches!(self.press.landed, Hit::Map { .. }) => {
                 let hold = u32::from(self.config.press.hold_cs) * 10;
                 self.press.ring = ring_of(self.press.contact.duration_ms(), hold);
                 let centre = self.press.contact.centre();
@@ -197,8 +205,11 @@ impl App {
             }
         } else if soon {
             Role::Repeat
+        } else if let Some(h) = hit {
+            self.press.landed = h;
+            Role::Pending
         } else {
-            Role::Pending(hit)
+            Role::Blank
         };
     }
 
@@ -213,7 +224,8 @@ impl App {
         let landed = match role {
             Role::Idle | Role::Spent | Role::Resume | Role::Resumed => return,
             Role::Repeat => return self.say(serial, Said::Repeat),
-            Role::Pending(hit) => hit,
+            Role::Pending => Some(self.press.landed),
+            Role::Blank => None,
         };
         if c.palm() {
             self.screen_hand();

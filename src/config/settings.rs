@@ -275,6 +275,9 @@ impl Config {
     /// the change and left untouched if that fails, so the running
     /// configuration is always valid (change limits in an order that stays
     /// valid, e.g. widen before narrowing).
+    // Out of line: its copy of the configuration is not in the frame of
+    // the serial command's handler, which is on the deepest path.
+    #[inline(never)] // avr-trap: frame-size
     pub fn apply(&mut self, set: &CalSet) -> Result<(), ConfigError> {
         let mut next = *self;
         match *set {
