@@ -73,6 +73,10 @@
 //! - `expect refusal "<reason>"` / `expect no_refusal`
 //! - `expect screen_warning "<text>"`: the warning line the screen shows
 //!   (`""` for none)
+//! - `expect screen_state "<state>"`: the screen model's state as Rust
+//!   prints it (`Holding`, `Refused(Cancelled)`, `Refused(Hand)`, …)
+//! - `expect preview shown|none`: the candidate marker under a finger on
+//!   the map
 //!
 //! The gripper (the fourth channel):
 //! - `expect grip_deg <deg> tol <deg>`: the app's commanded gripper angle
@@ -140,6 +144,8 @@ enum Expect {
     Refusal(String),
     NoRefusal,
     ScreenWarning(String),
+    ScreenState(String),
+    Preview(bool),
     GripDeg(f64, f64),
     GripPulse(f64, f64),
     GripServo(f64, f64),
@@ -434,6 +440,12 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         "refusal" => Expect::Refusal(a.text()?),
         "no_refusal" => Expect::NoRefusal,
         "screen_warning" => Expect::ScreenWarning(a.text()?),
+        "screen_state" => Expect::ScreenState(a.text()?),
+        "preview" => Expect::Preview(match a.word()?.as_str() {
+            "shown" => true,
+            "none" => false,
+            w => return Err(format!("preview shown|none, got {w:?}")),
+        }),
         "grip_deg" => Expect::GripDeg(a.num()?, a.tol()?),
         "grip_pulse" => Expect::GripPulse(a.num()?, a.tol()?),
         "grip_servo_deg" => Expect::GripServo(a.num()?, a.tol()?),
@@ -488,7 +500,22 @@ fn parse_press(a: &mut Args) -> Result<Step, String> {
             let (x, y) = button_raw(&a.word()?)?;
             Step::TouchRaw(x, y, force(a)?)
         }
-        w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
+        "map" => {
+            let (x_p, y_p) = (a.num()?, a.num()?);
+            let lay = touch_arm::ui::Layout::QVGA;
+            let (px, py) = lay
+                .ws_point_to_pixel(x_p as f32, y_p as f32)
+                .ok_or_else(|| format!("({x_p}, {y_p}) is not on the map"))?;
+            let (x, y) = crate::host::raw_at_pixel(&lay, px, py).ok_or("no raw reading")?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        "pixel" => {
+            let (px, py) = (a.int::<i16>()?, a.int::<i16>()?);
+            let lay = touch_arm::ui::Layout::QVGA;
+            let (x, y) = crate::host::raw_at_pixel(&lay, px, py).ok_or("no raw reading")?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        w => return Err(format!("touch needs xy, raw, button, map or pixel, got {w:?}")),
     })
 }
 
@@ -913,6 +940,18 @@ impl Runner {
                 let shown = touch_arm::ui::warning_line(sim.app.ui_model().warnings);
                 if shown.as_str() != text {
                     return Err(format!("screen warning {:?}, want {text:?}", shown.as_str()));
+                }
+            }
+            Expect::ScreenState(text) => {
+                let shown = format!("{:?}", sim.app.ui_model().state);
+                if shown != *text {
+                    return Err(format!("screen state {shown}, want {text}"));
+                }
+            }
+            Expect::Preview(want) => {
+                let p = sim.app.ui_model().preview;
+                if p.is_some() != *want {
+                    return Err(format!("preview {p:?}, want {}", if *want { "shown" } else { "none" }));
                 }
             }
             Expect::GripDeg(w, tol) => {
