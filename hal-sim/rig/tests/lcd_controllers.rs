@@ -98,6 +98,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
         s.press_raw(rx, ry).unwrap();
         s.run_for(0.3).unwrap();
         s.release();
+        // The tap acts on the lift-off (issue #19).
+        s.run_for(0.1).unwrap();
         let out = s.avr.uart_output_string();
         let reply = out.lines().find(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("{name}:\n{out}"));
         let ts: f64 = reply.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse().unwrap();
