@@ -126,7 +126,7 @@ impl Acc {
 
     /// Per-axis mid-range, rounded.
     fn mid_range(&self) -> TouchPoint {
-        let mid = |a: u16, b: u16| ((u32::from(a) + u32::from(b) + 1) / 2) as u16;
+        let mid = |a: u16, b: u16| (u32::from(a) + u32::from(b)).div_ceil(2) as u16;
         TouchPoint { x: mid(self.lo.x, self.hi.x), y: mid(self.lo.y, self.hi.y) }
     }
 

@@ -156,11 +156,9 @@ impl Headline {
 
     fn color(self) -> Rgb565 {
         match self {
-            Headline::Stopped
-            | Headline::OutOfReach
-            | Headline::OffMap
-            | Headline::JointLimit
-            | Headline::Hand => theme::REFUSED,
+            Headline::Stopped | Headline::OutOfReach | Headline::OffMap | Headline::JointLimit | Headline::Hand => {
+                theme::REFUSED
+            }
             _ => theme::TEXT,
         }
     }
@@ -276,9 +274,9 @@ impl View {
             joints: [whole_deg(m.joints[0]), whole_deg(m.joints[1]), whole_deg(m.joints[2])],
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
-            candidate: m.preview.and_then(|p| {
-                mark(Some((p.x_p, p.y_p)), MarkKind::Candidate { ok: p.ok, ring: p.ring.min(4) })
-            }),
+            candidate: m
+                .preview
+                .and_then(|p| mark(Some((p.x_p, p.y_p)), MarkKind::Candidate { ok: p.ok, ring: p.ring.min(4) })),
             speed: m.speed,
             page: m.page,
             more: if m.grip_closed { GRIP_CLOSED } else { 0 }

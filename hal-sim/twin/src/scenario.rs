@@ -159,9 +159,16 @@ enum Expect {
 
 #[derive(Debug, Clone, PartialEq)]
 enum Step {
-    Geometry { k: f64, l2: f64, l3: f64 },
+    Geometry {
+        k: f64,
+        l2: f64,
+        l3: f64,
+    },
     ServoInit([f64; 3]),
-    ServoModel { speed: f64, deadband: f64 },
+    ServoModel {
+        speed: f64,
+        deadband: f64,
+    },
     Seed(u64),
     Screen,
     PanelNoise(f64),

@@ -1007,8 +1007,11 @@ mod config {
             Just((PathMode::Joint, None)),
             (1u8..=50).prop_map(|h| (PathMode::Joint, Some(h))),
         ];
-        let press = (4u8..=200, 0u8..=200, 20u8..=255)
-            .prop_map(|(hold_cs, repeat_cs, radius)| PressSettings { hold_cs, repeat_cs, radius });
+        let press = (4u8..=200, 0u8..=200, 20u8..=255).prop_map(|(hold_cs, repeat_cs, radius)| PressSettings {
+            hold_cs,
+            repeat_cs,
+            radius,
+        });
         (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press))
             .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press))| Config {
                 joints,
