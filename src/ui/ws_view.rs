@@ -335,25 +335,16 @@ fn draw_mark<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark) -> Result<(), D::Erro
     }
 }
 
-/// The candidate: a white frame, its four sides (top, right, bottom, left)
-/// in the verdict's colour as the hold fills, and a dot in the middle.
-/// Out of line: only the preview draws it, rarely.
+/// The candidate: a white frame and four rings inside it that take the
+/// verdict's colour from the outside in as the hold fills, around a dot in
+/// that colour. Out of line: only the preview draws it, rarely.
 #[inline(never)] // reason: cold
 fn draw_candidate<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark, ok: bool, ring: u8) -> Result<(), D::Error> {
-    let big_r = marker_r(lay);
-    let outer = Area::around(m.x, m.y, big_r);
-    frame(d, outer, 1, theme::WHITE)?;
+    let outer = Area::around(m.x, m.y, marker_r(lay));
     let ink = if ok { theme::RESUME_GREEN } else { theme::REFUSED };
-    let a = outer.shrink(1);
-    let (w, t) = (a.w, 3u16);
-    let sides = [
-        Area::new(a.x, a.y, w, t),
-        Area::new(a.right() - t as i16, a.y, t, a.h),
-        Area::new(a.x, a.bottom() - t as i16, w, t),
-        Area::new(a.x, a.y, t, a.h),
-    ];
-    for (i, s) in (0u8..).zip(sides) {
-        fill(d, s, if i < ring { ink } else { theme::WHITE })?;
+    for i in 0..5u8 {
+        let c = if i > 0 && i <= ring { ink } else { theme::WHITE };
+        frame(d, outer.shrink(u16::from(i)), 1, c)?;
     }
     fill(d, Area::around(m.x, m.y, 2), ink)
 }
