@@ -7,7 +7,8 @@
 //!   it without lifting), whatever the contact is otherwise: the one
 //!   on-contact action, never ignored.
 //! - **RESUME** (shown after STOP) needs a contact that lands in its box at
-//!   least `repeat` after STOP latched and stays there, without a single
+//!   least `repeat` after STOP latched (and after the last lift-off) and
+//!   stays there, without a single
 //!   dropout, for [`RESUME_MS`]; the screen counts it down. A bounce (any
 //!   dropout) or a finger that slides off voids that contact. The finger
 //!   that resumed, left on STOP's place, does not latch STOP again.
@@ -198,7 +199,8 @@ impl App {
         let soon = self.press.lifted_ms.is_some_and(|t| start.wrapping_sub(t) < repeat);
         let hit = self.hit_of(&self.press.contact.last());
         self.press.role = if matches!(hit, Some(Hit::Resume)) {
-            if self.stopped && now_ms.wrapping_sub(self.press.stop_ms) >= repeat {
+            // Fresh: late enough after the latch and after the last lift-off.
+            if self.stopped && !soon && now_ms.wrapping_sub(self.press.stop_ms) >= repeat {
                 Role::Resume
             } else {
                 Role::Spent
