@@ -8,10 +8,10 @@
 //!   on-contact action, never ignored.
 //! - **RESUME** (shown after STOP) needs a contact that lands in its box at
 //!   least `repeat` after STOP latched (and after the last lift-off) and
-//!   stays there, without a single
-//!   dropout, for [`RESUME_MS`]; the screen counts it down. A bounce (any
-//!   dropout) or a finger that slides off voids that contact. The finger
-//!   that resumed, left on STOP's place, does not latch STOP again.
+//!   stays there, without a single dropout, for [`RESUME_MS`]; the screen
+//!   counts it down. A bounce (any dropout) or a finger that slides off
+//!   voids that contact. The finger that resumed, left on STOP's place,
+//!   does not latch STOP again.
 //! - Everything else acts when the finger lifts, after at least `hold`:
 //!   a contact that landed on the map and lifts on the map sends the arm to
 //!   the contact's robust centre (a marker and a ring that fills over the
