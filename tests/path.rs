@@ -144,7 +144,8 @@ proptest! {
 
     /// An accepted move keeps every joint within its angle, speed and
     /// acceleration limits on a scan four times as dense as the plan's, and
-    /// the effector on the path; a slowed-down move is as short as it may be.
+    /// the effector on the path; a slowed-down move is as short as it may be
+    /// (within 1 %).
     #[test]
     fn accepted_moves_keep_the_limits(a in point(), b in point(), ts in 0.5f64..4.0, law in 0usize..4) {
         let law = [LawKind::Zat, LawKind::Quintic, LawKind::Cubic, LawKind::Trapezoid][law];
@@ -173,8 +174,14 @@ proptest! {
             prop_assert!(dist(&[f.0, f.1, f.2], &line.point(st.s)) < 1e-12);
         }
         if plan.ts() > ts {
-            // Slowed down: 0.1 % shorter is refused by the same scan.
-            let shorter = PathPlan::new(&req(line, law, plan.ts() * 0.999, Pace::Refuse), &arm(), &lim);
+            // Slowed down: 1 % shorter is refused by the same scan. Not
+            // 0.1 %: the scan halves a stretch while its bound is over 1/16
+            // above the rates visited, in (speed/limit)² or accel/limit,
+            // and which of the two binds changes with tₛ, so a move slowed
+            // from another tₛ can end a little above the shortest a check
+            // at fixed tₛ accepts (the saved case: 1.6910 s slowed from
+            // 1.288 s, 1.6891 s from 0.5 s, 1.6890 s the shortest accepted).
+            let shorter = PathPlan::new(&req(line, law, plan.ts() * 0.99, Pace::Refuse), &arm(), &lim);
             prop_assert!(matches!(shorter, Err(PathError::Speed { .. } | PathError::Accel { .. })), "{shorter:?}");
         }
     }

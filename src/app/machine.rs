@@ -18,7 +18,7 @@ use crate::seam::RawSample;
 use crate::seam::{Clock, SerialPort, ServoOutputs, Storage, TouchPanel};
 use crate::servo::map::{Joint, ServoMap};
 use crate::servo::track::Replan;
-use crate::touch::filter::{Read, TouchEvent, TouchPoint, MAX_SAMPLES};
+use crate::touch::filter::{Read, TouchPoint, MAX_SAMPLES};
 
 /// Half a hundredth of a degree, rad: the slack of an angle against a limit
 /// (the unit `cal show` prints limits in and `goto` is typed in).
@@ -54,7 +54,7 @@ impl App {
         let catch_up = core::mem::take(&mut self.late);
         self.heavy = HeavyTask::new_frame(catch_up);
         self.poll_serial(io, now);
-        self.poll_touch(io.panel, io.storage, io.serial);
+        self.poll_touch(io.panel, now, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
         // The gripper after the joints' pulses, so its step does not delay them.
@@ -142,16 +142,23 @@ impl App {
         out
     }
 
-    /// One filtered panel read; a confirmed touch acts. A frame does one
-    /// heavy thing (a plan can take most of it; a reply is formatted in it):
-    /// after a serial line or a plan the panel is not read, a touch that would
+    /// One filtered panel read, fed to the contact (`press.rs`): STOP acts
+    /// on contact, everything else on lift-off. A frame does one heavy thing
+    /// (a plan can take most of it; a reply is formatted in it): after a
+    /// serial line or a plan the panel is not read, a lift-off that would
     /// plan waits for the next frame, and that frame takes no serial line.
     // Not inlined (nor are `step_motion`, `finish_plan` and `plan_target`):
     // inlined into the firmware's frame they made it reserve 603 bytes of
     // stack, and LLVM then miscompiled the touch read's loop on the chip (the
     // frame never ended; the watchdog reset it). Out of line it is 168.
     #[inline(never)] // avr-trap: frame-size
-    fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(&mut self, panel: &mut P, storage: &mut E, serial: &mut U) {
+    fn poll_touch<P: TouchPanel, E: Storage, U: SerialPort>(
+        &mut self,
+        panel: &mut P,
+        now_ms: u32,
+        storage: &mut E,
+        serial: &mut U,
+    ) {
         if let Some(p) = self.deferred_touch {
             if self.heavy.is_spent() {
                 return;
@@ -172,21 +179,10 @@ impl App {
         let step = self.filter.update(read);
         // Anything but a clean "not touched" may be a finger joining the plates.
         self.contact = !matches!(step.read, Read::NotTouched(_));
-        let p = match step.event {
-            // On a screen a press is a button or a map point; a drag (Moved)
-            // must not turn into a second button press.
-            Some(TouchEvent::Pressed(p)) => p,
-            Some(TouchEvent::Moved(p)) if !self.params.screen => p,
-            _ => return,
-        };
-        if self.heavy.is_spent() && self.touch_plans(&p) {
-            self.deferred_touch = Some(p);
-        } else {
-            self.route_touch(&p, storage, serial);
-        }
+        self.press_read(&step.read, now_ms, storage, serial);
     }
 
-    fn route_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
+    pub(super) fn route_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
         if self.params.screen {
             self.screen_touch(p, storage, serial);
         } else {
@@ -478,6 +474,11 @@ impl App {
         } else {
             pct
         }
+    }
+
+    /// The pose's angles pass [`Self::check_limits`] (the screen's preview).
+    pub(super) fn within_limits(&self, target: &[f32; JOINTS]) -> bool {
+        self.check_limits(target).is_ok()
     }
 
     /// A target angle the servo layer would have to clamp (angle or pulse

@@ -28,9 +28,11 @@
 //!    the port has room for the longest reply; one `ok …`/`err …` line (see
 //!    `serial.rs`). A partial line idle for `line_timeout_ms` is dropped and
 //!    answered `err line timeout (no line ending?)`.
-//! 2. Touch: one filtered read; a confirmed press or a drag to a new resting
-//!    point becomes a target. A frame does one heavy thing: after a serial
-//!    line the panel is not read and a touch that would plan waits a frame.
+//! 2. Touch: one filtered read feeds the contact (`press.rs`): STOP latches
+//!    on contact; a map point or a button acts when the finger lifts after
+//!    the hold, at the contact's robust centre. A frame does one heavy
+//!    thing: after a serial line the panel is not read and a lift-off that
+//!    would plan waits a frame.
 //! 3. Motion: the setpoint of every joint at t = frames since the plan × 20 ms
 //!    (exact, no clock drift); the move ends exactly on its target at tₛ.
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
@@ -110,6 +112,7 @@ mod lcd;
 mod machine;
 mod path_move;
 mod poses;
+mod press;
 mod recalibrate;
 pub mod refusal;
 pub mod resume;
@@ -525,6 +528,8 @@ pub struct App {
     path: path_move::PathRun,
     /// The display overrides as stored (`lcd.rs`), loaded at boot.
     lcd: crate::config::lcd::LcdSettings,
+    /// The contact on the glass and what it may become (`press.rs`).
+    press: press::Press,
 }
 
 /// Servo maps of a configuration.
@@ -588,6 +593,7 @@ impl App {
             grip,
             path: path_move::PathRun::Idle,
             lcd: crate::config::lcd::LCD_DEFAULT,
+            press: press::Press::IDLE,
         })
     }
 
@@ -635,7 +641,7 @@ impl App {
             a: self.last_move.a,
             end_velocity: self.last_move.end_velocity,
             touch_target: self.last_move.touch,
-            touch_held: self.filter.held().is_some(),
+            touch_held: self.finger_down(),
             last_refusal: self.last_refusal,
             config_source: self.source,
             config_warning: self.warning,

@@ -34,11 +34,24 @@ pub(super) struct Screen {
     /// The button set shown; changed only by the page key (see
     /// `ui::layout`).
     pub(super) page: Page,
+    /// The candidate under a finger on the map: workspace point and reach
+    /// verdict (`press.rs`).
+    pub(super) preview: Option<(f32, f32, bool)>,
+    /// The raw centre the preview's verdict was worked out for.
+    preview_raw: Option<TouchPoint>,
 }
 
 impl Screen {
     pub(super) fn new(reach: &UiConfig) -> Screen {
-        Screen { ui: Ui::new(reach), calibration: None, touched: None, refusal: None, page: Page::Main }
+        Screen {
+            ui: Ui::new(reach),
+            calibration: None,
+            touched: None,
+            refusal: None,
+            page: Page::Main,
+            preview: None,
+            preview_raw: None,
+        }
     }
 }
 
@@ -75,7 +88,58 @@ pub(super) fn reach(l2: f32, l3: f32, k: f32) -> UiConfig {
     UiConfig { reach_min: if d < 0.0 { -d } else { d } / k, reach_max: (l2 + l3) / k }
 }
 
+/// Raw counts the candidate moves before its verdict is worked out again.
+const PREVIEW_STEP: u16 = 3;
+
 impl App {
+    /// Shows (or clears) the candidate under the finger.
+    pub(super) fn screen_preview(&mut self, p: Option<(f32, f32, bool)>) {
+        self.screen.preview = p;
+        if p.is_none() {
+            self.screen.preview_raw = None;
+        }
+    }
+
+    /// The candidate at raw centre `c` and its reach verdict (the pose and
+    /// the joint limits, as a commit would check them; worked out again only
+    /// when the centre moved).
+    #[inline(never)] // avr-trap: frame-size
+    pub(super) fn screen_candidate(&mut self, c: &TouchPoint) {
+        if let Some(o) = self.screen.preview_raw {
+            if o.x.abs_diff(c.x) < PREVIEW_STEP && o.y.abs_diff(c.y) < PREVIEW_STEP {
+                return;
+            }
+        }
+        self.screen.preview_raw = Some(*c);
+        self.screen.preview = match self.raw_to_panel(c) {
+            Ok((x_p, y_p)) => {
+                let ok = match self.point_to_target(c, x_p, y_p) {
+                    Ok((angles, _)) => self.within_limits(&angles),
+                    Err(_) => false,
+                };
+                Some((x_p, y_p, ok))
+            }
+            Err(_) => None,
+        };
+    }
+
+    /// A contact cancelled: nothing moves and the screen says so.
+    pub(super) fn screen_cancelled(&mut self) {
+        self.screen.refusal = Some(ui::Refusal::Cancelled);
+    }
+
+    /// A second contact: "Lift your hand".
+    pub(super) fn screen_hand(&mut self) {
+        self.screen.preview = None;
+        self.screen.preview_raw = None;
+        self.screen.refusal = Some(ui::Refusal::Hand);
+    }
+
+    /// RESUME held long enough.
+    pub(super) fn screen_resumed(&mut self) {
+        self.screen.refusal = None;
+    }
+
     /// A confirmed touch in screen mode.
     pub(super) fn screen_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
         let event = self.screen_event(p, storage);
@@ -382,6 +446,8 @@ impl App {
         }
         UiModel {
             state,
+            preview: self.screen.preview.map(|(x_p, y_p, ok)| ui::Preview { x_p, y_p, ok, ring: self.press.ring }),
+            resume: self.resume_ring(),
             touch: self.screen.touched,
             target,
             condition: st.touch_target.map(|t| t.condition),

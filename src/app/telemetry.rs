@@ -161,8 +161,16 @@ impl App {
                     TouchField::Swap => u16::from(t.swap_xy),
                     TouchField::InvertX => u16::from(t.invert_x),
                     TouchField::InvertY => u16::from(t.invert_y),
+                    TouchField::Hold => u16::from(self.config.press.hold_cs),
+                    TouchField::Repeat => u16::from(self.config.press.repeat_cs),
+                    TouchField::Radius => u16::from(self.config.press.radius),
                 };
-                line.word(f.name()).num(i32::from(v));
+                line.word(f.name());
+                if f.is_centi() {
+                    line.bytes(b" ").centi(i32::from(v));
+                } else {
+                    line.num(i32::from(v));
+                }
             }
             return;
         }

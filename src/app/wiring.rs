@@ -24,7 +24,7 @@ impl App {
     /// True when the firmware should probe the panel's wiring now (see the
     /// module doc).
     pub fn wiring_probe_wanted(&self) -> bool {
-        self.probe_wanted && self.mode != Mode::Boot && self.filter.held().is_none()
+        self.probe_wanted && self.mode != Mode::Boot && self.filter.held().is_none() && !self.finger_down()
     }
 
     /// The last panel read saw something other than an untouched panel (a

@@ -137,6 +137,45 @@ pub enum TouchCalError {
     Order,
     /// An axis spans fewer than [`MIN_TOUCH_SPAN`] counts.
     Span,
+    /// A hold, repeat or radius outside its range ([`PressSettings`]).
+    Press,
+}
+
+/// How a touch becomes an action (issue #19): `cal set touch
+/// hold|repeat|radius`, stored in the configuration record (version 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PressSettings {
+    /// A contact acts only if it lasted this long, hundredths of a second,
+    /// [`HOLD_MIN_CS`]..=[`TIME_MAX_CS`].
+    pub hold_cs: u8,
+    /// A contact that starts within this time of the last lift-off is
+    /// ignored, hundredths of a second, 0..=[`TIME_MAX_CS`].
+    pub repeat_cs: u8,
+    /// A contact that wanders farther than this from where it landed is
+    /// cancelled: raw ADC counts per axis, [`RADIUS_MIN`]..=255 (about 14
+    /// counts per mm across and 18 up the 2.8" panel with the default
+    /// calibration; 160 ≈ 11 × 9 mm).
+    pub radius: u8,
+}
+
+/// Shortest `hold`, hundredths of a second (0.04 s: two reads).
+pub const HOLD_MIN_CS: u8 = 4;
+/// Longest `hold` and `repeat`, hundredths of a second (2.00 s).
+pub const TIME_MAX_CS: u8 = 200;
+/// Smallest cancel radius, ADC counts.
+pub const RADIUS_MIN: u8 = 20;
+
+impl PressSettings {
+    /// Hold 0.10 s (five reads: a brush of 80 ms never acts, and the
+    /// centre has its mid-range), repeat 0.30 s, radius 160 counts.
+    pub const DEFAULT: PressSettings = PressSettings { hold_cs: 10, repeat_cs: 30, radius: 160 };
+
+    /// Every value in its range.
+    pub fn is_valid(&self) -> bool {
+        (HOLD_MIN_CS..=TIME_MAX_CS).contains(&self.hold_cs)
+            && self.repeat_cs <= TIME_MAX_CS
+            && self.radius >= RADIUS_MIN
+    }
 }
 
 /// Everything that survives a reset.
@@ -159,6 +198,8 @@ pub struct Config {
     /// unit, 1..=[`LIFT_MAX_CENTI`] (`lift <h>`); `None`: `lift off`. Never
     /// with [`PathMode::Line`].
     pub lift_centi: Option<u8>,
+    /// Hold, repeat and cancel radius of touches.
+    pub press: PressSettings,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -181,6 +222,7 @@ impl ConfigError {
             ConfigError::Touch(TouchCalError::OutOfRange) => t!("touch limit above 1023"),
             ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
             ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
+            ConfigError::Touch(TouchCalError::Press) => t!("touch hold/repeat/radius out of range"),
         }
     }
 }
@@ -196,6 +238,7 @@ impl Config {
         wiring: None,
         path: PathMode::Joint,
         lift_centi: None,
+        press: PressSettings::DEFAULT,
     };
 
     /// Checks every joint calibration and the touch calibration; the first
@@ -204,7 +247,11 @@ impl Config {
         for (joint, cal) in Joint::ALL.iter().zip(self.joints.iter()) {
             cal.validate().map_err(|e| ConfigError::Joint(*joint, e))?;
         }
-        validate_touch(&self.touch).map_err(ConfigError::Touch)
+        validate_touch(&self.touch).map_err(ConfigError::Touch)?;
+        if !self.press.is_valid() {
+            return Err(ConfigError::Touch(TouchCalError::Press));
+        }
+        Ok(())
     }
 
     /// The calibration of `joint`.
@@ -228,6 +275,9 @@ impl Config {
     /// the change and left untouched if that fails, so the running
     /// configuration is always valid (change limits in an order that stays
     /// valid, e.g. widen before narrowing).
+    // Out of line: its copy of the configuration is not in the frame of
+    // the serial command's handler, which is on the deepest path.
+    #[inline(never)] // avr-trap: frame-size
     pub fn apply(&mut self, set: &CalSet) -> Result<(), ConfigError> {
         let mut next = *self;
         match *set {
@@ -245,6 +295,10 @@ impl Config {
                     TouchField::Swap => t.swap_xy = value != 0,
                     TouchField::InvertX => t.invert_x = value != 0,
                     TouchField::InvertY => t.invert_y = value != 0,
+                    // Ranged by the parser (`TouchField::range`).
+                    TouchField::Hold => next.press.hold_cs = value as u8,
+                    TouchField::Repeat => next.press.repeat_cs = value as u8,
+                    TouchField::Radius => next.press.radius = value as u8,
                 }
             }
         }
@@ -367,11 +421,17 @@ pub enum TouchField {
     InvertX,
     /// `invert_y`, see [`TouchField::Swap`].
     InvertY,
+    /// `hold`: seconds with two decimals, 0.04..=2.00 ([`PressSettings`]).
+    Hold,
+    /// `repeat`: seconds with two decimals, 0..=2.00.
+    Repeat,
+    /// `radius`: ADC counts, integers 20..=255.
+    Radius,
 }
 
 impl TouchField {
     /// Every field, in the order `cal show` prints them.
-    pub const ALL: [TouchField; 7] = [
+    pub const ALL: [TouchField; 10] = [
         TouchField::XMin,
         TouchField::XMax,
         TouchField::YMin,
@@ -379,6 +439,9 @@ impl TouchField {
         TouchField::Swap,
         TouchField::InvertX,
         TouchField::InvertY,
+        TouchField::Hold,
+        TouchField::Repeat,
+        TouchField::Radius,
     ];
 
     /// The field's word in `cal set touch` and `cal show`.
@@ -391,15 +454,32 @@ impl TouchField {
             TouchField::Swap => t!("swap"),
             TouchField::InvertX => t!("invert_x"),
             TouchField::InvertY => t!("invert_y"),
+            TouchField::Hold => t!("hold"),
+            TouchField::Repeat => t!("repeat"),
+            TouchField::Radius => t!("radius"),
         }
     }
 
     /// Largest accepted value.
     pub fn max(self) -> i32 {
+        self.range().1
+    }
+
+    /// Accepted values, in the field's units (hundredths of a second for
+    /// `hold` and `repeat`).
+    pub fn range(self) -> (i32, i32) {
         match self {
-            TouchField::XMin | TouchField::XMax | TouchField::YMin | TouchField::YMax => RAW_MAX,
-            TouchField::Swap | TouchField::InvertX | TouchField::InvertY => 1,
+            TouchField::XMin | TouchField::XMax | TouchField::YMin | TouchField::YMax => (0, RAW_MAX),
+            TouchField::Swap | TouchField::InvertX | TouchField::InvertY => (0, 1),
+            TouchField::Hold => (i32::from(HOLD_MIN_CS), i32::from(TIME_MAX_CS)),
+            TouchField::Repeat => (0, i32::from(TIME_MAX_CS)),
+            TouchField::Radius => (i32::from(RADIUS_MIN), 255),
         }
+    }
+
+    /// True if the value is in hundredths (typed and printed with two decimals).
+    pub fn is_centi(self) -> bool {
+        matches!(self, TouchField::Hold | TouchField::Repeat)
     }
 }
 
@@ -427,7 +507,8 @@ pub enum CalSet {
     Touch {
         /// Which field.
         field: TouchField,
-        /// ADC counts, or 0/1 for the flags.
+        /// ADC counts, 0/1 for the flags, hundredths of a second for
+        /// `hold` and `repeat`.
         value: u16,
     },
 }

@@ -1,10 +1,10 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 4, little-endian, 105 bytes)
+//! # Record layout (version 5, little-endian, 108 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (2) |
+//! | 2  | 1  | layout version (5) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
@@ -15,9 +15,15 @@
 //! | 100 | 1 | touch wiring id ([`Wiring::id`]; 0 = none identified yet) (version 3) |
 //! | 101 | 1 | path mode id ([`PathMode::id`]: 0 joint, 1 line) (version 4) |
 //! | 102 | 1 | lift, hundredths of a workspace unit, 1..=50; 0 = off; never with line (version 4) |
-//! | 103 | 2 | CRC-16/CCITT-FALSE of bytes 0..103 |
+//! | 103 | 1 | touch `hold`, hundredths of a second, 4..=200 (version 5) |
+//! | 104 | 1 | touch `repeat`, hundredths of a second, 0..=200 (version 5) |
+//! | 105 | 1 | touch cancel `radius`, ADC counts, 20..=255 (version 5) |
+//! | 106 | 2 | CRC-16/CCITT-FALSE of bytes 0..106 |
 //!
-//! Older records are still read, and the next save writes version 4:
+//! Older records are still read, and the next save writes version 5:
+//! - version 4 (before the touch's hold, repeat and radius) ends with its
+//!   CRC of bytes 0..103 at 103; it reads with the default
+//!   [`PressSettings`];
 //! - version 3 (before the path and lift settings) ends with its CRC of
 //!   bytes 0..101 at 101; it reads with joint moves and no lift;
 //! - version 2 (before the measured wiring) ends with its CRC of bytes
@@ -26,6 +32,8 @@
 //! - version 1 (before acceleration limits) ends with its CRC of bytes 0..88
 //!   at 88; it reads with the default acceleration limits
 //!   ([`JointCal::DEFAULTS`]) too.
+//!
+//! Every older version reads with the default [`PressSettings`].
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -42,7 +50,7 @@
 //! # Tear-proof by construction
 //! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
 //! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
-//! otherwise), then bytes 1..103 (body and CRC), then byte 0 := `T`. A power
+//! otherwise), then bytes 1..108 (body and CRC), then byte 0 := `T`. A power
 //! loss tears at most the one byte being written; whatever value that byte is
 //! left with:
 //! - during step 1 the body is untouched and byte 0 read `T` before: the slot
@@ -60,7 +68,7 @@
 //! defaults and a [`Warning`].
 
 use super::crc::crc16;
-use super::settings::{Config, ConfigError, PathMode, SpeedPreset, LIFT_MAX_CENTI};
+use super::settings::{Config, ConfigError, PathMode, PressSettings, SpeedPreset, LIFT_MAX_CENTI};
 use crate::motion::plan::LawKind;
 use crate::seam::{Storage, StorageError};
 use crate::servo::map::JointCal;
@@ -70,7 +78,9 @@ use crate::touch::wiring::Wiring;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 105;
+pub const RECORD_LEN: usize = 108;
+/// A version-4 record's length (its CRC at 103).
+const RECORD_LEN_V4: usize = 105;
 /// A version-3 record's length (its CRC at 101).
 const RECORD_LEN_V3: usize = 103;
 /// A version-2 record's length (its CRC at 100).
@@ -84,9 +94,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; versions 1 to 3 are still read
+/// Layout version of the record written; versions 1 to 4 are still read
 /// (see the module doc), any other is not.
-pub const VERSION: u8 = 4;
+pub const VERSION: u8 = 5;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -126,13 +136,15 @@ impl Config {
             w.put(&j.max_accel_rad_s2.to_le_bytes());
         }
         w.put(&[self.wiring.map_or(0, Wiring::id), self.path.id(), self.lift_centi.unwrap_or(0)]);
+        let p = &self.press;
+        w.put(&[p.hold_cs, p.repeat_cs, p.radius]);
         seal(&mut buf);
         buf
     }
 
-    /// Parses and validates a record (version 4; 3 with joint moves and no
-    /// lift; 2 also without a wiring; 1 also with the default acceleration
-    /// limits). Checks, in order: magic, version, CRC, field values.
+    /// Parses and validates a record (version 5; 4 with the default touch
+    /// hold, repeat and radius; 3 also with joint moves and no lift; 2 also
+    /// without a wiring; 1 also with the default acceleration limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader::at(buf, 0);
         if r.take::<2>() != MAGIC {
@@ -141,6 +153,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            4 => RECORD_LEN_V4 - 2,
             3 => RECORD_LEN_V3 - 2,
             2 => RECORD_LEN_V2 - 2,
             1 => RECORD_LEN_V1 - 2,
@@ -172,14 +185,14 @@ impl Config {
             }
         }
         let wiring = match version {
-            VERSION | 3 => match r.take::<1>() {
+            VERSION | 4 | 3 => match r.take::<1>() {
                 [0] => None,
                 [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
             },
             _ => None,
         };
         let (mut path, mut lift_centi) = (PathMode::Joint, None);
-        if version == VERSION {
+        if version >= 4 {
             let [p, h] = r.take::<2>();
             path = PathMode::from_id(p).ok_or(RecordError::Invalid)?;
             lift_centi = match h {
@@ -187,6 +200,11 @@ impl Config {
                 h if h <= LIFT_MAX_CENTI && path == PathMode::Joint => Some(h),
                 _ => return Err(RecordError::Invalid),
             };
+        }
+        let mut press = PressSettings::DEFAULT;
+        if version == VERSION {
+            let [hold_cs, repeat_cs, radius] = r.take::<3>();
+            press = PressSettings { hold_cs, repeat_cs, radius };
         }
         let config = Config {
             joints,
@@ -204,6 +222,7 @@ impl Config {
             wiring,
             path,
             lift_centi,
+            press,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })

@@ -451,8 +451,10 @@ fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
         let name = t.arg()?;
         let field =
             TouchField::ALL.iter().copied().find(|f| f.name().eq_ignore_case(name)).ok_or(CmdError::BadArgument)?;
-        let value = parse_int(t.arg()?, 0, field.max())? as u16;
-        return Ok(CalSet::Touch { field, value });
+        let (lo, hi) = field.range();
+        let tok = t.arg()?;
+        let value = if field.is_centi() { parse_centi(tok, lo, hi)? } else { parse_int(tok, lo, hi)? };
+        return Ok(CalSet::Touch { field, value: value as u16 });
     }
     let joint = match target {
         w if is(w, t!("grip")) => None,

@@ -3,6 +3,7 @@
 //! normalized workspace ([`map`]); which pins the panel is on is measured
 //! ([`wiring`]).
 
+pub mod contact;
 pub mod filter;
 pub mod map;
 pub mod wiring;

@@ -28,6 +28,8 @@ pub enum Screen {
 fn moving(progress: f32) -> UiModel {
     UiModel {
         state: UiState::Moving { progress },
+        preview: None,
+        resume: None,
         touch: Some((0.4, 0.5)),
         target: Some((0.4, 0.5)),
         condition: Some(Condition::C2),

@@ -33,6 +33,6 @@ pub mod ws_view;
 pub use calibration::{CalFailure, CalPhase, CalibrationEvent, CalibrationFlow};
 pub use draw::{Canvas, Run};
 pub use layout::Layout;
-pub use model::{warn, Page, Refusal, UiModel, UiState};
+pub use model::{warn, Page, Preview, Refusal, UiModel, UiState};
 pub use screen::{warning_line, Drawn, Hit, Redrawn, Ui, UiConfig};
 pub use slice::{DrawBudget, PixelBudget, Unlimited};

@@ -16,6 +16,23 @@ pub enum Refusal {
     JointLimit,
     /// A new target while the arm is moving; STOP first.
     Busy,
+    /// The finger lifted off the map, or wandered: nothing moved.
+    Cancelled,
+    /// A second contact (a palm, a knuckle): nothing moved.
+    Hand,
+}
+
+/// The candidate under a finger on the map (nothing has moved yet).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Preview {
+    /// Workspace point, −1..=1.
+    pub x_p: f32,
+    /// Workspace height, 0..=1.
+    pub y_p: f32,
+    /// The arm can reach it.
+    pub ok: bool,
+    /// The ring's fill over the hold, 0..=4.
+    pub ring: u8,
 }
 
 /// Which set of buttons the screen shows below the headline (see
@@ -72,6 +89,10 @@ pub mod warn {
 pub struct UiModel {
     /// What the arm is doing, as the headline says it.
     pub state: UiState,
+    /// The candidate under a finger on the map.
+    pub preview: Option<Preview>,
+    /// RESUME's countdown while it is held, 0..=4 (shown while stopped).
+    pub resume: Option<u8>,
     /// The last touched point on the map.
     pub touch: Option<(f32, f32)>,
     /// The point the arm is going to or holding.
@@ -102,6 +123,8 @@ impl UiModel {
     pub const fn new(speed: SpeedPreset) -> Self {
         Self {
             state: UiState::PowerUp,
+            preview: None,
+            resume: None,
             touch: None,
             target: None,
             condition: None,

@@ -131,6 +131,9 @@ enum Headline {
     OffMap,
     JointLimit,
     Busy,
+    Cancelled,
+    Hand,
+    Resuming,
 }
 
 impl Headline {
@@ -140,7 +143,10 @@ impl Headline {
             Headline::Ready => t!("Ready"),
             Headline::Moving => t!("Moving to target"),
             Headline::Holding => t!("Holding"),
-            Headline::Stopped => t!("Stopped - tap RESUME"),
+            Headline::Stopped => t!("Stopped - hold RESUME"),
+            Headline::Cancelled => t!("Cancelled"),
+            Headline::Hand => t!("Lift your hand"),
+            Headline::Resuming => t!("Keep holding RESUME"),
             Headline::OutOfReach => t!("Out of reach"),
             Headline::OffMap => t!("Not on the map"),
             Headline::JointLimit => t!("Can't reach that way"),
@@ -150,7 +156,9 @@ impl Headline {
 
     fn color(self) -> Rgb565 {
         match self {
-            Headline::Stopped | Headline::OutOfReach | Headline::OffMap | Headline::JointLimit => theme::REFUSED,
+            Headline::Stopped | Headline::OutOfReach | Headline::OffMap | Headline::JointLimit | Headline::Hand => {
+                theme::REFUSED
+            }
             _ => theme::TEXT,
         }
     }
@@ -177,6 +185,8 @@ struct View {
     joints: [Option<i16>; 3],
     touch: Option<Mark>,
     target: Option<Mark>,
+    /// The candidate under a finger (on top of the others).
+    candidate: Option<Mark>,
     speed: SpeedPreset,
     page: Page,
     /// The More page's states, [`GRIP_CLOSED`] | [`PATH_LINE`] | [`LIFT`]:
@@ -234,13 +244,21 @@ impl View {
                 (Headline::Moving, Detail::Progress { px, percent })
             }
             UiState::Holding => (Headline::Holding, Detail::Hint(t!("Touch the map to move"))),
-            UiState::Stopped => (Headline::Stopped, Detail::Hint(t!("The arm holds still"))),
+            UiState::Stopped => match m.resume {
+                Some(k) => {
+                    let (px, percent) = progress_of(f32::from(k) / 4.0, lay.bar_fill().w);
+                    (Headline::Resuming, Detail::Progress { px, percent })
+                }
+                None => (Headline::Stopped, Detail::Hint(t!("The arm holds still"))),
+            },
             UiState::Refused(r) => match r {
                 Refusal::TooFar => (Headline::OutOfReach, Detail::Hint(t!("Try closer to the base"))),
                 Refusal::TooClose => (Headline::OutOfReach, Detail::Hint(t!("Try further from base"))),
                 Refusal::OffMap => (Headline::OffMap, Detail::Hint(t!("Touch inside the map"))),
                 Refusal::JointLimit => (Headline::JointLimit, Detail::Hint(t!("Try another point"))),
                 Refusal::Busy => (Headline::Busy, Detail::Hint(t!("Wait, or tap STOP"))),
+                Refusal::Cancelled => (Headline::Cancelled, Detail::Hint(t!("Lift on the map to move"))),
+                Refusal::Hand => (Headline::Hand, Detail::Hint(t!("Touch with one finger"))),
             },
         };
         let refused = matches!(m.state, UiState::Refused(_));
@@ -256,6 +274,9 @@ impl View {
             joints: [whole_deg(m.joints[0]), whole_deg(m.joints[1]), whole_deg(m.joints[2])],
             touch: mark(m.touch, if refused { MarkKind::TouchRefused } else { MarkKind::Touch }),
             target: mark(m.target, MarkKind::Target),
+            candidate: m
+                .preview
+                .and_then(|p| mark(Some((p.x_p, p.y_p)), MarkKind::Candidate { ok: p.ok, ring: p.ring.min(4) })),
             speed: m.speed,
             page: m.page,
             more: if m.grip_closed { GRIP_CLOSED } else { 0 }
@@ -265,10 +286,10 @@ impl View {
     }
 
     /// Markers in drawing order (the touch on top).
-    fn marks(&self) -> ([Mark; 2], usize) {
-        let mut out = [Mark { x: 0, y: 0, kind: MarkKind::Touch }; 2];
+    fn marks(&self) -> ([Mark; 3], usize) {
+        let mut out = [Mark { x: 0, y: 0, kind: MarkKind::Touch }; 3];
         let mut n = 0;
-        for m in [self.target, self.touch].into_iter().flatten() {
+        for m in [self.target, self.touch, self.candidate].into_iter().flatten() {
             if let Some(slot) = out.get_mut(n) {
                 *slot = m;
                 n += 1;
@@ -338,9 +359,9 @@ const S_SPEED: u8 = BANDS + 8;
 const S_KEY: u8 = BANDS + 9;
 const S_ROW2: u8 = BANDS + 10;
 const S_TOGGLES: u8 = BANDS + 11;
-/// Up to four marker boxes (old and new touch and target).
+/// Up to six marker boxes (old and new touch, target and candidate).
 const S_MARKERS: u8 = BANDS + 12;
-const S_END: u8 = S_MARKERS + 4;
+const S_END: u8 = S_MARKERS + 6;
 const _: () = assert!(S_END <= 64);
 
 /// The headline, hints and percentage: the layout's text scale.
@@ -657,14 +678,27 @@ impl Ui {
         Ok(0)
     }
 
-    /// Repaints box `i` of the markers that changed (old and new places of
-    /// the touch and the target), unless an earlier box covers it.
+    /// Repaints box `i` of the markers that changed ([`Self::marker_box`]).
     #[inline(never)] // avr-trap: frame-size
     fn marker_step<D: Canvas>(&self, old: &View, v: &View, i: usize, d: &mut D) -> Result<u16, D::Error> {
+        let Some(box_) = self.marker_box(old, v, i) else {
+            return Ok(0);
+        };
+        let (marks, k) = v.marks();
+        ws_view::repaint(d, &self.layout, &self.reach, box_, marks.get(..k).unwrap_or(&[]))?;
+        Ok(Redrawn::MARKERS)
+    }
+
+    /// Box `i` of the markers that changed (old and new places of the
+    /// touch, the target and the candidate), unless an earlier box covers
+    /// it. Out of line, so its list of boxes is not on the stack while the
+    /// box is repainted: the draw chain is the UI's deepest (ui-demo).
+    #[inline(never)] // avr-trap: frame-size
+    fn marker_box(&self, old: &View, v: &View, i: usize) -> Option<Area> {
         let lay = &self.layout;
-        let mut dirty = [Area::new(0, 0, 0, 0); 4];
+        let mut dirty = [Area::new(0, 0, 0, 0); 6];
         let mut n = 0;
-        for (a, b) in [(old.touch, v.touch), (old.target, v.target)] {
+        for (a, b) in [(old.touch, v.touch), (old.target, v.target), (old.candidate, v.candidate)] {
             if a != b {
                 for m in [a, b].into_iter().flatten() {
                     if let Some(slot) = dirty.get_mut(n) {
@@ -674,16 +708,12 @@ impl Ui {
                 }
             }
         }
-        let Some(box_) = dirty.get(..n).and_then(|b| b.get(i)) else {
-            return Ok(0);
-        };
+        let box_ = *dirty.get(..n).and_then(|b| b.get(i))?;
         // A box already repainted (same place) needs no second pass.
-        if dirty.get(..i).is_some_and(|prev| prev.contains(box_)) {
-            return Ok(0);
+        if dirty.get(..i).is_some_and(|prev| prev.contains(&box_)) {
+            return None;
         }
-        let (marks, k) = v.marks();
-        ws_view::repaint(d, lay, &self.reach, *box_, marks.get(..k).unwrap_or(&[]))?;
-        Ok(Redrawn::MARKERS)
+        Some(box_)
     }
 
     /// What a touch at screen pixel `(x, y)` means on the main screen as last

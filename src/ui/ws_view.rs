@@ -66,6 +66,15 @@ pub enum MarkKind {
     TouchRefused,
     /// The arm's target: a ring.
     Target,
+    /// The candidate under a finger (issue #19): a frame whose sides fill
+    /// one by one over the hold (`ring` of 4), green if the arm reaches
+    /// it, red if not.
+    Candidate {
+        /// The arm can reach it.
+        ok: bool,
+        /// Sides filled, 0..=4.
+        ring: u8,
+    },
 }
 
 /// A marker at a map pixel.
@@ -322,7 +331,22 @@ fn draw_mark<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark) -> Result<(), D::Erro
             frame(d, outer.shrink(1), 3, theme::TARGET_MARK)?;
             frame(d, outer.shrink(4), 1, theme::WHITE)
         }
+        MarkKind::Candidate { ok, ring } => draw_candidate(d, lay, m, ok, ring),
     }
+}
+
+/// The candidate: a white frame and four rings inside it that take the
+/// verdict's colour from the outside in as the hold fills, around a dot in
+/// that colour. Out of line: only the preview draws it, rarely.
+#[inline(never)] // reason: cold
+fn draw_candidate<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark, ok: bool, ring: u8) -> Result<(), D::Error> {
+    let outer = Area::around(m.x, m.y, marker_r(lay));
+    let ink = if ok { theme::RESUME_GREEN } else { theme::REFUSED };
+    for i in 0..5u8 {
+        let c = if i > 0 && i <= ring { ink } else { theme::WHITE };
+        frame(d, outer.shrink(u16::from(i)), 1, c)?;
+    }
+    fill(d, Area::around(m.x, m.y, 2), ink)
 }
 
 /// The whole map: background, base, labels, markers.

@@ -23,9 +23,9 @@ fn touch_arm_sim_rejects_bad_arguments_in_one_line() {
     fails(bin, &["--xy", "0.1,0.2", "--raw", "500,500"], "cannot be used with");
     fails(bin, &["--frobnicate"], "unexpected argument '--frobnicate'");
     fails(bin, &["--then", "0.5,0.5"], "X2,Y2@MS");
-    fails(bin, &["--then", "0.5,0.5@50"], "at least 100");
+    fails(bin, &["--then", "0.5,0.5@50"], "at least 350");
     fails(bin, &["--then", "0.5,0.5@soon"], "whole number of milliseconds");
-    fails(bin, &["--then", "2.5,0.5@300"], "not on the map");
+    fails(bin, &["--then", "2.5,0.5@400"], "not on the map");
     fails(bin, &["--law", "sine"], "invalid value 'sine'");
     fails(bin, &["--lcd", "ssd1289"], "unknown controller \"ssd1289\" (ili9341, st7789, ili9486, ili9325");
     fails(bin, &["--lcd"], "a value is required");

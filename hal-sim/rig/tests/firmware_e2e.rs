@@ -60,10 +60,13 @@ fn assert_same_pulses(a: [Option<f64>; 3], b: [Option<f64>; 3]) {
     }
 }
 
+/// A tap: held 0.3 s, then lifted; the firmware acts on the lift-off
+/// (issue #19), read over the three frames after it.
 fn touch(s: &mut Session, raw_x: f64, raw_y: f64) {
     s.press_raw(raw_x, raw_y).unwrap();
     s.run_for(0.3).unwrap();
     s.release();
+    s.run_for(0.1).unwrap();
 }
 
 fn map_touch(x: f32, y: f32) -> ((f64, f64), (f64, f64)) {
@@ -113,9 +116,12 @@ fn screen_buttons_stop_resume_and_set_the_speed() {
     for p in pulses_after(&s, t_stop + 2.0 * FRAME_S) {
         assert!(p.iter().all(|(_, w)| (w - p[0].1).abs() <= 0.25), "moved after the STOP button");
     }
-    // The same place is RESUME now.
+    // The same place is RESUME now: a fresh contact held 0.6 s.
     s.run_for(0.3).unwrap();
-    touch(&mut s, rx.round(), ry.round());
+    s.press_raw(rx.round(), ry.round()).unwrap();
+    s.run_for(0.8).unwrap();
+    s.release();
+    s.run_for(0.1).unwrap();
     assert!(s.avr.uart_output_string().contains("info screen resume"));
     // Speed buttons.
     let fast = L.pixel_center_to_panel(L.fast().x + L.fast().w as i16 / 2, L.fast().y + L.fast().h as i16 / 2);
@@ -124,6 +130,71 @@ fn screen_buttons_stop_resume_and_set_the_speed() {
     touch(&mut s, fx.round(), fy.round());
     assert!(s.avr.uart_output_string().contains("info screen speed fast"), "{}", s.avr.uart_output_string());
     assert!(s.command("status").unwrap().contains("speed fast"));
+}
+
+/// Issue #19 on the real ELF: a contact on the map moves nothing while the
+/// finger is down (0.5 s), and the arm goes when it lifts, to the contact's
+/// centre; a brief contact (60 ms, under the 0.10 s hold) and one lifted
+/// in the guard band below the map move nothing and say why; STOP latches
+/// on contact within 60 ms and a frame.
+#[test]
+fn a_tap_on_the_map_commits_on_lift_off() {
+    let mut s = start();
+    let ((rx, ry), (wx, wy)) = map_touch(0.4, 0.6);
+    let (want, cond) = expected(wx, wy);
+    let from = s.avr.uart_output().len();
+    let t0 = s.avr.time_s();
+    s.press_raw(rx, ry).unwrap();
+    s.run_for(0.5).unwrap();
+    let out = s.avr.uart_output_string()[from..].to_string();
+    assert!(!out.contains("info touch"), "acted before the lift-off:\n{out}");
+    let held = pulses_after(&s, t0);
+    for p in &held {
+        assert!(p.iter().all(|(_, w)| (w - p[0].1).abs() <= 0.25), "moved while the finger was down");
+    }
+    s.release();
+    let t_lift = s.avr.time_s();
+    let (line, t) = s.await_line(from, &["info touch", "err touch"], 0.5).unwrap().expect("a reply on lift-off");
+    assert!(line.starts_with(&format!("info touch {} {} cond {cond}", rx as u16, ry as u16)), "{line}");
+    // The release is read over three frames, then the plan: within 5.
+    assert!(t - t_lift <= 5.0 * FRAME_S, "reply {:.3} s after the lift", t - t_lift);
+    let ts: f64 = line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse().unwrap();
+    s.run_for(ts / 1000.0 + 0.3).unwrap();
+    let got = s.last_pulses();
+    for j in 0..3 {
+        assert!((got[j].unwrap() - want[j]).abs() <= 1.0, "joint {j}: {:?} vs {want:?}", got[j]);
+    }
+    // A brief contact: ignored, nothing moves.
+    s.run_for(0.4).unwrap();
+    let ((bx, by), _) = map_touch(-0.5, 0.5);
+    let from = s.avr.uart_output().len();
+    s.press_raw(bx, by).unwrap();
+    s.run_for(0.06).unwrap();
+    s.release();
+    let (line, _) = s.await_line(from, &["info screen ignored", "info touch"], 0.3).unwrap().expect("a line");
+    assert_eq!(line, "info screen ignored brief");
+    // Lifted in the guard band below the map: cancelled.
+    s.run_for(0.4).unwrap();
+    let from = s.avr.uart_output().len();
+    s.press_raw(bx, by).unwrap();
+    s.run_for(0.3).unwrap();
+    let (gx, gy) = firmware::raw_at_pixel(&L, 60, L.ws().bottom() + 4).unwrap();
+    s.press_raw(gx, gy).unwrap();
+    s.run_for(0.1).unwrap();
+    s.release();
+    let (line, _) = s.await_line(from, &["info screen cancel", "info touch"], 0.3).unwrap().expect("a line");
+    assert_eq!(line, "info screen cancel");
+    assert_same_pulses(s.last_pulses(), got);
+    // STOP on contact: the latch within 60 ms + a frame of the landing.
+    s.run_for(0.4).unwrap();
+    let (sx, sy) = firmware::raw_at_centre(&L, L.stop()).unwrap();
+    let from = s.avr.uart_output().len();
+    s.press_raw(sx, sy).unwrap();
+    let t_land = s.avr.time_s();
+    let (line, t) = s.await_line(from, &["info screen stop"], 0.3).unwrap().expect("STOP latched");
+    assert_eq!(line, "info screen stop");
+    assert!(t - t_land <= 0.06 + FRAME_S, "STOP {:.3} s after the contact", t - t_land);
+    s.release();
 }
 
 #[test]

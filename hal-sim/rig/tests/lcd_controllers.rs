@@ -113,6 +113,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
         s.press_raw(rx, ry).unwrap();
         s.run_for(0.3).unwrap();
         s.release();
+        // The tap acts on the lift-off (issue #19).
+        s.run_for(0.1).unwrap();
         let out = s.avr.uart_output_string();
         let reply = out.lines().find(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("{name}:\n{out}"));
         let ts: f64 = reply.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse().unwrap();
@@ -130,6 +132,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
         let (xf, yf) = (wx as f32, wy as f32);
         let model = UiModel {
             state: UiState::Holding,
+            preview: None,
+            resume: None,
             touch: Some((xf, yf)),
             target: Some((xf, yf)),
             condition: Some(condition(xf, yf).unwrap()),
@@ -157,6 +161,8 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
     let home = [90.0f32, 90.0, -90.0].map(f32::to_radians);
     let idle = UiModel {
         state: UiState::Idle,
+        preview: None,
+        resume: None,
         touch: None,
         target: None,
         condition: None,
@@ -224,6 +230,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         assert_eq!(lines, ["info screen page more"], "{name}");
         let mut more = UiModel {
             state: UiState::Holding,
+            preview: None,
+            resume: None,
             touch: None,
             target: None,
             condition: None,
@@ -296,6 +304,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
 fn idle_model() -> UiModel {
     UiModel {
         state: UiState::Idle,
+        preview: None,
+        resume: None,
         touch: None,
         target: None,
         condition: None,
@@ -413,6 +423,8 @@ fn rotate_180_turns_the_picture_and_the_touches_with_it() {
         s.press_raw(rx, ry).unwrap();
         s.run_for(0.3).unwrap();
         s.release();
+        // The tap acts on its lift-off (issue #19): its reply a few frames on.
+        s.run_for(0.2).unwrap();
         let out = s.avr.uart_output_string();
         let reply = out.lines().rfind(|l| l.starts_with("info touch ")).unwrap_or_else(|| panic!("{name}:\n{out}"));
         s.run_for(ts_s(reply) + 0.5).unwrap();

@@ -40,9 +40,10 @@ fn wiring_line(s: &Session) -> String {
 fn touch_and_settle(s: &mut Session, raw_x: f64, raw_y: f64) -> (String, [Option<f64>; 3]) {
     let from = s.avr.uart_output().len();
     s.press_raw(raw_x, raw_y).unwrap();
-    let line = s.await_line(from, &["info touch", "err touch"], 0.5).unwrap();
-    s.run_for(0.1).unwrap();
+    s.run_for(0.2).unwrap();
+    // The tap acts on the lift-off (issue #19).
     s.release();
+    let line = s.await_line(from, &["info touch", "err touch"], 0.5).unwrap();
     let (line, _) = line.unwrap_or_else(|| panic!("no touch reply:\n{}", s.avr.uart_output_string()));
     let ts_ms: f64 = line.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).unwrap().parse().unwrap();
     s.run_for(ts_ms / 1000.0 + 0.3).unwrap();
@@ -130,6 +131,7 @@ fn an_unidentified_wiring_is_reported_and_the_arm_stays_usable_over_serial() {
     s.press_raw(500.0, 500.0).unwrap();
     s.run_for(0.4).unwrap();
     s.release();
+    s.run_for(0.2).unwrap();
     assert!(!s.avr.uart_output_string()[before..].contains("touch"), "{}", s.avr.uart_output_string());
     // The line is unsolicited, like the other `err touch` lines (README rule).
     assert_eq!(hal_sim::random_input::replies_in(&line), 0);

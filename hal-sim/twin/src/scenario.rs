@@ -17,9 +17,9 @@
 //!
 //! Actions:
 //! - `panel noise <σ counts>` / `panel spikes <probability>`
-//! - `touch xy <x_p> <y_p> [force <f>]` / `touch raw <x> <y> [force <f>]`:
-//!   the finger goes down (and stays until `release` or another `touch`).
-//!   `touch button <name> [force <f>]`: on the centre of a button of the
+//! - `press xy <x_p> <y_p> [force <f>]` / `press raw <x> <y> [force <f>]`:
+//!   the finger goes down (and stays until `release` or another press).
+//!   `press button <name> [force <f>]`: on the centre of a button of the
 //!   320×240 screen, read through the default calibration: `stop` (also
 //!   RESUME), `slow`, `normal`, `fast`, `more` / `back` (the page key),
 //!   `grip`, `calib`, `line`, `lift`, `pose1`…`pose4` (the last five and
@@ -30,6 +30,10 @@
 //!   start, x and y in pixels of the 320×240 screen, force (0 no contact, 1
 //!   firm), linearly interpolated and evaluated at each conversion; after
 //!   `second`, a second contact's knots. It ends by itself after its last knot.
+//! - `touch xy|raw|button …` (the same arguments): a tap, as the app acts
+//!   on lift-off (issue #19): the press, 200 ms held ([`TAP_FRAMES`]), the
+//!   release and the 80 ms ([`LIFT_FRAMES`]) in which the release is read
+//!   and the tap acts. A `release` after it changes nothing.
 //! - `release`
 //! - `run <duration>`; `run_until <state> within <duration>`: runs at least
 //!   one frame (so a line just sent is read), then until the state holds
@@ -74,6 +78,10 @@
 //! - `expect refusal "<reason>"` / `expect no_refusal`
 //! - `expect screen_warning "<text>"`: the warning line the screen shows
 //!   (`""` for none)
+//! - `expect screen_state "<state>"`: the screen model's state as Rust
+//!   prints it (`Holding`, `Refused(Cancelled)`, `Refused(Hand)`, …)
+//! - `expect preview shown|none`: the candidate marker under a finger on
+//!   the map
 //!
 //! The gripper (the fourth channel):
 //! - `expect grip_deg <deg> tol <deg>`: the app's commanded gripper angle
@@ -141,6 +149,8 @@ enum Expect {
     Refusal(String),
     NoRefusal,
     ScreenWarning(String),
+    ScreenState(String),
+    Preview(bool),
     GripDeg(f64, f64),
     GripPulse(f64, f64),
     GripServo(f64, f64),
@@ -154,9 +164,16 @@ enum Expect {
 
 #[derive(Debug, Clone, PartialEq)]
 enum Step {
-    Geometry { k: f64, l2: f64, l3: f64 },
+    Geometry {
+        k: f64,
+        l2: f64,
+        l3: f64,
+    },
     ServoInit([f64; 3]),
-    ServoModel { speed: f64, deadband: f64 },
+    ServoModel {
+        speed: f64,
+        deadband: f64,
+    },
     Seed(u64),
     Screen,
     PanelNoise(f64),
@@ -164,6 +181,8 @@ enum Step {
     TouchXy(f64, f64, f64),
     TouchRaw(f64, f64, f64),
     Finger(Box<crate::finger::FingerScript>),
+    /// A tap: the press, [`TAP_FRAMES`] held, the release, [`LIFT_FRAMES`].
+    Tap(Box<Step>),
     Release,
     Run(u64),
     RunUntil(State, u64),
@@ -434,6 +453,12 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         "refusal" => Expect::Refusal(a.text()?),
         "no_refusal" => Expect::NoRefusal,
         "screen_warning" => Expect::ScreenWarning(a.text()?),
+        "screen_state" => Expect::ScreenState(a.text()?),
+        "preview" => Expect::Preview(match a.word()?.as_str() {
+            "shown" => true,
+            "none" => false,
+            w => return Err(format!("preview shown|none, got {w:?}")),
+        }),
         "grip_deg" => Expect::GripDeg(a.num()?, a.tol()?),
         "grip_pulse" => Expect::GripPulse(a.num()?, a.tol()?),
         "grip_servo_deg" => Expect::GripServo(a.num()?, a.tol()?),
@@ -467,6 +492,46 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
     })
 }
 
+/// Frames a `touch` tap holds the finger down (200 ms: past the default
+/// hold of 0.10 s with room for a hold of up to 0.16 s).
+pub const TAP_FRAMES: u64 = 10;
+/// Frames a `touch` tap runs after the release: the release's three reads
+/// and the frame that acts and plans.
+pub const LIFT_FRAMES: u64 = 4;
+
+fn parse_press(a: &mut Args) -> Result<Step, String> {
+    Ok(match a.word()?.as_str() {
+        "xy" => {
+            let (x, y) = (a.num()?, a.num()?);
+            Step::TouchXy(x, y, force(a)?)
+        }
+        "raw" => {
+            let (x, y) = (a.num()?, a.num()?);
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        "button" => {
+            let (x, y) = button_raw(&a.word()?)?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        "map" => {
+            let (x_p, y_p) = (a.num()?, a.num()?);
+            let lay = touch_arm::ui::Layout::QVGA;
+            let (px, py) = lay
+                .ws_point_to_pixel(x_p as f32, y_p as f32)
+                .ok_or_else(|| format!("({x_p}, {y_p}) is not on the map"))?;
+            let (x, y) = crate::host::raw_at_pixel(&lay, px, py).ok_or("no raw reading")?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        "pixel" => {
+            let (px, py) = (a.int::<i16>()?, a.int::<i16>()?);
+            let lay = touch_arm::ui::Layout::QVGA;
+            let (x, y) = crate::host::raw_at_pixel(&lay, px, py).ok_or("no raw reading")?;
+            Step::TouchRaw(x, y, force(a)?)
+        }
+        w => return Err(format!("touch needs xy, raw, button, map or pixel, got {w:?}")),
+    })
+}
+
 fn parse_step(a: &mut Args) -> Result<Step, String> {
     let d = a.word()?;
     Ok(match d.as_str() {
@@ -495,21 +560,8 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
             "spikes" => Step::PanelSpikes(a.num()?),
             w => return Err(format!("unknown panel setting {w:?}")),
         },
-        "touch" => match a.word()?.as_str() {
-            "xy" => {
-                let (x, y) = (a.num()?, a.num()?);
-                Step::TouchXy(x, y, force(a)?)
-            }
-            "raw" => {
-                let (x, y) = (a.num()?, a.num()?);
-                Step::TouchRaw(x, y, force(a)?)
-            }
-            "button" => {
-                let (x, y) = button_raw(&a.word()?)?;
-                Step::TouchRaw(x, y, force(a)?)
-            }
-            w => return Err(format!("touch needs xy, raw or button, got {w:?}")),
-        },
+        "touch" => Step::Tap(Box::new(parse_press(a)?)),
+        "press" => parse_press(a)?,
         "finger" => {
             let mut tracks = [Vec::new(), Vec::new()];
             let mut k = 0;
@@ -686,6 +738,13 @@ impl Runner {
             Step::TouchXy(x, y, f) => sim.panel.touch_xy(*x, *y, *f)?,
             Step::TouchRaw(x, y, f) => sim.panel.touch_raw(*x, *y, *f)?,
             Step::Finger(script) => sim.finger((**script).clone()),
+            Step::Tap(press) => {
+                self.step(press)?;
+                let sim = &mut self.sim;
+                sim.run_frames(TAP_FRAMES);
+                sim.panel.release();
+                sim.run_frames(LIFT_FRAMES);
+            }
             Step::Release => sim.panel.release(),
             Step::Run(frames) => sim.run_frames(*frames),
             Step::RunUntil(state, max) => {
@@ -917,6 +976,18 @@ impl Runner {
                 let shown = touch_arm::ui::warning_line(sim.app.ui_model().warnings);
                 if shown.as_str() != text {
                     return Err(format!("screen warning {:?}, want {text:?}", shown.as_str()));
+                }
+            }
+            Expect::ScreenState(text) => {
+                let shown = format!("{:?}", sim.app.ui_model().state);
+                if shown != *text {
+                    return Err(format!("screen state {shown}, want {text}"));
+                }
+            }
+            Expect::Preview(want) => {
+                let p = sim.app.ui_model().preview;
+                if p.is_some() != *want {
+                    return Err(format!("preview {p:?}, want {}", if *want { "shown" } else { "none" }));
                 }
             }
             Expect::GripDeg(w, tol) => {

@@ -645,6 +645,7 @@ mod config {
         c.law = LawKind::Quintic;
         c.wiring = Some(Wiring::C);
         c.lift_centi = Some(35);
+        c.press = PressSettings { hold_cs: 25, repeat_cs: 50, radius: 90 };
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -708,7 +709,10 @@ mod config {
         // Version 3 appends the measured touch wiring (c = 3), version 4
         // the path mode and the lift.
         assert_eq!((r[100], r[101], r[102]), (3, PathMode::Joint.id(), 35));
-        assert_eq!(&r[103..105], &crc16(&r[..103]).to_le_bytes());
+        // Version 5 the touch's hold, repeat (hundredths of a second) and
+        // cancel radius (counts).
+        assert_eq!((r[103], r[104], r[105]), (25, 50, 90));
+        assert_eq!(&r[106..108], &crc16(&r[..106]).to_le_bytes());
         let mut line = c;
         (line.path, line.lift_centi) = (PathMode::Line, None);
         let l = line.encode(9);
@@ -739,6 +743,8 @@ mod config {
             // moves and no lift before version 4.
             want.wiring = None;
             (want.path, want.lift_centi) = (PathMode::Joint, None);
+            // The default hold, repeat and radius before version 5.
+            want.press = PressSettings::DEFAULT;
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -773,7 +779,8 @@ mod config {
             r[2] = 2;
             let crc = crc16(&r[..100]);
             r[100..102].copy_from_slice(&crc.to_le_bytes());
-            let want = Config { wiring: None, path: PathMode::Joint, lift_centi: None, ..c };
+            let want =
+                Config { wiring: None, path: PathMode::Joint, lift_centi: None, press: PressSettings::DEFAULT, ..c };
             assert_eq!(Config::decode(&r), Ok(Record { seq: 77, config: want }), "tail {tail:#x}");
             let mut bad = r;
             bad[60] ^= 1;
@@ -812,6 +819,7 @@ mod config {
         };
         let mut want = c;
         want.lift_centi = None;
+        want.press = PressSettings::DEFAULT;
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v3(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v3(41, tail);
@@ -826,6 +834,42 @@ mod config {
         let l = load(&mut ee);
         assert_eq!((l.seq, l.warning), (6, None));
         assert_eq!(record(&mut ee, SLOT_A_ADDR)[2], VERSION);
+    }
+
+    /// A version-4 record (105 bytes, CRC of 0..103 at 103, written before
+    /// the touch's hold, repeat and radius) loads with every field it has
+    /// and the default hold, repeat and radius; the next save writes
+    /// version 5.
+    #[test]
+    fn version_4_records_migrate_to_the_default_press_settings() {
+        let c = sample_config();
+        let v4 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..103].copy_from_slice(&c.encode(seq)[..103]);
+            r[2] = 4;
+            let crc = crc16(&r[..103]);
+            r[103..105].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let want = Config { press: PressSettings::DEFAULT, ..c };
+        assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 160 });
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            assert_eq!(Config::decode(&v4(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v4(41, tail);
+            bad[102] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v4(5, 0xFF)[..105]).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &v4(4, 0xFF)[..105]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
+        // The next save: version 5 with the settings set since.
+        assert_eq!(save(&mut ee, &c), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
+        assert_eq!(VERSION, 5);
     }
 
     /// The poses' record (`config::poses`): explicit little-endian layout,
@@ -884,8 +928,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 5;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(5)));
+        r[2] = 6;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(6)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -893,13 +937,26 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..103]);
-            r[103..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..106]);
+            r[106..].copy_from_slice(&crc.to_le_bytes());
             r
         };
         // Also: an unknown wiring id, an unknown path mode, a lift over 0.5,
-        // a lift with path line (sample_config lifts by 0.35).
-        for (off, val) in [(87usize, 9u8), (86, 3), (85, 0x08), (100, 4), (101, 2), (102, 51), (101, 1)] {
+        // a lift with path line (sample_config lifts by 0.35), a hold below
+        // 0.04 s or above 2 s, a repeat above 2 s, a radius below 20.
+        for (off, val) in [
+            (87usize, 9u8),
+            (86, 3),
+            (85, 0x08),
+            (100, 4),
+            (101, 2),
+            (102, 51),
+            (101, 1),
+            (103, 3),
+            (103, 201),
+            (104, 201),
+            (105, 19),
+        ] {
             let mut r = good;
             r[off] = val;
             assert_eq!(Config::decode(&reseal(r)), Err(RecordError::Invalid));
@@ -950,8 +1007,13 @@ mod config {
             Just((PathMode::Joint, None)),
             (1u8..=50).prop_map(|h| (PathMode::Joint, Some(h))),
         ];
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift))
-            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi)))| Config {
+        let press = (4u8..=200, 0u8..=200, 20u8..=255).prop_map(|(hold_cs, repeat_cs, radius)| PressSettings {
+            hold_cs,
+            repeat_cs,
+            radius,
+        });
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press))
+            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press))| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
@@ -959,6 +1021,7 @@ mod config {
                 wiring: Wiring::from_id(w),
                 path,
                 lift_centi,
+                press,
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }
@@ -1346,9 +1409,30 @@ mod command {
             assert!(parse(line.as_bytes()).is_ok(), "{line}");
         }
         for f in TouchField::ALL {
-            let line = format!("cal set touch {} 1", f.name());
+            let v = if f == TouchField::Radius { "20" } else { "1" };
+            let line = format!("cal set touch {} {v}", f.name());
             assert!(parse(line.as_bytes()).is_ok(), "{line}");
         }
+        // The touch's press settings: seconds with two decimals, counts.
+        for (line, want) in [
+            ("cal set touch hold 0.04", t(TouchField::Hold, 4)),
+            ("cal set touch hold 2", t(TouchField::Hold, 200)),
+            ("cal set touch repeat 0", t(TouchField::Repeat, 0)),
+            ("cal set touch repeat 0.3", t(TouchField::Repeat, 30)),
+            ("cal set touch radius 255", t(TouchField::Radius, 255)),
+        ] {
+            assert_eq!(parse(line.as_bytes()), Ok(want), "{line:?}");
+        }
+        for line in [
+            "cal set touch hold 0.03",
+            "cal set touch hold 2.01",
+            "cal set touch repeat 2.5",
+            "cal set touch radius 19",
+            "cal set touch radius 256",
+        ] {
+            assert_eq!(parse(line.as_bytes()), Err(CmdError::OutOfRange), "{line:?}");
+        }
+        assert_eq!(parse(b"cal set touch hold 0.125"), Err(CmdError::BadNumber));
     }
 
     #[test]

@@ -67,6 +67,11 @@ scenarios!(
     touch_cond3,
     touch_cond4,
     touch_noisy,
+    touch_cancel,
+    stop_slide,
+    stop_bounce,
+    hold_boundaries,
+    palm,
     unreachable,
 );
 

@@ -58,7 +58,12 @@ fn configs() -> Vec<Config> {
     let mut speed = Config::DEFAULT;
     speed.joints[2].max_speed_rad_s = 4.5;
     let law = Config { law: LawKind::Linear, ..Config::DEFAULT };
-    let all = vec![Config::DEFAULT, sample, speed, law];
+    // The touch's hold alone (record version 5): one byte and the CRC.
+    let hold = Config {
+        press: touch_arm::config::settings::PressSettings { hold_cs: 50, ..Config::DEFAULT.press },
+        ..Config::DEFAULT
+    };
+    let all = vec![Config::DEFAULT, sample, speed, law, hold];
     for c in &all {
         assert_eq!(c.validate(), Ok(()));
     }

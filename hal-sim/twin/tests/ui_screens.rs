@@ -77,6 +77,8 @@ fn moving_model() -> UiModel {
     let (x, y) = (0.4f32, 0.5f32);
     UiModel {
         state: UiState::Moving { progress: 0.63 },
+        preview: None,
+        resume: None,
         touch: Some((x, y)),
         target: Some((x, y)),
         condition: Some(condition(x, y).unwrap()),
@@ -531,7 +533,7 @@ fn status_lines_say_what_happens_in_words() {
         (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
         (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
         (UiState::Holding, b"Holding", theme::TEXT, Some(b"Touch the map to move")),
-        (UiState::Stopped, b"Stopped - tap RESUME", theme::REFUSED, Some(b"The arm holds still")),
+        (UiState::Stopped, b"Stopped - hold RESUME", theme::REFUSED, Some(b"The arm holds still")),
         (UiState::Refused(Refusal::TooFar), b"Out of reach", theme::REFUSED, Some(b"Try closer to the base")),
         (UiState::Refused(Refusal::TooClose), b"Out of reach", theme::REFUSED, Some(b"Try further from base")),
         (UiState::Refused(Refusal::OffMap), b"Not on the map", theme::REFUSED, Some(b"Touch inside the map")),
@@ -1127,4 +1129,51 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     let r = ui.draw(&moving_model(), &mut c).unwrap();
     assert_eq!(r, Redrawn(Redrawn::ALL_MAIN));
     assert_eq!(fb, full(&moving_model()));
+}
+
+// ---- the touch's preview (issue #19) ----------------------------------------
+
+/// The candidate under a finger: a white frame, four rings inside it that
+/// take the verdict's colour from the outside in as the hold fills (ring k
+/// is the frame `k` pixels in), and a dot of that colour in the middle.
+/// Only the marker's box changes between fills.
+#[test]
+fn the_candidate_marker_fills_its_rings_over_the_hold() {
+    use touch_arm::ui::Preview;
+    let lay = Layout::QVGA;
+    let (x_p, y_p) = (0.25f32, 0.5f32);
+    let (cx, cy) = lay.ws_point_to_pixel(x_p, y_p).unwrap();
+    let r = marker_r(&lay) as i32;
+    let (cx, cy) = (i32::from(cx), i32::from(cy));
+    let base = UiModel { state: UiState::Holding, ..moving_model() };
+    let mut last: Option<Framebuffer> = None;
+    for ring in 0..=4u8 {
+        for ok in [true, false] {
+            let m = UiModel { preview: Some(Preview { x_p, y_p, ok, ring }), ..base };
+            let fb = full(&m);
+            let ink = if ok { theme::RESUME_GREEN } else { theme::REFUSED };
+            assert_eq!(fb.pixel(cx, cy), Some(ink), "dot, ring {ring} ok {ok}");
+            // The outer frame is white; ring k (1..=4) along the top edge.
+            assert_eq!(fb.pixel(cx, cy - r), Some(theme::WHITE));
+            for k in 1..=4 {
+                let want = if k <= i32::from(ring) { ink } else { theme::WHITE };
+                assert_eq!(fb.pixel(cx, cy - r + k), Some(want), "ring {k} of fill {ring}, ok {ok}");
+            }
+            if ok {
+                if let Some(prev) = &last {
+                    // Everything outside the marker's box is as before.
+                    let bx = (cx - r)..=(cx + r);
+                    let by = (cy - r)..=(cy + r);
+                    for y in 0..240 {
+                        for x in 0..320 {
+                            if !(bx.contains(&x) && by.contains(&y)) {
+                                assert_eq!(fb.pixel(x, y), prev.pixel(x, y), "({x}, {y}) outside the box");
+                            }
+                        }
+                    }
+                }
+                last = Some(fb);
+            }
+        }
+    }
 }

@@ -185,16 +185,25 @@ struct Then {
     ms: u32,
 }
 
-/// The finger lifts after the first confirmation and the filter needs
-/// `release_confirm` frames to see it go: a second press earlier than this
-/// would be a drag (which the screen ignores), not a touch.
-const THEN_MIN_MS: u32 = 100;
+/// The firmware ignores a contact that starts within `repeat` (0.30 s by
+/// default, `cal set touch repeat`) of the last lift-off, and the first tap's
+/// lift-off is confirmed a few frames before its reply: a second tap earlier
+/// than this would be ignored, not a touch.
+const THEN_MIN_MS: u32 = 350;
+
+/// How long the job's finger rests on the glass: a tap well over the
+/// firmware's `hold` (0.10 s by default), which acts on the lift-off.
+const TAP_S: f64 = 0.3;
+/// How long after the lift-off the job waits for the tap's reply.
+const REPLY_S: f64 = 0.5;
 
 fn then_touch(s: &str) -> Result<Then, String> {
     let (xy, ms) = s.split_once('@').ok_or_else(|| format!("expected X2,Y2@MS, got {s:?}"))?;
     let ms: u32 = ms.trim().parse().map_err(|_| format!("MS must be a whole number of milliseconds, got {ms:?}"))?;
     if ms < THEN_MIN_MS {
-        return Err(format!("MS must be at least {THEN_MIN_MS} (the finger must lift between the touches), got {ms}"));
+        return Err(format!(
+            "MS must be at least {THEN_MIN_MS} (a tap inside the repeat window after a lift-off is ignored), got {ms}"
+        ));
     }
     Ok(Then { xy: map_point(xy)?, ms })
 }
@@ -384,17 +393,11 @@ fn run(args: Args) -> Result<(), String> {
             raw = (f64::from(x), f64::from(y));
         }
     } else {
+        // A tap: the firmware acts on the lift-off (issue #19).
         s.press_raw(raw.0, raw.1)?;
-        first = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
-        // The second touch needs the finger lifted at once; otherwise it rests
-        // as long as a tap does.
-        if then.is_none() {
-            s.run_for((t_touch + 0.3 - s.avr.time_s()).max(0.0))?;
-        }
+        s.run_for((t_touch + TAP_S - s.avr.time_s()).max(0.0))?;
         s.release();
-        if then.is_none() {
-            s.run_for(0.2)?;
-        }
+        first = s.await_line(from, &TOUCH_REPLIES, REPLY_S)?;
         if first.is_none() && deferred {
             first = s.await_line(from, &TOUCH_REPLIES, 5.0)?;
         }
@@ -429,8 +432,9 @@ fn run(args: Args) -> Result<(), String> {
         s.run_for((t_confirm + f64::from(then.ms) / 1000.0 - s.avr.time_s()).max(0.0))?;
         let from = s.avr.uart_output().len();
         s.press_raw(then_raw.0, then_raw.1)?;
-        let reply = s.await_line(from, &TOUCH_REPLIES, 0.3)?;
+        s.run_for(TAP_S)?;
         s.release();
+        let reply = s.await_line(from, &TOUCH_REPLIES, REPLY_S)?;
         let Some((line2, t2)) = reply else {
             return Err(format!("the firmware did not report the second touch:\n{}", s.avr.uart_output_string()));
         };
