@@ -167,8 +167,9 @@ pub const RADIUS_MIN: u8 = 20;
 
 impl PressSettings {
     /// Hold 0.10 s (five reads: a brush of 80 ms never acts, and the
-    /// centre has its mid-range), repeat 0.30 s, radius 160 counts.
-    pub const DEFAULT: PressSettings = PressSettings { hold_cs: 10, repeat_cs: 30, radius: 160 };
+    /// centre has its mid-range), repeat 0.30 s, radius 240 counts (a 5 mm
+    /// tremor of ±20 % stays inside it on the 2.8" panel: BENCHMARKS.md, "Touch for an unsteady hand").
+    pub const DEFAULT: PressSettings = PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 };
 
     /// Every value in its range.
     pub fn is_valid(&self) -> bool {

@@ -852,7 +852,7 @@ mod config {
             r
         };
         let want = Config { press: PressSettings::DEFAULT, ..c };
-        assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 160 });
+        assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 });
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v4(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v4(41, tail);
