@@ -21,7 +21,11 @@
 //!   cancel`, the screen says so). A second contact joining (a palm) shows
 //!   "Lift your hand" and never acts (`info screen ignored hand`); a contact
 //!   shorter than `hold` sends `info screen ignored brief`, one that lands
-//!   within `repeat` of the last lift-off `info screen ignored repeat`.
+//!   within `repeat` of the last lift-off `info screen ignored repeat`;
+//!   except that a contact landing within `repeat` of a brief one on the
+//!   same target (the map, or the same button) continues it: their holds
+//!   add up, so the flicker of a force tremor is one touch (issue #19 §6),
+//!   acting at the lift-off of the contact that completes the hold.
 //! - Without a screen the same rules commit the robust centre on lift-off
 //!   (the whole panel is the workspace) and send the same lines.
 
@@ -78,6 +82,10 @@ pub(super) struct Press {
     lifted_ms: Option<u32>,
     /// When STOP latched, ms.
     stop_ms: u32,
+    /// The hold so far of brief contacts on the same target, each landing
+    /// within `repeat` of the one before (a force tremor's flicker), ms:
+    /// the next such contact continues it (0 after anything else).
+    carry_ms: u32,
     /// The ring's fill, 0..=[`RING_STEPS`] (hold on the map, or RESUME's
     /// countdown), for the screen.
     pub(super) ring: u8,
@@ -92,6 +100,7 @@ impl Press {
         dropped: false,
         lifted_ms: None,
         stop_ms: 0,
+        carry_ms: 0,
         ring: 0,
     };
 }
@@ -181,7 +190,7 @@ impl App {
             }
             Role::Pending if matches!(self.press.landed, Hit::Map { .. }) => {
                 let hold = u32::from(self.config.press.hold_cs) * 10;
-                self.press.ring = ring_of(self.press.contact.duration_ms(), hold);
+                self.press.ring = ring_of(self.press.contact.duration_ms() + self.press.carry_ms, hold);
                 let centre = self.press.contact.centre();
                 self.screen_candidate(&centre);
             }
@@ -205,12 +214,19 @@ impl App {
             } else {
                 Role::Spent
             }
+        } else if soon && self.press.carry_ms > 0 && hit.is_some_and(|h| same_target(&self.press.landed, &h)) {
+            // The flicker of one touch: it continues the brief contacts
+            // before it (their hold counts), where they landed.
+            Role::Pending
         } else if soon {
+            self.press.carry_ms = 0;
             Role::Repeat
         } else if let Some(h) = hit {
+            self.press.carry_ms = 0;
             self.press.landed = h;
             Role::Pending
         } else {
+            self.press.carry_ms = 0;
             Role::Blank
         };
     }
@@ -222,6 +238,7 @@ impl App {
         self.press.ring = 0;
         self.press.stop_reads = 0;
         let role = core::mem::replace(&mut self.press.role, Role::Idle);
+        let carry = core::mem::take(&mut self.press.carry_ms);
         self.screen_preview(None);
         let landed = match role {
             Role::Idle | Role::Spent | Role::Resume | Role::Resumed => return,
@@ -233,7 +250,12 @@ impl App {
             self.screen_hand();
             return self.say(serial, Said::Hand);
         }
-        if c.duration_ms() < u32::from(self.config.press.hold_cs) * 10 {
+        let held = c.duration_ms() + carry;
+        if held < u32::from(self.config.press.hold_cs) * 10 {
+            // Kept, for a flicker's next contact (`press_landed`).
+            if role == Role::Pending {
+                self.press.carry_ms = held.max(1);
+            }
             return self.say(serial, Said::Brief);
         }
         let (centre, last) = (c.centre(), c.last());
@@ -304,6 +326,12 @@ impl App {
     pub(super) fn resume_ring(&self) -> Option<u8> {
         (self.press.role == Role::Resume).then_some(self.press.ring)
     }
+}
+
+/// Where a contact continues a brief one before it: the map (anywhere:
+/// the centre is the new contact's) or the same button.
+fn same_target(a: &Hit, b: &Hit) -> bool {
+    matches!((a, b), (Hit::Map { .. }, Hit::Map { .. })) || same_button(a, b)
 }
 
 /// The same button (the map is no button; STOP and RESUME act on contact).

@@ -36,6 +36,7 @@ scenarios!(
     circle,
     eeprom_corrupt,
     finger_script,
+    flicker,
     flood,
     grip,
     help_version,
