@@ -2,7 +2,8 @@
 // Playwright, as a person would: click on the map in the screen image and
 // watch the drawn arm reach the target, click STOP on the screen image and
 // see the pulses freeze, type `status` in the console and see the reply,
-// then `resume` and `grip 60` and see the gripper's row reach 60°.
+// then `resume` and `grip 60` and see the gripper's row reach 60°, then
+// play a scripted tremor through `/api/finger` and see where it committed.
 // Run by hal-sim/bench/tests/live_page.rs, which starts the bench and passes:
 //   node live_page.mjs URL OUT_DIR MAP_X,MAP_Y TARGET_B,TARGET_S,TARGET_E STOP_X,STOP_Y
 // Prints one line per step; exits 0 when every check held, 1 otherwise.
@@ -120,6 +121,28 @@ async function main() {
   const grip = await page.evaluate(() => [3].map((j) => [document.getElementById(`pulse-${j}`).textContent,
     document.getElementById(`angle-${j}`).textContent])[0]);
   console.log(`gripper row: pulse ${grip[0]} us, angle ${grip[1]} deg`);
+  // 5. A scripted finger (`POST /api/finger`): a 6 Hz tremor of 1 mm (5.6 px
+  // on the 2.8" glass) for 0.6 s on another map pixel, then the lift. The
+  // firmware commits on the lift-off at the contact's centre: the page's
+  // "last touch" names a pixel within 2 of the one aimed at.
+  const [fx, fy] = [mapX - 30, mapY + 10];
+  const samples = [];
+  for (let t = 0; t <= 600; t += 5) {
+    const d = 5.6 * Math.sin(2 * Math.PI * 6 * t / 1000);
+    samples.push([t, fx + d, fy, 1]);
+  }
+  samples.push([600, fx, fy, 0]);
+  const started = await page.evaluate(async (body) => {
+    const r = await fetch('/api/finger', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+    return r.json();
+  }, { samples });
+  if (typeof started.t_s !== 'number') throw new Error(`/api/finger answered ${JSON.stringify(started)}`);
+  await page.waitForFunction(([x, y]) => {
+    const m = /map pixel \((\d+), (\d+)\)/.exec(document.getElementById('target-info').textContent);
+    return m && Math.abs(Number(m[1]) - x) <= 2 && Math.abs(Number(m[2]) - y) <= 2;
+  }, [fx, fy], { timeout: 15_000 });
+  const info = await page.evaluate(() => document.getElementById('target-info').textContent);
+  console.log(`scripted tremor at pixel (${fx}, ${fy}), started at t = ${started.t_s.toFixed(2)} s: ${info}`);
   await page.screenshot({ path: join(outDir, 'live-page-console.png'), fullPage: true });
   if (errors.length) throw new Error(`errors on the page: ${errors.join('; ')}`);
   await cleanup();
