@@ -415,10 +415,14 @@ fn an_external_reset_resumes_the_pulses_the_servos_had() {
     assert_eq!(r["external_resets"], 1, "{r}");
     assert!(r["t_s"].as_f64().unwrap() >= moved["t_s"].as_f64().unwrap());
     assert_eq!(get(a, "/api/state")["state"], "booting");
-    let s = holding(a);
-    for (j, (p, w)) in pulses(&s).iter().zip(want).enumerate() {
-        assert!((p - w).abs() < 0.5, "joint {j} after the reset: {p} µs, not the {w} µs it had");
-    }
+    holding(a);
+    // The reset lands wherever the wall clock puts it, possibly inside a
+    // pulse, which it cuts short (as on the board: docs/serial.md, "After a
+    // reset"); that short pulse stays the last one measured until the
+    // rebooted firmware's first pulses, which are the ones the servos had.
+    // (The rig's reset tests check them to the tick.)
+    let s = wait_state(a, "the resumed pulses", 3.0, |s| pulses(s).iter().zip(want).all(|(p, w)| (p - w).abs() < 0.5));
+    assert_eq!(s["state"], "holding", "{s}");
     let b = get(a, "/api/bench");
     assert_eq!(b["watchdog_resets"], 0, "{b}");
     assert_eq!(b["external_resets"], 1, "{b}");
