@@ -79,7 +79,7 @@ impl PanelOnPins {
     pub fn read(&mut self, req: &AdcRequest<'_>) -> Option<u16> {
         let t = self.wiring.terminal_on_channel(req.channel)?;
         let pins = self.wiring.drives(req.ports);
-        self.panel.set_time(req.cycle as f64 / f64::from(crate::firmware::CPU_HZ));
+        self.panel.set_time(req.time_s);
         Some(self.panel.adc(&pins, t))
     }
 

@@ -82,6 +82,8 @@ impl PortsSnapshot {
 pub struct AdcRequest<'a> {
     /// CPU cycle of the conversion.
     pub cycle: u64,
+    /// The same instant in seconds, at the core's clock.
+    pub time_s: f64,
     /// ADC input number 0..=15 (ADC8..15 sit on port K).
     pub channel: u8,
     /// Reference voltage of the conversion, mV.
@@ -174,7 +176,8 @@ unsafe extern "C" fn on_trigger(_irq: *mut ffi::avr_irq_t, value: u32, param: *m
         let state = &mut (*shared).adc;
         let input = match (&mut state.handler, &snapshot) {
             (Some(h), Some(ports)) => {
-                let req = AdcRequest { cycle, channel: ch, vref_mv: vref, ports };
+                let time_s = cycle as f64 / f64::from((*avr).frequency);
+                let req = AdcRequest { cycle, time_s, channel: ch, vref_mv: vref, ports };
                 // A panic must not unwind through simavr's C frames: park it
                 // and re-raise it once avr_run has returned.
                 match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| h(&req))) {
