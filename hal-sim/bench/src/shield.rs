@@ -15,23 +15,18 @@ pub fn lcd_chip(s: &str) -> Result<Chip, String> {
     })
 }
 
+/// The wirings `--wiring` names, by their letters.
+const WIRINGS: [(&str, PanelWiring); 3] = [("a", PanelWiring::A), ("b", PanelWiring::B), ("c", PanelWiring::C)];
+
 /// `--wiring`: a preset of the pin map by its letter.
 pub fn panel_wiring(s: &str) -> Result<PanelWiring, String> {
-    match s {
-        "a" => Ok(PanelWiring::A),
-        "b" => Ok(PanelWiring::B),
-        "c" => Ok(PanelWiring::C),
-        _ => Err(format!("unknown wiring {s:?} (a, b or c)")),
-    }
+    WIRINGS.iter().find(|(n, _)| *n == s).map(|(_, w)| *w).ok_or_else(|| format!("unknown wiring {s:?} (a, b or c)"))
 }
 
 /// A wiring's `--wiring` letter (`?` for a pin map that is none of the
 /// presets).
 pub fn wiring_name(w: PanelWiring) -> &'static str {
-    [(PanelWiring::A, "a"), (PanelWiring::B, "b"), (PanelWiring::C, "c")]
-        .into_iter()
-        .find_map(|(p, n)| (p == w).then_some(n))
-        .unwrap_or("?")
+    WIRINGS.iter().find(|(_, p)| *p == w).map_or("?", |(n, _)| n)
 }
 
 /// The touch calibration the firmware runs with on `wiring`: the default,
