@@ -134,10 +134,12 @@ static mut APP: MaybeUninit<App> = MaybeUninit::uninit();
 /// large makes LLVM address it through temporary Y-pointer adjustments.
 #[inline(never)] // avr-trap: frame-size
 fn start_app() -> Option<&'static mut App> {
-    let app = App::new(&AppParams { screen: true, ..AppParams::DEFAULT }).ok()?;
     // SAFETY: called once (from `main`, which never returns), so this is the
     // only reference ever made to APP.
-    Some(unsafe { (*core::ptr::addr_of_mut!(APP)).write(app) })
+    let slot = unsafe { &mut *core::ptr::addr_of_mut!(APP) };
+    // Built in place: an App-sized temporary in this frame plus the calls
+    // that build it went past the stack budget.
+    App::init(slot, &AppParams { screen: true, ..AppParams::DEFAULT }).ok()
 }
 
 /// One 20 ms frame: the hardware clamp follows the calibration (the

@@ -1000,3 +1000,43 @@ fn f32_bit_tests_agree_with_float_operations() {
         }
     }
 }
+
+// ------------------------------------------------- the arm's lengths (#21 §4)
+
+proptest! {
+    #![proptest_config(cfg())]
+    /// `cal set arm`'s lengths in the map's arm unit (their mean): the sum
+    /// is 2, the ratio kept, and a pose depends on the ratio only, so the
+    /// same arm in other units gives the same angles; the FK of the solved
+    /// pose in those links lands on the transformed point.
+    #[test]
+    fn arm_lengths_enter_as_their_ratio(l2 in 10.0f64..650.0, l3 in 10.0f64..650.0, scale in 0.01f64..100.0,
+                                        x_p in -1.0f64..1.0, y_p in 0.0f64..1.0) {
+        use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+        let g = ArmGeometry::from_lengths(1.0, l2, l3, Branch::Minus).unwrap();
+        let (a, b) = (g.links.l2(), g.links.l3());
+        prop_assert!(close(a + b, 2.0, 1e-15) && close(a / b, l2 / l3, 1e-13), "{a} {b}");
+        let s = ArmGeometry::from_lengths(1.0, l2 * scale, l3 * scale, Branch::Minus).unwrap();
+        prop_assert!(close(s.links.l2(), a, 1e-14) && close(s.links.l3(), b, 1e-14));
+        if let (Ok(p), Ok(q)) = (pose_for_point(&g, x_p, y_p), pose_for_point(&s, x_p, y_p)) {
+            prop_assert!(close(p.q2, q.q2, 1e-9) && close(p.q3, q.q3, 1e-9), "{p:?} {q:?}");
+            let (x, y) = fk2(&g.links, p.q2, p.q3);
+            prop_assert!(close(x, x_p.abs(), 1e-9) && close(y, y_p, 1e-9), "({x}, {y}) for ({x_p}, {y_p})");
+        }
+    }
+}
+
+#[test]
+fn arm_lengths_are_checked_as_given() {
+    use touch_arm::geometry::pose::ArmGeometry;
+    let g = |l2: f64, l3: f64| ArmGeometry::from_lengths(1.0, l2, l3, Branch::Minus).map(|g| g.links);
+    assert_eq!(g(-1.0, -1.0), Err(LinksError::NotPositive), "two negative lengths have a positive ratio");
+    assert_eq!(g(0.0, 0.0), Err(LinksError::NotPositive));
+    assert_eq!(g(f64::NAN, 1.0), Err(LinksError::NotFinite));
+    assert_eq!(g(1.0, f64::INFINITY), Err(LinksError::NotFinite));
+    // The paper's equal links, whatever their length.
+    let l = g(250.0, 250.0).unwrap();
+    assert_eq!((l.l2(), l.l3()), (1.0, 1.0));
+    let l = g(120.0, 80.0).unwrap();
+    assert!(close(l.l2(), 1.2, 1e-15) && close(l.l3(), 0.8, 1e-15) && close(l.r_min(), 0.4, 1e-15));
+}

@@ -6,7 +6,7 @@ use super::refusal::Refusal;
 use super::serial::Done;
 use super::text::Line;
 use super::{build_maps, Answer, App, HeavyTask, Io, Mode, MoveInfo, MoveKind, PlanDue, TouchTarget};
-use crate::config::settings::{Config, SpeedPreset};
+use crate::config::settings::{Config, NamedPose, SpeedPreset};
 use crate::config::store::{self, Warning};
 use crate::geometry::ik::IkError;
 use crate::geometry::pose::{pose_for_point, PoseError};
@@ -102,9 +102,10 @@ impl App {
                 self.warning = Some(Warning::Corrupt);
             }
         }
+        self.install_geometry();
         self.filter.reset();
         self.probe_wanted = self.config.wiring.is_none();
-        self.commanded = self.clamp_to_limits(&self.params.home);
+        self.commanded = self.clamp_to_limits(&self.config.arm.pose_rad(NamedPose::Home));
         self.last_move.target = self.commanded;
         self.mode = Mode::Homing { frames_left: self.params.home_settle_frames };
         let mut line = Line::new();
@@ -288,19 +289,26 @@ impl App {
     /// hundredth of slack for the float conversions, not the servo layer's
     /// 0.5 µs rounding allowance.
     pub(super) fn move_to_angles(&mut self, centideg: &[i32; JOINTS]) -> Result<(), Refusal> {
-        let mut target = [0.0f32; JOINTS];
-        let mut r = Ok(());
-        for ((t, c), (m, j)) in target.iter_mut().zip(centideg.iter()).zip(self.maps.iter().zip(Joint::ALL.iter())) {
-            *t = centideg_to_rad(*c);
-            if !within_centi(m.angle_limits::<f32>(), *t) && r.is_ok() {
-                r = Err(Refusal::JointLimit(*j));
-            }
-        }
-        let r = r.and_then(|()| self.start_move(&target, None));
+        let r = self.goto_angles(centideg).and_then(|target| self.start_move(&target, None));
         if let Err(e) = r {
             self.last_refusal = Some(e);
         }
         r
+    }
+
+    /// A `goto`'s angles (hundredths of a degree) in radians, if each is
+    /// within its joint's angle limits to the hundredth; the first joint
+    /// outside is the refusal. The pulse limits are judged with the move
+    /// ([`App::check_limits`]).
+    pub(super) fn goto_angles(&self, centideg: &[i32; JOINTS]) -> Result<[f32; JOINTS], Refusal> {
+        let mut target = [0.0f32; JOINTS];
+        for ((t, c), (m, j)) in target.iter_mut().zip(centideg.iter()).zip(self.maps.iter().zip(Joint::ALL.iter())) {
+            *t = centideg_to_rad(*c);
+            if !within_centi(m.angle_limits::<f32>(), *t) {
+                return Err(Refusal::JointLimit(*j));
+            }
+        }
+        Ok(target)
     }
 
     /// A joint target, reached as the `path` setting says.
@@ -483,7 +491,7 @@ impl App {
 
     /// A target angle the servo layer would have to clamp (angle or pulse
     /// limit, beyond its 0.5 µs rounding allowance) is refused.
-    fn check_limits(&self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
+    pub(super) fn check_limits(&self, target: &[f32; JOINTS]) -> Result<(), Refusal> {
         for ((q, m), j) in target.iter().zip(self.maps.iter()).zip(crate::servo::map::Joint::ALL.iter()) {
             match m.angle_to_pulse(*q) {
                 Ok(p) if p.clamped.is_none() => {}

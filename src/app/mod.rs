@@ -122,9 +122,11 @@ mod telemetry;
 pub mod text;
 mod wiring;
 
-use crate::config::settings::{Config, PathMode, SpeedPreset};
+use core::mem::MaybeUninit;
+
+use crate::config::settings::{ArmSettings, Config, NamedPose, PathMode, SpeedPreset};
 use crate::config::store::{Source, Warning};
-use crate::geometry::ik::{Branch, Links, LinksError};
+use crate::geometry::ik::{Branch, LinksError};
 use crate::geometry::pose::ArmGeometry;
 use crate::geometry::workspace::Condition;
 use crate::motion::plan::{LawKind, JOINTS};
@@ -141,22 +143,15 @@ pub const FRAME_MS: u32 = 20;
 /// [`FRAME_MS`] in seconds.
 pub const FRAME_S: f32 = 0.02;
 
-const HALF_PI: f32 = core::f32::consts::FRAC_PI_2;
-
 /// Everything about the arm and the app that is fixed at build time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AppParams {
     /// Screen-to-arm scale of the linear transform.
     pub k: f32,
-    /// Upper arm and forearm lengths (arm units; k = l2 = l3 = 1 is the paper's).
-    pub l2: f32,
-    /// Forearm length (arm units).
-    pub l3: f32,
-    /// IK elbow branch; the servo defaults assume [`ELBOW_BRANCH`].
+    /// IK elbow branch; the servo defaults assume [`ELBOW_BRANCH`]. The
+    /// links' lengths and the home pose are settings (`cal set arm`, `cal
+    /// set home`: [`crate::config::settings::ArmSettings`]).
     pub branch: Branch,
-    /// Power-up pose (rad: base, shoulder, elbow), clamped into the joint
-    /// limits of the loaded calibration.
-    pub home: [f32; JOINTS],
     /// The papers' ζ-a-tₛ base n (`law zat-paper`; the default law's
     /// reference shape is fixed: [`crate::motion::scaled`]).
     pub n: f32,
@@ -189,15 +184,12 @@ pub struct AppParams {
 }
 
 impl AppParams {
-    /// The paper's arm (k = l2 = l3 = 1), home at (90°, 90°, −90°), n = 2, moves
-    /// of 0.5 s (classic) or 1.2 s (ζ-a-tₛ) up to 30 s, 2 % speed reserve, 1 s
-    /// of settling at home, no screen.
+    /// The paper's map (k = 1: with the default equal links, k = l2 = l3 =
+    /// 1), n = 2, moves of 0.5 s (classic) or 1.2 s (ζ-a-tₛ) up to 30 s, 2 %
+    /// speed reserve, 1 s of settling at home, no screen.
     pub const DEFAULT: AppParams = AppParams {
         k: 1.0,
-        l2: 1.0,
-        l3: 1.0,
         branch: ELBOW_BRANCH,
-        home: [HALF_PI, HALF_PI, -HALF_PI],
         n: 2.0,
         ts_min: 0.5,
         zat_ts_min: 1.2,
@@ -210,9 +202,11 @@ impl AppParams {
         screen: false,
     };
 
-    /// Checks the parameters and builds the arm geometry.
-    pub fn geometry(&self) -> Result<ArmGeometry<f32>, ParamsError> {
-        let links = Links::new(self.l2, self.l3).map_err(ParamsError::Links)?;
+    /// Checks the parameters and builds the geometry of the arm `arm`
+    /// describes (its links in the map's arm unit,
+    /// [`ArmGeometry::from_lengths`]).
+    pub fn geometry(&self, arm: &ArmSettings) -> Result<ArmGeometry<f32>, ParamsError> {
+        let geo = arm_geometry(self, arm).map_err(ParamsError::Links)?;
         if !(self.k.is_finite() && self.k > 0.0) {
             return Err(ParamsError::Scale);
         }
@@ -230,12 +224,15 @@ impl AppParams {
         if !(self.speed_margin >= 0.0 && self.speed_margin < 0.5) {
             return Err(ParamsError::Margin);
         }
-        if self.home.iter().any(|v| !v.is_finite()) {
-            return Err(ParamsError::Home);
-        }
         self.filter.validate().map_err(ParamsError::Filter)?;
-        Ok(ArmGeometry { k: self.k, links, branch: self.branch })
+        Ok(geo)
     }
+}
+
+/// The geometry of `arm` under `params`' scale and branch.
+fn arm_geometry(params: &AppParams, arm: &ArmSettings) -> Result<ArmGeometry<f32>, LinksError> {
+    let mm = |cmm: u16| f32::from(cmm) * 0.01;
+    ArmGeometry::from_lengths(params.k, mm(arm.l2_cmm), mm(arm.l3_cmm), params.branch)
 }
 
 impl Default for AppParams {
@@ -257,8 +254,6 @@ pub enum ParamsError {
     Durations,
     /// speed_margin not in [0, 0.5).
     Margin,
-    /// A home angle not finite.
-    Home,
     /// The touch filter configuration is inconsistent.
     Filter(FilterConfigError),
     /// The built-in default calibration does not validate (a build error).
@@ -532,6 +527,10 @@ pub struct App {
     press: press::Press,
 }
 
+// `App::init` assigns over an uninitialized slot: sound only while nothing
+// in the app has drop glue.
+const _: () = assert!(!core::mem::needs_drop::<App>());
+
 /// Servo maps of a configuration.
 fn build_maps(config: &Config) -> Option<[ServoMap; JOINTS]> {
     let [b, s, e] = &config.joints;
@@ -542,6 +541,18 @@ fn build_maps(config: &Config) -> Option<[ServoMap; JOINTS]> {
 }
 
 impl App {
+    /// Makes the map, the IK and the screen's reach shading follow the
+    /// links of the running configuration (at boot and when `cal set arm`
+    /// or `cal reset` changes them; the arm holds, so nothing moves).
+    fn install_geometry(&mut self) {
+        // Validated lengths always give a geometry; were one refused, the
+        // last good one stays.
+        if let Ok(geo) = arm_geometry(&self.params, &self.config.arm) {
+            self.geo = geo;
+            self.screen.ui.set_reach(&screen::reach(&geo));
+        }
+    }
+
     /// The one place the frame's heavy thing is taken (see [`HeavyTask`]).
     fn spend_heavy(&mut self) {
         self.heavy.spent = true;
@@ -550,51 +561,74 @@ impl App {
     /// A fresh app in the `off` state. The configuration is loaded by the
     /// first frame; until then the built-in defaults stand.
     pub fn new(params: &AppParams) -> Result<App, ParamsError> {
-        let geo = params.geometry()?;
-        let filter = TouchFilter::new(&params.filter).map_err(ParamsError::Filter)?;
+        let mut slot = MaybeUninit::uninit();
+        App::init(&mut slot, params)?;
+        // SAFETY: `init` returned Ok, so it wrote the whole app into `slot`.
+        Ok(unsafe { slot.assume_init() })
+    }
+
+    /// [`App::new`] built in `slot` (the firmware's static): the app is most
+    /// of the chip's static RAM, and built in a stack frame and moved, that
+    /// frame plus the calls made while building it went past the stack
+    /// budget (docs/avr-traps.md, trap 2). On `Err` the slot is left
+    /// uninitialized.
+    pub fn init<'a>(slot: &'a mut MaybeUninit<App>, params: &AppParams) -> Result<&'a mut App, ParamsError> {
         let config = Config::DEFAULT;
+        let geo = params.geometry(&config.arm)?;
+        let home = config.arm.pose_rad(NamedPose::Home);
+        let filter = TouchFilter::new(&params.filter).map_err(ParamsError::Filter)?;
         let maps = build_maps(&config).ok_or(ParamsError::Defaults)?;
         let grip = grip::Grip::new(&crate::config::grip::GRIP_DEFAULT).ok_or(ParamsError::Defaults)?;
-        Ok(App {
-            params: *params,
-            geo,
-            config,
-            maps,
-            filter,
-            mode: Mode::Boot,
-            stopped: false,
-            first_move: true,
-            commanded: params.home,
-            pulses: None,
-            frame_pulses: None,
-            track: ServoTrack::idle(&params.home, FRAME_S),
-            last_move: MoveInfo {
-                target: params.home,
-                ts: 0.0,
-                replan: None,
-                a: None,
-                end_velocity: [0.0; JOINTS],
-                touch: None,
-                kind: MoveKind::Joint,
-            },
-            last_refusal: None,
-            source: Source::Defaults,
-            warning: None,
-            session: serial::Session::new(),
-            heavy: HeavyTask::default(),
-            late: false,
-            deferred_touch: None,
-            plan_due: None,
-            screen: screen::Screen::new(&screen::reach(params.l2, params.l3, params.k)),
-            probe_wanted: false,
-            wiring_unknown: false,
-            contact: false,
-            poses: crate::config::poses::Poses::EMPTY,
-            grip,
-            path: path_move::PathRun::Idle,
-            lcd: crate::config::lcd::LCD_DEFAULT,
-            press: press::Press::IDLE,
-        })
+        let screen = screen::Screen::new(&screen::reach(&geo));
+        let at = slot.as_mut_ptr();
+        // SAFETY: `at` points to the slot, valid and exclusively borrowed for
+        // 'a. Assigning to the place writes every field of the aggregate
+        // there directly (no App-sized temporary), and drops nothing: the app
+        // has no drop glue (asserted beside `build_maps`), so the uninitialized old
+        // contents are never read.
+        unsafe {
+            *at = App {
+                params: *params,
+                geo,
+                config,
+                maps,
+                filter,
+                mode: Mode::Boot,
+                stopped: false,
+                first_move: true,
+                commanded: home,
+                pulses: None,
+                frame_pulses: None,
+                track: ServoTrack::idle(&home, FRAME_S),
+                last_move: MoveInfo {
+                    target: home,
+                    ts: 0.0,
+                    replan: None,
+                    a: None,
+                    end_velocity: [0.0; JOINTS],
+                    touch: None,
+                    kind: MoveKind::Joint,
+                },
+                last_refusal: None,
+                source: Source::Defaults,
+                warning: None,
+                session: serial::Session::new(),
+                heavy: HeavyTask::default(),
+                late: false,
+                deferred_touch: None,
+                plan_due: None,
+                screen,
+                probe_wanted: false,
+                wiring_unknown: false,
+                contact: false,
+                poses: crate::config::poses::Poses::EMPTY,
+                grip,
+                path: path_move::PathRun::Idle,
+                lcd: crate::config::lcd::LCD_DEFAULT,
+                press: press::Press::IDLE,
+            };
+            Ok(&mut *at)
+        }
     }
 
     /// The build-time parameters the app was made with.
@@ -605,6 +639,12 @@ impl App {
     /// The running configuration (calibration, speed preset, law).
     pub fn config(&self) -> &Config {
         &self.config
+    }
+
+    /// The arm as the map and the IK see it now: the links of the running
+    /// configuration in the map's arm unit, `k` and the branch.
+    pub fn geometry(&self) -> &ArmGeometry<f32> {
+        &self.geo
     }
 
     /// What the arm is doing now.

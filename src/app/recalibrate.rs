@@ -56,8 +56,12 @@ impl App {
         if touch_changed || next.touch != self.config.touch {
             self.filter.reset();
         }
+        let links_changed = (next.arm.l2_cmm, next.arm.l3_cmm) != (self.config.arm.l2_cmm, self.config.arm.l3_cmm);
         self.config = *next;
         self.maps = *maps;
+        if links_changed {
+            self.install_geometry();
+        }
         Ok(slew)
     }
 

@@ -9,6 +9,7 @@
 
 use crate::config::settings::{PathMode, SpeedPreset};
 use crate::config::store;
+use crate::geometry::pose::ArmGeometry;
 use crate::protocol::command::PoseCmd;
 use crate::seam::SerialPort;
 use crate::seam::Storage;
@@ -83,7 +84,8 @@ enum ScreenEvent {
 pub const SCREEN_LIFT_CENTI: u8 = 20;
 
 /// The arm's reach drawn on the map: the IK annulus divided by the scale.
-pub(super) fn reach(l2: f32, l3: f32, k: f32) -> UiConfig {
+pub(super) fn reach(geo: &ArmGeometry<f32>) -> UiConfig {
+    let (l2, l3, k) = (geo.links.l2(), geo.links.l3(), geo.k);
     let d = l2 - l3;
     UiConfig { reach_min: if d < 0.0 { -d } else { d } / k, reach_max: (l2 + l3) / k }
 }
@@ -368,9 +370,10 @@ impl App {
     pub(super) fn ui_refusal(&self, r: Refusal, x_p: f32, y_p: f32) -> ui::Refusal {
         match r {
             Refusal::Unreachable | Refusal::Singular => {
-                let k = self.params.k;
+                let k = self.geo.k;
                 let reach = k * k * (x_p * x_p + y_p * y_p);
-                let far = (self.params.l2 + self.params.l3) * (self.params.l2 + self.params.l3);
+                let sum = self.geo.links.l2() + self.geo.links.l3();
+                let far = sum * sum;
                 if reach > far {
                     ui::Refusal::TooFar
                 } else {
@@ -386,8 +389,7 @@ impl App {
     /// Lays the screen out for the panel found at boot (320×240 until
     /// then); what is on the glass is forgotten, so the next draw is full.
     pub fn set_screen_layout(&mut self, layout: Layout) {
-        let reach = reach(self.params.l2, self.params.l3, self.params.k);
-        self.screen.ui = Ui::with_layout(&reach, layout);
+        self.screen.ui = Ui::with_layout(&reach(&self.geo), layout);
         self.screen.calibration = None;
     }
 

@@ -114,6 +114,8 @@ pub(super) enum Done {
     Lift(Option<u8>),
     /// A circle, once its check decided.
     Circled,
+    /// `park`, once planned.
+    Parked,
     /// `cal set lcd …`: the display overrides' new sequence number.
     CalLcd(Result<u16, SaveError>),
 }
@@ -253,6 +255,7 @@ impl App {
             Command::Grip(g) => self.grip_command(g),
             Command::CalResetGrip => self.grip_reset(),
             Command::CalLcd(set) => self.cal_lcd(set, storage),
+            Command::Park => self.move_to_angles(&self.config.arm.park.map(i32::from)).map(|()| Done::Parked),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -264,11 +267,27 @@ impl App {
         if let CalSet::Grip { field, value } = *set {
             return self.grip_cal_set(field, value);
         }
+        if let CalSet::Pose { centideg, .. } = set {
+            self.check_named_pose(centideg)?;
+        }
         let mut next = self.config;
         if let Err(e) = next.apply(set) {
             return Ok(Done::CalInvalid(e));
         }
         self.replace_config(&next, matches!(set, CalSet::Touch { .. })).map(Done::CalSet)
+    }
+
+    /// A home or park pose is judged as a `goto` to it under the running
+    /// calibration (angle limits to the hundredth, no pulse clamp), so the
+    /// arm can reach what it is told to power up in or park at. A later
+    /// limit change does not re-judge it: home is clamped into the windows
+    /// at power-up, as the pulses would be, and `park` is judged as a
+    /// `goto` each time.
+    // Its angles stay out of cal_set's frame, on the slew's deep chain.
+    #[inline(never)] // avr-trap: frame-size
+    fn check_named_pose(&self, centideg: &[i16; 3]) -> Result<(), Refusal> {
+        let target = self.goto_angles(&centideg.map(i32::from))?;
+        self.check_limits(&target)
     }
 
     fn cal_save<E: Storage>(&mut self, storage: &mut E) -> Result<Done, Refusal> {
@@ -344,6 +363,10 @@ impl App {
             }
             Done::Circled => {
                 r.str(t!("ok circle"));
+                self.describe_move(r, false);
+            }
+            Done::Parked => {
+                r.str(t!("ok park"));
                 self.describe_move(r, false);
             }
             Done::CalSet(slew) => {
@@ -457,7 +480,7 @@ fn config_error(e: &ConfigError, line: &mut Line) {
         ConfigError::Grip(_) => {
             line.str(t!("grip "));
         }
-        ConfigError::Touch(_) => {}
+        ConfigError::Touch(_) | ConfigError::Arm => {}
     }
     line.str(e.reason());
 }

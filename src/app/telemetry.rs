@@ -11,7 +11,7 @@ use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
 /// `cal show` lines before its final `ok` line.
-const CAL_SHOW_LINES: u8 = 6;
+const CAL_SHOW_LINES: u8 = 7;
 
 impl App {
     /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
@@ -147,6 +147,22 @@ impl App {
         if i == 5 {
             line.str(t!("cal "));
             self.lcd_words(line);
+            return;
+        }
+        if i == 6 {
+            // `cal arm l2 <mm> l3 <mm> home <b> <s> <e> park <b> <s> <e>`.
+            let a = &self.config.arm;
+            line.str(t!("cal arm l2 ")).centi(i32::from(a.l2_cmm));
+            line.str(t!(" l3 ")).centi(i32::from(a.l3_cmm));
+            let angles = |line: &mut Line, pose: &[i16; 3]| {
+                for c in pose {
+                    line.bytes(b" ").centi(i32::from(*c));
+                }
+            };
+            line.str(t!(" home"));
+            angles(line, &a.home);
+            line.str(t!(" park"));
+            angles(line, &a.park);
             return;
         }
         if i == 3 {

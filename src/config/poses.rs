@@ -54,6 +54,7 @@ const FLAG_USED: u8 = 1 << 0;
 const FLAG_GRIP: u8 = 1 << 1;
 const _: () = assert!(POSE_MAGIC[0] == super::store::MAGIC[0] && UNCOMMITTED != POSE_MAGIC[0]);
 const _: () = assert!(POSE_SLOT_A as usize + POSE_RECORD_LEN <= POSE_SLOT_B as usize);
+const _: () = assert!(super::store::SLOT_B_ADDR as usize + super::store::RECORD_LEN <= POSE_SLOT_A as usize);
 
 /// One pose, hundredths of a degree.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -201,6 +201,8 @@ pub struct Config {
     pub lift_centi: Option<u8>,
     /// Hold, repeat and cancel radius of touches.
     pub press: PressSettings,
+    /// The links' lengths, the home and the park pose.
+    pub arm: ArmSettings,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -213,6 +215,8 @@ pub enum ConfigError {
     Touch(TouchCalError),
     /// The gripper's calibration is inconsistent (`config::grip`).
     Grip(JointCalError),
+    /// The links' lengths are out of range or too unequal ([`ArmSettings`]).
+    Arm,
 }
 
 impl ConfigError {
@@ -224,6 +228,7 @@ impl ConfigError {
             ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
             ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
             ConfigError::Touch(TouchCalError::Press) => t!("touch hold/repeat/radius out of range"),
+            ConfigError::Arm => t!("arm links differ more than 4x"),
         }
     }
 }
@@ -240,6 +245,7 @@ impl Config {
         path: PathMode::Joint,
         lift_centi: None,
         press: PressSettings::DEFAULT,
+        arm: ArmSettings::DEFAULT,
     };
 
     /// Checks every joint calibration and the touch calibration; the first
@@ -251,6 +257,9 @@ impl Config {
         validate_touch(&self.touch).map_err(ConfigError::Touch)?;
         if !self.press.is_valid() {
             return Err(ConfigError::Touch(TouchCalError::Press));
+        }
+        if !self.arm.is_valid() {
+            return Err(ConfigError::Arm);
         }
         Ok(())
     }
@@ -302,6 +311,10 @@ impl Config {
                     TouchField::Radius => next.press.radius = value as u8,
                 }
             }
+            CalSet::Arm { link: ArmLink::L2, cmm } => next.arm.l2_cmm = cmm,
+            CalSet::Arm { link: ArmLink::L3, cmm } => next.arm.l3_cmm = cmm,
+            CalSet::Pose { which: NamedPose::Home, centideg } => next.arm.home = centideg,
+            CalSet::Pose { which: NamedPose::Park, centideg } => next.arm.park = centideg,
         }
         next.validate()?;
         *self = next;
@@ -512,4 +525,92 @@ pub enum CalSet {
         /// `hold` and `repeat`.
         value: u16,
     },
+    /// `cal set arm l2|l3 <mm>`.
+    Arm {
+        /// Which link.
+        link: ArmLink,
+        /// Hundredths of a millimetre, [`LINK_MIN_CMM`]..=[`LINK_MAX_CMM`].
+        cmm: u16,
+    },
+    /// `cal set home|park <base> <shoulder> <elbow>`.
+    Pose {
+        /// Which pose.
+        which: NamedPose,
+        /// Hundredths of a degree, in [`Joint::index`] order.
+        centideg: [i16; 3],
+    },
+}
+
+/// A link of `cal set arm`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArmLink {
+    /// The upper arm, shoulder axis to elbow axis.
+    L2,
+    /// The forearm, elbow axis to the point the hand brings to the target.
+    L3,
+}
+
+/// A pose of the arm's own settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NamedPose {
+    /// Where the arm goes at power-up.
+    Home,
+    /// Where `park` sends it (a rest pose for switching off).
+    Park,
+}
+
+/// Shortest link, hundredths of a millimetre (10 mm).
+pub const LINK_MIN_CMM: u16 = 1_000;
+/// A home or park angle within ±327.67° (an i16 of hundredths in the
+/// record; wider than any servo turns).
+pub const NAMED_POSE_MAX_CENTIDEG: i32 = i16::MAX as i32;
+/// Longest link, hundredths of a millimetre (650 mm: a u16 of hundredths).
+pub const LINK_MAX_CMM: u16 = 65_000;
+/// The longer link at most this many times the shorter: beyond it the
+/// near-base disc of radius |l2 − l3| that no pose reaches covers most of
+/// the map (a digit lost while typing a length, most likely).
+pub const LINK_RATIO_MAX: u32 = 4;
+
+/// The arm's own geometry and its two named poses (issue #21 §4): `cal set
+/// arm l2|l3 <mm>`, `cal set home|park <b> <s> <e>`, stored in the
+/// configuration record (version 6). Only the links' ratio enters the
+/// angles (the map's arm unit is their mean length,
+/// [`crate::geometry::pose::ArmGeometry::from_lengths`]); their length in
+/// millimetres says what one workspace unit of `circle` and `lift` is.
+/// There is no base height: the map's heights are measured from the
+/// shoulder axis, so a base height changes nothing the firmware computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ArmSettings {
+    /// Upper arm, hundredths of a millimetre.
+    pub l2_cmm: u16,
+    /// Forearm, hundredths of a millimetre.
+    pub l3_cmm: u16,
+    /// The power-up pose, hundredths of a degree (clamped into the joints'
+    /// windows when used, as the pulses would be).
+    pub home: [i16; 3],
+    /// `park`'s pose, hundredths of a degree (judged as a `goto` when used).
+    pub park: [i16; 3],
+}
+
+impl ArmSettings {
+    /// Equal links of 100 mm (any equal pair gives the same angles), home
+    /// and park at 90°, 90°, −90° (upper arm up, forearm ahead) until set.
+    pub const DEFAULT: ArmSettings =
+        ArmSettings { l2_cmm: 10_000, l3_cmm: 10_000, home: [9000, 9000, -9000], park: [9000, 9000, -9000] };
+
+    /// Lengths in range and within [`LINK_RATIO_MAX`] of each other.
+    pub fn is_valid(&self) -> bool {
+        let ok = |l: u16| (LINK_MIN_CMM..=LINK_MAX_CMM).contains(&l);
+        let (a, b) = (u32::from(self.l2_cmm), u32::from(self.l3_cmm));
+        ok(self.l2_cmm) && ok(self.l3_cmm) && a <= b * LINK_RATIO_MAX && b <= a * LINK_RATIO_MAX
+    }
+
+    /// A named pose in radians.
+    pub fn pose_rad(&self, which: NamedPose) -> [f32; 3] {
+        let p = match which {
+            NamedPose::Home => &self.home,
+            NamedPose::Park => &self.park,
+        };
+        p.map(|c| centideg_to_rad(i32::from(c)))
+    }
 }

@@ -1,10 +1,10 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 5, little-endian, 108 bytes)
+//! # Record layout (version 6, little-endian, 124 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (5) |
+//! | 2  | 1  | layout version (6) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
@@ -18,9 +18,15 @@
 //! | 103 | 1 | touch `hold`, hundredths of a second, 4..=200 (version 5) |
 //! | 104 | 1 | touch `repeat`, hundredths of a second, 0..=200 (version 5) |
 //! | 105 | 1 | touch cancel `radius`, ADC counts, 20..=255 (version 5) |
-//! | 106 | 2 | CRC-16/CCITT-FALSE of bytes 0..106 |
+//! | 106 | 4 | arm `l2`, `l3` u16, hundredths of a millimetre, 1000..=65000, at most 4× apart (version 6) |
+//! | 110 | 6 | home pose: base, shoulder, elbow i16, hundredths of a degree (version 6) |
+//! | 116 | 6 | park pose, as home (version 6) |
+//! | 122 | 2 | CRC-16/CCITT-FALSE of bytes 0..122 |
 //!
-//! Older records are still read, and the next save writes version 5:
+//! Older records are still read, and the next save writes version 6:
+//! - version 5 (before the arm's own geometry) ends with its CRC of bytes
+//!   0..106 at 106; it reads with the default [`ArmSettings`] (equal links,
+//!   home and park at 90°, 90°, −90°);
 //! - version 4 (before the touch's hold, repeat and radius) ends with its
 //!   CRC of bytes 0..103 at 103; it reads with the default
 //!   [`PressSettings`];
@@ -33,7 +39,8 @@
 //!   at 88; it reads with the default acceleration limits
 //!   ([`JointCal::DEFAULTS`]) too.
 //!
-//! Every older version reads with the default [`PressSettings`].
+//! Every version before 5 reads with the default [`PressSettings`], every
+//! version before 6 with the default [`ArmSettings`].
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -50,7 +57,7 @@
 //! # Tear-proof by construction
 //! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
 //! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
-//! otherwise), then bytes 1..108 (body and CRC), then byte 0 := `T`. A power
+//! otherwise), then bytes 1..124 (body and CRC), then byte 0 := `T`. A power
 //! loss tears at most the one byte being written; whatever value that byte is
 //! left with:
 //! - during step 1 the body is untouched and byte 0 read `T` before: the slot
@@ -68,7 +75,7 @@
 //! defaults and a [`Warning`].
 
 use super::crc::crc16;
-use super::settings::{Config, ConfigError, PathMode, PressSettings, SpeedPreset, LIFT_MAX_CENTI};
+use super::settings::{ArmSettings, Config, ConfigError, PathMode, PressSettings, SpeedPreset, LIFT_MAX_CENTI};
 use crate::motion::plan::LawKind;
 use crate::seam::{Storage, StorageError};
 use crate::servo::map::JointCal;
@@ -78,7 +85,9 @@ use crate::touch::wiring::Wiring;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 108;
+pub const RECORD_LEN: usize = 124;
+/// A version-5 record's length (its CRC at 106).
+const RECORD_LEN_V5: usize = 108;
 /// A version-4 record's length (its CRC at 103).
 const RECORD_LEN_V4: usize = 105;
 /// A version-3 record's length (its CRC at 101).
@@ -94,14 +103,15 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; versions 1 to 4 are still read
+/// Layout version of the record written; versions 1 to 5 are still read
 /// (see the module doc), any other is not.
-pub const VERSION: u8 = 5;
+pub const VERSION: u8 = 6;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
 pub const UNCOMMITTED: u8 = 0x00;
 const _: () = assert!(UNCOMMITTED != MAGIC[0]);
+const _: () = assert!(SLOT_A_ADDR as usize + RECORD_LEN <= SLOT_B_ADDR as usize);
 const FLAG_SWAP: u8 = 1 << 0;
 const FLAG_INVERT_X: u8 = 1 << 1;
 const FLAG_INVERT_Y: u8 = 1 << 2;
@@ -138,12 +148,18 @@ impl Config {
         w.put(&[self.wiring.map_or(0, Wiring::id), self.path.id(), self.lift_centi.unwrap_or(0)]);
         let p = &self.press;
         w.put(&[p.hold_cs, p.repeat_cs, p.radius]);
+        let a = &self.arm;
+        w.put(&a.l2_cmm.to_le_bytes());
+        w.put(&a.l3_cmm.to_le_bytes());
+        for v in a.home.iter().chain(a.park.iter()) {
+            w.put(&v.to_le_bytes());
+        }
         seal(&mut buf);
         buf
     }
 
-    /// Parses and validates a record (version 5; 4 with the default touch
-    /// hold, repeat and radius; 3 also with joint moves and no lift; 2 also
+    /// Parses and validates a record (version 6; 5 with the default arm
+    /// settings; 4 also with the default touch hold, repeat and radius; 3 also with joint moves and no lift; 2 also
     /// without a wiring; 1 also with the default acceleration limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader::at(buf, 0);
@@ -153,6 +169,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            5 => RECORD_LEN_V5 - 2,
             4 => RECORD_LEN_V4 - 2,
             3 => RECORD_LEN_V3 - 2,
             2 => RECORD_LEN_V2 - 2,
@@ -185,7 +202,7 @@ impl Config {
             }
         }
         let wiring = match version {
-            VERSION | 4 | 3 => match r.take::<1>() {
+            VERSION | 5 | 4 | 3 => match r.take::<1>() {
                 [0] => None,
                 [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
             },
@@ -202,9 +219,17 @@ impl Config {
             };
         }
         let mut press = PressSettings::DEFAULT;
-        if version == VERSION {
+        if version >= 5 {
             let [hold_cs, repeat_cs, radius] = r.take::<3>();
             press = PressSettings { hold_cs, repeat_cs, radius };
+        }
+        let mut arm = ArmSettings::DEFAULT;
+        if version >= 6 {
+            arm.l2_cmm = u16::from_le_bytes(r.take());
+            arm.l3_cmm = u16::from_le_bytes(r.take());
+            for v in arm.home.iter_mut().chain(arm.park.iter_mut()) {
+                *v = i16::from_le_bytes(r.take());
+            }
         }
         let config = Config {
             joints,
@@ -223,6 +248,7 @@ impl Config {
             path,
             lift_centi,
             press,
+            arm,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })

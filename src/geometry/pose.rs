@@ -2,7 +2,7 @@
 //! the touch mapping (condition and α, transform, 2-link IK). One place, used by
 //! the firmware's app and by `armsim plan`, so both compute the same pose.
 
-use crate::geometry::ik::{ik2_toward, Branch, IkError, Links};
+use crate::geometry::ik::{ik2_toward, Branch, IkError, Links, LinksError};
 use crate::geometry::workspace::{Condition, WorkspaceError, WorkspacePoint};
 use crate::math::real::Real;
 
@@ -15,6 +15,27 @@ pub struct ArmGeometry<R> {
     pub links: Links<R>,
     /// Elbow solution used.
     pub branch: Branch,
+}
+
+impl<R: Real> ArmGeometry<R> {
+    /// The arm of links `l2`, `l3` measured in any one unit (the firmware's
+    /// `cal set arm`: millimetres), in the map's arm unit: the links' mean
+    /// length, so l2 + l3 = 2 arm units. The paper's equal links are then
+    /// 1 and 1 whatever their length, and the map (scaled by `k`) covers the
+    /// same share of every arm's reach: with unequal links only the
+    /// near-base disc of radius |l2 − l3| drops out.
+    pub fn from_lengths(k: R, l2: R, l3: R, branch: Branch) -> Result<Self, LinksError> {
+        // Checked as given first (as `Links::new` would): a unit made of bad
+        // lengths would hide why.
+        if !(l2.is_finite() && l3.is_finite()) {
+            return Err(LinksError::NotFinite);
+        }
+        if !(l2 > R::ZERO && l3 > R::ZERO) {
+            return Err(LinksError::NotPositive);
+        }
+        let unit = (l2 + l3) * R::HALF;
+        Ok(ArmGeometry { k, links: Links::new(l2 / unit, l3 / unit)?, branch })
+    }
 }
 
 /// Where a screen point sends the arm.

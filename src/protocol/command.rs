@@ -25,6 +25,9 @@
 //! | `cal set touch <field> <value>` | see [`TouchField`] |
 //! | `cal set grip <field> <value>` | the gripper, in the joints' fields ([`JointField`]) |
 //! | `cal reset grip` | the gripper's calibration back to its defaults (in RAM) |
+//! | `cal set arm <l2\|l3> <mm>` | a link's length, 10.00..=650.00 mm, the longer at most 4× the shorter ([`ArmSettings`]) |
+//! | `cal set <home\|park> <deg1> <deg2> <deg3>` | the power-up pose, or `park`'s (±327.67°, in the current joint limits) |
+//! | `park` | go to the park pose (as `goto` its angles) |
 //! | `cal set lcd <auto\|ili9341\|st7789\|ili9486\|ili9325\|st7796>`, `cal set lcd invert on\|off`, `cal set lcd rotate 0\|180` | the display overrides, stored at once, used from the next boot ([`LcdSet`]) |
 //! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
 //! | `log <on\|off\|plot>` | per-frame telemetry: `t …` lines for programs, or `base:<deg>,…` lines for the Arduino Serial Plotter; `off` stops both |
@@ -45,7 +48,12 @@
 
 use crate::config::lcd::{LcdChoice, LcdSet};
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
-use crate::config::settings::{CalSet, JointField, PathMode, SpeedPreset, TouchField, RAW_MAX};
+#[cfg(doc)]
+use crate::config::settings::ArmSettings;
+use crate::config::settings::{
+    ArmLink, CalSet, JointField, NamedPose, PathMode, SpeedPreset, TouchField, LINK_MAX_CMM, LINK_MIN_CMM,
+    NAMED_POSE_MAX_CENTIDEG, RAW_MAX,
+};
 use crate::motion::plan::LawKind;
 use crate::seam::RxLoss;
 use crate::servo::map::Joint;
@@ -121,6 +129,8 @@ pub enum Command {
     Version,
     /// `cal set lcd …`: one display override.
     CalLcd(LcdSet),
+    /// `park`: to the park pose.
+    Park,
 }
 
 /// What `log` prints every frame.
@@ -163,6 +173,8 @@ pub enum Verb {
     Grip,
     /// `pose`
     Pose,
+    /// `park`
+    Park,
     /// `cal`
     Cal,
     /// `log`
@@ -175,7 +187,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 16] = [
+    pub const ALL: [Verb; 17] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -188,6 +200,7 @@ impl Verb {
         Verb::Circle,
         Verb::Grip,
         Verb::Pose,
+        Verb::Park,
         Verb::Cal,
         Verb::Log,
         Verb::Help,
@@ -215,10 +228,11 @@ impl Verb {
             9 => Verb::Circle,
             10 => Verb::Grip,
             11 => Verb::Pose,
-            12 => Verb::Cal,
-            13 => Verb::Log,
-            14 => Verb::Help,
-            15 => Verb::Version,
+            12 => Verb::Park,
+            13 => Verb::Cal,
+            14 => Verb::Log,
+            15 => Verb::Help,
+            16 => Verb::Version,
             _ => return None,
         })
     }
@@ -238,6 +252,7 @@ impl Verb {
             Verb::Circle => t!("circle"),
             Verb::Grip => t!("grip"),
             Verb::Pose => t!("pose"),
+            Verb::Park => t!("park"),
             Verb::Cal => t!("cal"),
             Verb::Log => t!("log"),
             Verb::Help => t!("help"),
@@ -447,6 +462,27 @@ fn parse_joint(tok: &[u8]) -> Option<Joint> {
 
 fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     let target = t.arg()?;
+    if is(target, t!("arm")) {
+        let link = match t.arg()? {
+            w if is(w, t!("l2")) => ArmLink::L2,
+            w if is(w, t!("l3")) => ArmLink::L3,
+            _ => return Err(CmdError::BadArgument),
+        };
+        let cmm = parse_centi(t.arg()?, i32::from(LINK_MIN_CMM), i32::from(LINK_MAX_CMM))? as u16;
+        return Ok(CalSet::Arm { link, cmm });
+    }
+    let named = match target {
+        w if is(w, t!("home")) => Some(NamedPose::Home),
+        w if is(w, t!("park")) => Some(NamedPose::Park),
+        _ => None,
+    };
+    if let Some(which) = named {
+        let mut centideg = [0i16; 3];
+        for v in centideg.iter_mut() {
+            *v = parse_centi(t.arg()?, -NAMED_POSE_MAX_CENTIDEG, NAMED_POSE_MAX_CENTIDEG)? as i16;
+        }
+        return Ok(CalSet::Pose { which, centideg });
+    }
     if is(target, t!("touch")) {
         let name = t.arg()?;
         let field =
@@ -571,6 +607,7 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             w if is(w, t!("close")) => GripCmd::Close,
             tok => GripCmd::Centideg(parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?),
         }),
+        Verb::Park => Command::Park,
         Verb::Help => Command::Help,
         Verb::Version => Command::Version,
     };

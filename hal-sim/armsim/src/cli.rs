@@ -50,7 +50,9 @@ pub enum Cmd {
     ///
     /// Out of reach: `reachable: false`, null q and s. At the shoulder with l2 = l3 (the bottom
     /// centre): `reachable: true, singular: true`, q3 = ±π, q2 and s2 null. On the firmware's
-    /// elbow branch (minus, elbow up) unless `--branch plus`; `branch` names it.
+    /// elbow branch (minus, elbow up) unless `--branch plus`; `branch` names it. --l2 and --l3
+    /// are taken as the firmware's `cal set arm` takes them (any one unit, millimetres there):
+    /// the map's arm unit is their mean, so reach and height are in that unit.
     Plan(PlanArgs),
     /// ζ-a-tₛ trajectory: CSV t,s,v,acc,jerk; --info: JSON {zeta, zeta_infinite, u_min, admissible, a_smooth_stop, end_velocity, monotone}
     ///
@@ -475,7 +477,9 @@ fn cmd_plan(a: &PlanArgs) -> Result<String, String> {
         return Err(format!("--k must be positive and finite, got {}", a.k));
     }
     let branch = a.links.branch.into();
-    let geo = ArmGeometry { k: a.k, links: links(&a.links)?, branch };
+    // The firmware's arm: the links in the map's arm unit, their mean.
+    links(&a.links)?;
+    let geo = ArmGeometry::from_lengths(a.k, a.links.l2, a.links.l3, branch).map_err(|e| format!("{e:?}"))?;
     let p = WorkspacePoint::new(t.x_p, t.y_p)
         .map_err(|e| format!("point ({}, {}) is outside the workspace [-1,1]x[0,1]: {e:?}", t.x_p, t.y_p))?;
     let target = p.target(a.k).map_err(|e| format!("{e:?}"))?;

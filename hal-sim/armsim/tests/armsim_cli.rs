@@ -177,6 +177,32 @@ fn plan_normalized_joint_values() {
     assert!((x - 1.2 * x_p).abs() < 1e-12 && (y - 1.2 * y_p).abs() < 1e-12);
 }
 
+/// `plan` takes the links as the firmware's `cal set arm` does (issue #21
+/// §4): any one unit, the map's arm unit their mean. 120 and 80 (mm) are 1.2
+/// and 0.8 arm units: the same pose as `--l2 1.2 --l3 0.8`, the FK of the
+/// pose in those units lands on (k·|x_p|, k·y_p), and the point inside
+/// radius |1.2 − 0.8| = 0.4 the scenario `arm_geometry.scn` refuses is out
+/// of reach here too.
+#[test]
+fn plan_takes_the_firmwares_link_lengths() {
+    let mm = json(&["plan", "--raw", "700,700", "--l2", "120", "--l3", "80"]);
+    let units = json(&["plan", "--raw", "700,700", "--l2", "1.2", "--l3", "0.8"]);
+    for key in ["q2", "q3", "reach", "height"] {
+        assert!((f(&mm, key) - f(&units, key)).abs() < 1e-12, "{key}: {mm} vs {units}");
+    }
+    let (q2, q3) = (f(&mm, "q2"), f(&mm, "q3"));
+    // The f64 values of the scenario's comment.
+    assert!((q2.to_degrees() - 101.9263).abs() < 1e-4 && (q3.to_degrees() + 134.4632).abs() < 1e-4);
+    let (x, y) = (1.2 * q2.cos() + 0.8 * (q2 + q3).cos(), 1.2 * q2.sin() + 0.8 * (q2 + q3).sin());
+    assert!((x - f(&mm, "reach")).abs() < 1e-12 && (y - f(&mm, "height")).abs() < 1e-12);
+    // Equal links of any length are the paper's 1 and 1.
+    let equal = json(&["plan", "--raw", "700,700", "--l2", "250", "--l3", "250"]);
+    let paper = json(&["plan", "--raw", "700,700"]);
+    assert_eq!((f(&equal, "q2"), f(&equal, "q3")), (f(&paper, "q2"), f(&paper, "q3")));
+    let close = json(&["plan", "--raw", "600,400", "--l2", "120", "--l3", "80"]);
+    assert_eq!(close["reachable"], false);
+}
+
 #[test]
 fn ik_and_plan_default_to_the_firmwares_branch() {
     // The default is the branch the firmware solves on and its servo

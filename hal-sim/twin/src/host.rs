@@ -99,16 +99,15 @@ pub fn host_target(x_p: f64, y_p: f64) -> Result<HostTarget, String> {
     Ok(HostTarget { pose, q, pulses_us, within_limits })
 }
 
-/// The firmware's arm ([`touch_arm::app::AppParams::DEFAULT`]) in f64, for
-/// the host's references.
+/// The firmware's arm ([`touch_arm::app::AppParams::DEFAULT`] with the
+/// default [`touch_arm::config::settings::ArmSettings`]) in f64, for the
+/// host's references.
 pub fn host_geometry() -> Result<touch_arm::geometry::pose::ArmGeometry<f64>, String> {
-    use touch_arm::geometry::ik::Links;
     let p = touch_arm::app::AppParams::DEFAULT;
-    Ok(touch_arm::geometry::pose::ArmGeometry {
-        k: f64::from(p.k),
-        links: Links::new(f64::from(p.l2), f64::from(p.l3)).map_err(|e| format!("{e:?}"))?,
-        branch: p.branch,
-    })
+    let a = touch_arm::config::settings::ArmSettings::DEFAULT;
+    let mm = |cmm: u16| f64::from(cmm) * 0.01;
+    touch_arm::geometry::pose::ArmGeometry::from_lengths(f64::from(p.k), mm(a.l2_cmm), mm(a.l3_cmm), p.branch)
+        .map_err(|e| format!("{e:?}"))
 }
 
 /// Where measured pulses (µs, whole Timer5 ticks) put the effector: each

@@ -58,7 +58,7 @@ impl Inputs {
     /// A command of the README's grammar, with arguments mostly plausible
     /// and sometimes out of range (the app must refuse those).
     pub fn command(&mut self) -> String {
-        match self.rng.below(26) {
+        match self.rng.below(28) {
             0..=3 => format!("move {} {}", self.int(0, 1023), self.int(0, 1023)),
             4..=6 => {
                 let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
@@ -97,6 +97,17 @@ impl Inputs {
             },
             22 => self.cal_set_grip(),
             23 => format!("pose {} {}", self.pick(&["save", "go", "go", "clear"]), self.int(1, 4)),
+            // Issue #21 §4's arm: link lengths (some out of range or over 4x
+            // apart), home and park poses (some outside the limits), park.
+            24 => match self.rng.below(4) {
+                0 => format!("cal set arm {} {}", self.pick(&["l2", "l3"]), self.decimal(5.0, 700.0)),
+                1 => format!("cal set arm {} {}", self.pick(&["l2", "l3"]), self.decimal(60.0, 160.0)),
+                _ => {
+                    let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
+                    format!("cal set {} {b} {s} {e}", self.pick(&["home", "park"]))
+                }
+            },
+            25 => "park".into(),
             _ => self.cal_set(),
         }
     }

@@ -8,7 +8,8 @@
 //! `\n`, `\r`, `\t` and `\xNN`.
 //!
 //! Set-up (before the first other directive; they shape the simulation):
-//! - `geometry k <k> l2 <l2> l3 <l3>`: arm parameters of the app.
+//! - `geometry k <k>`: the map's scale (`AppParams::k`); the links' lengths
+//!   are the firmware's settings, changed with `send "cal set arm l2 <mm>"`.
 //! - `servo_init_deg <b> <s> <e>`: shaft angles at power-up (unknown to the app).
 //! - `servo_model speed <rad/s> deadband <µs>`
 //! - `seed <n>`: noise seed.
@@ -166,8 +167,6 @@ enum Expect {
 enum Step {
     Geometry {
         k: f64,
-        l2: f64,
-        l3: f64,
     },
     ServoInit([f64; 3]),
     ServoModel {
@@ -537,11 +536,7 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
     Ok(match d.as_str() {
         "geometry" => {
             a.keyword("k")?;
-            let k = a.num()?;
-            a.keyword("l2")?;
-            let l2 = a.num()?;
-            a.keyword("l3")?;
-            Step::Geometry { k, l2, l3: a.num()? }
+            Step::Geometry { k: a.num()? }
         }
         "servo_init_deg" => Step::ServoInit(a.three()?),
         "servo_model" => {
@@ -665,11 +660,7 @@ impl Scenario {
 
 fn apply_setup(setup: &mut SimSetup, step: &Step) -> Result<(), String> {
     match step {
-        Step::Geometry { k, l2, l3 } => {
-            setup.params.k = *k as f32;
-            setup.params.l2 = *l2 as f32;
-            setup.params.l3 = *l3 as f32;
-        }
+        Step::Geometry { k } => setup.params.k = *k as f32,
         Step::ServoInit(d) => setup.servo_initial = d.map(f64::to_radians),
         Step::ServoModel { speed, deadband } => {
             setup.servo_model.max_speed_rad_s = *speed;
@@ -1098,9 +1089,7 @@ pub fn run_file(path: &Path) -> Result<Sim, String> {
 
 /// FK (arm units) of the commanded pose of every record.
 fn commanded_fk(sim: &Sim, w: &[FrameRecord]) -> Result<Vec<[f64; 3]>, String> {
-    let p = &sim.setup.params;
-    let links =
-        touch_arm::geometry::ik::Links::new(f64::from(p.l2), f64::from(p.l3)).map_err(|e| format!("links: {e:?}"))?;
+    let links = sim.links()?;
     if w.is_empty() {
         return Err("no frames".into());
     }

@@ -190,8 +190,13 @@ impl Sim {
 
     /// End effector of the servos' shaft angles (f64 FK with the app's links).
     pub fn effector(&self) -> Result<Effector, String> {
-        let p = &self.setup.params;
-        let links = Links::new(p.l2 as f64, p.l3 as f64).map_err(|e| format!("links: {e:?}"))?;
-        Ok(effector(&links, &self.servos.angles()))
+        Ok(effector(&self.links()?, &self.servos.angles()))
+    }
+
+    /// The app's links now (the running configuration's, in the map's arm
+    /// unit), in f64.
+    pub fn links(&self) -> Result<Links<f64>, String> {
+        let l = &self.app.geometry().links;
+        Links::new(f64::from(l.l2()), f64::from(l.l3())).map_err(|e| format!("links: {e:?}"))
     }
 }

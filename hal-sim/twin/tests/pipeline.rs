@@ -646,6 +646,7 @@ mod config {
         c.wiring = Some(Wiring::C);
         c.lift_centi = Some(35);
         c.press = PressSettings { hold_cs: 25, repeat_cs: 50, radius: 90 };
+        c.arm = ArmSettings { l2_cmm: 12_050, l3_cmm: 8_000, home: [9000, 4500, -13_500], park: [-1, 17_000, -32_767] };
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -712,7 +713,15 @@ mod config {
         // Version 5 the touch's hold, repeat (hundredths of a second) and
         // cancel radius (counts).
         assert_eq!((r[103], r[104], r[105]), (25, 50, 90));
-        assert_eq!(&r[106..108], &crc16(&r[..106]).to_le_bytes());
+        // Version 6 the links (hundredths of a mm) and the home and park
+        // poses (i16 hundredths of a degree).
+        assert_eq!((&r[106..108], &r[108..110]), (&12_050u16.to_le_bytes()[..], &8_000u16.to_le_bytes()[..]));
+        assert_eq!(
+            (&r[110..112], &r[112..114], &r[114..116]),
+            (&[0x28, 0x23][..], &[0x94, 0x11][..], &[0x44, 0xCB][..])
+        );
+        assert_eq!((&r[116..118], &r[120..122]), (&[0xFF, 0xFF][..], &(-32_767i16).to_le_bytes()[..]));
+        assert_eq!(&r[122..124], &crc16(&r[..122]).to_le_bytes());
         let mut line = c;
         (line.path, line.lift_centi) = (PathMode::Line, None);
         let l = line.encode(9);
@@ -743,8 +752,10 @@ mod config {
             // moves and no lift before version 4.
             want.wiring = None;
             (want.path, want.lift_centi) = (PathMode::Joint, None);
-            // The default hold, repeat and radius before version 5.
+            // The default hold, repeat and radius before version 5, the
+            // default arm before version 6.
             want.press = PressSettings::DEFAULT;
+            want.arm = ArmSettings::DEFAULT;
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -779,8 +790,14 @@ mod config {
             r[2] = 2;
             let crc = crc16(&r[..100]);
             r[100..102].copy_from_slice(&crc.to_le_bytes());
-            let want =
-                Config { wiring: None, path: PathMode::Joint, lift_centi: None, press: PressSettings::DEFAULT, ..c };
+            let want = Config {
+                wiring: None,
+                path: PathMode::Joint,
+                lift_centi: None,
+                press: PressSettings::DEFAULT,
+                arm: ArmSettings::DEFAULT,
+                ..c
+            };
             assert_eq!(Config::decode(&r), Ok(Record { seq: 77, config: want }), "tail {tail:#x}");
             let mut bad = r;
             bad[60] ^= 1;
@@ -820,6 +837,7 @@ mod config {
         let mut want = c;
         want.lift_centi = None;
         want.press = PressSettings::DEFAULT;
+        want.arm = ArmSettings::DEFAULT;
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v3(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v3(41, tail);
@@ -851,7 +869,7 @@ mod config {
             r[103..105].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        let want = Config { press: PressSettings::DEFAULT, ..c };
+        let want = Config { press: PressSettings::DEFAULT, arm: ArmSettings::DEFAULT, ..c };
         assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 });
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v4(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
@@ -864,12 +882,74 @@ mod config {
         ee.write(u32::from(SLOT_B_ADDR), &v4(4, 0xFF)[..105]).unwrap();
         let l = load(&mut ee);
         assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
-        // The next save: version 5 with the settings set since.
+        // The next save: the current version with the settings set since.
         assert_eq!(save(&mut ee, &c), Ok(6));
         let l = load(&mut ee);
         assert_eq!((l.seq, l.warning, l.config), (6, None, c));
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
-        assert_eq!(VERSION, 5);
+    }
+
+    /// A version-5 record (108 bytes, CRC of 0..106 at 106, written before
+    /// the arm's own geometry) loads with every field it has and the
+    /// default arm (equal links, home and park at 90°, 90°, −90°); the next
+    /// save writes version 6.
+    #[test]
+    fn version_5_records_migrate_to_the_default_arm() {
+        let c = sample_config();
+        let v5 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..106].copy_from_slice(&c.encode(seq)[..106]);
+            r[2] = 5;
+            let crc = crc16(&r[..106]);
+            r[106..108].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let want = Config { arm: ArmSettings::DEFAULT, ..c };
+        assert_eq!(
+            ArmSettings::DEFAULT,
+            ArmSettings { l2_cmm: 10_000, l3_cmm: 10_000, home: [9000, 9000, -9000], park: [9000, 9000, -9000] }
+        );
+        for tail in [0xFFu8, 0x00, 0x5A] {
+            assert_eq!(Config::decode(&v5(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v5(41, tail);
+            bad[105] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v5(5, 0xFF)[..108]).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &v5(4, 0xFF)[..108]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
+        assert_eq!(save(&mut ee, &c), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
+        assert_eq!(VERSION, 6);
+    }
+
+    /// The arm's links: each 10..=650 mm, the longer at most 4x the shorter
+    /// (exactly 4x accepted); a record holding other links is refused
+    /// whole, as any invalid field is.
+    #[test]
+    fn arm_links_are_ranged_and_at_most_four_times_apart() {
+        let ok = |l2_cmm: u16, l3_cmm: u16| ArmSettings { l2_cmm, l3_cmm, ..ArmSettings::DEFAULT }.is_valid();
+        assert!(ok(1000, 4000) && ok(4000, 1000) && ok(65_000, 16_250) && ok(1000, 1000) && ok(65_000, 65_000));
+        assert!(!ok(1000, 4001) && !ok(4001, 1000) && !ok(999, 999) && !ok(65_001, 65_000) && !ok(0, 0));
+        let mut c = sample_config();
+        c.arm.l3_cmm = 3_012; // 120.50 / 30.12 > 4
+        assert_eq!(c.validate(), Err(ConfigError::Arm));
+        let mut r = sample_config().encode(3);
+        r[108..110].copy_from_slice(&3_012u16.to_le_bytes());
+        let crc = crc16(&r[..122]);
+        r[122..124].copy_from_slice(&crc.to_le_bytes());
+        assert_eq!(Config::decode(&r), Err(RecordError::Invalid));
+        // `cal set arm` goes through the same rule.
+        let mut c = Config::DEFAULT;
+        let set = CalSet::Arm { link: ArmLink::L2, cmm: 40_001 };
+        assert_eq!(c.apply(&set), Err(ConfigError::Arm));
+        assert_eq!(c, Config::DEFAULT);
+        assert_eq!(c.apply(&CalSet::Arm { link: ArmLink::L2, cmm: 40_000 }), Ok(()));
+        assert_eq!((c.arm.l2_cmm, c.arm.l3_cmm), (40_000, 10_000));
     }
 
     /// The poses' record (`config::poses`): explicit little-endian layout,
@@ -928,8 +1008,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 6;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(6)));
+        r[2] = 7;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(7)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -937,15 +1017,19 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..106]);
-            r[106..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..122]);
+            r[122..].copy_from_slice(&crc.to_le_bytes());
             r
         };
         // Also: an unknown wiring id, an unknown path mode, a lift over 0.5,
         // a lift with path line (sample_config lifts by 0.35), a hold below
-        // 0.04 s or above 2 s, a repeat above 2 s, a radius below 20.
+        // 0.04 s or above 2 s, a repeat above 2 s, a radius below 20, an l2
+        // of 0.18 mm (its high byte 0), an l3 of 653.44 mm (its high byte
+        // 255).
         for (off, val) in [
-            (87usize, 9u8),
+            (107usize, 0u8),
+            (109, 255),
+            (87, 9),
             (86, 3),
             (85, 0x08),
             (100, 4),
@@ -1012,8 +1096,12 @@ mod config {
             repeat_cs,
             radius,
         });
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press))
-            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press))| Config {
+        // Links within their range (the filter drops pairs over 4x apart),
+        // named poses anywhere an i16 reaches.
+        let arm = (1000u16..=65000, 1000u16..=65000, any::<[i16; 3]>(), any::<[i16; 3]>())
+            .prop_map(|(l2_cmm, l3_cmm, home, park)| ArmSettings { l2_cmm, l3_cmm, home, park });
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press, arm))
+            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press, arm))| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
@@ -1022,6 +1110,7 @@ mod config {
                 path,
                 lift_centi,
                 press,
+                arm,
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }

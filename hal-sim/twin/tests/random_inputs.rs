@@ -22,6 +22,9 @@
 //! Issue #24 widened the inputs: pulse limits well inside the angle limits,
 //! targets and circles near the rim (the arm almost stretched), `pose go` and
 //! circles sent right after `path line` or `lift <h>`, and late frames.
+//! Issue #21 §4 added the arm's settings: link lengths (some out of range or
+//! over 4x apart, refused), home and park poses (some outside the limits)
+//! and `park`.
 //!
 //! `cargo test -p hal-sim --test random_inputs` runs a short run (two seeds,
 //! with and without the touch screen). The long run is

@@ -28,6 +28,7 @@ macro_rules! scenarios {
 }
 
 scenarios!(
+    arm_geometry,
     arrive_together,
     cal_consistency,
     cal_roundtrip,

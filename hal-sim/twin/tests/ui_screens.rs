@@ -1177,3 +1177,40 @@ fn the_candidate_marker_fills_its_rings_over_the_hold() {
         }
     }
 }
+
+/// The map's reach shading follows `cal set arm` (issue #21 §4): with the
+/// default equal links every map point is reachable (radius ≤ √2 < 2); links
+/// of 120 and 80 mm (1.2 and 0.8 arm units) cannot reach inside radius 0.4,
+/// so the map pixels there turn to the unreachable shade while those
+/// farther out keep the reachable one. Drawn by the app in the twin.
+#[test]
+fn the_reach_shading_follows_the_arms_links() {
+    use hal_sim::sim::{Sim, SimSetup};
+    let mut setup = SimSetup::default();
+    setup.params.screen = true;
+    let mut sim = Sim::new(&setup).unwrap();
+    sim.run_frames(100);
+    // Points off the zone lines (the diagonals and the vertical): radius
+    // 0.27 (either side of the vertical) and 0.67.
+    let probe = |sim: &Sim, x_p: f32, y_p: f32| {
+        let (x, y) = L.ws_point_to_pixel(x_p, y_p).unwrap();
+        let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
+        let px = sim.display.as_ref().unwrap().pixel(x.into(), y.into()).unwrap();
+        (px, zone)
+    };
+    let points = [(0.1f32, 0.25f32), (0.6, 0.35), (-0.1, 0.25)];
+    for (x_p, y_p) in points {
+        let (px, zone) = probe(&sim, x_p, y_p);
+        assert_eq!(px, theme::ZONE[zone], "equal links, ({x_p}, {y_p})");
+    }
+    sim.send_line("cal set arm l2 120");
+    sim.run_frames(5);
+    sim.send_line("cal set arm l3 80");
+    sim.run_frames(50);
+    for (x_p, y_p) in points {
+        let (px, zone) = probe(&sim, x_p, y_p);
+        let r = x_p.hypot(y_p);
+        let want = if r < 0.4 { theme::ZONE_OUT[zone] } else { theme::ZONE[zone] };
+        assert_eq!(px, want, "links 120/80, ({x_p}, {y_p}) at radius {r}");
+    }
+}

@@ -261,7 +261,7 @@ pub fn shape_figures(
 
 /// The section of BENCHMARKS.md (Markdown, ending with a blank line).
 pub fn section() -> Result<String, String> {
-    let home = AppParams::DEFAULT.home;
+    let home = touch_arm::config::settings::ArmSettings::DEFAULT.pose_rad(touch_arm::config::settings::NamedPose::Home);
     let mut rows = Vec::new();
     let mut xy_rows = Vec::new();
     let mut moves = Vec::new();

@@ -6,7 +6,7 @@
 //! `err cal touch …`, `err screen …` and the `t …` telemetry. So the answers
 //! are matched to the commands in flight first in, first out.
 //!
-//! A command that plans a move (`move`, `goto`, `pose go`, `circle`) is
+//! A command that plans a move (`move`, `goto`, `pose go`, `circle`, `park`) is
 //! answered only once the plan-time check of a line, circle or lift has
 //! decided (docs/serial.md, "Path and lift moves"): seconds for a line near
 //! the rim. Its answer window is [`CHECK_WINDOW_S`] instead of
@@ -34,7 +34,7 @@ pub const CHECK_WINDOW_S: f64 = 30.0;
 pub const FORGET_AFTER_S: f64 = 2.0;
 
 /// Command words whose answer may wait for a plan-time check.
-const PLANNING: [&str; 4] = ["move", "goto", "pose", "circle"];
+const PLANNING: [&str; 5] = ["move", "goto", "pose", "circle", "park"];
 
 /// The answer window of a command line, simulated seconds: its first word
 /// decides (case-insensitive, as the firmware reads it).
@@ -235,6 +235,7 @@ mod tests {
         assert_eq!(answer_window_s("status"), ANSWER_WINDOW_S);
         assert_eq!(answer_window_s("GOTO 10 20 30"), CHECK_WINDOW_S);
         assert_eq!(answer_window_s("pose go 2"), CHECK_WINDOW_S);
+        assert_eq!(answer_window_s("park"), CHECK_WINDOW_S);
         assert_eq!(answer_window_s("circle 0.2"), CHECK_WINDOW_S);
         assert_eq!(answer_window_s("path line"), ANSWER_WINDOW_S);
         let mut r = SerialRouter::default();

@@ -1,0 +1,63 @@
+//! The arm's own geometry on the real firmware ELF in simavr (issue #21
+//! §4): link lengths change the pose a touch point gives, the home pose
+//! set and saved on the chip is where it powers up, and `park` goes to the
+//! park pose.
+//!
+//! Default servo calibration: 10 µs per degree, base and shoulder 600 µs at
+//! 0°, elbow 2400 µs at 0°. The angles are derived in
+//! `hal-sim/twin/tests/scenarios/arm_geometry.scn`: raw (700, 700) with
+//! links of 120 and 80 mm is (60.1733, 101.9263, −134.4632)°, i.e.
+//! 1201.733, 1619.263 and 1055.368 µs; pulses are whole Timer5 ticks of
+//! 0.5 µs.
+
+use touch_arm_rig::firmware::{self, Session};
+use touch_arm_rig::panel::PanelWiring;
+
+fn boot(eeprom: Option<&[u8]>) -> Session {
+    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 8).expect("firmware ELF (cargo avr)");
+    if let Some(e) = eeprom {
+        s.avr.set_eeprom(0, e).unwrap();
+    }
+    s.run_for(1.0).unwrap();
+    s.run_until_ready(2.0).unwrap();
+    s
+}
+
+fn go(s: &mut Session, cmd: &str, want: &str) {
+    let reply = s.command(cmd).unwrap();
+    assert!(reply.starts_with(want), "{cmd}: {reply}");
+    let ts_ms: f64 = reply.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).map_or(0.0, |v| v.parse().unwrap());
+    s.run_for(ts_ms / 1000.0 + 0.3).unwrap();
+    assert!(s.command("status").unwrap().starts_with("ok status holding"));
+}
+
+fn assert_pulses(s: &Session, want: [f64; 3], tol: f64, what: &str) {
+    let last = s.last_pulses();
+    for (j, w) in want.iter().enumerate() {
+        assert!((last[j].unwrap() - w).abs() <= tol, "{what}, joint {j}: {last:?}, want {want:?}");
+    }
+}
+
+#[test]
+fn links_home_and_park_set_on_the_chip() {
+    let mut s = boot(None);
+    assert_eq!(s.command("cal set arm l2 120").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set arm l3 80").unwrap(), "ok cal set");
+    // Inside the 0.4-unit disc the unequal links cannot reach.
+    assert_eq!(s.command("move 600 400").unwrap(), "err unreachable");
+    go(&mut s, "move 700 700", "ok move cond ");
+    assert_pulses(&s, [1201.733, 1619.263, 1055.368], 0.3, "links 120/80");
+    assert_eq!(s.command("cal set home 45 100 -80").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set park 90 150 -150").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set park 90 150 -181").unwrap(), "err joint limit elbow");
+    assert!(s.command("cal save").unwrap().starts_with("ok cal save seq "));
+    let ee = s.avr.eeprom().unwrap();
+
+    let mut s = boot(Some(&ee));
+    assert_pulses(&s, [1050.0, 1600.0, 1600.0], 0.0, "home after the power cycle");
+    go(&mut s, "park", "ok park ts_ms ");
+    assert_pulses(&s, [1500.0, 2100.0, 900.0], 0.0, "park");
+    // The saved links came back too.
+    go(&mut s, "move 700 700", "ok move cond ");
+    assert_pulses(&s, [1201.733, 1619.263, 1055.368], 0.3, "links after the power cycle");
+}
