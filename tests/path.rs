@@ -305,3 +305,57 @@ proptest! {
         }
     }
 }
+
+/// A check decides within a known number of units whatever the path
+/// (`HALVING_BUDGET`): the app's check (24 samples, 24 refinement steps,
+/// f32) of the trapezoid on links of 69 and 100 mm (0.81657 and 1.18343
+/// arm units), a line folding the elbow from −127.42° to −169.9°, halved its
+/// bounds for 18 195 units before the budget (minutes on the chip); now
+/// its 256 halvings end it in 743 units, and the plan it accepts, slower
+/// than the unbudgeted 1.081 s, keeps every limit on a scan 50 times as
+/// dense (the bounds stay sound, only looser). The smooth laws on the same
+/// line spend 39–43 halvings.
+#[test]
+fn the_scan_decides_within_its_halving_budget() {
+    use touch_arm::geometry::ik::fk3_pose;
+    use touch_arm::motion::path::HALVING_BUDGET;
+    let links = Links::new(69.0f32 / 84.5, 100.0f32 / 84.5).unwrap();
+    let d = |v: f32| v.to_radians();
+    let (a, b) = ([d(91.65), d(127.78), d(-127.42)], [d(88.1), d(115.8), d(-169.9)]);
+    let line = Path::line(&fk3_pose(&links, &a), &fk3_pose(&links, &b)).unwrap();
+    let lim = PathLimits {
+        min: [0.0, 0.0, -core::f32::consts::PI],
+        max: [core::f32::consts::PI, core::f32::consts::PI, 0.0],
+        speed: [3.0 * 0.98; 3],
+        accel: [17.453_292 * 0.98; 3],
+        ts_max: 30.0,
+    };
+    let arm = PathArm { links, branch: Branch::Minus };
+    for law in [LawKind::Trapezoid, LawKind::Zat, LawKind::Quintic] {
+        let r = PathRequest { path: line, law, ts: 0.5, pace: Pace::SlowDown, samples: 24, refine: 24 };
+        let mut c = PathCheck::new(&r, &arm, &lim).unwrap();
+        let mut units = 0u32;
+        let plan = loop {
+            units += 1;
+            if let Some(p) = c.step(1) {
+                break p.unwrap();
+            }
+            assert!(units < 800, "{law:?}: no verdict after {units} units");
+        };
+        assert!(c.halvings() <= HALVING_BUDGET);
+        if law == LawKind::Trapezoid {
+            assert_eq!(c.halvings(), HALVING_BUDGET, "the case spends the whole budget");
+            assert!(plan.ts() > 1.08, "{}", plan.ts());
+        } else {
+            assert!(c.halvings() < 64, "{law:?}: {}", c.halvings());
+        }
+        let n = 1200;
+        for i in 0..=n {
+            let st = plan.state(plan.ts() * i as f32 / n as f32).unwrap();
+            for j in 0..3 {
+                assert!(st.dq[j].abs() <= lim.speed[j] * 1.0001, "{law:?} joint {j} speed {}", st.dq[j]);
+                assert!(st.ddq[j].abs() <= lim.accel[j] * 1.0001, "{law:?} joint {j} accel {}", st.ddq[j]);
+            }
+        }
+    }
+}

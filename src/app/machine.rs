@@ -312,7 +312,7 @@ impl App {
     }
 
     /// A joint target, reached as the `path` setting says.
-    fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+    pub(super) fn start_move(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
         self.accept(target, touch, self.target_kind())
     }
 
@@ -338,6 +338,7 @@ impl App {
             return Err(Refusal::Busy);
         }
         self.check_limits(target)?;
+        self.undo_note_target(kind);
         self.spend_heavy();
         self.plan_due = Some(PlanDue { target: *target, touch: touch.copied(), answer: Answer::Nobody, kind });
         Ok(())
@@ -366,6 +367,7 @@ impl App {
 
     /// Tells whoever asked for a move how its plan (or its path check) went.
     pub(super) fn answer_plan<U: SerialPort>(&mut self, serial: &mut U, answer: &Answer, r: Result<(), Refusal>) {
+        self.undo_verdict(r.is_ok());
         // A pose's gripper target waits for this verdict (`grip.rs`): a pose
         // whose arm move cannot be planned moves nothing.
         if r.is_ok() {

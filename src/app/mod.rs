@@ -85,7 +85,7 @@
 //! `screen.rs` (the touch screen), `path_move.rs` (paths and lifts),
 //! `grip.rs` (the gripper), `poses.rs` (saved poses), `recalibrate.rs`
 //! (calibration changes while holding), `wiring.rs` (the panel's wiring),
-//! `telemetry.rs` (output lines). The rule they follow:
+//! `telemetry.rs` (output lines), `undo.rs` (going back). The rule they follow:
 //! - A feature's own state is one field of its own type, declared in its
 //!   file (`grip: grip::Grip`, `path: path_move::PathRun`, `screen:
 //!   screen::Screen`, `session: serial::Session`); only that file changes
@@ -120,6 +120,7 @@ mod screen;
 mod serial;
 mod telemetry;
 pub mod text;
+mod undo;
 mod wiring;
 
 use core::mem::MaybeUninit;
@@ -525,6 +526,8 @@ pub struct App {
     lcd: crate::config::lcd::LcdSettings,
     /// The contact on the glass and what it may become (`press.rs`).
     press: press::Press,
+    /// The poses to go back to (`undo.rs`).
+    undo: undo::Undo,
 }
 
 // `App::init` assigns over an uninitialized slot: sound only while nothing
@@ -626,6 +629,7 @@ impl App {
                 path: path_move::PathRun::Idle,
                 lcd: crate::config::lcd::LCD_DEFAULT,
                 press: press::Press::IDLE,
+                undo: undo::Undo::EMPTY,
             };
             Ok(&mut *at)
         }

@@ -55,6 +55,8 @@ pub enum Refusal {
     PathLaw,
     /// STOP came while the path was being checked: the move never started.
     PathStopped,
+    /// `undo` with no step left (`undo.rs`).
+    NothingToUndo,
     /// The pose held now (or a line's target pose) is not the IK's solution
     /// of its effector point: on the other elbow branch, or a joint past the
     /// IK's range; a path from it would start (or end) with a jump.
@@ -72,7 +74,7 @@ pub enum Refusal {
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 33] = [
+    pub const ALL: [Refusal; 34] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -99,6 +101,7 @@ impl Refusal {
         Refusal::PathTooSlow,
         Refusal::PathLaw,
         Refusal::PathStopped,
+        Refusal::NothingToUndo,
         Refusal::PathBranch,
         Refusal::LiftViaUnreachable,
         Refusal::LiftJointLimit(Joint::Base),
@@ -137,6 +140,7 @@ impl Refusal {
             Refusal::PathTooSlow => t!("path needs ts above max"),
             Refusal::PathLaw => t!("path: law zat-paper not offered"),
             Refusal::PathStopped => t!("path check stopped"),
+            Refusal::NothingToUndo => t!("nothing to undo"),
             Refusal::PathBranch => t!("path pose off IK range"),
             Refusal::LiftViaUnreachable => t!("lift via pose unreachable"),
             Refusal::LiftJointLimit(Joint::Base) => t!("lift joint limit base"),

@@ -116,6 +116,8 @@ pub(super) enum Done {
     Circled,
     /// `park`, once planned.
     Parked,
+    /// `undo`, once planned.
+    Undone,
     /// `cal set lcd …`: the display overrides' new sequence number.
     CalLcd(Result<u16, SaveError>),
 }
@@ -256,6 +258,7 @@ impl App {
             Command::CalResetGrip => self.grip_reset(),
             Command::CalLcd(set) => self.cal_lcd(set, storage),
             Command::Park => self.move_to_angles(&self.config.arm.park.map(i32::from)).map(|()| Done::Parked),
+            Command::Undo => self.undo().map(|()| Done::Undone),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -368,6 +371,14 @@ impl App {
             Done::Parked => {
                 r.str(t!("ok park"));
                 self.describe_move(r, false);
+            }
+            Done::Undone => {
+                r.str(t!("ok undo"));
+                self.describe_move(r, false);
+                r.word(t!("left")).num(i32::from(self.undo.left()));
+                if let Some(g) = self.undo.grip_kept() {
+                    r.word(t!("grip kept")).bytes(b" ").centi(crate::math::units::rad_to_centideg(g));
+                }
             }
             Done::CalSet(slew) => {
                 r.str(t!("ok cal set"));

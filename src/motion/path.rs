@@ -324,6 +324,17 @@ const BOUND_DEPTH: u8 = 12;
 /// tₛ: one scan decides the shortest.
 const BOUND_TOL: f64 = 1.0 / 16.0;
 
+/// Halvings a whole scan may spend on its bounds. Past it, every stretch
+/// still to come takes its bound as it is (sound, only looser: the move
+/// comes out slower, never faster than its limits), and one whose bound is
+/// undefined is refused as singular. So a check decides within a known
+/// number of units whatever the path: without it, the trapezoid on links
+/// of 69 and 100 mm (a line folding the elbow to −170°) halved for 18 195
+/// units, minutes on the chip (`tests/path.rs`,
+/// `the_scan_decides_within_its_halving_budget`). The moves the tests and the
+/// benchmark plan spend far fewer (BENCHMARKS.md).
+pub const HALVING_BUDGET: u16 = 256;
+
 /// The largest |f‴| of a law's normalized profile (g(t) = f(t/tₛ)), for
 /// laws whose f″ is continuous: ζ-a-tₛ's is 62.34 (at τ = 0.091), the
 /// quintic's 60 (at the ends), the cubic's 12; `tests/path_bound.rs`
@@ -484,6 +495,8 @@ struct Scan<R> {
     prev: Option<End<R>>,
     /// The largest rate visited so far, as (speed/limit)² or accel/limit.
     f_max: R,
+    /// Stretches halved so far ([`HALVING_BUDGET`]).
+    halvings: u16,
 }
 
 impl<R: Real> Scan<R> {
@@ -493,6 +506,7 @@ impl<R: Real> Scan<R> {
             peaks: PathPeaks { speed: [R::ZERO; JOINTS], accel: [R::ZERO; JOINTS] },
             prev: None,
             f_max: R::ZERO,
+            halvings: 0,
         }
     }
 
@@ -582,7 +596,8 @@ impl<R: Real> Scan<R> {
             None => true,
             Some((_, f_b)) => R::lit(BOUND_TOL) * self.f_max < f_b - self.f_max,
         };
-        if halve && d < BOUND_DEPTH {
+        if halve && d < BOUND_DEPTH && self.halvings < HALVING_BUDGET {
+            self.halvings += 1;
             self.at = ScanAt::Bound { i, j: j * 2, d: d + 1 };
             return Ok(());
         }
@@ -669,6 +684,11 @@ impl<R: Real> PathCheck<R> {
         }
         self.outcome
             .map(|r| r.map(|()| PathPlan { path: self.c.path, law: self.law, arm: self.c.arm, peaks: self.scan.peaks }))
+    }
+
+    /// Stretches the scan has halved so far (at most [`HALVING_BUDGET`]).
+    pub fn halvings(&self) -> u16 {
+        self.scan.halvings
     }
 
     /// After a complete scan: the plan at the asked duration, a refusal,

@@ -28,6 +28,7 @@
 //! | `cal set arm <l2\|l3> <mm>` | a link's length, 10.00..=650.00 mm, the longer at most 4× the shorter ([`ArmSettings`]) |
 //! | `cal set <home\|park> <deg1> <deg2> <deg3>` | the power-up pose, or `park`'s (±327.67°, in the current joint limits) |
 //! | `park` | go to the park pose (as `goto` its angles) |
+//! | `undo` | back to the pose held before the last accepted target (up to 4 steps; the gripper stays) |
 //! | `cal set lcd <auto\|ili9341\|st7789\|ili9486\|ili9325\|st7796>`, `cal set lcd invert on\|off`, `cal set lcd rotate 0\|180` | the display overrides, stored at once, used from the next boot ([`LcdSet`]) |
 //! | `grip <open\|close\|deg>` | the gripper: open (its `min_deg`), closed (its `max_deg`) or an angle in degrees (≤ 2 decimals), see [`GripCmd`] |
 //! | `log <on\|off\|plot>` | per-frame telemetry: `t …` lines for programs, or `base:<deg>,…` lines for the Arduino Serial Plotter; `off` stops both |
@@ -131,6 +132,8 @@ pub enum Command {
     CalLcd(LcdSet),
     /// `park`: to the park pose.
     Park,
+    /// `undo`: back to the pose held before the last accepted target.
+    Undo,
 }
 
 /// What `log` prints every frame.
@@ -175,6 +178,8 @@ pub enum Verb {
     Pose,
     /// `park`
     Park,
+    /// `undo`
+    Undo,
     /// `cal`
     Cal,
     /// `log`
@@ -187,7 +192,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 17] = [
+    pub const ALL: [Verb; 18] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -201,6 +206,7 @@ impl Verb {
         Verb::Grip,
         Verb::Pose,
         Verb::Park,
+        Verb::Undo,
         Verb::Cal,
         Verb::Log,
         Verb::Help,
@@ -229,10 +235,11 @@ impl Verb {
             10 => Verb::Grip,
             11 => Verb::Pose,
             12 => Verb::Park,
-            13 => Verb::Cal,
-            14 => Verb::Log,
-            15 => Verb::Help,
-            16 => Verb::Version,
+            13 => Verb::Undo,
+            14 => Verb::Cal,
+            15 => Verb::Log,
+            16 => Verb::Help,
+            17 => Verb::Version,
             _ => return None,
         })
     }
@@ -253,6 +260,7 @@ impl Verb {
             Verb::Grip => t!("grip"),
             Verb::Pose => t!("pose"),
             Verb::Park => t!("park"),
+            Verb::Undo => t!("undo"),
             Verb::Cal => t!("cal"),
             Verb::Log => t!("log"),
             Verb::Help => t!("help"),
@@ -608,6 +616,7 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
             tok => GripCmd::Centideg(parse_centi(tok, -GOTO_MAX_CENTIDEG, GOTO_MAX_CENTIDEG)?),
         }),
         Verb::Park => Command::Park,
+        Verb::Undo => Command::Undo,
         Verb::Help => Command::Help,
         Verb::Version => Command::Version,
     };

@@ -58,7 +58,7 @@ impl Inputs {
     /// A command of the README's grammar, with arguments mostly plausible
     /// and sometimes out of range (the app must refuse those).
     pub fn command(&mut self) -> String {
-        match self.rng.below(28) {
+        match self.rng.below(29) {
             0..=3 => format!("move {} {}", self.int(0, 1023), self.int(0, 1023)),
             4..=6 => {
                 let (b, s, e) = (self.decimal(-5.0, 185.0), self.decimal(-5.0, 185.0), self.decimal(-185.0, 5.0));
@@ -108,6 +108,8 @@ impl Inputs {
                 }
             },
             25 => "park".into(),
+            // Issue #20 §2: undo.
+            26 => "undo".into(),
             _ => self.cal_set(),
         }
     }

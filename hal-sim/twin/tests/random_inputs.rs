@@ -187,7 +187,10 @@ impl Run {
             let out: Vec<u8> = self.sim.serial.output.drain(..=end).collect();
             for l in String::from_utf8_lossy(&out).split('\n') {
                 let l = l.trim_end_matches('\r');
-                Self::remember(&mut self.recent, format!("< {l}"));
+                // Telemetry would crowd out the lines that tell a story.
+                if !(l.is_empty() || l.starts_with("t ") || l.contains(':')) {
+                    Self::remember(&mut self.recent, format!("< {l}"));
+                }
                 let n = replies_in(l);
                 self.answered += n;
                 if l.starts_with("err input lost") {
@@ -314,7 +317,16 @@ impl Run {
             }
             self.frame();
         }
-        panic!("{} lines sent, {} answered after 60 s (frame {})", self.sent, self.answered, self.t.frames);
+        panic!(
+            "{} lines sent, {} answered after 60 s (frame {}; recent lines: {:?}; state {:?}, status {:?}, config {:?})",
+            self.sent,
+            self.answered,
+            self.t.frames,
+            self.recent,
+            self.sim.app.state(),
+            self.sim.app.status(),
+            self.sim.app.config()
+        );
     }
 
     fn input(&mut self) {

@@ -29,6 +29,7 @@ macro_rules! scenarios {
 
 scenarios!(
     arm_geometry,
+    undo,
     arrive_together,
     cal_consistency,
     cal_roundtrip,
