@@ -387,6 +387,10 @@ impl App {
                 self.screen.refusal = r.err().map(|e| self.ui_refusal(e, 0.0, 0.0));
                 self.report_screen_pose(serial, n, r);
             }
+            Answer::ScreenUndo => {
+                self.screen.refusal = r.err().map(|e| self.ui_refusal(e, 0.0, 0.0));
+                self.report_screen_undo(serial, r);
+            }
         }
     }
 

@@ -446,6 +446,8 @@ enum Answer {
     /// The screen's pose button `n`: `info screen pose go <n> …` /
     /// `err screen pose go <n> …`.
     ScreenPose(u8),
+    /// The screen's Undo: `info screen undo … left <n>` / `err screen undo …`.
+    ScreenUndo,
 }
 
 /// Lines still to send of a multi-line reply.

@@ -1,7 +1,7 @@
 //! The touch screen, when the app runs one (`AppParams::screen`): a confirmed
 //! touch is routed by what the screen shows (the map sends the arm, STOP and
 //! RESUME latch, the speed buttons set the preset, More and Back turn the
-//! page, a pose button is `pose go <n>`, Grip `grip open|close`, the Line
+//! page, Undo is `undo`, a pose button is `pose go <n>`, Grip `grip open|close`, the Line
 //! toggle `path line|joint` and the Lift toggle `lift 0.20|off` through the
 //! same app paths as the serial commands, Calibrate starts the crosshair
 //! flow), and the app draws its state through the UI after each frame.
@@ -71,6 +71,8 @@ enum ScreenEvent {
     /// A pose button refused at once (a refusal, or an empty slot: `None`).
     Pose(u8, Option<Refusal>),
     Grip(Refusal),
+    /// Undo refused at once (STOP latched, nothing to undo).
+    Undo(Refusal),
     /// The Line toggle: the mode set, or the refusal of `path line`.
     Path(Result<PathMode, Refusal>),
     /// The Lift toggle: the height set (`None`: off), or the refusal.
@@ -213,10 +215,7 @@ impl App {
                 ScreenEvent::Calibrate(Ok(()))
             }
             Some(Hit::Page) => {
-                self.screen.page = match self.screen.page {
-                    Page::Main => Page::More,
-                    Page::More => Page::Main,
-                };
+                self.screen.page = self.screen.page.next();
                 ScreenEvent::Page(self.screen.page)
             }
             Some(Hit::Pose(n)) => self.screen_pose(n, storage),
@@ -229,6 +228,18 @@ impl App {
                 Err(e) => {
                     self.screen.refusal = Some(self.ui_refusal(e, 0.0, 0.0));
                     ScreenEvent::Grip(e)
+                }
+            },
+            Some(Hit::Undo) => match self.undo() {
+                // Answered once planned (`finish_plan`).
+                Ok(()) => {
+                    self.screen.refusal = None;
+                    self.answer_due(Answer::ScreenUndo);
+                    ScreenEvent::Nothing
+                }
+                Err(e) => {
+                    self.screen.refusal = Some(self.ui_refusal(e, 0.0, 0.0));
+                    ScreenEvent::Undo(e)
                 }
             },
             Some(Hit::Line) => self.screen_toggle(false),
@@ -288,6 +299,26 @@ impl App {
         self.emit(serial, &mut line);
     }
 
+    /// `info screen undo … left <n>` once a screen Undo's move is planned
+    /// (the words of `ok undo`), or `err screen undo <reason>`.
+    pub(super) fn report_screen_undo<U: SerialPort>(&mut self, serial: &mut U, r: Result<(), Refusal>) {
+        let mut line = Line::new();
+        match r {
+            Ok(()) => {
+                line.str(t!("info screen undo"));
+                self.describe_move(&mut line, false);
+                line.word(t!("left")).num(i32::from(self.undo.left()));
+                if let Some(g) = self.undo.grip_kept() {
+                    line.word(t!("grip kept")).bytes(b" ").centi(crate::math::units::rad_to_centideg(g));
+                }
+            }
+            Err(e) => {
+                line.str(t!("err screen undo")).word(e.reason());
+            }
+        }
+        self.emit(serial, &mut line);
+    }
+
     /// The line a screen event sends (its buffer is not on the stack while
     /// the touch is planned).
     #[inline(never)] // avr-trap: frame-size
@@ -324,6 +355,7 @@ impl App {
                 line.str(match p {
                     Page::Main => t!("info screen page main"),
                     Page::More => t!("info screen page more"),
+                    Page::Setup => t!("info screen page setup"),
                 });
             }
             ScreenEvent::Pose(n, None) => {
@@ -332,6 +364,9 @@ impl App {
             ScreenEvent::Pose(n, Some(r)) => return self.report_screen_pose(serial, n, Err(r)),
             ScreenEvent::Grip(r) => {
                 line.str(t!("err screen grip")).word(r.reason());
+            }
+            ScreenEvent::Undo(r) => {
+                line.str(t!("err screen undo")).word(r.reason());
             }
             ScreenEvent::Path(Ok(m)) => {
                 line.str(t!("info screen path")).word(m.name());
@@ -363,7 +398,7 @@ impl App {
             Ok((x, y)) if self.screen.calibration.is_none() => self.screen.ui.hit_panel(x, y),
             _ => None,
         };
-        matches!(hit, Some(Hit::Map { .. } | Hit::Pose(_) | Hit::Grip))
+        matches!(hit, Some(Hit::Map { .. } | Hit::Pose(_) | Hit::Grip | Hit::Undo))
     }
 
     /// The words the screen uses for a refused map point.

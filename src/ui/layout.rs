@@ -5,42 +5,45 @@
 //!
 //! One description: every region is placed by the same arithmetic from a
 //! handful of numbers ([`Layout`]: screen size, map scale `s`, text scale,
-//! row and button heights). [`Layout::QVGA`] gives the 320×240 screen
-//! below; [`Layout::HVGA`] the same arrangement on 480×320, with the map at
-//! 160 px per unit (same 2:1 proportions), a 152×160 STOP, taller and
-//! wider buttons and text one scale larger.
+//! row heights and the gap between buttons); the buttons take what the
+//! status lines leave. [`Layout::QVGA`] gives the 320×240 screen below;
+//! [`Layout::HVGA`] the same arrangement on 480×320, with the map at 160 px
+//! per unit (same 2:1 proportions), a 152×160 STOP, 83×80 buttons and text
+//! one scale larger. The sizes in millimetres, and why: docs/targets.md.
 //!
 //! ```text
-//!  0                                240 248             320     (QVGA; 2s = 240)
-//!  +----------------------------------+--+---------------+ 0
-//!  | workspace map 2s×s (240×120)      |g |  STOP/RESUME  |
-//!  | (x_p, y_p) ∈ [−1,1]×[0,1]          |  |    72×120     |
-//!  +----------------------------------+  +---------------+ s = 120
-//!  guard band (touches ignored; next to STOP they count as STOP)   128
-//!  headline  (2×)                                          148
-//!  Main page:                          More page:
-//!  detail: hint (2×) or progress bar   +----+ +----+ +----+ +----+    +------+ 152
-//!  zone + direction (1×) | warning     | 1  | | 2  | | 3  | | 4  |    | Grip |
-//!  joints (1×)                   196   +----+ +----+ +----+ +----+    +------+ 192
-//!  +------+ +--------+ +------+    +---------+ +--------+ +----+ +----+ +------+ 200
-//!  | Slow | | Normal | | Fast |    |  More   | | Calib  | |Line| |Lift| | Back |
-//!  +------+ +--------+ +------+    +---------+ +--------+ +----+ +----+ +------+ 240
+//!  0                              224 232                 320     (QVGA; 2s = 224)
+//!  +--------------------------------+--+-----------------+ 0
+//!  | workspace map 2s×s (224×112)    |g |   STOP/RESUME   |
+//!  | (x_p, y_p) ∈ [−1,1]×[0,1]        |  |     88×112      |
+//!  +--------------------------------+  +-----------------+ s = 112
+//!  guard band (touches ignored; next to STOP they count as STOP)   120
+//!  headline  (2×)                                          140
+//!  detail: hint (2×) or progress bar                       160
+//!  zone + direction (1×) | warning                         174
+//!  joints (1×)                                             188
+//!  +------+   +------+   +------+   +------+   +------+
+//!  | slot0|15 | slot1|   | slot2|   | slot3|   | key  |   (5 × 52×52, 15 px apart)
+//!  +------+   +------+   +------+   +------+   +------+    240
+//!  Main:  Slow  Mid   Fast  Undo  More
+//!  More:  1     2     3     4     More
+//!  Setup: Grab  Cal   Line  Lift  Back
 //! ```
 //!
-//! **Pages.** The bottom row has no room for more buttons at 320×240, so
-//! the fourth button, *More*, turns the status lines under the headline
-//! into a second row: the four saved poses (54×40 each, 74×52 at 480×320)
-//! and Grip in STOP's column, with Calib (half the map's width), the two
-//! toggles *Line* (`path line` ↔ `path joint`) and *Lift* (`lift 0.20` ↔
-//! `lift off`), each highlighted while on, and *Back* in the bottom row.
-//! Every button stays at least 54×40 pixels with 8-pixel
-//! gaps, STOP and the headline (which says what the arm does and why a
-//! press was refused) are on both pages. The page changes only when the
-//! user presses More or Back: not after an action (Grip and a pose are used
-//! together: "go to the cup, close, go to the mouth") and never on a timer,
-//! since a page that turned by itself could put a different button under a
-//! finger already on its way (a pose, which moves the arm, where a speed
-//! button was). While a page change is being drawn, only STOP answers.
+//! **Pages.** One row of five buttons fits under the status lines at the
+//! sizes a user with limited hand use can hit (docs/targets.md:
+//! 9 mm on the 2.8" panel, 12 mm on the 3.5", and a σ = 2 mm scatter that
+//! stays on its button), so the buttons are on three pages, each with the
+//! page key in the last slot: *More* turns Main into More (the four saved
+//! poses) and More into Setup (Grab/Open, Cal, the toggles *Line*
+//! (`path line` ↔ `path joint`) and *Lift* (`lift 0.20` ↔ `lift off`),
+//! each highlighted while on), whose *Back* returns to Main. STOP, the
+//! headline (which says what the arm does and why a press was refused) and
+//! the status lines are on every page. The page changes only when the user
+//! presses the page key: not after an action and never on a timer, since a
+//! page that turned by itself could put a different button under a finger
+//! already on its way (a pose, which moves the arm, where a speed button
+//! was). While a page change is being drawn, only STOP answers.
 //! Saving a pose stays a serial command (`pose save <n>`): a screen save
 //! would overwrite a carer's preset with one mis-aimed press, and there is
 //! no room for a confirmation step that a user with limited hand use could
@@ -71,14 +74,16 @@
 //! starts motion, is hit only inside its own drawn box.
 
 use super::draw::Area;
-use super::model::Page;
 
-/// The guard band between the map and everything else, and between
-/// buttons, pixels (both sizes).
+/// The guard band between the map and everything else, pixels (both
+/// sizes).
 pub const GUARD: u16 = 8;
 
-/// The screen's arrangement for one panel size (16 bytes; every region is
-/// computed from these numbers by the methods below).
+/// Buttons in the bottom row of every page (the page key is the last).
+pub const SLOTS: u8 = 5;
+
+/// The screen's arrangement for one panel size (every region is computed
+/// from these numbers by the methods below).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Layout {
     w: u16,
@@ -87,18 +92,17 @@ pub struct Layout {
     text: u8,
     row: u16,
     small_row: u16,
-    button_h: u16,
+    gap: u16,
     turned: bool,
 }
 
 impl Layout {
-    /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 240×120.
-    pub const QVGA: Layout =
-        Layout { w: 320, h: 240, s: 120, text: 2, row: 20, small_row: 14, button_h: 40, turned: false };
-    /// 480×320 (ILI9486, ST7796S in landscape): map 320×160, STOP 152×160, buttons
-    /// 52 px tall, headline and buttons in 3× text.
-    pub const HVGA: Layout =
-        Layout { w: 480, h: 320, s: 160, text: 3, row: 28, small_row: 18, button_h: 52, turned: false };
+    /// 320×240 (ILI9341, ST7789V, ILI9325 in landscape): map 224×112, STOP
+    /// 88×112, buttons 52×52 15 px apart.
+    pub const QVGA: Layout = Layout { w: 320, h: 240, s: 112, text: 2, row: 20, small_row: 14, gap: 15, turned: false };
+    /// 480×320 (ILI9486, ST7796S in landscape): map 320×160, STOP 152×160,
+    /// buttons 83×80 16 px apart, headline and buttons in 3× text.
+    pub const HVGA: Layout = Layout { w: 480, h: 320, s: 160, text: 3, row: 24, small_row: 12, gap: 16, turned: false };
 
     /// The layout for a `w`×`h` landscape screen, if there is one.
     pub const fn for_size(w: u16, h: u16) -> Option<Layout> {
@@ -212,143 +216,108 @@ impl Layout {
         Area::new(b.x + 1, b.y + 1, b.w - 2, b.h - 2)
     }
 
-    /// The percentage next to the bar, in STOP's column.
+    /// The percentage next to the bar, in STOP's column (the detail line's
+    /// height: the digits are as tall as the row at 480×320).
     pub const fn bar_text(&self) -> Area {
-        Area::new(self.right_x() - 4, self.detail().y + 2, self.right_w(), self.row - 4)
+        Area::new(self.right_x() - 4, self.detail().y, self.right_w(), self.row)
     }
 
+    /// Top of the button row: under the status lines.
     const fn buttons_y(&self) -> i16 {
-        (self.h - self.button_h) as i16
+        self.joints().bottom()
     }
 
-    /// Width of Slow and Fast; Normal (the longer word) gets what is left of
-    /// the map's width: 8 px more at 320×240 (2× labels), 16 at 480×320.
-    const fn side_w(&self) -> u16 {
-        (2 * self.s - 2 * GUARD - 8 * (self.text as u16 - 1)) / 3
+    /// Height of a button: what the status lines leave.
+    pub const fn button_h(&self) -> u16 {
+        self.h - self.buttons_y() as u16
     }
 
-    const fn normal_w(&self) -> u16 {
-        2 * self.s - 2 * GUARD - 2 * self.side_w()
+    /// Width of a button: five in the screen's width, `gap` apart (the last
+    /// takes the rounding).
+    const fn slot_w(&self) -> u16 {
+        (self.w - (SLOTS as u16 - 1) * self.gap) / SLOTS as u16
+    }
+
+    /// Bottom-row button `i` (0..=4, left to right; larger is clamped to
+    /// the last): what it does depends on the page ([`crate::ui::Ui::hit`]).
+    pub const fn slot(&self, i: u8) -> Area {
+        let i = if i >= SLOTS { SLOTS - 1 } else { i } as u16;
+        let x = i * (self.slot_w() + self.gap);
+        let w = if i == SLOTS as u16 - 1 { self.w - x } else { self.slot_w() };
+        Area::new(x as i16, self.buttons_y(), w, self.button_h())
     }
 
     /// Speed preset button Slow (main page).
     pub const fn slow(&self) -> Area {
-        Area::new(0, self.buttons_y(), self.side_w(), self.button_h)
+        self.slot(0)
     }
 
-    /// Speed preset button Normal (main page).
+    /// Speed preset button Normal (main page, labelled Mid).
     pub const fn normal(&self) -> Area {
-        Area::new((self.side_w() + GUARD) as i16, self.buttons_y(), self.normal_w(), self.button_h)
+        self.slot(1)
     }
 
     /// Speed preset button Fast (main page).
     pub const fn fast(&self) -> Area {
-        let x = self.side_w() + GUARD + self.normal_w() + GUARD;
-        Area::new(x as i16, self.buttons_y(), self.side_w(), self.button_h)
+        self.slot(2)
     }
 
-    /// The page key in STOP's column, bottom row: More on the main page,
-    /// Back on the More page.
+    /// Undo (main page): back to the pose before the last move.
+    pub const fn undo(&self) -> Area {
+        self.slot(3)
+    }
+
+    /// The page key, the last slot: More on Main and More, Back on Setup.
     pub const fn page_key(&self) -> Area {
-        Area::new(self.right_x(), self.buttons_y(), self.right_w(), self.button_h)
-    }
-
-    /// Top of the More page's upper row: one guard band above the bottom row.
-    const fn row2_y(&self) -> i16 {
-        self.buttons_y() - (GUARD + self.button_h) as i16
-    }
-
-    /// Width of a pose button: four in the map's width, 8 px apart.
-    const fn pose_w(&self) -> u16 {
-        (2 * self.s - 3 * GUARD) / 4
+        self.slot(SLOTS - 1)
     }
 
     /// Pose button `n` (0..=3 for poses 1–4; larger is clamped to the last)
     /// on the More page.
     pub const fn pose(&self, n: u8) -> Area {
-        let i = if n > 3 { 3 } else { n as u16 };
-        Area::new((i * (self.pose_w() + GUARD)) as i16, self.row2_y(), self.pose_w(), self.button_h)
+        self.slot(if n > 3 { 3 } else { n })
     }
 
-    /// The Grip button (More page): STOP's column, beside the poses, the
-    /// headline and a guard band between it and STOP.
+    /// The Grip button (Setup page): Grab, or Open while closed.
     pub const fn grip(&self) -> Area {
-        Area::new(self.right_x(), self.row2_y(), self.right_w(), self.button_h)
+        self.slot(0)
     }
 
-    /// Opens the touch calibration (More page, bottom row, left half of the
-    /// map's width: far from Back).
+    /// Opens the touch calibration (Setup page).
     pub const fn calibrate(&self) -> Area {
-        Area::new(0, self.buttons_y(), (2 * self.s - GUARD) / 2, self.button_h)
+        self.slot(1)
     }
 
-    /// Width of a toggle: two share the room between Calib and Back, 8 px
-    /// from each other and from both (54 px at 320×240, 74 at 480×320).
-    const fn toggle_w(&self) -> u16 {
-        (self.right_x() as u16 - self.calibrate().right() as u16 - 3 * GUARD) / 2
-    }
-
-    /// The Line toggle (More page, bottom row right of Calib): `path line`
-    /// when highlighted, `path joint` otherwise.
+    /// The Line toggle (Setup page): `path line` when highlighted, `path
+    /// joint` otherwise.
     pub const fn line_toggle(&self) -> Area {
-        Area::new(self.calibrate().right() + GUARD as i16, self.buttons_y(), self.toggle_w(), self.button_h)
+        self.slot(2)
     }
 
-    /// The Lift toggle (More page, bottom row left of Back): a lift set
-    /// when highlighted, `lift off` otherwise.
+    /// The Lift toggle (Setup page): a lift set when highlighted, `lift
+    /// off` otherwise.
     pub const fn lift_toggle(&self) -> Area {
-        Area::new(self.line_toggle().right() + GUARD as i16, self.buttons_y(), self.toggle_w(), self.button_h)
+        self.slot(3)
     }
 
-    /// Pixels no region of `page` paints: the guard bands and button gaps
-    /// (a full redraw fills them with the background; the main page needs
-    /// six, the rest are empty).
-    pub const fn gaps(&self, page: Page) -> [Area; 11] {
-        let by = self.buttons_y();
-        let bh = self.button_h;
-        let col = Area::new((2 * self.s) as i16, by, GUARD, bh);
-        let guard_right = Area::new((2 * self.s) as i16, 0, GUARD, self.s);
-        let below_map = Area::new(0, self.s as i16, self.w, GUARD);
-        let none = Area::new(0, 0, 0, 0);
-        match page {
-            Page::Main => {
-                let joints_end = self.joints().bottom();
-                [
-                    guard_right,
-                    below_map,
-                    Area::new(0, joints_end, self.w, (by - joints_end) as u16),
-                    Area::new(self.side_w() as i16, by, GUARD, bh),
-                    Area::new(self.fast().x - GUARD as i16, by, GUARD, bh),
-                    col,
-                    none,
-                    none,
-                    none,
-                    none,
-                    none,
-                ]
-            }
-            Page::More => {
-                let head_end = self.headline().bottom();
-                let r2 = self.row2_y();
-                let pw = self.pose_w();
-                let cal_end = self.calibrate().right();
-                let line_end = self.line_toggle().right();
-                let lift_end = self.lift_toggle().right();
-                [
-                    guard_right,
-                    below_map,
-                    Area::new(0, head_end, self.w, (r2 - head_end) as u16),
-                    Area::new(pw as i16, r2, GUARD, bh),
-                    Area::new((2 * pw + GUARD) as i16, r2, GUARD, bh),
-                    Area::new((3 * pw + 2 * GUARD) as i16, r2, GUARD, bh),
-                    Area::new((4 * pw + 3 * GUARD) as i16, r2, self.right_x() as u16 - 4 * pw - 3 * GUARD, bh),
-                    Area::new(0, r2 + bh as i16, self.w, GUARD),
-                    Area::new(cal_end, by, GUARD, bh),
-                    Area::new(line_end, by, GUARD, bh),
-                    Area::new(lift_end, by, (self.right_x() - lift_end) as u16, bh),
-                ]
-            }
-        }
+    /// Pixels no region paints, the same on every page: the guard bands
+    /// right of and below the map, and the gaps between the buttons (a
+    /// full redraw fills them with the background).
+    pub const fn gaps(&self) -> [Area; 6] {
+        [
+            Area::new((2 * self.s) as i16, 0, GUARD, self.s),
+            Area::new(0, self.s as i16, self.w, GUARD),
+            self.slot_gap(0),
+            self.slot_gap(1),
+            self.slot_gap(2),
+            self.slot_gap(3),
+        ]
+    }
+
+    /// The gap right of button `i`.
+    const fn slot_gap(&self, i: u16) -> Area {
+        let x = i * (self.slot_w() + self.gap) + self.slot_w();
+        Area::new(x as i16, self.buttons_y(), self.gap, self.button_h())
     }
 
     /// `v` (a length or position on the 320-wide reference screen) scaled to
@@ -362,10 +331,10 @@ impl Layout {
         (v as i32 * self.h as i32 / 240) as i16
     }
 
-    /// `v` (a size on the 120-px-per-unit reference map) scaled to this map:
-    /// markers, the arm base, the crosshairs.
+    /// `v` (a size on the 112-px-per-unit map of 320×240) scaled to this
+    /// map: markers, the arm base, the crosshairs.
     pub const fn sm(&self, v: u16) -> u16 {
-        (v as u32 * self.s as u32 / 120) as u16
+        (v as u32 * self.s as u32 / 112) as u16
     }
 
     /// A panel point to the pixel it falls on, `None` outside `[−1,1]×[0,1]`

@@ -35,16 +35,29 @@ pub struct Preview {
     pub ring: u8,
 }
 
-/// Which set of buttons the screen shows below the headline (see
-/// [`crate::ui::layout`]): STOP is on both.
+/// Which row of buttons the screen shows under the status lines (see
+/// [`crate::ui::layout`]): STOP, the headline and the status lines are on
+/// every page; the page key turns Main → More → Setup → Main.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Page {
-    /// The map's status lines and Slow | Normal | Fast | More.
+    /// Slow | Mid | Fast | Undo | More.
     #[default]
     Main,
-    /// The saved poses 1–4 and Grip in a row; Calib, the Line and Lift
-    /// toggles and Back below.
+    /// The saved poses 1–4 | More.
     More,
+    /// Grab (Open) | Cal | Line | Lift | Back.
+    Setup,
+}
+
+impl Page {
+    /// The page the page key turns to.
+    pub const fn next(self) -> Page {
+        match self {
+            Page::Main => Page::More,
+            Page::More => Page::Setup,
+            Page::Setup => Page::Main,
+        }
+    }
 }
 
 /// The arm's state as the user should understand it.

@@ -12,7 +12,7 @@ use super::calibration::{self, CalView, CalibrationFlow};
 use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
-use super::layout::Layout;
+use super::layout::{Layout, SLOTS};
 use super::model::{warn, Page, Refusal, UiModel, UiState};
 use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::theme;
@@ -42,31 +42,26 @@ impl Redrawn {
     pub const WARN: u16 = 1 << 6;
     /// [`Layout::joints`].
     pub const JOINTS: u16 = 1 << 7;
-    /// The bottom row under the map: the three speed presets (main page) or
-    /// Calib (More page).
+    /// The three speed presets (main page).
     pub const SPEED: u16 = 1 << 8;
-    /// The page key in STOP's column: More or Back.
+    /// The page key, the row's last button: More or Back.
     pub const PAGE_KEY: u16 = 1 << 9;
     /// Guard bands and gaps (full redraws only).
     pub const GAPS: u16 = 1 << 10;
     /// The calibration screen (all of it, or the parts that changed).
     pub const CALIBRATION: u16 = 1 << 11;
-    /// The More page's upper row: poses 1–4 and Grip.
+    /// The page's other buttons: Undo (main page), poses 1–4 (More), Grab
+    /// and Cal (Setup).
     pub const ROW2: u16 = 1 << 12;
-    /// The More page's toggles Line and Lift (only the one that changed).
+    /// The Setup page's toggles Line and Lift (only the one that changed).
     pub const TOGGLES: u16 = 1 << 13;
     /// A full redraw of the main page (the map repaint covers the markers).
-    pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS;
-    /// A full redraw of the More page: the status lines' place holds the
-    /// upper row.
-    pub const ALL_MORE: u16 = Self::MAP
-        | Self::STOP
-        | Self::HEADLINE
-        | Self::SPEED
-        | Self::PAGE_KEY
-        | Self::GAPS
-        | Self::ROW2
-        | Self::TOGGLES;
+    pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS | Self::ROW2;
+    /// A full redraw of the More page: the status lines, the poses and the
+    /// page key.
+    pub const ALL_MORE: u16 = Self::ALL_MAIN - Self::SPEED;
+    /// A full redraw of the Setup page.
+    pub const ALL_SETUP: u16 = Self::ALL_MORE | Self::TOGGLES;
 
     /// Every region in `bits` was repainted.
     pub const fn contains(self, bits: u16) -> bool {
@@ -88,17 +83,19 @@ pub enum Hit {
     Resume,
     /// A speed preset button.
     Speed(SpeedPreset),
-    /// The Calib button (More page).
+    /// Undo (main page): back to the pose before the last move (`undo`).
+    Undo,
+    /// The Cal button (Setup page): the touch calibration.
     Calibrate,
-    /// The page key: More on the main page, Back on the More page.
+    /// The page key: More on Main and More, Back on Setup.
     Page,
     /// Saved pose button `n` (1..=4, More page).
     Pose(u8),
-    /// The Grip button (More page).
+    /// The Grip button (Setup page).
     Grip,
-    /// The Line toggle (More page): `path line` ↔ `path joint`.
+    /// The Line toggle (Setup page): `path line` ↔ `path joint`.
     Line,
-    /// The Lift toggle (More page): a lift ↔ `lift off`.
+    /// The Lift toggle (Setup page): a lift ↔ `lift off`.
     Lift,
     /// A point of the map, in workspace coordinates.
     Map {
@@ -362,6 +359,8 @@ const S_TOGGLES: u8 = BANDS + 11;
 /// Up to six marker boxes (old and new touch, target and candidate).
 const S_MARKERS: u8 = BANDS + 12;
 const S_END: u8 = S_MARKERS + 6;
+/// The steps a page change redraws: the row of buttons.
+const PAGE_STEPS: u64 = 1 << S_SPEED | 1 << S_KEY | 1 << S_ROW2 | 1 << S_TOGGLES;
 const _: () = assert!(S_END <= 64);
 
 /// The headline, hints and percentage: the layout's text scale.
@@ -542,9 +541,9 @@ impl Ui {
         };
         let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
         let markers = if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 };
-        // A new page: its gaps and everything from the detail line down
-        // (STOP, the headline and the map as usual).
-        let page = if old.page != v.page { (1 << S_GAPS) | ((1 << (S_TOGGLES + 1)) - (1 << S_DETAIL)) } else { 0 };
+        // A new page: its row of buttons (STOP, the headline, the status
+        // lines and the map as usual).
+        let page = if old.page != v.page { PAGE_STEPS } else { 0 };
         let more = old.more ^ v.more;
         page | bit(old.stop_shown != v.stop_shown, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
@@ -553,8 +552,8 @@ impl Ui {
             | bit(old.warning != v.warning, S_WARN)
             | bit(old.joints != v.joints, S_JOINTS)
             | bit(old.speed != v.speed && v.page == Page::Main, S_SPEED)
-            | bit(more & GRIP_CLOSED != 0 && v.page == Page::More, S_ROW2)
-            | bit(more & (PATH_LINE | LIFT) != 0 && v.page == Page::More, S_TOGGLES)
+            | bit(more & GRIP_CLOSED != 0 && v.page == Page::Setup, S_ROW2)
+            | bit(more & (PATH_LINE | LIFT) != 0 && v.page == Page::Setup, S_TOGGLES)
             | markers
     }
 
@@ -584,11 +583,11 @@ impl Ui {
     fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
         let lay = &self.layout;
         let ws = lay.ws();
-        // The gaps and everything from the detail line down are new with a
-        // new page.
-        let page_step = k == S_GAPS || (S_DETAIL..=S_TOGGLES).contains(&k);
+        // The row of buttons is new with a new page.
+        let page_step = PAGE_STEPS >> k & 1 != 0;
         let old = old.filter(|o| o.page == v.page || !page_step);
         let main = v.page == Page::Main;
+        let setup = v.page == Page::Setup;
         match k {
             _ if k < BANDS && old.is_none() => {
                 let top = u16::from(k) * BAND_ROWS;
@@ -604,7 +603,7 @@ impl Ui {
                 return Ok(Redrawn::MAP);
             }
             S_GAPS if old.is_none() => {
-                draw_gaps(d, lay, v.page)?;
+                draw_gaps(d, lay)?;
                 return Ok(Redrawn::GAPS);
             }
             S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown) => {
@@ -615,7 +614,7 @@ impl Ui {
                 draw_headline(d, lay, v.headline)?;
                 return Ok(Redrawn::HEADLINE);
             }
-            S_DETAIL if main && old.is_none_or(|o| o.detail != v.detail) => {
+            S_DETAIL if old.is_none_or(|o| o.detail != v.detail) => {
                 match (old.map(|o| o.detail), v.detail) {
                     (Some(Detail::Progress { px: a, percent: pa }), Detail::Progress { px: b, percent: pb }) => {
                         update_progress(d, lay, a, b)?;
@@ -627,15 +626,15 @@ impl Ui {
                 }
                 return Ok(Redrawn::DETAIL);
             }
-            S_INFO if main && old.is_none_or(|o| o.zone != v.zone) => {
+            S_INFO if old.is_none_or(|o| o.zone != v.zone) => {
                 draw_info(d, lay, v.zone)?;
                 return Ok(Redrawn::INFO);
             }
-            S_WARN if main && old.is_none_or(|o| o.warning != v.warning) => {
+            S_WARN if old.is_none_or(|o| o.warning != v.warning) => {
                 draw_warning(d, lay, v.warning)?;
                 return Ok(Redrawn::WARN);
             }
-            S_JOINTS if main && old.is_none_or(|o| o.joints != v.joints) => {
+            S_JOINTS if old.is_none_or(|o| o.joints != v.joints) => {
                 draw_joints(d, lay, &v.joints)?;
                 return Ok(Redrawn::JOINTS);
             }
@@ -643,20 +642,16 @@ impl Ui {
                 draw_speed(d, lay, v.speed)?;
                 return Ok(Redrawn::SPEED);
             }
-            S_SPEED if old.is_none() => {
-                button(d, lay.calibrate(), t!("Calib"), &label_style(lay, theme::TEXT, theme::BUTTON))?;
-                return Ok(Redrawn::SPEED);
-            }
             S_KEY if old.is_none() => {
-                let label = if main { t!("More") } else { t!("Back") };
+                let label = if setup { t!("Back") } else { t!("More") };
                 button(d, lay.page_key(), label, &label_style(lay, theme::TEXT, theme::BUTTON))?;
                 return Ok(Redrawn::PAGE_KEY);
             }
-            S_ROW2 if !main && old.is_none_or(|o| (o.more ^ v.more) & GRIP_CLOSED != 0) => {
-                draw_row2(d, lay, v.more & GRIP_CLOSED != 0, old.is_none())?;
+            S_ROW2 if old.is_none_or(|o| setup && (o.more ^ v.more) & GRIP_CLOSED != 0) => {
+                draw_row2(d, lay, v.page, v.more & GRIP_CLOSED != 0, old.is_none())?;
                 return Ok(Redrawn::ROW2);
             }
-            S_TOGGLES if !main => {
+            S_TOGGLES if setup => {
                 // Only a toggle whose state changed (both in a full draw).
                 let changed = old.map_or(PATH_LINE | LIFT, |o| o.more ^ v.more);
                 let (line, lift) = (changed & PATH_LINE != 0, changed & LIFT != 0);
@@ -749,24 +744,8 @@ impl Ui {
         if lay.page_key().contains(x, y) {
             return Some(Hit::Page);
         }
-        let find = |buttons: &[(Area, Hit)]| buttons.iter().find(|(a, _)| a.contains(x, y)).map(|&(_, h)| h);
-        match view.page {
-            Page::Main => find(&[
-                (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
-                (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
-                (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
-            ]),
-            Page::More => find(&[
-                (lay.pose(0), Hit::Pose(1)),
-                (lay.pose(1), Hit::Pose(2)),
-                (lay.pose(2), Hit::Pose(3)),
-                (lay.pose(3), Hit::Pose(4)),
-                (lay.grip(), Hit::Grip),
-                (lay.calibrate(), Hit::Calibrate),
-                (lay.line_toggle(), Hit::Line),
-                (lay.lift_toggle(), Hit::Lift),
-            ]),
-        }
+        let i = (0..SLOTS - 1).find(|&i| lay.slot(i).contains(x, y))?;
+        Some(page_button(view.page, i))
     }
 
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
@@ -793,11 +772,27 @@ impl Ui {
     }
 }
 
-/// The guard bands and gaps of `page` (out of line: the nine areas are not
-/// in the frame of the steps that call deeper, the map's bands).
+/// What button `i` (0..=3, left of the page key) of `page` does: the one
+/// table the hit test, the drawing order and `GET /api/layout` follow.
+pub const fn page_button(page: Page, i: u8) -> Hit {
+    match (page, i) {
+        (Page::Main, 0) => Hit::Speed(SpeedPreset::Slow),
+        (Page::Main, 1) => Hit::Speed(SpeedPreset::Normal),
+        (Page::Main, 2) => Hit::Speed(SpeedPreset::Fast),
+        (Page::Main, _) => Hit::Undo,
+        (Page::More, n) => Hit::Pose(if n > 3 { 4 } else { n + 1 }),
+        (Page::Setup, 0) => Hit::Grip,
+        (Page::Setup, 1) => Hit::Calibrate,
+        (Page::Setup, 2) => Hit::Line,
+        (Page::Setup, _) => Hit::Lift,
+    }
+}
+
+/// The guard bands and gaps (out of line: the six areas are not in the
+/// frame of the steps that call deeper, the map's bands).
 #[inline(never)] // avr-trap: frame-size
-fn draw_gaps<D: Canvas>(d: &mut D, lay: &Layout, page: Page) -> Result<(), D::Error> {
-    for g in lay.gaps(page) {
+fn draw_gaps<D: Canvas>(d: &mut D, lay: &Layout) -> Result<(), D::Error> {
+    for g in lay.gaps() {
         fill(d, g, theme::BG)?;
     }
     Ok(())
@@ -875,18 +870,29 @@ fn draw_joints<D: Canvas>(d: &mut D, lay: &Layout, joints: &[Option<i16>; 3]) ->
     text_box(d, lay.joints(), line.as_bytes(), &SMALL_STYLE)
 }
 
-/// The More page's upper row: poses 1–4 (only when `all`: their labels
-/// never change) and Grip, labelled with what a press does.
-fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, grip_closed: bool, all: bool) -> Result<(), D::Error> {
+/// The page's buttons other than the speed presets, the toggles and the
+/// page key: Undo (Main), poses 1–4 (More), or Grip, labelled with what a
+/// press does, and Cal (Setup; Cal only when `all`: its label never
+/// changes).
+fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, page: Page, grip_closed: bool, all: bool) -> Result<(), D::Error> {
     let style = label_style(lay, theme::TEXT, theme::BUTTON);
-    if all {
-        let labels = [t!("1"), t!("2"), t!("3"), t!("4")];
-        for (n, label) in (0u8..).zip(labels) {
-            button(d, lay.pose(n), label, &style)?;
+    match page {
+        Page::Main => button(d, lay.undo(), t!("Undo"), &style),
+        Page::More => {
+            let labels = [t!("1"), t!("2"), t!("3"), t!("4")];
+            for (n, label) in (0u8..).zip(labels) {
+                button(d, lay.pose(n), label, &style)?;
+            }
+            Ok(())
+        }
+        Page::Setup => {
+            if all {
+                button(d, lay.calibrate(), t!("Cal"), &style)?;
+            }
+            let grip = if grip_closed { t!("Open") } else { t!("Grab") };
+            button(d, lay.grip(), grip, &label_style(lay, theme::WHITE, theme::BUTTON_ON))
         }
     }
-    let grip = if grip_closed { t!("Open") } else { t!("Close") };
-    button(d, lay.grip(), grip, &label_style(lay, theme::WHITE, theme::BUTTON_ON))
 }
 
 /// A toggle of the More page: highlighted while on, as the speed buttons
@@ -903,7 +909,7 @@ fn draw_toggle<D: Canvas>(d: &mut D, a: Area, label: Text, on: bool, lay: &Layou
 fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {
     let items: [(Area, SpeedPreset, Text); 3] = [
         (lay.slow(), SpeedPreset::Slow, t!("Slow")),
-        (lay.normal(), SpeedPreset::Normal, t!("Normal")),
+        (lay.normal(), SpeedPreset::Normal, t!("Mid")),
         (lay.fast(), SpeedPreset::Fast, t!("Fast")),
     ];
     for (a, p, label) in items {

@@ -151,7 +151,7 @@ fn raw_at_centre(a: Area) -> String {
 
 #[test]
 fn a_press_on_stop_or_a_guard_band_says_what_the_screen_did() {
-    let guard_below_map = Layout::QVGA.gaps(touch_arm::ui::Page::Main)[1];
+    let guard_below_map = Layout::QVGA.gaps()[1];
     for (region, expect, firmware) in [
         (Layout::QVGA.stop(), "STOP pressed: the arm holds", Some("firmware: info screen stop")),
         (guard_below_map, "guard band or a gap: the screen ignores it and the arm holds", None),

@@ -1124,6 +1124,7 @@ fn button_raw(name: &str) -> Result<(f64, f64), String> {
         "pose2" => lay.pose(1),
         "pose3" => lay.pose(2),
         "pose4" => lay.pose(3),
+        "undo" => lay.undo(),
         _ => return Err(format!("unknown button {name:?}")),
     };
     crate::host::raw_at_centre(&lay, area).ok_or_else(|| format!("button {name:?} has no raw reading"))

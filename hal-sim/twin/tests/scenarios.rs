@@ -60,6 +60,7 @@ scenarios!(
     refusals,
     replan,
     screen_more,
+    screen_undo,
     screen_warnings,
     speed_bound,
     stop_byte,

@@ -21,7 +21,7 @@ use touch_arm::touch::map::{Calibration, CalibrationError};
 use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
-use touch_arm::ui::layout::{Layout, GUARD};
+use touch_arm::ui::layout::{Layout, GUARD, SLOTS};
 use touch_arm::ui::ws_view::{base_area, marker_r};
 use touch_arm::ui::{
     theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Page, Redrawn, Refusal, Ui, UiConfig,
@@ -36,6 +36,8 @@ fn snapshot(fb: &Framebuffer, name: &str) {
 /// The 320×240 screen: the layout every test below checks pixel by pixel.
 const L: Layout = Layout::QVGA;
 const WS: Area = L.ws();
+/// Pixels per workspace unit on the 320×240 map.
+const S: i16 = L.scale() as i16;
 const BASE_AREA: Area = base_area(&L);
 const MARKER_R: u16 = marker_r(&L);
 const CROSS_R: u16 = cross_r(&L);
@@ -234,63 +236,44 @@ fn check_mappings_and_tiling(lay: &Layout) {
     assert_eq!(lay.ws_point_to_pixel(0.0, 1.01), None);
     // The map keeps one scale on both axes.
     assert_eq!((ws.w, ws.h), (2 * lay.scale(), lay.scale()));
-    // Each page's regions, buttons and gaps tile the screen: every pixel is
-    // painted by exactly one of them in a full redraw.
-    for page in [Page::Main, Page::More] {
-        let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
-        let mut regions = vec![ws, lay.stop(), lay.headline(), lay.page_key()];
-        match page {
-            Page::Main => regions.extend([
-                lay.detail(),
-                lay.info(),
-                lay.warn(),
-                lay.joints(),
-                lay.slow(),
-                lay.normal(),
-                lay.fast(),
-            ]),
-            Page::More => {
-                regions.extend([lay.pose(0), lay.pose(1), lay.pose(2), lay.pose(3), lay.grip(), lay.calibrate()]);
-                regions.extend([lay.line_toggle(), lay.lift_toggle()]);
-            }
+    // The regions, buttons and gaps tile the screen (the same on every
+    // page: only what the buttons do changes): every pixel is painted by
+    // exactly one of them in a full redraw.
+    let mut owner = vec![0u8; usize::from(lay.width()) * usize::from(lay.height())];
+    let mut regions = vec![ws, lay.stop(), lay.headline(), lay.detail(), lay.info(), lay.warn(), lay.joints()];
+    regions.extend((0..SLOTS).map(|i| lay.slot(i)));
+    regions.extend(lay.gaps());
+    for a in regions {
+        for p in rect(a).points() {
+            owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
         }
-        regions.extend(lay.gaps(page));
-        for a in regions {
-            for p in rect(a).points() {
-                owner[p.y as usize * usize::from(lay.width()) + p.x as usize] += 1;
-            }
-        }
-        assert!(owner.iter().all(|&n| n == 1), "{page:?}: regions must tile the screen exactly");
     }
-    // The More page's buttons: 8-px gaps between all of them and towards the
-    // map's column, none beside the map or STOP, none under 54×40.
-    let buttons = [
-        lay.pose(0),
-        lay.pose(1),
-        lay.pose(2),
-        lay.pose(3),
-        lay.grip(),
-        lay.calibrate(),
-        lay.line_toggle(),
-        lay.lift_toggle(),
-        lay.page_key(),
-    ];
+    assert!(owner.iter().all(|&n| n == 1), "regions must tile the screen exactly");
+    // The buttons: at least 15 px apart (the gap of 320×240), none beside
+    // the map or STOP, all below the status lines.
+    let buttons: Vec<Area> = (0..SLOTS).map(|i| lay.slot(i)).collect();
     for (i, a) in buttons.iter().enumerate() {
-        assert!(a.w >= 54 && a.h >= 40, "{a:?} is comfortably large");
-        assert!(a.y >= lay.headline().bottom(), "{a:?} is below the headline, away from the map and STOP");
+        assert!(a.y >= lay.joints().bottom(), "{a:?} is below the status lines, away from the map and STOP");
         for b in &buttons[i + 1..] {
-            assert!(a.inflate(GUARD - 1).intersect(b).is_none(), "{a:?} and {b:?} are 8 px apart");
+            assert!(a.inflate(14).intersect(b).is_none(), "{a:?} and {b:?} are 15 px apart");
         }
     }
+    // The named buttons are the slots of their pages.
+    assert_eq!(
+        [lay.slow(), lay.normal(), lay.fast(), lay.undo(), lay.page_key()],
+        [0, 1, 2, 3, 4].map(|i| lay.slot(i))
+    );
+    assert_eq!([lay.grip(), lay.calibrate(), lay.line_toggle(), lay.lift_toggle()], [0, 1, 2, 3].map(|i| lay.slot(i)));
+    assert_eq!((0..4).map(|n| lay.pose(n)).collect::<Vec<_>>(), buttons[..4]);
 }
 
 #[test]
 fn pixel_and_coordinate_mappings_round_trip() {
     check_mappings_and_tiling(&L);
     // 320×240: 120 px per unit, the map at the top left.
-    assert_eq!(WS, Area::new(0, 0, 240, 120));
+    assert_eq!(WS, Area::new(0, 0, 224, 112));
     assert_eq!(L.panel_to_pixel(1.0, 0.0), Some((319, 239)));
-    assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((120, 119)));
+    assert_eq!(ws_point_to_pixel(0.0, 0.0), Some((112, 111)));
 }
 
 /// A screen turned by 180° (`cal set lcd rotate 180`): the two panel
@@ -329,31 +312,19 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
     assert_eq!(big.ws(), Area::new(0, 0, 320, 160));
     assert_eq!(big.ws_origin_x(), 160);
     // Every touch target is larger, and the guard bands stay 8 px.
-    for (a, b) in [
-        (L.stop(), big.stop()),
-        (L.slow(), big.slow()),
-        (L.normal(), big.normal()),
-        (L.fast(), big.fast()),
-        (L.calibrate(), big.calibrate()),
-        (L.page_key(), big.page_key()),
-        (L.pose(0), big.pose(0)),
-        (L.pose(3), big.pose(3)),
-        (L.grip(), big.grip()),
-        (L.line_toggle(), big.line_toggle()),
-        (L.lift_toggle(), big.lift_toggle()),
-    ] {
+    for (a, b) in [(L.stop(), big.stop())].into_iter().chain((0..SLOTS).map(|i| (L.slot(i), big.slot(i)))) {
         assert!(b.w > a.w && b.h > a.h, "{a:?} -> {b:?}");
     }
     assert_eq!((big.stop().w, big.stop().h), (152, 160));
-    assert_eq!(big.gaps(Page::Main)[0].w, 8);
-    assert_eq!(big.gaps(Page::Main)[1].h, 8);
-    assert_eq!((big.pose(0).w, big.pose(0).h), (74, 52));
-    // The toggles fill the room between Calib and Back: 54 px wide at
-    // 320×240 (the smallest button), 74 at 480×320.
-    assert_eq!(L.line_toggle(), Area::new(124, 200, 54, 40));
-    assert_eq!(L.lift_toggle(), Area::new(186, 200, 54, 40));
-    assert_eq!(big.line_toggle(), Area::new(164, 268, 74, 52));
-    assert_eq!(big.lift_toggle(), Area::new(246, 268, 74, 52));
+    assert_eq!(big.gaps()[0].w, 8);
+    assert_eq!(big.gaps()[1].h, 8);
+    // The buttons: 52×52 15 px apart at 320×240, 83×80 16 px apart at
+    // 480×320 (the last takes the rounding: 84).
+    assert_eq!(L.slot(0), Area::new(0, 188, 52, 52));
+    assert_eq!(L.slot(4), Area::new(268, 188, 52, 52));
+    assert_eq!(big.slot(0), Area::new(0, 240, 83, 80));
+    assert_eq!(big.slot(3), Area::new(297, 240, 83, 80));
+    assert_eq!(big.slot(4), Area::new(396, 240, 84, 80));
     // STOP's guard band: beside and below STOP, not beside the map.
     assert_eq!(big.stop_hit(), Area::new(320, 0, 160, 168));
     // The labels fit their buttons (3× text: 18 px per character).
@@ -361,12 +332,14 @@ fn the_480x320_layout_is_the_same_arrangement_with_larger_targets() {
         let (cw, gap) = (6 * u16::from(lay.text_scale()), u16::from(lay.text_scale()));
         for (a, label) in [
             (lay.slow(), "Slow"),
-            (lay.normal(), "Normal"),
+            (lay.normal(), "Mid"),
             (lay.fast(), "Fast"),
-            (lay.calibrate(), "Calib"),
+            (lay.undo(), "Undo"),
+            (lay.calibrate(), "Cal"),
             (lay.page_key(), "More"),
             (lay.page_key(), "Back"),
-            (lay.grip(), "Close"),
+            (lay.grip(), "Grab"),
+            (lay.grip(), "Open"),
             (lay.pose(0), "1"),
             (lay.line_toggle(), "Line"),
             (lay.lift_toggle(), "Lift"),
@@ -434,12 +407,15 @@ fn map_colours_follow_workspace_conditions_and_reach() {
     let fb = full(&model);
     snapshot(&fb, "idle");
     let labels: Vec<Area> =
-        [(200, 80), (160, 40), (80, 40), (40, 80)].iter().map(|&(x, y)| Area::new(x - 7, y - 10, 18, 24)).collect();
+        [(S + 2 * S / 3, 2 * S / 3), (S + S / 3, S / 3), (S - S / 3, S / 3), (S - 2 * S / 3, 2 * S / 3)]
+            .iter()
+            .map(|&(x, y)| Area::new(x - 7, y - 10, 18, 24))
+            .collect();
     let mut checked = 0;
     for y in WS.y..WS.bottom() {
         for x in WS.x..WS.right() {
             let (col, row) = (x - WS.x, y - WS.y);
-            let on_line = col == row || col == 239 - row || col == 119 || col == 120;
+            let on_line = col == row || col == 2 * S - 1 - row || col == S - 1 || col == S;
             let px = fb.pixel(x.into(), y.into()).unwrap();
             if BASE_AREA.contains(x, y) {
                 assert_eq!(px, theme::BASE);
@@ -461,7 +437,7 @@ fn map_colours_follow_workspace_conditions_and_reach() {
             checked += 1;
         }
     }
-    assert!(checked > 26_000, "checked {checked} map pixels");
+    assert!(checked > 22_000, "checked {checked} map pixels");
     // Each zone number is drawn in its own triangle, in text colour.
     for (i, l) in labels.iter().enumerate() {
         assert!(fb.count_in(&rect(*l), theme::TEXT) > 50, "label {} missing", i + 1);
@@ -476,7 +452,7 @@ fn markers_sit_on_the_pixels_the_mapping_predicts() {
     let fb = full(&m);
     snapshot(&fb, "moving");
     let (cx, cy) = ws_point_to_pixel(0.4, 0.5).unwrap();
-    assert_eq!((cx, cy), (168, 59));
+    assert_eq!((cx, cy), (156, 55));
     let (cx, cy) = (i32::from(cx), i32::from(cy));
     let r = i32::from(MARKER_R);
     // The plus: black arms through the centre, a white halo at their tips,
@@ -503,16 +479,16 @@ fn markers_sit_on_the_pixels_the_mapping_predicts() {
     let fb = full(&refused);
     snapshot(&fb, "refused_far");
     let (rx, ry) = ws_point_to_pixel(-0.95, 0.9).unwrap();
-    assert_eq!((rx, ry), (6, 11));
-    assert_eq!(fb.pixel(6, 11), Some(theme::REFUSED));
+    assert_eq!((rx, ry), (5, 11));
+    assert_eq!(fb.pixel(5, 11), Some(theme::REFUSED));
     // Near the corner the marker is cut at the map's edge, never drawn
     // outside it: the gap right of the map stays background.
     let mut edge = m;
     edge.touch = Some((1.0, 1.0));
     let fb = full(&edge);
-    assert_eq!(fb.pixel(239, 0), Some(theme::TOUCH_MARK));
+    assert_eq!(fb.pixel(223, 0), Some(theme::TOUCH_MARK));
     for y in 0..10 {
-        assert_eq!(fb.pixel(240, y), Some(theme::BG));
+        assert_eq!(fb.pixel(224, y), Some(theme::BG));
     }
 }
 
@@ -543,12 +519,12 @@ fn status_lines_say_what_happens_in_words() {
         let mut m = moving_model();
         m.state = state;
         let fb = full(&m);
-        assert_text_at(&fb, headline, 4, 130, &head(color));
+        assert_text_at(&fb, headline, 4, 122, &head(color));
         if let Some(h) = hint {
-            assert_text_at(&fb, h, 4, 150, &head(theme::TEXT));
+            assert_text_at(&fb, h, 4, 142, &head(theme::TEXT));
         }
-        assert_text_at(&fb, b"Zone 2  Direction 51\x7f", 4, 171, &small);
-        assert_text_at(&fb, b"Base 51\x7f   Shoulder 40\x7f   Elbow 80\x7f", 4, 185, &small);
+        assert_text_at(&fb, b"Zone 2  Direction 51\x7f", 4, 163, &small);
+        assert_text_at(&fb, b"Base 51\x7f   Shoulder 40\x7f   Elbow 80\x7f", 4, 177, &small);
         let name = match state {
             UiState::Refused(r) => format!("refused_{r:?}").to_lowercase(),
             UiState::Moving { .. } => "moving_25".into(),
@@ -556,21 +532,21 @@ fn status_lines_say_what_happens_in_words() {
         };
         snapshot(&fb, &name);
     }
-    // Progress: bar filled to round(p·230) pixels and the percentage.
+    // Progress: bar filled to round(p·214) pixels and the percentage.
     let mut m = moving_model();
     m.state = UiState::Moving { progress: 0.25 };
     let fb = full(&m);
     let fill = L.bar_fill();
     let filled = fb.count_in(&rect(fill), theme::PROGRESS);
-    assert_eq!(filled, 58 * 12, "0.25·230 = 57.5 → 58 columns");
-    assert_text_at(&fb, b" 25%", 248, 150, &head(theme::TEXT));
+    assert_eq!(filled, 54 * 12, "0.25·214 = 53.5 → 54 columns");
+    assert_text_at(&fb, b" 25%", 232, 142, &head(theme::TEXT));
     // Unknown angles show dashes; the top warning is shown in words.
     let mut m = UiModel::new(SpeedPreset::Fast);
     m.warnings = warn::DEFAULT_SETTINGS | warn::SERVOS_OFF;
     let fb = full(&m);
     snapshot(&fb, "powerup_warning");
-    assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 185, &small);
-    assert_text_at(&fb, b"! servos are off", 164, 171, &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG));
+    assert_text_at(&fb, b"Base --   Shoulder --   Elbow --", 4, 177, &small);
+    assert_text_at(&fb, b"! servos are off", 164, 163, &TextStyle::opaque(1, theme::WARN_TEXT, theme::BG));
 }
 
 // ---- buttons --------------------------------------------------------------------
@@ -588,13 +564,13 @@ fn stop_is_large_red_and_becomes_a_green_resume() {
     let stop = rect(L.stop());
     let red = fb.count_in(&stop, theme::STOP_RED);
     let white = fb.count_in(&stop, theme::WHITE);
-    assert_eq!(red + white, 72 * 120, "STOP is red with white letters only");
-    assert!(red > 72 * 120 * 3 / 4);
-    assert_text_at(&fb, b"STOP", 252, 48, &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight());
+    assert_eq!(red + white, 88 * 112, "STOP is red with white letters only");
+    assert!(red > 88 * 112 * 3 / 4);
+    assert_text_at(&fb, b"STOP", 244, 44, &TextStyle::opaque(3, theme::WHITE, theme::STOP_RED).tight());
     // The guard band beside STOP counts as STOP (the safe reading).
-    assert_eq!(ui.hit(243, 60), Some(Hit::Stop));
-    assert_eq!(ui.hit(300, 124), Some(Hit::Stop));
-    assert_eq!(ui.hit(248, 0), Some(Hit::Stop));
+    assert_eq!(ui.hit(228, 60), Some(Hit::Stop));
+    assert_eq!(ui.hit(300, 116), Some(Hit::Stop));
+    assert_eq!(ui.hit(224, 0), Some(Hit::Stop));
 
     m.state = UiState::Stopped;
     let mut c = Counting::new(&mut fb);
@@ -603,12 +579,12 @@ fn stop_is_large_red_and_becomes_a_green_resume() {
     let fb_after = fb.clone();
     snapshot(&fb_after, "stopped");
     let green = fb_after.count_in(&stop, theme::RESUME_GREEN);
-    assert!(green > 72 * 120 * 3 / 4);
-    assert_text_at(&fb_after, b"RESUME", 251, 52, &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight());
+    assert!(green > 88 * 112 * 3 / 4);
+    assert_text_at(&fb_after, b"RESUME", 243, 48, &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight());
     // RESUME starts motion: only its own box counts, never the guard band.
     assert_eq!(ui.hit(280, 60), Some(Hit::Resume));
-    assert_eq!(ui.hit(243, 60), None);
-    assert_eq!(ui.hit(300, 124), None);
+    assert_eq!(ui.hit(228, 60), None);
+    assert_eq!(ui.hit(300, 116), None);
 }
 
 #[test]
@@ -617,11 +593,13 @@ fn hits_map_to_buttons_and_workspace_points() {
     let mut fb = Framebuffer::landscape();
     ui.draw(&moving_model(), &mut fb).unwrap();
     assert_eq!(ui.hit(30, 220), Some(Hit::Speed(SpeedPreset::Slow)));
-    assert_eq!(ui.hit(120, 220), Some(Hit::Speed(SpeedPreset::Normal)));
-    assert_eq!(ui.hit(200, 220), Some(Hit::Speed(SpeedPreset::Fast)));
-    assert_eq!(ui.hit(280, 220), Some(Hit::Page));
+    assert_eq!(ui.hit(93, 214), Some(Hit::Speed(SpeedPreset::Normal)));
+    assert_eq!(ui.hit(160, 214), Some(Hit::Speed(SpeedPreset::Fast)));
+    assert_eq!(ui.hit(227, 214), Some(Hit::Undo));
+    assert_eq!(ui.hit(294, 214), Some(Hit::Page));
     // Gaps, guard band and status area do nothing.
-    for (x, y) in [(75, 220), (164, 220), (244, 220), (100, 122), (100, 160), (100, 198), (-1, 5), (320, 5)] {
+    for (x, y) in [(59, 214), (126, 214), (193, 214), (260, 214), (100, 116), (100, 150), (100, 186), (-1, 5), (320, 5)]
+    {
         assert_eq!(ui.hit(x, y), None, "({x},{y})");
     }
     // Every map pixel is a workspace point whose condition is the zone drawn
@@ -633,7 +611,8 @@ fn hits_map_to_buttons_and_workspace_points() {
             let zone = condition(x_p, y_p).unwrap().number() as usize - 1;
             let px = fb.pixel(x.into(), y.into()).unwrap();
             let (col, row) = (x, y);
-            let decorated = col == row || col == 239 - row || col == 119 || col == 120 || BASE_AREA.contains(x, y);
+            let decorated =
+                col == row || col == 2 * S - 1 - row || col == S - 1 || col == S || BASE_AREA.contains(x, y);
             if !decorated
                 && (px == theme::ZONE[0]
                     || px == theme::ZONE_OUT[0]
@@ -653,9 +632,9 @@ fn hits_map_to_buttons_and_workspace_points() {
     assert_eq!(ui.hit_panel(x_p, y_p), Some(Hit::Stop));
     assert_eq!(ui.hit_panel(2.0, 0.5), None);
     // The workspace point of the map's top-right pixel.
-    assert_eq!(ui.hit(239, 0), Some(Hit::Map { x_p: 239.0 / 240.0, y_p: 239.0 / 240.0 }));
-    assert_eq!(ui.hit(120, 119), Some(Hit::Map { x_p: 1.0 / 240.0, y_p: 1.0 / 240.0 }));
-    assert_eq!(condition(1.0f32 / 240.0, 1.0 / 240.0), Ok(Condition::C1));
+    assert_eq!(ui.hit(223, 0), Some(Hit::Map { x_p: 223.0 / 224.0, y_p: 223.0 / 224.0 }));
+    assert_eq!(ui.hit(112, 111), Some(Hit::Map { x_p: 1.0 / 224.0, y_p: 1.0 / 224.0 }));
+    assert_eq!(condition(1.0f32 / 224.0, 1.0 / 224.0), Ok(Condition::C1));
 }
 
 // ---- redraws ---------------------------------------------------------------------
@@ -719,13 +698,13 @@ fn partial_redraws_write_only_the_changed_regions() {
     assert_only_in(&c, &[L.joints()], "joints");
     assert_eq!(c.touched(), 320 * 14);
 
-    // Progress 0.30 → 0.31: the bar columns between (69 → 71) and the percent.
+    // Progress 0.30 → 0.31: the bar columns between (64 → 66) and the percent.
     m.state = UiState::Moving { progress: 0.31 };
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&m, &mut c).unwrap(), Redrawn(Redrawn::DETAIL));
-    let bar_delta = Area::new(L.bar_fill().x + 69, L.bar_fill().y, 2, 12);
+    let bar_delta = Area::new(L.bar_fill().x + 64, L.bar_fill().y, 2, 12);
     assert_only_in(&c, &[bar_delta, L.bar_text()], "progress");
-    assert_eq!(c.touched(), 2 * 12 + 72 * 16);
+    assert_eq!(c.touched(), 2 * 12 + 88 * 20);
 
     // A new touch: only the boxes of the old and new plus.
     let old = ws_point_to_pixel(0.4, 0.5).unwrap();
@@ -745,11 +724,11 @@ fn partial_redraws_write_only_the_changed_regions() {
     assert_eq!(fb, full(&m));
 }
 
-/// The More page on `lay`: opened from the main page, it repaints what lies
-/// under the map (the map is untouched) and leaves the same picture as a
-/// full draw; its buttons hit as drawn; the Grip label follows the gripper
-/// and each toggle's highlight its setting, repainting only that button;
-/// Back restores the main page.
+/// The pages on `lay`: the page key turns Main → More → Setup → Main;
+/// each turn repaints only the row of buttons (the map, STOP, the headline
+/// and the status lines stay) and leaves the same picture as a full draw;
+/// the buttons hit as drawn; the Grip label follows the gripper and each
+/// toggle's highlight its setting, repainting only that button.
 fn more_page(lay: Layout, name: &str) {
     let mut ui = Ui::with_layout(&CONFIG, lay);
     let (w, h) = (lay.width().into(), lay.height().into());
@@ -759,58 +738,82 @@ fn more_page(lay: Layout, name: &str) {
         Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
         fb
     };
+    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let row = Area::new(0, lay.slot(0).y, lay.width(), lay.slot(0).h);
     let main = moving_model();
     ui.draw(&main, &mut fb).unwrap();
+    // The main page: the speed presets, Undo, More.
+    for (a, hit) in [
+        (lay.slow(), Hit::Speed(SpeedPreset::Slow)),
+        (lay.normal(), Hit::Speed(SpeedPreset::Normal)),
+        (lay.fast(), Hit::Speed(SpeedPreset::Fast)),
+        (lay.undo(), Hit::Undo),
+        (lay.page_key(), Hit::Page),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit), "{name}: main {a:?}");
+    }
     let mut more = main;
     more.page = Page::More;
     // `path line` set: the Line toggle shows on, Lift off.
     more.path_line = true;
-    // Before the More page is on the glass, its buttons do not answer (the
-    // main page's do).
-    assert_eq!(ui.hit(lay.pose(0).x + 4, lay.pose(0).y + 4), None, "the main page's status lines");
     let mut c = Counting::new(&mut fb);
     let r = ui.draw(&more, &mut c).unwrap();
-    assert_eq!(r, Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::GAPS | Redrawn::ROW2 | Redrawn::TOGGLES));
-    // The map, STOP and the headline stay: only the guard bands and what
-    // lies under the headline are painted.
-    let head_end = lay.headline().bottom();
-    let under = Area::new(0, head_end, lay.width(), lay.height() - head_end as u16);
-    let gaps = lay.gaps(Page::More);
-    assert_only_in(&c, &[under, gaps[0], gaps[1]], "page change");
+    assert_eq!(r, Redrawn(Redrawn::PAGE_KEY | Redrawn::ROW2));
+    assert_only_in(&c, &[row], "page change to More");
     assert!(fb == full_of(&more), "{name}: the page change equals a full draw of the More page");
     snapshot(&fb, name);
-    // A full draw of the More page reports its regions.
     let mut scratch = Framebuffer::new(w, h, Rgb565::BLACK);
     assert_eq!(Ui::with_layout(&CONFIG, lay).draw_full(&more, &mut scratch).unwrap(), Redrawn(Redrawn::ALL_MORE));
-    // Labels: Close while the gripper is open, the page key says Back.
     let style = TextStyle::opaque(lay.text_scale(), theme::WHITE, theme::BUTTON_ON);
+    let key_style = TextStyle::opaque(lay.text_scale(), theme::TEXT, theme::BUTTON);
     let ink = |a: Area, s: &str, style: &TextStyle| {
         let (tw, th) = style.extent(s.len());
         let x = a.x + (a.w - (tw - u16::from(style.gap))) as i16 / 2;
         let y = a.y + (a.h - th) as i16 / 2;
         (x, y)
     };
-    let (gx, gy) = ink(lay.grip(), "Close", &style);
-    assert_text_at(&fb, b"Close", gx, gy, &style);
-    let key_style = TextStyle::opaque(lay.text_scale(), theme::TEXT, theme::BUTTON);
-    let (kx, ky) = ink(lay.page_key(), "Back", &key_style);
-    assert_text_at(&fb, b"Back", kx, ky, &key_style);
     for (n, label) in [(0u8, "1"), (3, "4")] {
         let (x, y) = ink(lay.pose(n), label, &key_style);
         assert_text_at(&fb, label.as_bytes(), x, y, &key_style);
     }
-    // Line highlighted (on), Lift plain (off).
-    let (x, y) = ink(lay.line_toggle(), "Line", &style);
-    assert_text_at(&fb, b"Line", x, y, &style);
-    let (x, y) = ink(lay.lift_toggle(), "Lift", &key_style);
-    assert_text_at(&fb, b"Lift", x, y, &key_style);
-    // Hits follow the More page.
-    let centre = |a: Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let (kx, ky) = ink(lay.page_key(), "More", &key_style);
+    assert_text_at(&fb, b"More", kx, ky, &key_style);
     for (a, hit) in [
         (lay.pose(0), Hit::Pose(1)),
         (lay.pose(1), Hit::Pose(2)),
         (lay.pose(2), Hit::Pose(3)),
         (lay.pose(3), Hit::Pose(4)),
+        (lay.page_key(), Hit::Page),
+        (lay.stop(), Hit::Stop),
+    ] {
+        let (x, y) = centre(a);
+        assert_eq!(ui.hit(x, y), Some(hit), "{name}: more {a:?}");
+    }
+    // The Setup page.
+    let mut setup = more;
+    setup.page = Page::Setup;
+    let mut c = Counting::new(&mut fb);
+    let r = ui.draw(&setup, &mut c).unwrap();
+    assert_eq!(r, Redrawn(Redrawn::PAGE_KEY | Redrawn::ROW2 | Redrawn::TOGGLES));
+    assert_only_in(&c, &[row], "page change to Setup");
+    assert!(fb == full_of(&setup), "{name}: the page change equals a full draw of the Setup page");
+    snapshot(&fb, &format!("{name}_setup"));
+    let mut scratch = Framebuffer::new(w, h, Rgb565::BLACK);
+    assert_eq!(Ui::with_layout(&CONFIG, lay).draw_full(&setup, &mut scratch).unwrap(), Redrawn(Redrawn::ALL_SETUP));
+    // Labels: Grab while the gripper is open, the page key says Back.
+    let (gx, gy) = ink(lay.grip(), "Grab", &style);
+    assert_text_at(&fb, b"Grab", gx, gy, &style);
+    let (kx, ky) = ink(lay.page_key(), "Back", &key_style);
+    assert_text_at(&fb, b"Back", kx, ky, &key_style);
+    let (x, y) = ink(lay.calibrate(), "Cal", &key_style);
+    assert_text_at(&fb, b"Cal", x, y, &key_style);
+    // Line highlighted (on), Lift plain (off).
+    let (x, y) = ink(lay.line_toggle(), "Line", &style);
+    assert_text_at(&fb, b"Line", x, y, &style);
+    let (x, y) = ink(lay.lift_toggle(), "Lift", &key_style);
+    assert_text_at(&fb, b"Lift", x, y, &key_style);
+    for (a, hit) in [
         (lay.grip(), Hit::Grip),
         (lay.calibrate(), Hit::Calibrate),
         (lay.line_toggle(), Hit::Line),
@@ -819,16 +822,15 @@ fn more_page(lay: Layout, name: &str) {
         (lay.stop(), Hit::Stop),
     ] {
         let (x, y) = centre(a);
-        assert_eq!(ui.hit(x, y), Some(hit), "{name}: {a:?}");
+        assert_eq!(ui.hit(x, y), Some(hit), "{name}: setup {a:?}");
     }
-    // Gaps between the poses, the band under them, the gaps between Calib,
-    // the toggles and Back: nothing.
-    for g in lay.gaps(Page::More).iter().skip(2).filter(|g| !g.is_empty()) {
+    // The gaps between the buttons and the guard bands: nothing.
+    for g in lay.gaps().iter().skip(2) {
         let (x, y) = centre(*g);
         assert_eq!(ui.hit(x, y), None, "{name}: gap {g:?}");
     }
     // The gripper closes: only Grip is repainted, and now says Open.
-    let mut closed = more;
+    let mut closed = setup;
     closed.grip_closed = true;
     let mut c = Counting::new(&mut fb);
     assert_eq!(ui.draw(&closed, &mut c).unwrap(), Redrawn(Redrawn::ROW2));
@@ -854,25 +856,28 @@ fn more_page(lay: Layout, name: &str) {
     let (x, y) = ink(lay.lift_toggle(), "Lift", &style);
     assert_text_at(&fb, b"Lift", x, y, &style);
     assert!(fb == full_of(&lifted), "{name}: lift on");
-    let closed = lifted;
-    // Progress and joints are not on the More page: no repaint for them.
-    let mut later = closed;
+    // The status lines are on every page: progress and joints repaint
+    // only their lines.
+    let mut later = lifted;
     later.state = UiState::Moving { progress: 0.9 };
     later.joints[1] = 0.1;
     let mut c = Counting::new(&mut fb);
-    assert!(ui.draw(&later, &mut c).unwrap().is_empty());
-    assert_eq!(c.total_writes(), 0);
+    assert_eq!(ui.draw(&later, &mut c).unwrap(), Redrawn(Redrawn::DETAIL | Redrawn::JOINTS));
+    assert_only_in(&c, &[lay.detail(), lay.joints()], "status lines on Setup");
+    assert!(fb == full_of(&later), "{name}: status lines on Setup");
     // Back: the main page again, as a full draw would paint it.
     let mut back = later;
     back.page = Page::Main;
-    ui.draw(&back, &mut fb).unwrap();
+    let mut c = Counting::new(&mut fb);
+    assert_eq!(ui.draw(&back, &mut c).unwrap(), Redrawn(Redrawn::SPEED | Redrawn::PAGE_KEY | Redrawn::ROW2));
+    assert_only_in(&c, &[row], "back to Main");
     assert!(fb == full_of(&back), "{name}: back on the main page");
     let (x, y) = centre(lay.slow());
     assert_eq!(ui.hit(x, y), Some(Hit::Speed(SpeedPreset::Slow)));
 }
 
 #[test]
-fn the_more_page_holds_the_poses_grip_calib_and_toggles_on_both_sizes() {
+fn the_pages_hold_the_speeds_undo_poses_grip_calib_and_toggles_on_both_sizes() {
     more_page(Layout::QVGA, "more_page");
     more_page(Layout::HVGA, "hvga_more_page");
 }
@@ -922,7 +927,7 @@ fn random_redraws(lay: Layout, steps: usize) {
             4 => m.speed = SpeedPreset::ALL[rng.below(3) as usize],
             5 => m.warnings = rng.below(32) as u8,
             7 if rng.below(3) == 0 => {
-                m.page = if m.page == Page::Main { Page::More } else { Page::Main };
+                m.page = m.page.next();
                 m.grip_closed = rng.below(2) == 0;
             }
             7 => {
