@@ -216,10 +216,12 @@ impl Layout {
         Area::new(b.x + 1, b.y + 1, b.w - 2, b.h - 2)
     }
 
-    /// The percentage next to the bar, in STOP's column (the detail line's
-    /// height: the digits are as tall as the row at 480×320).
+    /// The percentage next to the bar, in STOP's column: four characters
+    /// after a 4-px pad, as tall as the text, centred in the detail line.
     pub const fn bar_text(&self) -> Area {
-        Area::new(self.right_x() - 4, self.detail().y, self.right_w(), self.row)
+        let h = 8 * self.text as u16;
+        let w = 4 + 4 * 6 * self.text as u16;
+        Area::new(self.right_x() - 4, self.detail().y + ((self.row - h) / 2) as i16, w, h)
     }
 
     /// Top of the button row: under the status lines.

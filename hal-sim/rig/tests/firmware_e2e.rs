@@ -522,13 +522,16 @@ fn on_screen_calibration_learns_the_panel_and_saves_it() {
     // A panel whose true span differs from the defaults, with X inverted.
     let truth =
         Calibration { x_min: 150, x_max: 900, y_min: 100, y_max: 880, swap_xy: false, invert_x: true, invert_y: false };
-    // More, then the Calibrate button on the More page, found through the
-    // *current* (default) mapping...
+    // More twice, then the Calibrate button on the Setup page, found
+    // through the *current* (default) mapping...
     let k = L.page_key();
     let (kx, ky) = pixel_raw(&Calibration::DEFAULT, k.x + k.w as i16 / 2, k.y + k.h as i16 / 2);
     touch(&mut s, kx, ky);
     s.run_for(0.7).unwrap();
     assert!(s.avr.uart_output_string().contains("info screen page more"), "{}", s.avr.uart_output_string());
+    touch(&mut s, kx, ky);
+    s.run_for(0.7).unwrap();
+    assert!(s.avr.uart_output_string().contains("info screen page setup"), "{}", s.avr.uart_output_string());
     let c = L.calibrate();
     let (bx, by) = pixel_raw(&Calibration::DEFAULT, c.x + c.w as i16 / 2, c.y + c.h as i16 / 2);
     touch(&mut s, bx, by);

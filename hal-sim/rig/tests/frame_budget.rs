@@ -162,11 +162,11 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
                 s.press_raw(x, y).unwrap();
             }
             10 | 20 => s.release(),
-            // The buttons in turn: Slow, Normal, More (the page change: the
-            // largest redraw after a full one), Grip (a grip beside the
-            // arm's move), Back.
+            // The buttons in turn: Slow, Normal, More twice (the page
+            // changes: the largest redraws after a full one) to Setup, Grip
+            // (a grip beside the arm's move), Back.
             15 => {
-                let (x, y) = [slow, normal, key, grip, key][(k / 30) as usize % 5];
+                let (x, y) = [slow, normal, key, key, grip, key][(k / 30) as usize % 6];
                 s.press_raw(x, y).unwrap()
             }
             _ => {}

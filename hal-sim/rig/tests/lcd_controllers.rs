@@ -207,8 +207,8 @@ fn ts_s(line: &str) -> f64 {
     ms / 1000.0
 }
 
-/// The More page on the chip, 320×240 (ILI9341) and 480×320 (ILI9486): More
-/// opens it and the decoded picture is the host's rendering of it; Grip
+/// The More and Setup pages on the chip, 320×240 (ILI9341) and 480×320 (ILI9486): More
+/// opens each and the decoded picture is the host's rendering of it; Grip
 /// closes the gripper through `grip close`'s path (same first-grip plan at
 /// the slow preset, ends on 1500 µs) and its label turns to Open; pose 1
 /// (saved over serial at home) brings the arm and the gripper back exactly
@@ -245,6 +245,10 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             lift: false,
         };
         assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more"));
+        // More again: the Setup page (Grip, Cal, the toggles, Back).
+        assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page setup"], "{name}");
+        more.page = Page::Setup;
+        assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_setup"));
 
         // Grip: exactly `grip close` after power-up (grip_firmware.rs).
         let t0 = s.avr.cycles();
@@ -272,6 +276,9 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more_lift"));
         assert_eq!(press(&mut s, &lay, lay.lift_toggle()), ["info screen lift off"], "{name}");
 
+        // Back to Main, then More: the poses.
+        assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page main"], "{name}");
+        assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page more"], "{name}");
         // Pose 1: the arm home and the gripper open again.
         let lines = press(&mut s, &lay, lay.pose(0));
         let went = lines
@@ -286,7 +293,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
         // An empty slot is refused as over serial.
         assert_eq!(press(&mut s, &lay, lay.pose(3)), ["err screen pose go 4 empty"], "{name}");
 
-        // Back: the main page as the host draws it.
+        // Setup, then Back: the main page as the host draws it.
+        assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page setup"], "{name}");
         assert_eq!(press(&mut s, &lay, lay.page_key()), ["info screen page main"], "{name}");
         let main = UiModel {
             page: Page::Main,

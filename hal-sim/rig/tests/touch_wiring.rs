@@ -190,14 +190,17 @@ fn the_wiring_is_saved_with_the_calibration_and_survives_a_power_cycle() {
 fn the_calibration_screen_probes_again_and_a_touch_restarts_the_probe() {
     let lay = touch_arm::ui::Layout::QVGA;
     let mut s = boot(PanelWiring::A, 6, None);
-    // Calib is on the More page: More first (a button press, no probe).
+    // Calib is on the Setup page: More twice first (button presses, no
+    // probe).
     let (kx, ky) = firmware::raw_at_centre(&lay, lay.page_key()).unwrap();
-    let from = s.avr.uart_output().len();
-    s.press_raw(kx.round(), ky.round()).unwrap();
-    s.run_for(0.3).unwrap();
-    s.release();
-    s.run_for(0.7).unwrap();
-    assert_eq!(s.avr.uart_output_string()[from..].trim_end(), "info screen page more");
+    for page in ["more", "setup"] {
+        let from = s.avr.uart_output().len();
+        s.press_raw(kx.round(), ky.round()).unwrap();
+        s.run_for(0.3).unwrap();
+        s.release();
+        s.run_for(0.7).unwrap();
+        assert_eq!(s.avr.uart_output_string()[from..].trim_end(), format!("info screen page {page}"));
+    }
     let c = lay.calibrate();
     let (bx, by) = firmware::raw_at_centre(&lay, c).unwrap();
     let from = s.avr.uart_output().len();

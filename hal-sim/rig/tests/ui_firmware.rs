@@ -150,7 +150,7 @@ fn the_chip_draws_exactly_what_the_host_renders() {
     // A progress step repaints a few bar columns and the percentage: a
     // fraction of a full redraw, and well inside one 20 ms servo frame.
     let (_, step_cycles, step_pixels, _) = report[3];
-    assert!(step_pixels < 72 * 16 + 12 * 40, "{step_pixels}");
+    assert!(step_pixels < 52 * 16 + 12 * 40, "{step_pixels}");
     assert!(
         step_cycles < full_cycles / 20 && step_cycles < 100_000,
         "progress step {step_cycles} vs full {full_cycles}"
