@@ -355,6 +355,68 @@ fn a_checked_move_is_answered_and_the_console_reads_every_line() {
     bench.stop();
 }
 
+/// `GET /api/layout`: every hit region of every page of the 320×240 screen,
+/// exactly, with the 2.8" panel's 0.180 mm per pixel; a press on the
+/// centre of the region a script finds by name does what the name says.
+#[test]
+fn the_layout_lists_every_hit_region_and_a_press_by_name_does_it() {
+    let bench = start();
+    let a = bench.addr();
+    let l = get(a, "/api/layout");
+    let r = |name: &str, x: i32, y: i32, w: i32, h: i32| json!({"name": name, "x": x, "y": y, "w": w, "h": h});
+    let common = [
+        r("map", 0, 0, 224, 112),
+        r("stop", 224, 0, 96, 120),
+        r("guard", 0, 112, 224, 8),
+        r("guard", 52, 188, 15, 52),
+        r("guard", 119, 188, 15, 52),
+        r("guard", 186, 188, 15, 52),
+        r("guard", 253, 188, 15, 52),
+    ];
+    let page = |names: [&str; 5]| {
+        let mut v: Vec<Value> = common.to_vec();
+        v.extend(names.iter().enumerate().map(|(i, n)| r(n, 67 * i as i32, 188, 52, 52)));
+        Value::Array(v)
+    };
+    let want = json!({
+        "width_px": 320,
+        "height_px": 240,
+        "mm_per_px": 0.18,
+        "pages": {
+            "main": page(["slow", "normal", "fast", "undo", "more"]),
+            "more": page(["pose1", "pose2", "pose3", "pose4", "more"]),
+            "setup": page(["grip", "calib", "line", "lift", "back"]),
+        }
+    });
+    assert_eq!(l, want);
+    holding(a);
+    // The main page's "more", found by name: the page turns.
+    let more = l["pages"]["main"].as_array().unwrap().iter().find(|r| r["name"] == "more").unwrap().clone();
+    let centre = |r: &Value| {
+        (
+            r["x"].as_i64().unwrap() + r["w"].as_i64().unwrap() / 2,
+            r["y"].as_i64().unwrap() + r["h"].as_i64().unwrap() / 2,
+        )
+    };
+    let (x, y) = centre(&more);
+    ok(a, "/api/touch", json!({ "x_px": x, "y_px": y, "ms": 300 }));
+    wait_console(a, "info screen page more");
+    bench.stop();
+}
+
+/// Waits (up to 10 s of wall time) for a firmware line `want`.
+fn wait_console(a: SocketAddr, want: &str) {
+    let t0 = std::time::Instant::now();
+    loop {
+        let lines = get(a, "/api/console?since=0");
+        if lines["lines"].as_array().unwrap().iter().any(|l| l == want) {
+            return;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(10), "no {want:?} in {lines}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
 /// `--lcd ili9486 --wiring c` (`Options::lcd`, `Options::wiring`): the
 /// 480×320 screen and the mirrored panel wiring, set up as the main job sets
 /// them (the calibration wiring c's screen would find, sent at boot). A
@@ -373,6 +435,17 @@ fn a_larger_screen_and_wiring_c_still_land_on_the_host_target() {
         (g["screen"].clone(), g["lcd"].clone(), g["wiring"].clone()),
         (json!([480, 320]), json!("ili9486"), json!("c"))
     );
+    // The layout is the larger panel's: 480×320 at 0.154 mm per pixel,
+    // 83×80 buttons.
+    let l = get(a, "/api/layout");
+    assert_eq!(
+        (l["width_px"].clone(), l["height_px"].clone(), l["mm_per_px"].clone()),
+        (json!(480), json!(320), json!(0.154))
+    );
+    let main = l["pages"]["main"].as_array().unwrap();
+    assert_eq!(main[0], json!({"name": "map", "x": 0, "y": 0, "w": 320, "h": 160}));
+    assert_eq!(main[7], json!({"name": "slow", "x": 0, "y": 240, "w": 83, "h": 80}));
+    assert_eq!(main.len(), 12);
     holding(a);
     let (px, py) = lay.ws_point_to_pixel(0.4, 0.6).unwrap();
     assert!(u32::from(lay.width()) > 320 && px >= 0);

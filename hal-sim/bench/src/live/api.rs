@@ -1,10 +1,15 @@
-//! The JSON bodies the API accepts, checked field by field. Every refusal
+//! The JSON bodies the API accepts, checked field by field, and the
+//! screen's regions it reports (`GET /api/layout`). Every refusal
 //! is one line that says what is wrong, sent back with a 4xx status; nothing
 //! a client sends reaches the simulator unchecked.
 
 use hal_sim::finger::{self, FingerScript, Knot, Track};
-use serde_json::{Map, Value};
-use touch_arm::ui::layout::Layout;
+use serde_json::{json, Map, Value};
+use touch_arm::config::settings::SpeedPreset;
+use touch_arm::ui::draw::Area;
+use touch_arm::ui::layout::{Layout, SLOTS};
+use touch_arm::ui::screen::page_button;
+use touch_arm::ui::{Hit, Page};
 
 /// Largest request body read, bytes.
 pub const MAX_BODY: usize = 16 * 1024;
@@ -99,6 +104,52 @@ fn pixel(m: &Map<String, Value>, lay: &Layout) -> Result<(i16, i16), Refusal> {
     let x = required(m, "x_px", 0, u64::from(lay.width()) - 1)?;
     let y = required(m, "y_px", 0, u64::from(lay.height()) - 1)?;
     Ok((x as i16, y as i16))
+}
+
+/// The name `GET /api/layout` (and the scenarios' `touch button …`) gives
+/// what a press of a button does.
+fn hit_name(hit: Hit) -> &'static str {
+    match hit {
+        Hit::Stop => "stop",
+        Hit::Resume => "resume",
+        Hit::Speed(SpeedPreset::Slow) => "slow",
+        Hit::Speed(SpeedPreset::Normal) => "normal",
+        Hit::Speed(SpeedPreset::Fast) => "fast",
+        Hit::Undo => "undo",
+        Hit::Calibrate => "calib",
+        Hit::Page => "more",
+        Hit::Pose(1) => "pose1",
+        Hit::Pose(2) => "pose2",
+        Hit::Pose(3) => "pose3",
+        Hit::Pose(_) => "pose4",
+        Hit::Grip => "grip",
+        Hit::Line => "line",
+        Hit::Lift => "lift",
+        Hit::Map { .. } => "map",
+    }
+}
+
+/// `GET /api/layout`: `{"width_px": W, "height_px": H, "mm_per_px": f,
+/// "pages": {"main"|"more"|"setup": [{"name", "x", "y", "w", "h"}, …]}}`,
+/// every hit region of every page: the map, STOP with the guard band
+/// beside and below it (where a touch counts as STOP; RESUME, shown in its
+/// place after a stop, answers only inside STOP's drawn box), the guard
+/// band below the map and the gaps between the buttons (`"guard"`: a touch
+/// does nothing), and the buttons. A pixel in no region (the headline and
+/// the status lines) does nothing either.
+pub fn layout_json(lay: &Layout, mm_per_px: f64) -> Value {
+    let region = |name: &str, a: Area| json!({"name": name, "x": a.x, "y": a.y, "w": a.w, "h": a.h});
+    let gaps = lay.gaps();
+    let below_map = Area::new(0, gaps[1].y, lay.ws().w, gaps[1].h);
+    let mut pages = Map::new();
+    for (key, page) in [("main", Page::Main), ("more", Page::More), ("setup", Page::Setup)] {
+        let mut r = vec![region("map", lay.ws()), region("stop", lay.stop_hit()), region("guard", below_map)];
+        r.extend(gaps[2..].iter().map(|g| region("guard", *g)));
+        r.extend((0..SLOTS - 1).map(|i| region(hit_name(page_button(page, i)), lay.slot(i))));
+        r.push(region(if page == Page::Setup { "back" } else { "more" }, lay.page_key()));
+        pages.insert(key.into(), Value::Array(r));
+    }
+    json!({"width_px": lay.width(), "height_px": lay.height(), "mm_per_px": mm_per_px, "pages": pages})
 }
 
 /// `POST /api/touch`: `{"x_px": X, "y_px": Y, "ms": M}`.

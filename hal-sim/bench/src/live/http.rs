@@ -13,6 +13,7 @@ use std::sync::mpsc::{channel, sync_channel, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use hal_sim::finger::Glass;
 use serde_json::{json, Value};
 use tiny_http::{Header, Method, Request, Response, Server, StatusCode};
 use touch_arm::ui::layout::Layout;
@@ -124,6 +125,16 @@ fn response(status: u16, content_type: &str, body: Vec<u8>) -> Body {
         .with_header(header("X-Content-Type-Options", "nosniff"))
 }
 
+/// Millimetres per pixel of the panel `lay` is laid out for: the 2.8"
+/// 320×240 or the 3.5" 480×320 (`hal_sim::finger::Glass`).
+fn mm_per_px(lay: &Layout) -> f64 {
+    if lay.width() == Glass::HVGA_35.w_px {
+        Glass::HVGA_35.mm_per_px
+    } else {
+        Glass::QVGA_28.mm_per_px
+    }
+}
+
 fn json_response(status: u16, v: &Value) -> Body {
     response(status, "application/json", format!("{v}\n").into_bytes())
 }
@@ -189,6 +200,7 @@ fn handle(mut req: Request, ctx: &Context) {
             .and_then(|since| ctx.ask(|tx| Command::Console(since, tx), BENCH_TIMEOUT))
             .map(|v| json_response(200, &v)),
         (Method::Get, "/api/geometry") => Ok(response(200, "application/json", ctx.geometry.clone().into_bytes())),
+        (Method::Get, "/api/layout") => Ok(json_response(200, &api::layout_json(&ctx.layout, mm_per_px(&ctx.layout)))),
         (Method::Get, "/api/screen.png") => screen::png(&ctx.snapshot().screen)
             .map(|png| response(200, "image/png", png))
             .map_err(|e| refuse(500, format!("encoding the screen: {e}"))),

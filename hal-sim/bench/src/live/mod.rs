@@ -20,6 +20,7 @@
 //! | `POST /api/control` `{"action", "addr"?}` | `power_cycle`, `reset` (the RESET pin: RAM kept), `corrupt_eeprom`, `noise_on`, `noise_off`, `stall` |
 //! | `GET /api/bench` | pacing figures and fault switches |
 //! | `GET /api/geometry` | arm links, map layout and reachable map pixels |
+//! | `GET /api/layout` | every hit region of every page (pixels) and the panel's mm per pixel |
 //! | `GET /api/events` | server-sent events: `screen`, `history`, `serial`, `state` |
 
 mod api;
