@@ -47,8 +47,8 @@ fn moving(progress: f32) -> UiModel {
 
 /// Step `k` (0..STEPS): a full first draw, a move with progress, arrival,
 /// a refused touch, STOP, a preset change with a warning, two calibration
-/// screens, a full redraw back on the main screen, the More page (poses,
-/// Grip, Line on) and its Grip button turning to Open with Line off and Lift
+/// screens, a full redraw back on the main screen, the Setup page (Grip,
+/// Cal, Line on) and its Grip button turning to Open with Line off and Lift
 /// on, and the main page again.
 pub fn screen(k: u8, lay: &Layout) -> Screen {
     let mut m = moving(0.0);
@@ -85,7 +85,7 @@ pub fn screen(k: u8, lay: &Layout) -> Screen {
             m.target = None;
             m.condition = None;
             if k == 16 || k == 17 {
-                m.page = Page::More;
+                m.page = Page::Setup;
                 m.grip_closed = k == 17;
                 // Both toggles in both states: a full draw, then two toggle
                 // repaints.

@@ -327,7 +327,7 @@ fn main_job_path_line_and_lift() {
 /// `--finger FILE`: a scripted finger instead of the press, on the real ELF
 /// (each ADC conversion at its own cycle). A 1 mm, 4 Hz tremor tap on the
 /// pixel of (0.4, 0.6) commits once, within the tremor's reach (1.2 mm at
-/// its drift-free amplitude, 6.7 px: 0.056 workspace units at 120 px a
+/// its drift-free amplitude, 6.7 px: 0.060 workspace units at 112 px a
 /// unit) of the pixel, and `touches` is that one move at the summary's
 /// point. STOP held then bounced on: the first action is STOP, within 60 ms
 /// and a frame of contact, and no move; summary.json is `touches` and `wiring` only.
@@ -383,7 +383,7 @@ fn main_job_plays_a_finger_script() {
 fn main_job_resets_once_the_arm_has_arrived_and_the_pulses_run_on() {
     let (dir, summary, stdout) = run_job(&["--xy", "0.4,0.6", "--reset"], "reset");
     let line = summary["reset_line"].as_str().unwrap();
-    assert_eq!(line, "info reset external resume pulses 1162 1849 1026 600", "{summary}");
+    assert_eq!(line, "info reset external resume pulses 1166 1854.5 1023 600", "{summary}");
     assert_eq!(summary["pulses_before_reset_us"], summary["pulses_after_reset_us"], "{summary}");
     assert_eq!(summary["pulses_after_reset_us"], summary["final_pulses_us"], "{summary}");
     let gap = summary["reset_gap_s"].as_f64().unwrap();

@@ -22,10 +22,11 @@
 //!   the finger goes down (and stays until `release` or another press).
 //!   `press button <name> [force <f>]`: on the centre of a button of the
 //!   320×240 screen, read through the default calibration: `stop` (also
-//!   RESUME), `slow`, `normal`, `fast`, `more` / `back` (the page key),
-//!   `grip`, `calib`, `line`, `lift`, `pose1`…`pose4` (the last five and
-//!   the poses are on the More page; on the main page the same place is the
-//!   status lines or Slow | Normal | Fast).
+//!   RESUME), `slow`, `normal`, `fast`, `undo`, `more` / `back` (the page
+//!   key), `pose1`…`pose4`, `grip`, `calib`, `line`, `lift`: one row of
+//!   five slots whose meaning is the page's (Main: Slow Normal Fast Undo
+//!   More; More: the poses, More; Setup: Grip Calib Line Lift Back), so a
+//!   name presses its slot whatever the page shows.
 //! - `finger <t,x,y,f> … [second <t,x,y,f> …]`: a finger script
 //!   (`hal_sim::finger`) from the next frame on: knots of t in ms from its
 //!   start, x and y in pixels of the 320×240 screen, force (0 no contact, 1
