@@ -56,7 +56,7 @@ impl Redrawn {
     /// The Setup page's toggles Line and Lift (only the one that changed).
     pub const TOGGLES: u16 = 1 << 13;
     /// A full redraw of the main page (the map repaint covers the markers).
-    pub const ALL_MAIN: u16 = (1 << 11) - 1 - Self::MARKERS | Self::ROW2;
+    pub const ALL_MAIN: u16 = ((1 << 11) - 1 - Self::MARKERS) | Self::ROW2;
     /// A full redraw of the More page: the status lines, the poses and the
     /// page key.
     pub const ALL_MORE: u16 = Self::ALL_MAIN - Self::SPEED;
@@ -360,7 +360,7 @@ const S_TOGGLES: u8 = BANDS + 11;
 const S_MARKERS: u8 = BANDS + 12;
 const S_END: u8 = S_MARKERS + 6;
 /// The steps a page change redraws: the row of buttons.
-const PAGE_STEPS: u64 = 1 << S_SPEED | 1 << S_KEY | 1 << S_ROW2 | 1 << S_TOGGLES;
+const PAGE_STEPS: u64 = (1 << S_SPEED) | (1 << S_KEY) | (1 << S_ROW2) | (1 << S_TOGGLES);
 const _: () = assert!(S_END <= 64);
 
 /// The headline, hints and percentage: the layout's text scale.
@@ -584,7 +584,7 @@ impl Ui {
         let lay = &self.layout;
         let ws = lay.ws();
         // The row of buttons is new with a new page.
-        let page_step = PAGE_STEPS >> k & 1 != 0;
+        let page_step = (PAGE_STEPS >> k) & 1 != 0;
         let old = old.filter(|o| o.page == v.page || !page_step);
         let main = v.page == Page::Main;
         let setup = v.page == Page::Setup;

@@ -426,7 +426,10 @@ fn random_inputs_short_run() {
     for (seed, screen) in [(1, false), (2, true)] {
         let t = run(seed, screen, 6000);
         eprintln!("seed {seed} screen {screen}: {t:?}");
-        assert!(t.moves > 100 && t.lost_lines > 0 && t.frames_stopped > 100, "{t:?}");
+        // More than 90 moves: with the screen, random touches fall on the
+        // 224×112 map and the 96×120 STOP area of issue #20's layout (98
+        // moves for seed 2, was over 100 with the 240×120 map).
+        assert!(t.moves > 90 && t.lost_lines > 0 && t.frames_stopped > 100, "{t:?}");
         assert!(t.late_frames > 100 && t.path_moves > 5, "{t:?}");
         assert_eq!(t.accel_violations, 0, "a path move over its acceleration limit: {t:?}");
     }

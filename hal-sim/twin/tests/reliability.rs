@@ -182,8 +182,9 @@ fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     assert_eq!(warning(&sim), "! default settings in use");
     assert_eq!(sim.app.status().config_warning, Some(Warning::Missing));
     let cal = Calibration::DEFAULT;
-    // Calib is on the More page.
+    // Calib is on the Setup page: More twice.
     let key = LAY.page_key();
+    tap_pixel(&mut sim, &cal, key.x + key.w as i16 / 2, key.y + key.h as i16 / 2);
     tap_pixel(&mut sim, &cal, key.x + key.w as i16 / 2, key.y + key.h as i16 / 2);
     tap_pixel(&mut sim, &cal, calibrate.x + calibrate.w as i16 / 2, calibrate.y + calibrate.h as i16 / 2);
     for (x, y) in (0..5).map(|i| cal_pixel(&LAY, i).unwrap()) {
@@ -192,6 +193,7 @@ fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     tap_pixel(&mut sim, &cal, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
     let lines = sim.serial.lines();
     assert!(lines.iter().any(|l| l == "info screen page more"), "{lines:?}");
+    assert!(lines.iter().any(|l| l == "info screen page setup"), "{lines:?}");
     assert!(lines.iter().any(|l| l == "info screen calibrate"), "{lines:?}");
     assert!(lines.iter().any(|l| l == "info cal touch saved seq 1"), "{lines:?}");
     assert_eq!(sim.app.status().config_warning, None);

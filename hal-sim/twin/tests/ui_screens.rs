@@ -249,6 +249,8 @@ fn check_mappings_and_tiling(lay: &Layout) {
         }
     }
     assert!(owner.iter().all(|&n| n == 1), "regions must tile the screen exactly");
+    // The guard bands right of and below the map.
+    assert_eq!((lay.gaps()[0].w, lay.gaps()[1].h), (GUARD, GUARD));
     // The buttons: at least 15 px apart (the gap of 320×240), none beside
     // the map or STOP, all below the status lines.
     let buttons: Vec<Area> = (0..SLOTS).map(|i| lay.slot(i)).collect();
