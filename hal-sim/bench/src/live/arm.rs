@@ -188,7 +188,7 @@ mod tests {
         assert_eq!(target_news("ok goto ts_ms 3064"), Some(TargetNews::Cleared));
         assert_eq!(target_news("info touch-arm 0.1.0 reset power-on"), None);
         let rows = reach_rows(&LAYOUT);
-        assert_eq!((rows.len(), rows[0].len()), (120, 240));
+        assert_eq!((rows.len(), rows[0].len()), (112, 224));
         assert!(rows.iter().any(|r| r.contains('1')));
     }
 }
