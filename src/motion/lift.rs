@@ -145,6 +145,7 @@ pub struct LiftCheck<R> {
 
 impl<R: Real> LiftCheck<R> {
     /// The via pose and S_v per joint; the scan is to come.
+    #[inline(never)] // reason: code-size
     pub fn new(r: &LiftRequest<R>, lim: &PathLimits<R>) -> Result<Self, LiftError<R>> {
         let finite = r.start.iter().chain(r.target.iter()).all(|v| v.is_finite()) && r.ts_min.is_finite();
         if !(finite && r.h.is_positive() && r.h <= R::lit(LIFT_MAX)) {
@@ -166,6 +167,7 @@ impl<R: Real> LiftCheck<R> {
     /// Does up to `units` scan points (each: both shapes with their
     /// derivatives, three joints); the plan or the refusal once decided,
     /// and from then on.
+    #[inline(never)] // reason: code-size
     pub fn step(&mut self, units: u16) -> Option<Result<LiftPlan<R>, LiftError<R>>> {
         for _ in 0..units {
             if self.outcome.is_some() {
