@@ -26,8 +26,10 @@ AVR=(gcc-avr avr-libc binutils-avr)
 SIMAVR=(libelf-dev zlib1g-dev libzstd-dev pkg-config clang libclang-dev make)
 # The main job's plots (angles.png, path.png) find DejaVu Sans.
 FONT=(fonts-dejavu-core)
-# Flashing: avrdude; libudev-dev: ravedude's serial-port discovery links it.
-FLASH=(avrdude libudev-dev)
+# Flashing: avrdude; libudev-dev: ravedude's serial-port discovery links it,
+# found by libudev-sys's build script through pkg-config (a fresh machine
+# has no pkg-config: ravedude's install failed there without it).
+FLASH=(avrdude libudev-dev pkg-config)
 # chromium: the live bench's page test (hal-sim/bench/tests/live_page.rs).
 BROWSER=(chromium)
 case "$what" in

@@ -53,8 +53,12 @@ fn each_command_asks_for_what_it_needs() {
         assert!(!main.contains(&p.to_string()) && !live.contains(&p.to_string()), "{p}");
         assert!(test.contains(&p.to_string()), "{p}: {test:?}");
     }
-    // A board needs the AVR toolchain and avrdude, not simavr's C build.
-    assert!(avr.iter().chain(&["avrdude", "libudev-dev"]).all(|p| flash.contains(&p.to_string())), "{flash:?}");
+    // A board needs the AVR toolchain and avrdude, not simavr's C build;
+    // ravedude's libudev-sys finds libudev through pkg-config.
+    assert!(
+        avr.iter().chain(&["avrdude", "libudev-dev", "pkg-config"]).all(|p| flash.contains(&p.to_string())),
+        "{flash:?}"
+    );
     assert!(!flash.contains(&"clang".to_string()) && !flash.contains(&"chromium".to_string()), "{flash:?}");
     // The test command needs everything the others do.
     for p in main.iter().chain(&live).chain(&flash) {

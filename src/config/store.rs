@@ -311,6 +311,9 @@ impl<'a> Reader<'a> {
         Reader { buf, pos }
     }
 
+    // Out of line: inlined at every field of every record's decode, it
+    // was most of their code.
+    #[inline(never)] // reason: code-size
     pub(super) fn take<const K: usize>(&mut self) -> [u8; K] {
         let mut out = [0u8; K];
         if let Some(src) = self.buf.get(self.pos..self.pos + K) {

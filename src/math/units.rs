@@ -31,6 +31,7 @@ pub fn rad_to_deg<R: Real>(rad: R) -> R {
 
 /// Hundredths of a degree to radians (any `i32`, without an integer-to-float
 /// conversion wider than `u16`, which `Real` does not offer).
+#[inline(never)] // reason: code-size
 pub fn centideg_to_rad<R: Real>(centideg: i32) -> R {
     let mag = centideg.unsigned_abs();
     let hi = R::from_u16((mag >> 16) as u16);
@@ -52,6 +53,7 @@ pub fn rad_to_centideg(rad: f32) -> i32 {
 /// Rounds half away from zero to an `i32`, saturating at its range (NaN
 /// gives 0); `core` has no `f32::round`. The one rounding every conversion
 /// to an integer unit uses.
+#[inline(never)] // reason: code-size
 pub fn round_i32(v: f32) -> i32 {
     if v >= 0.0 {
         (v + 0.5) as i32

@@ -103,9 +103,10 @@ pub struct LiftPlan<R> {
     via_point: [R; 3],
 }
 
-/// The c2 smooth stop of duration `t` (n = e^(2/(t − 1))).
-fn reference<R: Real>(t: f64) -> Result<Shape<R>, LiftError<R>> {
-    let t = R::lit(t);
+/// The c2 smooth stop of duration `t` (n = e^(2/(t − 1))); `t` in `R`, so the
+/// callers' constants convert at compile time on the AVR (an f64 argument
+/// linked the run-time `__truncdfsf2`).
+fn reference<R: Real>(t: R) -> Result<Shape<R>, LiftError<R>> {
     let l = c2_ln_base(t).ok_or(LiftError::Trajectory(TrajError::NotFinite))?;
     Shape::smooth_stop(t, l.exp()).map_err(LiftError::Trajectory)
 }
@@ -144,13 +145,14 @@ pub struct LiftCheck<R> {
 
 impl<R: Real> LiftCheck<R> {
     /// The via pose and S_v per joint; the scan is to come.
+    #[inline(never)] // reason: code-size
     pub fn new(r: &LiftRequest<R>, lim: &PathLimits<R>) -> Result<Self, LiftError<R>> {
         let finite = r.start.iter().chain(r.target.iter()).all(|v| v.is_finite()) && r.ts_min.is_finite();
         if !(finite && r.h.is_positive() && r.h <= R::lit(LIFT_MAX)) {
             return Err(LiftError::BadHeight);
         }
         let (via, via_point) = via_pose(r)?;
-        let (gv, g) = (reference(VIA_REF_T)?, reference(MAIN_REF_T)?);
+        let (gv, g) = (reference(R::lit(VIA_REF_T))?, reference(R::lit(MAIN_REF_T))?);
         let rr = g.g(R::lit(MAIN_REF_T * 0.5));
         let mut sv = [R::ZERO; JOINTS];
         for (j, s) in sv.iter_mut().enumerate() {
@@ -165,6 +167,7 @@ impl<R: Real> LiftCheck<R> {
     /// Does up to `units` scan points (each: both shapes with their
     /// derivatives, three joints); the plan or the refusal once decided,
     /// and from then on.
+    #[inline(never)] // reason: code-size
     pub fn step(&mut self, units: u16) -> Option<Result<LiftPlan<R>, LiftError<R>>> {
         for _ in 0..units {
             if self.outcome.is_some() {

@@ -656,6 +656,7 @@ pub struct PathCheck<R> {
 
 impl<R: Real> PathCheck<R> {
     /// Checks the request's limits and law; the scan is to come.
+    #[inline(never)] // reason: code-size
     pub fn new(req: &PathRequest<R>, arm: &PathArm<R>, lim: &PathLimits<R>) -> Result<Self, PathError<R>> {
         check_limits(lim)?;
         if req.samples < 2 {
@@ -671,6 +672,7 @@ impl<R: Real> PathCheck<R> {
     /// IK with rates, one search for a critical instant, or one stretch's
     /// visit and bound); the plan or the refusal once decided, and from
     /// then on.
+    #[inline(never)] // reason: code-size
     pub fn step(&mut self, units: u16) -> Option<Result<PathPlan<R>, PathError<R>>> {
         for _ in 0..units {
             if self.outcome.is_some() {

@@ -448,6 +448,9 @@ impl ServoTrack {
     /// waits. `None`, and nothing changed, when the new law or a running one
     /// is not superposed (linear, the papers' ζ-a-tₛ: the caller re-plans
     /// from rest); unchanged on error too.
+    // Out of line: the correction's search stays out of plan_target's
+    // frame, which is on the fresh plan's (the deepest) chain.
+    #[inline(never)] // avr-trap: frame-size
     pub fn replan(&mut self, r: &Replan, maps: &[ServoMap; JOINTS]) -> Result<Option<(f32, u16)>, PlanError> {
         let motion = &self.motion;
         let terms = motion.terms();

@@ -40,12 +40,14 @@ impl<const N: usize> Line<N> {
     }
 
     /// Appends bytes, as many as fit.
+    #[inline(never)] // reason: code-size
     pub fn bytes(&mut self, b: &[u8]) -> &mut Self {
         self.truncated |= !push_bytes(&mut self.buf, &mut self.len, b);
         self
     }
 
     /// Appends constant text (read from flash on the chip).
+    #[inline(never)] // reason: code-size
     pub fn str(&mut self, s: Text) -> &mut Self {
         self.truncated |= !push_text(&mut self.buf, &mut self.len, s);
         self

@@ -103,7 +103,7 @@ impl Area {
 }
 
 /// Fills `a` with one colour.
-#[inline]
+#[inline(never)] // reason: code-size
 pub fn fill<D: Canvas>(d: &mut D, a: Area, c: Rgb565) -> Result<(), D::Error> {
     if a.is_empty() {
         return Ok(());

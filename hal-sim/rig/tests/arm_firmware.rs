@@ -61,3 +61,39 @@ fn links_home_and_park_set_on_the_chip() {
     go(&mut s, "move 700 700", "ok move cond ");
     assert_pulses(&s, [1201.733, 1619.263, 1055.368], 0.3, "links after the power cycle");
 }
+
+/// Unequal links end to end: a touch on the screen's map, with links of 120
+/// and 80 mm set over serial, lands on the host's f64 IK pose of the
+/// touched point for the same lengths (`ArmGeometry::from_lengths`), in
+/// the measured pulses.
+#[test]
+fn a_touch_with_unequal_links_lands_on_the_hosts_pose() {
+    use touch_arm::geometry::ik::Branch;
+    use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
+    let mut s = boot(None);
+    assert_eq!(s.command("cal set arm l2 120").unwrap(), "ok cal set");
+    assert_eq!(s.command("cal set arm l3 80").unwrap(), "ok cal set");
+    // The map repaints with the new reach shading; a touch while a repaint
+    // is drawn is cancelled (only STOP answers then), so wait for it.
+    s.run_for(2.0).unwrap();
+    let geo = ArmGeometry::from_lengths(1.0f64, 120.0, 80.0, Branch::Minus).unwrap();
+    for (x, y) in [(0.3f32, 0.6f32), (-0.5, 0.4)] {
+        let ((rx, ry), (wx, wy)) = firmware::map_touch(x, y).expect("point on the map");
+        let p = pose_for_point(&geo, wx, wy).unwrap();
+        let deg = 180.0 / std::f64::consts::PI;
+        let want = [600.0 + 10.0 * p.alpha * deg, 600.0 + 10.0 * p.q2 * deg, 2400.0 + 10.0 * p.q3 * deg];
+        s.press_raw(rx, ry).unwrap();
+        s.run_for(0.3).unwrap();
+        s.release();
+        s.run_for(4.0).unwrap();
+        let out = s.avr.uart_output_string();
+        assert!(s.command("status").unwrap().starts_with("ok status holding"), "{out}");
+        // The chip's f32 chain and its half-µs ticks.
+        assert_pulses(
+            &s,
+            want,
+            0.6,
+            &format!("touch at ({x}, {y}): {}", out.lines().rev().take(8).collect::<Vec<_>>().join(" | ")),
+        );
+    }
+}

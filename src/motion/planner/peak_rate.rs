@@ -45,28 +45,35 @@ pub fn classic_peak_factor(law: Law) -> f64 {
 /// `|Δ|·jerk/T³`; `None` where the law steps (linear: the velocity at both
 /// ends, so no acceleration limit can hold; trapezoid: the acceleration).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ratios {
+pub struct Ratios<R> {
     /// Peak velocity ratio.
-    pub vel: f64,
+    pub vel: R,
     /// Peak acceleration ratio, if the acceleration is bounded.
-    pub acc: Option<f64>,
+    pub acc: Option<R>,
     /// Peak jerk ratio, if the jerk is bounded.
-    pub jerk: Option<f64>,
+    pub jerk: Option<R>,
 }
 
 /// [`Ratios`] of a law (docs/method.md §9–10); `None` for the papers'
-/// ζ-a-tₛ, whose shape changes with tₛ.
+/// ζ-a-tₛ, whose shape changes with tₛ. In `R`, each constant converted in
+/// its own arm: on the AVR the f64 → f32 conversion folds away (a table of
+/// f64 chosen at run time links compiler-builtins' `__truncdfsf2`).
 #[inline]
-pub fn law_ratios(kind: LawKind) -> Option<Ratios> {
+pub fn law_ratios<R: Real>(kind: LawKind) -> Option<Ratios<R>> {
+    let r = |vel: f64, acc: Option<f64>, jerk: Option<f64>| Ratios {
+        vel: R::lit(vel),
+        acc: acc.map(R::lit),
+        jerk: jerk.map(R::lit),
+    };
     Some(match kind {
-        LawKind::Zat => Ratios { vel: VEL_RATIO, acc: Some(ACC_RATIO), jerk: Some(JERK_RATIO) },
+        LawKind::Zat => r(VEL_RATIO, Some(ACC_RATIO), Some(JERK_RATIO)),
         LawKind::ZatPaper => return None,
         // f″ = 60(τ − 3τ² + 2τ³) peaks at τ = (3 ∓ √3)/6 with 10/√3; f‴ at
         // the ends with 60.
-        LawKind::Quintic => Ratios { vel: 1.875, acc: Some(5.773_502_691_896_258), jerk: Some(60.0) },
-        LawKind::Cubic => Ratios { vel: 1.5, acc: Some(6.0), jerk: Some(12.0) },
-        LawKind::Trapezoid => Ratios { vel: 1.5, acc: Some(4.5), jerk: None },
-        LawKind::Linear => Ratios { vel: 1.0, acc: None, jerk: None },
+        LawKind::Quintic => r(1.875, Some(5.773_502_691_896_258), Some(60.0)),
+        LawKind::Cubic => r(1.5, Some(6.0), Some(12.0)),
+        LawKind::Trapezoid => r(1.5, Some(4.5), None),
+        LawKind::Linear => r(1.0, None, None),
     })
 }
 

@@ -71,10 +71,10 @@ pub fn choose_law<R: Real>(req: &MoveRequest<R>, lim: &PlanLimits<R>) -> Result<
             let ts = scaled_duration(&r, &[ratio, acc_ratio], lim)?;
             let law = scaling_law(req.law, ts).map_err(|_| PlanError::Trajectory)?;
             let peak_acc = match r.acc {
-                Some(c) => R::lit(c) / (ts * ts),
+                Some(c) => c / (ts * ts),
                 None => R::lit(f64::INFINITY),
             };
-            Ok(ChosenLaw { law, a: None, peak: R::lit(r.vel) / ts, peak_acc })
+            Ok(ChosenLaw { law, a: None, peak: r.vel / ts, peak_acc })
         }
     }
 }
@@ -127,11 +127,11 @@ pub fn scaling_law<R: Real>(kind: LawKind, ts: R) -> Result<JointLaw<R>, TrajErr
 /// Err(SpeedLimit) past ts_max. Always inlined: LLVM would otherwise pass
 /// its promoted arguments on the AVR's stack.
 #[inline(always)]
-pub fn scaled_duration<R: Real>(r: &Ratios, ratios: &[R; 2], lim: &PlanLimits<R>) -> Result<R, PlanError> {
+pub fn scaled_duration<R: Real>(r: &Ratios<R>, ratios: &[R; 2], lim: &PlanLimits<R>) -> Result<R, PlanError> {
     let [ratio, acc_ratio] = *ratios;
-    let mut ts = (R::lit(r.vel) * ratio).max(lim.ts_min);
+    let mut ts = (r.vel * ratio).max(lim.ts_min);
     if let Some(c) = r.acc {
-        ts = ts.max((R::lit(c) * acc_ratio).sqrt());
+        ts = ts.max((c * acc_ratio).sqrt());
     }
     if ts <= lim.ts_max {
         Ok(ts)
