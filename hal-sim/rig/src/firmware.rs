@@ -248,6 +248,34 @@ pub fn reply_ts(line: &str) -> Result<f64, String> {
 }
 
 impl Session {
+    /// The product firmware (seed 8) with `eeprom` loaded before its first
+    /// frame (erased if `None`, as after a power cycle with that EEPROM),
+    /// its display up and the arm holding home.
+    pub fn boot_product(eeprom: Option<&[u8]>) -> Result<Session, String> {
+        let mut s = Session::start(&default_elf(), crate::panel::PanelWiring::A, 8)?;
+        if let Some(e) = eeprom {
+            s.avr.set_eeprom(0, e).map_err(|err| format!("eeprom: {err:?}"))?;
+        }
+        s.run_for(1.0)?;
+        s.run_until_ready(2.0)?;
+        Ok(s)
+    }
+
+    /// Sends `cmd`, whose reply must start with `want`, runs its move (the
+    /// reply's `ts_ms`) and `settle_s` more, and checks the arm holds.
+    pub fn go(&mut self, cmd: &str, want: &str, settle_s: f64) -> Result<(), String> {
+        let reply = self.command(cmd)?;
+        if !reply.starts_with(want) {
+            return Err(format!("{cmd}: {reply}"));
+        }
+        self.run_for(reply_ts(&reply)? + settle_s)?;
+        let status = self.command("status")?;
+        if !status.starts_with("ok status holding") {
+            return Err(format!("after {cmd}: {status}"));
+        }
+        Ok(())
+    }
+
     /// The product firmware homed, its slow first move after power-up done
     /// (to 90° 100° −100°), at the fast preset: where the motion tests start.
     pub fn start_moved_fast(seed: u64) -> Result<Session, String> {

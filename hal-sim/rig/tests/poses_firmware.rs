@@ -9,25 +9,14 @@
 //! 1050 µs.
 
 use touch_arm::config::poses::{POSE_RECORD_LEN, POSE_SLOT_A, POSE_SLOT_B};
-use touch_arm_rig::firmware::{self, Session};
-use touch_arm_rig::panel::PanelWiring;
+use touch_arm_rig::firmware::Session;
 
 fn boot(eeprom: Option<&[u8]>) -> Session {
-    let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 8).expect("firmware ELF (cargo avr)");
-    if let Some(e) = eeprom {
-        s.avr.set_eeprom(0, e).unwrap();
-    }
-    s.run_for(1.0).unwrap();
-    s.run_until_ready(2.0).unwrap();
-    s
+    Session::boot_product(eeprom).expect("firmware ELF (cargo avr)")
 }
 
 fn go(s: &mut Session, cmd: &str, want: &str) {
-    let reply = s.command(cmd).unwrap();
-    assert!(reply.starts_with(want), "{cmd}: {reply}");
-    let ts_ms: f64 = reply.split_whitespace().skip_while(|w| *w != "ts_ms").nth(1).map_or(0.0, |v| v.parse().unwrap());
-    s.run_for(ts_ms / 1000.0 + 0.2).unwrap();
-    assert!(s.command("status").unwrap().starts_with("ok status holding"));
+    s.go(cmd, want, 0.2).unwrap();
 }
 
 const LIST_EMPTY: &str = "ok pose list 1 empty 2 empty 3 empty 4 empty";
