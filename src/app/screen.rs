@@ -87,9 +87,7 @@ pub const SCREEN_LIFT_CENTI: u8 = 20;
 
 /// The arm's reach drawn on the map: the IK annulus divided by the scale.
 pub(super) fn reach(geo: &ArmGeometry<f32>) -> UiConfig {
-    let (l2, l3, k) = (geo.links.l2(), geo.links.l3(), geo.k);
-    let d = l2 - l3;
-    UiConfig { reach_min: if d < 0.0 { -d } else { d } / k, reach_max: (l2 + l3) / k }
+    UiConfig { reach_min: geo.links.r_min() / geo.k, reach_max: geo.links.r_max() / geo.k }
 }
 
 /// Raw counts the candidate moves before its verdict is worked out again.
@@ -407,8 +405,7 @@ impl App {
             Refusal::Unreachable | Refusal::Singular => {
                 let k = self.geo.k;
                 let reach = k * k * (x_p * x_p + y_p * y_p);
-                let sum = self.geo.links.l2() + self.geo.links.l3();
-                let far = sum * sum;
+                let far = self.geo.links.r_max() * self.geo.links.r_max();
                 if reach > far {
                     ui::Refusal::TooFar
                 } else {
