@@ -75,26 +75,18 @@ fn wrong_rate(ui: &Ui, a: Area, own: Hit, sigma_px: f64, rng: &mut Rng) -> (u32,
 fn every_button_is_at_least_9_mm_on_the_2_8_inch_and_12_mm_on_the_3_5_inch_panel() {
     for (lay, glass, name) in panels() {
         let min_px = if lay == Layout::QVGA { 50 } else { 78 };
+        // The sizes table of docs/targets.md, in px and mm.
+        let row = |what: &str, a: &Area| {
+            let mm = |px: u16| f64::from(px) * glass.mm_per_px;
+            println!("md: | {name} | {what} | {}x{} px | {:.1} x {:.1} mm |", a.w, a.h, mm(a.w), mm(a.h));
+        };
         for i in 0..SLOTS {
             let a = lay.slot(i);
             let short = a.w.min(a.h);
-            println!(
-                "md: | {name} | button {i} | {}x{} px | {:.1} x {:.1} mm |",
-                a.w,
-                a.h,
-                f64::from(a.w) * glass.mm_per_px,
-                f64::from(a.h) * glass.mm_per_px
-            );
+            row(&format!("button {i}"), &a);
             assert!(short >= min_px, "{name}: button {i} {a:?} is {short} px on its short side (≥ {min_px})");
         }
-        let s = lay.stop();
-        println!(
-            "md: | {name} | STOP | {}x{} px | {:.1} x {:.1} mm |",
-            s.w,
-            s.h,
-            f64::from(s.w) * glass.mm_per_px,
-            f64::from(s.h) * glass.mm_per_px
-        );
+        row("STOP", &lay.stop());
     }
     // STOP ≥ 15 × 20 mm on the 2.8" panel: 84 × 112 px at 0.180 mm/px.
     let (stop, mm) = (Layout::QVGA.stop(), Glass::QVGA_28.mm_per_px);
