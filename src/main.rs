@@ -164,11 +164,12 @@ fn frame(app: &mut App, b: &mut Board) {
         probe_wiring(app, b);
     }
     let app_ticks = b.pwm.ticks();
+    let app_late = b.pwm.period_pending();
     // After the touch read, never during it: drawing holds the shared pins.
     // Only what changed is redrawn, and only as much as the period leaves;
     // the rest in the next frames.
     let _ = app.draw_screen_sliced(&mut Lcd::oriented(&mut b.bus, b.lcd, b.rotation), &mut FrameBudget::new(&b.pwm));
-    if frame::record(&b.pwm, app_ticks) {
+    if frame::record(&b.pwm, app_ticks, app_late) {
         app.frame_was_late();
     }
 }

@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
 use touch_arm::motion::planner::cells::{cell_table, CELLS};
-use touch_arm::motion::planner::correction::{correction_duration, Correction, Running};
+use touch_arm::motion::planner::correction::{correction_duration, correction_duration_within, Correction, Running};
 use touch_arm::motion::planner::plan_move::scaling_law;
 use touch_arm::motion::planner::request::{PlanError, PlanLimits};
 use touch_arm::motion::scaled::ScaledZat;
@@ -77,7 +77,8 @@ proptest! {
     /// acceleration starts at 0) acceleration of the sum are the running
     /// move's; the sum ends exactly on the new target; and with the planned
     /// duration the continuous sum keeps every joint within its speed and
-    /// acceleration (with the slack) and its angle range, on a dense scan.
+    /// acceleration (with the slack) and its angle range, on a dense scan;
+    /// also with the duration of a search the chip cut short.
     #[test]
     fn a_correction_is_continuous_within_the_limits_and_ends_exactly(
         old_law in law_strategy(),
@@ -87,6 +88,7 @@ proptest! {
         frac in 0.0f64..1.0,
         speed in prop::array::uniform3(0.5f64..4.0),
         accel in prop::array::uniform3(2.0f64..40.0),
+        cut in 0u8..6,
     ) {
         let lim = limits(speed, accel);
         let start = [0.1, -0.2, 0.3];
@@ -106,10 +108,30 @@ proptest! {
             slack: 1.0 / 0.98,
         };
         let run = Running { law: old_law, delta: *m0.plan.delta(), duration: m0.ts, elapsed };
-        let ts = match correction_duration(&c, Some(&run), &lim) {
-            Ok(ts) => ts,
-            Err(e) => {
+        let full = correction_duration(&c, Some(&run), &lim);
+        // The chip's search when the period's time runs out after `cut`
+        // bisections (5: never, the full search): the duration may only be
+        // longer, and the scan below holds for it just the same.
+        let mut asked = 0u8;
+        let within = correction_duration_within(&c, Some(&run), &lim, &mut || {
+            asked += 1;
+            asked <= cut
+        });
+        let ts = match (full, within) {
+            (Ok(full), Ok(ts)) => {
+                prop_assert!(ts >= full, "cut after {cut}: {ts} < {full}");
+                if cut >= 4 {
+                    prop_assert_eq!(ts, full);
+                }
+                ts
+            }
+            (Err(e), Err(f)) => {
                 prop_assert_eq!(e, PlanError::SpeedLimit);
+                prop_assert_eq!(f, e);
+                return Ok(());
+            }
+            (a, b) => {
+                prop_assert!(false, "the cut search disagrees: {a:?} vs {b:?}");
                 return Ok(());
             }
         };
@@ -277,7 +299,7 @@ fn the_track_keeps_its_pulses_across_a_re_plan() {
             old.advance();
         }
         let mut new = old;
-        let (ts, wait) = new.replan(&replan, &maps).unwrap().unwrap();
+        let (ts, wait) = new.replan(&replan, &maps, &mut || true).unwrap().unwrap();
         assert_eq!(wait, 0);
         let (a, b) = (old.frame_now(), new.frame_now());
         assert_eq!(a.pulses, b.pulses, "re-plan at frame {at}");
@@ -310,16 +332,16 @@ fn the_track_keeps_its_pulses_across_a_re_plan() {
     for _ in 0..10 {
         t.advance();
     }
-    t.replan(&replan, &maps).unwrap().unwrap();
+    t.replan(&replan, &maps, &mut || true).unwrap().unwrap();
     t.advance();
     let third = [1.0f32, 1.0, -1.5];
     let before = t.frame_now();
-    let (_, wait) = t.replan(&Replan { target: &third, ..replan }, &maps).unwrap().unwrap();
+    let (_, wait) = t.replan(&Replan { target: &third, ..replan }, &maps, &mut || true).unwrap().unwrap();
     // The move had run 11 frames of its 100.
     assert_eq!((wait, t.motion().len()), (90, 3));
     assert_eq!(t.frame_now().pulses, before.pulses);
     let fourth = [0.9f32, 1.2, -1.4];
-    let (_, wait) = t.replan(&Replan { target: &fourth, ..replan }, &maps).unwrap().unwrap();
+    let (_, wait) = t.replan(&Replan { target: &fourth, ..replan }, &maps, &mut || true).unwrap().unwrap();
     assert_eq!((wait, t.motion().len()), (90, 3));
     assert_eq!(t.frame_now().pulses, before.pulses);
     assert_eq!(t.motion().target(), &fourth);
@@ -347,12 +369,16 @@ fn a_waiting_correction_that_starts_alone_keeps_the_pulses() {
     }
     // A small correction (short: it ends long before the older term) ...
     let near = [0.62f32, 2.18, -2.38];
-    t.replan(&Replan { target: &near, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps).unwrap().unwrap();
+    t.replan(&Replan { target: &near, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps, &mut || true)
+        .unwrap()
+        .unwrap();
     t.advance();
     // ... and one that waits for the older term to end.
     let third = [0.7f32, 2.1, -2.3];
-    let (_, wait) =
-        t.replan(&Replan { target: &third, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps).unwrap().unwrap();
+    let (_, wait) = t
+        .replan(&Replan { target: &third, law: LawKind::Zat, lim: &lim, slack: 1.0 / 0.98 }, &maps, &mut || true)
+        .unwrap()
+        .unwrap();
     assert!(wait > 0);
     let mut prev = t.frame_now().pulses;
     let mut frames = 0;

@@ -24,6 +24,16 @@ use crate::touch::filter::{Read, TouchPoint, MAX_SAMPLES};
 /// (the unit `cal show` prints limits in and `goto` is typed in).
 pub(super) const HALF_CENTIDEG: f32 = core::f32::consts::PI / 36_000.0;
 
+/// Timer ticks (0.5 µs) a re-plan wants left in the PWM period to start in
+/// this frame: its doublings, which it cannot cut short, at their measured
+/// cost (BENCHMARKS.md, frame budget). With less it waits a frame
+/// (`finish_plan`).
+const REPLAN_ROOM_TICKS: u16 = 30_000;
+/// Ticks a re-plan wants left for one more bisection of its duration
+/// search: one check at its worst, then the law, the superposition, the
+/// answer and the telemetry line (measured in simavr; BENCHMARKS.md).
+const CHECK_ROOM_TICKS: u16 = 16_000;
+
 /// `q` lies within `(lo, hi)` to the hundredth of a degree: how a typed
 /// target (`goto`, `grip`) and a held pose under a new calibration (`cal
 /// set`) are judged against angle limits, so the two agree.
@@ -52,7 +62,8 @@ impl App {
         let now = io.clock.now_ms();
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
         let catch_up = core::mem::take(&mut self.late);
-        self.heavy = HeavyTask::new_frame(catch_up);
+        // A deferred re-plan is this frame's heavy thing (`finish_plan`).
+        self.heavy = HeavyTask::new_frame(catch_up || self.plan_deferred);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, now, io.storage, io.serial);
         self.step_motion();
@@ -64,7 +75,7 @@ impl App {
         // period's pulses are already set if it takes a little longer. One
         // plan a frame: a grip waits for a frame without an arm plan.
         let arm_planned = self.plan_due.is_some();
-        self.finish_plan(io.serial);
+        self.finish_plan(io.servos, io.serial, catch_up);
         self.finish_grip(io.serial, arm_planned || catch_up);
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
@@ -347,11 +358,30 @@ impl App {
     /// Plans this frame's accepted target (the move starts in the next frame)
     /// and answers whoever asked: while moving, a correction superposed on
     /// the running move; at rest, a move from the pose just commanded.
+    ///
+    /// A re-plan's duration search takes up to about a whole PWM period on
+    /// the chip (BENCHMARKS.md, frame budget): when this frame has less than
+    /// [`REPLAN_ROOM_TICKS`] left it waits for the next, which starts it
+    /// right after the pulses and takes nothing else heavy (a catch-up frame
+    /// passes it on again). Its bisections stop where the period's time
+    /// does (`correction_duration_within`), so it ends inside the period.
     #[inline(never)] // avr-trap: frame-size
-    fn finish_plan<U: SerialPort>(&mut self, serial: &mut U) {
+    fn finish_plan<S: ServoOutputs, U: SerialPort>(&mut self, servos: &S, serial: &mut U, catch_up: bool) {
         let Some(due) = self.plan_due.take() else { return };
-        let r = if due.kind == MoveKind::Joint {
-            self.plan_target(&due.target, due.touch.as_ref())
+        let replan = due.kind == MoveKind::Joint && !self.track.is_done();
+        let short = |need: u16| servos.period_ticks_left().is_some_and(|left| left < need);
+        if catch_up || (replan && !self.plan_deferred && short(REPLAN_ROOM_TICKS)) {
+            self.plan_due = Some(due);
+            self.plan_deferred = true;
+            return;
+        }
+        self.plan_deferred = false;
+        let r = if self.stopped {
+            // Latched (the `!` byte) while the plan waited.
+            Err(Refusal::Stopped)
+        } else if due.kind == MoveKind::Joint {
+            let mut room = || !short(CHECK_ROOM_TICKS);
+            self.plan_target(&due.target, due.touch.as_ref(), &mut room)
         } else {
             match self.begin_path_check(&due) {
                 // Answered when the check decides (`step_path_check`).
@@ -396,13 +426,18 @@ impl App {
 
     /// The plan of an accepted target under this move's limits.
     #[inline(never)] // avr-trap: frame-size
-    fn plan_target(&mut self, target: &[f32; JOINTS], touch: Option<&TouchTarget>) -> Result<(), Refusal> {
+    fn plan_target<F: FnMut() -> bool>(
+        &mut self,
+        target: &[f32; JOINTS],
+        touch: Option<&TouchTarget>,
+        room: &mut F,
+    ) -> Result<(), Refusal> {
         let lim = self.plan_limits(self.maps.each_ref(), self.move_percent());
         // A new target while moving: a correction superposed on the move.
         if !self.track.is_done() {
             let slack = 1.0 / (1.0 - self.params.speed_margin);
             let r = Replan { target, law: self.config.law, lim: &lim, slack };
-            if let Some((ts, wait)) = self.track.replan(&r, &self.maps)? {
+            if let Some((ts, wait)) = self.track.replan(&r, &self.maps, room)? {
                 let end_velocity = [0.0; JOINTS];
                 let replan = Some(wait);
                 let touch = touch.copied();

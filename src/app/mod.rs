@@ -19,9 +19,9 @@
 //!    the period end ([`App::frame_was_late`]), does no heavy thing: no serial
 //!    line, no panel read, no plan (a `pose go`'s gripper, due after the
 //!    arm's plan, waits too). It steps the motion and writes the pulses
-//!    early, so a long plan (a re-plan takes up to about two thirds of a
-//!    frame; BENCHMARKS.md) never pushes the next pulses past their period,
-//!    however the following frames are loaded.
+//!    early, so work that ran long (a re-plan's doublings, which cannot be
+//!    cut short; BENCHMARKS.md) never pushes the next pulses past their
+//!    period, however the following frames are loaded.
 //! 1. Serial: first a one-byte STOP (`!`) the port flagged is latched and
 //!    answered, in every frame (catch-up ones too). Then at most
 //!    `serial_bytes_per_frame` bytes, at most one complete line, only while
@@ -42,7 +42,10 @@
 //!    (`grip.rs`), after the joints' pulses so it does not delay them.
 //! 5. Plan: a target accepted in 1 or 2 is planned now, from the pose just
 //!    commanded, and answered (`ok move`, `info touch …`); the move starts in
-//!    the next frame. A plan can take most of a frame; coming after the
+//!    the next frame. A re-plan (a target while moving) that finds too
+//!    little of the period left waits for the next frame, which takes no
+//!    other heavy thing, and its search stops refining where the period's
+//!    time does (`machine.rs`, `finish_plan`). A plan can take most of a frame; coming after the
 //!    pulses, it cannot delay them. A path target (`path line`, `circle`)
 //!    only has its check set up here.
 //! 6. Path check: a pending path move's plan-time check runs as many units
@@ -511,6 +514,9 @@ pub struct App {
     deferred_touch: Option<TouchPoint>,
     /// The target of this frame, planned after the pulses.
     plan_due: Option<PlanDue>,
+    /// `plan_due` is a re-plan the last frame had no room for: this frame
+    /// takes no other heavy thing and plans it (`machine.rs`).
+    plan_deferred: bool,
     screen: screen::Screen,
     /// The firmware should probe the panel's wiring (`wiring.rs`).
     probe_wanted: bool,
@@ -622,6 +628,7 @@ impl App {
                 late: false,
                 deferred_touch: None,
                 plan_due: None,
+                plan_deferred: false,
                 screen,
                 probe_wanted: false,
                 wiring_unknown: false,

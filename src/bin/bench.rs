@@ -458,11 +458,11 @@ fn frames(b: &mut Bench, paper: &MultiPlan<f32>, maps: &[ServoMap; JOINTS]) {
         }
         t
     };
-    b.run_mut("app_replan", running, |t| t.replan(&replan, maps).ok().flatten().map(|(ts, _)| ts));
+    b.run_mut("app_replan", running, |t| t.replan(&replan, maps, &mut || true).ok().flatten().map(|(ts, _)| ts));
     for _ in 0..29 {
         track.advance();
     }
-    let Ok(Some(_)) = track.replan(&replan, maps) else { halt() };
+    let Ok(Some(_)) = track.replan(&replan, maps, &mut || true) else { halt() };
     b.run("frame_superposed", |i| spread(i, 0.0, 1.4), |&t| track.frame(t));
 }
 

@@ -74,18 +74,29 @@ pub struct FrameStats {
     pub worst_app_ticks: u16,
     /// Latest frame end (of the frames that did not overrun), ticks.
     pub worst_ticks: u16,
+    /// Of the overruns, those whose app part (serial, touch, plan, check)
+    /// had already passed the period end before any drawing: the rest ran
+    /// late in a draw slice.
+    pub app_overruns: u32,
 }
 
 /// Read by the simulator harness through the ELF symbol; written only by
 /// [`record`], from the main loop.
 #[no_mangle]
-pub static mut FRAME_STATS: FrameStats =
-    FrameStats { frames: 0, late_pulses: 0, overruns: 0, worst_pulse_ticks: 0, worst_app_ticks: 0, worst_ticks: 0 };
+pub static mut FRAME_STATS: FrameStats = FrameStats {
+    frames: 0,
+    late_pulses: 0,
+    overruns: 0,
+    worst_pulse_ticks: 0,
+    worst_app_ticks: 0,
+    worst_ticks: 0,
+    app_overruns: 0,
+};
 
 /// Records the frame that just ended; `app_ticks` is when the app's part
-/// (before drawing) ended. Returns whether it overran: the next frame then
-/// starts late.
-pub fn record(pwm: &ServoPwm, app_ticks: u16) -> bool {
+/// (before drawing) ended, `app_late` whether the next period had started
+/// by then. Returns whether it overran: the next frame then starts late.
+pub fn record(pwm: &ServoPwm, app_ticks: u16, app_late: bool) -> bool {
     let end = pwm.ticks();
     let overrun = pwm.period_pending();
     let (write, late) = pwm.last_write;
@@ -100,6 +111,9 @@ pub fn record(pwm: &ServoPwm, app_ticks: u16) -> bool {
     }
     if overrun {
         s.overruns = s.overruns.saturating_add(1);
+        if app_late {
+            s.app_overruns = s.app_overruns.saturating_add(1);
+        }
     } else {
         s.worst_app_ticks = s.worst_app_ticks.max(app_ticks);
         s.worst_ticks = s.worst_ticks.max(end);

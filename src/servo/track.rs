@@ -6,7 +6,7 @@
 use crate::math::fixed::mul_hi;
 use crate::motion::plan::{JointLaw, LawKind, MultiPlan, JOINTS};
 use crate::motion::planner::cells::cell_table;
-use crate::motion::planner::correction::{correction_duration, Correction, Running};
+use crate::motion::planner::correction::{correction_duration_within, Correction, Running};
 use crate::motion::planner::plan_move::scaling_law;
 use crate::motion::planner::request::{PlanError, PlanLimits};
 use crate::motion::superpose::{Superposed, Term, ACTIVE, TERMS};
@@ -443,15 +443,21 @@ impl ServoTrack {
     /// Superposes a correction toward `r.target` from this frame on, or,
     /// beside two running terms, from the frame after the older ends (a
     /// waiting correction is replaced: it has moved nothing): see
-    /// [`Superposed`]. The duration is [`correction_duration`]'s, within the
+    /// [`Superposed`]. The duration is [`correction_duration_within`]'s, within the
     /// joints' angle windows; returns it and the frames the correction
     /// waits. `None`, and nothing changed, when the new law or a running one
     /// is not superposed (linear, the papers' ζ-a-tₛ: the caller re-plans
-    /// from rest); unchanged on error too.
+    /// from rest); unchanged on error too. `room` bounds the duration search
+    /// ([`correction_duration_within`]): `&mut || true` for the full search.
     // Out of line: the correction's search stays out of plan_target's
     // frame, which is on the fresh plan's (the deepest) chain.
     #[inline(never)] // avr-trap: frame-size
-    pub fn replan(&mut self, r: &Replan, maps: &[ServoMap; JOINTS]) -> Result<Option<(f32, u16)>, PlanError> {
+    pub fn replan<F: FnMut() -> bool>(
+        &mut self,
+        r: &Replan,
+        maps: &[ServoMap; JOINTS],
+        room: &mut F,
+    ) -> Result<Option<(f32, u16)>, PlanError> {
         let motion = &self.motion;
         let terms = motion.terms();
         if cell_table(r.law).is_none() || terms.iter().flatten().any(|t| cell_table(t.law.kind()).is_none()) {
@@ -485,7 +491,7 @@ impl ServoTrack {
             *w = map.angle_window();
         }
         let c = Correction { delta, target: *r.target, law: r.law, range, slack: r.slack };
-        let ts = correction_duration(&c, run.as_ref(), r.lim)?;
+        let ts = correction_duration_within(&c, run.as_ref(), r.lim, room)?;
         let law = scaling_law(r.law, ts).map_err(|_| PlanError::Trajectory)?;
         let replaces = terms.get(slot).is_some_and(Option::is_some);
         let s = Superposing { law, delta, target: *r.target, slot, wait, replaces };

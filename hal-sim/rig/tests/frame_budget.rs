@@ -35,9 +35,10 @@ struct FrameStats {
     worst_pulse_ticks: u16,
     worst_app_ticks: u16,
     worst_ticks: u16,
+    app_overruns: u32,
 }
 
-const STATS_LEN: usize = 18;
+const STATS_LEN: usize = 22;
 
 fn stats(s: &Session) -> FrameStats {
     let b = s.avr.read_symbol("FRAME_STATS").expect("FRAME_STATS in the ELF");
@@ -51,6 +52,7 @@ fn stats(s: &Session) -> FrameStats {
         worst_pulse_ticks: u16_at(12),
         worst_app_ticks: u16_at(14),
         worst_ticks: u16_at(16),
+        app_overruns: u32_at(18),
     }
 }
 
@@ -208,12 +210,13 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         cycles(b.worst_ticks)
     );
     println!(
-        "md: | busiest, 12 s: a touch every 0.6 s, the speed, More, Grip and Back buttons, telemetry, 150 lines/s at full baud (moving in {:.0} % of the frames), then 1 s without input | {} | {} | {} | {} | {} | {} | {} |",
+        "md: | busiest, 12 s: a touch every 0.6 s, the speed, More, Grip and Back buttons, telemetry, 150 lines/s at full baud (moving in {:.0} % of the frames), then 1 s without input | {} | {} | {} | {} ({}) | {} | {} | {} |",
         w.moving_share * 100.0,
         st.frames,
         w.periods,
         w.missed(),
         st.overruns,
+        st.app_overruns,
         cycles(st.worst_pulse_ticks),
         cycles(st.worst_app_ticks),
         cycles(st.worst_ticks)
@@ -221,12 +224,13 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     let pw = path_moves_window();
     let ps = &pw.stats;
     println!(
-        "md: | path moves, 22.6 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} | {} | {} | {} |",
+        "md: | path moves, 22.6 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} ({}) | {} | {} | {} |",
         pw.moving_share * 100.0,
         ps.frames,
         pw.periods,
         pw.missed(),
         ps.overruns,
+        ps.app_overruns,
         cycles(ps.worst_pulse_ticks),
         cycles(ps.worst_app_ticks),
         cycles(ps.worst_ticks)
@@ -239,10 +243,10 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
     );
     assert_eq!(b.late_pulses + b.overruns, 0, "power-up: {b:?}");
     assert_eq!(w.missed(), 0, "missed PWM periods: {st:?}, {} periods", w.periods);
-    // A frame that ran past the period end (a long re-plan, or a draw over
-    // its estimate) is followed by a catch-up frame, which writes its pulses
-    // late in its period but in time; such frames stay rare.
-    assert!(u64::from(st.overruns) * 50 <= w.periods, "more than 2 % of the frames ran late: {st:?}");
+    // No frame runs past the period end: a re-plan short of time waits a
+    // frame and cuts its refinement (`app::machine::finish_plan`), and the
+    // draws take what is left (issue #22 §2).
+    assert_eq!(st.overruns, 0, "frames ended late: {st:?}");
     assert!(w.moving_share > 0.5, "the arm moved in only {:.0} % of the frames", w.moving_share * 100.0);
     assert_eq!(answered, sent, "every line answered, one by one or as lost");
     assert_eq!(s.avr.uart_overruns(), 0, "the receive interrupt kept up");

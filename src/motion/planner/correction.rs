@@ -44,8 +44,9 @@ use crate::motion::plan::{LawKind, JOINTS};
 
 /// Checks of a candidate T per re-plan, at most: the first, the doublings
 /// (six cover the 60× span from the 0.5 s floor to 30 s) and the bisections
-/// after the first pass. With the catch-up frame (module doc of `app`) this
-/// bounds a re-plan to well under two PWM periods on the chip.
+/// after the first pass. The bisections stop earlier when the caller's
+/// time runs out ([`correction_duration_within`]); the doublings cannot,
+/// so this bounds the part that can't be cut short to seven checks.
 pub const MAX_CHECKS: u8 = 8;
 /// Cells of the running term per piece: a piece's bounds are the maxima
 /// over its cells (a little above each cell's own), and a check costs its
@@ -134,6 +135,21 @@ pub fn correction_duration<R: Real>(
     run: Option<&Running<R>>,
     lim: &PlanLimits<R>,
 ) -> Result<R, PlanError> {
+    correction_duration_within(c, run, lim, &mut || true)
+}
+
+/// [`correction_duration`], asking `room` before each bisection whether
+/// the caller has time for one more check: once it has not, the search ends
+/// on the shortest T that passed so far (a valid T, only less refined). The
+/// first pass is searched whatever `room` says: without a passing T there
+/// is no move to start. On the chip `room` is the PWM period's time left
+/// (`app::machine`), so a re-plan ends before the period does.
+pub fn correction_duration_within<R: Real, F: FnMut() -> bool>(
+    c: &Correction<R>,
+    run: Option<&Running<R>>,
+    lim: &PlanLimits<R>,
+    room: &mut F,
+) -> Result<R, PlanError> {
     let ratios = law_ratios(c.law).ok_or(PlanError::Trajectory)?;
     let req = MoveRequest { start: [R::ZERO; JOINTS], target: c.delta, law: c.law };
     let t0 = scaled_duration(&ratios, &[time_ratio(&req, &lim.speed)?, time_ratio(&req, &lim.accel)?], lim)?;
@@ -214,7 +230,7 @@ pub fn correction_duration<R: Real>(
         }
     }
     let mut n = 0;
-    while n < REFINE && checks < MAX_CHECKS {
+    while n < REFINE && checks < MAX_CHECKS && room() {
         n += 1;
         checks += 1;
         let mid = (lo * hi).sqrt();
