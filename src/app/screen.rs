@@ -70,6 +70,9 @@ enum ScreenEvent {
     Page(Page),
     /// A pose button refused at once (a refusal, or an empty slot: `None`).
     Pose(u8, Option<Refusal>),
+    /// A carer's confirmed pose save: the sequence number, or the refusal
+    /// (`None`: the EEPROM save failed).
+    PoseSave(u8, Result<u16, Option<Refusal>>),
     Grip(Refusal),
     /// Undo refused at once (STOP latched, nothing to undo).
     Undo(Refusal),
@@ -177,6 +180,11 @@ impl App {
             Ok((x, y)) => self.screen.ui.hit_panel(x, y),
             Err(_) => None,
         };
+        // What the lock hides now does nothing, even if the glass has not
+        // caught up yet.
+        let hidden = self.hidden_now();
+        let hit = hit.filter(|h| !ui::hides(hidden, h));
+        let confirm = self.take_confirm();
         match hit {
             Some(Hit::Map { x_p, y_p }) => {
                 self.screen.touched = Some((x_p, y_p));
@@ -216,6 +224,7 @@ impl App {
                 self.screen.page = self.screen.page.next();
                 ScreenEvent::Page(self.screen.page)
             }
+            Some(Hit::Pose(n)) if confirm == Some(n) => self.screen_pose_save(n, storage),
             Some(Hit::Pose(n)) => self.screen_pose(n, storage),
             Some(Hit::Grip) => match self.screen_grip() {
                 // Answered once planned (`finish_grip`).
@@ -280,6 +289,17 @@ impl App {
         }
     }
 
+    /// The carer's confirmed save: exactly `pose save <n>`.
+    #[inline(never)] // avr-trap: frame-size
+    fn screen_pose_save<E: Storage>(&mut self, n: u8, storage: &mut E) -> ScreenEvent {
+        let r = match self.pose(PoseCmd::Save(n), storage) {
+            Ok(PoseDone::Stored(_, _, Ok(seq))) => Ok(seq),
+            Ok(_) => Err(None),
+            Err(e) => Err(Some(e)),
+        };
+        ScreenEvent::PoseSave(n, r)
+    }
+
     /// `info screen pose go <n> …` once a screen pose's move is planned, or
     /// `err screen pose go <n> <reason>`.
     #[inline(never)] // avr-trap: frame-size
@@ -342,6 +362,7 @@ impl App {
             }
             ScreenEvent::Speed(s) => {
                 line.str(t!("info screen speed")).word(s.name());
+                self.cap_suffix(s, &mut line);
             }
             ScreenEvent::Calibrate(Ok(())) => {
                 line.str(t!("info screen calibrate"));
@@ -360,6 +381,18 @@ impl App {
                 line.str(t!("err screen pose go")).num(i32::from(n)).str(t!(" empty"));
             }
             ScreenEvent::Pose(n, Some(r)) => return self.report_screen_pose(serial, n, Err(r)),
+            ScreenEvent::PoseSave(n, r) => {
+                line.str(match r {
+                    Ok(_) => t!("info screen pose save"),
+                    Err(_) => t!("err screen pose save"),
+                });
+                line.num(i32::from(n));
+                match r {
+                    Ok(seq) => line.word(t!("seq")).num(i32::from(seq)),
+                    Err(Some(e)) => line.word(e.reason()),
+                    Err(None) => line.word(t!("save failed")),
+                };
+            }
             ScreenEvent::Grip(r) => {
                 line.str(t!("err screen grip")).word(r.reason());
             }
@@ -488,6 +521,8 @@ impl App {
             alpha: st.touch_target.map_or(f32::NAN, |t| t.alpha),
             joints: st.commanded,
             speed: st.speed,
+            hide: self.hidden_now(),
+            confirm: self.confirm_slot(),
             warnings,
             page: self.screen.page,
             grip_closed: self.grip_closed(),

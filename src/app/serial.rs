@@ -32,6 +32,7 @@
 //!   and is otherwise counted, then reported as `warn output full: <n> lines
 //!   dropped` as soon as that fits.
 
+use super::access::AccessDone;
 use super::poses::{PoseDone, PoseStoreError};
 use super::refusal::Refusal;
 use super::telemetry::status_line;
@@ -41,7 +42,7 @@ use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError, PathMode, SpeedPreset};
 use crate::config::store::{self, SaveError};
 use crate::motion::plan::LawKind;
-use crate::protocol::command::{parse, CmdError, Command, LogMode, SerialLine, Verb, STOP_BYTE};
+use crate::protocol::command::{parse, AccessCmd, CmdError, Command, LogMode, SerialLine, Verb, STOP_BYTE};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 
@@ -120,6 +121,8 @@ pub(super) enum Done {
     Undone,
     /// `cal set lcd …`: the display overrides' new sequence number.
     CalLcd(Result<u16, SaveError>),
+    /// An `access` command.
+    Access(AccessDone, AccessCmd),
 }
 
 impl App {
@@ -212,6 +215,9 @@ impl App {
 
     /// Carries out one command.
     fn execute<E: Storage>(&mut self, cmd: Command, storage: &mut E) -> Done {
+        if let Err(e) = self.check_unlocked(&cmd) {
+            return Done::Refused(e);
+        }
         let result = match cmd {
             Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| Done::Moved),
             Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| Done::Went),
@@ -259,6 +265,7 @@ impl App {
             Command::CalLcd(set) => self.cal_lcd(set, storage),
             Command::Park => self.move_to_angles(&self.config.arm.park.map(i32::from)).map(|()| Done::Parked),
             Command::Undo => self.undo().map(|()| Done::Undone),
+            Command::Access(a) => self.access(a, storage).map(|d| Done::Access(d, a)),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -335,6 +342,7 @@ impl App {
             }
             Done::Speed(s) => {
                 r.str(t!("ok speed ")).str(s.name());
+                self.cap_suffix(s, r);
             }
             Done::Log(mode) => {
                 r.str(match mode {
@@ -431,6 +439,7 @@ impl App {
                 r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
             }
             Done::Pose(PoseDone::List) => self.pose_list(r),
+            Done::Access(d, a) => self.access_reply(&d, &a, r),
         }
         serial.write(reply.finish());
     }

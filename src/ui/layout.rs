@@ -122,6 +122,18 @@ impl Layout {
         Layout { turned: on, ..self }
     }
 
+    /// The carer's gesture places (`app::access`): `i` = 0 the left end of
+    /// the status lines, 1 their right end, each a button wide and as tall
+    /// as the status lines: places with nothing on them, far from the map,
+    /// STOP's guard band and the buttons.
+    pub const fn carer_corner(&self, i: u8) -> Area {
+        let top = self.headline().y;
+        let h = (self.joints().bottom() - top) as u16;
+        let w = self.button_h();
+        let x = if i == 0 { 0 } else { (self.w - w) as i16 };
+        Area::new(x, top, w, h)
+    }
+
     /// Screen width, pixels.
     pub const fn width(&self) -> u16 {
         self.w
