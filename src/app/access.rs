@@ -227,24 +227,22 @@ impl App {
         Ok(AccessDone::Unlock)
     }
 
-    /// A contact that lifted on no button (`press.rs`): a step of the
-    /// gesture if it was a still [`GESTURE_HOLD_MS`] hold on a carer
-    /// corner; `before` is the first step's lift-off, if it was the last
+    /// A still contact that landed and lifted on carer place `k`
+    /// (`press.rs`): a step of the gesture if it was held
+    /// [`GESTURE_HOLD_MS`] by itself (a flicker's brief contacts do not add
+    /// up here); `before` is the first step's lift-off, if it was the last
     /// contact.
     #[inline(never)] // avr-trap: frame-size
-    pub(super) fn carer_gesture<U: SerialPort>(&mut self, c: &Contact, before: Option<u32>, serial: &mut U) {
+    pub(super) fn carer_gesture<U: SerialPort>(&mut self, c: &Contact, k: u8, before: Option<u32>, serial: &mut U) {
         if c.duration_ms() < GESTURE_HOLD_MS {
             return;
         }
-        let lay = *self.screen.ui.layout();
-        let px = self.raw_to_panel(&c.centre()).ok().and_then(|(x, y)| lay.panel_to_pixel(x, y));
-        let Some((x, y)) = px else { return };
         let now = c.last_ms();
         let mut line = Line::new();
-        if lay.carer_corner(0).contains(x, y) {
+        if k == 0 {
             self.carer.gesture = Some(now);
             line.str(t!("info screen access 1 of 2"));
-        } else if lay.carer_corner(1).contains(x, y) && before.is_some_and(|t| now.wrapping_sub(t) <= GESTURE_WINDOW_MS) {
+        } else if before.is_some_and(|t| now.wrapping_sub(t) <= GESTURE_WINDOW_MS) {
             if self.carer.locked {
                 self.set_locked(false);
                 line.str(t!("info screen access unlock"));

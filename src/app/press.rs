@@ -277,16 +277,15 @@ impl App {
                 (Some(Hit::Map { .. }), Some(Hit::Map { .. }), Some(Hit::Map { .. })) => centre,
                 (Some(a), Some(b), _) if same_button(&a, &b) => last,
                 // Landed and lifted on no button (a gap, the status lines,
-                // a hidden button): nothing, unless it was a step of the
-                // carer's gesture.
-                (None, None, _) => return self.carer_gesture(&c, gesture, serial),
+                // a hidden button): deliberately nothing, as before.
+                (None, None, _) => return,
                 _ => return self.press_cancel(serial),
             }
         };
-        if let Some(Hit::Pose(n)) = landed.filter(|_| self.screen.calibration.is_none()) {
-            if self.carer_pose_hold(n, held, serial) {
-                return;
-            }
+        match landed.filter(|_| self.screen.calibration.is_none()) {
+            Some(Hit::Carer(k)) => return self.carer_gesture(&c, k, gesture, serial),
+            Some(Hit::Pose(n)) if self.carer_pose_hold(n, held, serial) => return,
+            _ => {}
         }
         if self.heavy.is_spent() && self.touch_plans(&p) {
             self.deferred_touch = Some(p);

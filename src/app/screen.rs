@@ -251,8 +251,9 @@ impl App {
             },
             Some(Hit::Line) => self.screen_toggle(false),
             Some(Hit::Lift) => self.screen_toggle(true),
-            // Guard bands and gaps between buttons: deliberately nothing.
-            None => ScreenEvent::Nothing,
+            // Guard bands and gaps between buttons: deliberately nothing
+            // (the carer's places act at the lift-off: `press.rs`).
+            Some(Hit::Carer(_)) | None => ScreenEvent::Nothing,
         }
     }
 

@@ -123,12 +123,12 @@ impl Layout {
     }
 
     /// The carer's gesture places (`app::access`): `i` = 0 the left end of
-    /// the status lines, 1 their right end, each a button wide and as tall
-    /// as the status lines: places with nothing on them, far from the map,
-    /// STOP's guard band and the buttons.
+    /// the headline and the detail line, 1 their right end, each a button
+    /// wide: places where the user's pages have nothing to press, below the
+    /// guard band and two status lines above the buttons.
     pub const fn carer_corner(&self, i: u8) -> Area {
         let top = self.headline().y;
-        let h = (self.joints().bottom() - top) as u16;
+        let h = (self.detail().bottom() - top) as u16;
         let w = self.button_h();
         let x = if i == 0 { 0 } else { (self.w - w) as i16 };
         Area::new(x, top, w, h)

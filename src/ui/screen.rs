@@ -98,6 +98,10 @@ pub enum Hit {
     Line,
     /// The Lift toggle (Setup page): a lift ↔ `lift off`.
     Lift,
+    /// Carer gesture place `k` ([`Layout::carer_corner`], every page):
+    /// nothing is drawn there and a touch does nothing but a step of the
+    /// carer's gesture (`app::access`).
+    Carer(u8),
     /// A point of the map, in workspace coordinates.
     Map {
         /// −1..=1, left → right.
@@ -757,6 +761,9 @@ impl Ui {
         }
         if lay.page_key().contains(x, y) {
             return Some(Hit::Page);
+        }
+        if let Some(k) = (0..2).find(|&k| lay.carer_corner(k).contains(x, y)) {
+            return Some(Hit::Carer(k));
         }
         let i = (0..SLOTS - 1).find(|&i| lay.slot(i).contains(x, y))?;
         Some(page_button(view.page, i)).filter(|h| !hides(view.hide, h))
