@@ -35,12 +35,12 @@ use super::refusal::Refusal;
 use super::text::Line;
 use super::App;
 use crate::config::access::{self, item, Access, ACCESS_DEFAULT};
+use crate::config::settings::CalSet;
 use crate::config::settings::SpeedPreset;
 use crate::config::store::SaveError;
 use crate::protocol::command::{AccessCmd, Command};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::contact::Contact;
-use crate::config::settings::CalSet;
 
 /// Each of the gesture's two holds, ms.
 pub const GESTURE_HOLD_MS: u32 = 3000;

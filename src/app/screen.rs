@@ -5,6 +5,8 @@
 //! toggle `path line|joint` and the Lift toggle `lift 0.20|off` through the
 //! same app paths as the serial commands, Calibrate starts the crosshair
 //! flow), and the app draws its state through the UI after each frame.
+//! What the carer lock hides does nothing (`access.rs`), and in carer mode
+//! a pose button held 2 s and confirmed saves the pose held now.
 //! Without a screen the whole panel is the workspace, as in the paper.
 
 use crate::config::settings::{PathMode, SpeedPreset};

@@ -53,8 +53,7 @@ pub const PIN_MAX: usize = 8;
 
 const CRC_AT: usize = ACCESS_RECORD_LEN - 2;
 const _: () = assert!(ACCESS_MAGIC[0] == super::store::MAGIC[0] && UNCOMMITTED != ACCESS_MAGIC[0]);
-const _: () =
-    assert!(super::lcd::LCD_SLOT_B as usize + super::lcd::LCD_RECORD_LEN <= ACCESS_SLOT_A as usize);
+const _: () = assert!(super::lcd::LCD_SLOT_B as usize + super::lcd::LCD_RECORD_LEN <= ACCESS_SLOT_A as usize);
 const _: () = assert!(ACCESS_SLOT_A as usize + ACCESS_RECORD_LEN <= ACCESS_SLOT_B as usize);
 const _: () = assert!(ACCESS_SLOT_B as usize + ACCESS_RECORD_LEN <= super::store::EEPROM_SIZE as usize);
 

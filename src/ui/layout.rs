@@ -44,10 +44,12 @@
 //! page that turned by itself could put a different button under a finger
 //! already on its way (a pose, which moves the arm, where a speed button
 //! was). While a page change is being drawn, only STOP answers.
-//! Saving a pose stays a serial command (`pose save <n>`): a screen save
-//! would overwrite a carer's preset with one mis-aimed press, and there is
-//! no room for a confirmation step that a user with limited hand use could
-//! not also hit by mistake.
+//! The user's pages cannot save a pose (one mis-aimed press would
+//! overwrite a carer's preset); in carer mode a pose button held 2 s and
+//! confirmed by a tap saves one (`app::access`). While the carer lock is
+//! on, the buttons it hides are blank and do nothing; the carer's gesture
+//! places ([`Layout::carer_corner`]) are at both ends of the headline and
+//! detail rows.
 //!
 //! **Panel coordinates** are what the touch pipeline produces from a raw
 //! reading with the calibration (method.md §3): `(x_p, y_p)` over the *whole* glass,
@@ -132,6 +134,21 @@ impl Layout {
         let w = self.button_h();
         let x = if i == 0 { 0 } else { (self.w - w) as i16 };
         Area::new(x, top, w, h)
+    }
+
+    /// Which carer place `(x, y)` is in ([`Layout::carer_corner`]): one
+    /// test of the rows and one of the columns.
+    pub const fn carer_at(&self, x: i16, y: i16) -> Option<u8> {
+        let a = self.carer_corner(0);
+        if y < a.y || y >= a.bottom() || x < 0 || x >= self.w as i16 {
+            None
+        } else if x < a.right() {
+            Some(0)
+        } else if x >= (self.w - a.w) as i16 {
+            Some(1)
+        } else {
+            None
+        }
     }
 
     /// Screen width, pixels.

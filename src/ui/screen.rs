@@ -672,7 +672,14 @@ impl Ui {
                 let changed = old.map_or(PATH_LINE | LIFT, |o| o.more ^ v.more);
                 let (line, lift) = (changed & PATH_LINE != 0, changed & LIFT != 0);
                 if line {
-                    draw_toggle(d, lay.line_toggle(), t!("Line"), v.more & PATH_LINE != 0, v.hide & item::LINE != 0, lay)?;
+                    draw_toggle(
+                        d,
+                        lay.line_toggle(),
+                        t!("Line"),
+                        v.more & PATH_LINE != 0,
+                        v.hide & item::LINE != 0,
+                        lay,
+                    )?;
                 }
                 if lift {
                     draw_toggle(d, lay.lift_toggle(), t!("Lift"), v.more & LIFT != 0, v.hide & item::LIFT != 0, lay)?;
@@ -762,7 +769,7 @@ impl Ui {
         if lay.page_key().contains(x, y) {
             return Some(Hit::Page);
         }
-        if let Some(k) = (0..2).find(|&k| lay.carer_corner(k).contains(x, y)) {
+        if let Some(k) = lay.carer_at(x, y) {
             return Some(Hit::Carer(k));
         }
         let i = (0..SLOTS - 1).find(|&i| lay.slot(i).contains(x, y))?;
@@ -938,7 +945,14 @@ fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, v: &View, all: bool) -> Result<
 
 /// A toggle of the More page: highlighted while on, as the speed buttons
 /// show the preset; blank while the lock hides it.
-fn draw_toggle<D: Canvas>(d: &mut D, a: Area, label: Text, on: bool, hidden: bool, lay: &Layout) -> Result<(), D::Error> {
+fn draw_toggle<D: Canvas>(
+    d: &mut D,
+    a: Area,
+    label: Text,
+    on: bool,
+    hidden: bool,
+    lay: &Layout,
+) -> Result<(), D::Error> {
     if hidden {
         return fill(d, a, theme::BG);
     }

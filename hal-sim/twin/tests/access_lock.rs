@@ -67,20 +67,26 @@ fn hidden_regions_do_nothing_and_everything_else_is_unchanged_on_every_pixel() {
                     }
                     let (ui, fb) = shown(lay, page, hide, stopped);
                     // The slots whose button is hidden on this page.
-                    let hidden_slots: Vec<_> = (0..SLOTS - 1)
-                        .filter(|&i| gone.contains(&page_button(page, i)))
-                        .map(|i| lay.slot(i))
-                        .collect();
+                    let hidden_slots: Vec<_> =
+                        (0..SLOTS - 1).filter(|&i| gone.contains(&page_button(page, i))).map(|i| lay.slot(i)).collect();
                     for y in 0..lay.height() as i16 {
                         for x in 0..lay.width() as i16 {
                             let hit = ui.hit(x, y);
-                            let ctx = format!("{}x{} {page:?} hide {hide:#07b} stopped {stopped} ({x},{y})", lay.width(), lay.height());
+                            let ctx = format!(
+                                "{}x{} {page:?} hide {hide:#07b} stopped {stopped} ({x},{y})",
+                                lay.width(),
+                                lay.height()
+                            );
                             if let Some(h) = hit {
                                 assert!(!gone.contains(&h), "{ctx}: a hidden button hit: {h:?}");
                             }
                             if hidden_slots.iter().any(|a| a.contains(x, y)) {
                                 assert_eq!(hit, None, "{ctx}: a hidden place acts");
-                                assert_eq!(fb.pixel(x.into(), y.into()), Some(theme::BG), "{ctx}: a hidden button drawn");
+                                assert_eq!(
+                                    fb.pixel(x.into(), y.into()),
+                                    Some(theme::BG),
+                                    "{ctx}: a hidden button drawn"
+                                );
                                 blank += 1;
                             } else {
                                 assert_eq!(hit, carer.hit(x, y), "{ctx}: differs from carer mode");
@@ -105,7 +111,10 @@ fn the_carer_gesture_places_are_the_same_on_every_page_and_panel_and_touch_no_bu
             let (ui, _) = shown(lay, page, 0, false);
             for i in 0..2 {
                 let a = lay.carer_corner(i);
-                assert!(a.w >= lay.button_h() && a.h == 2 * lay.headline().h, "{a:?}: a button wide, two status lines tall");
+                assert!(
+                    a.w >= lay.button_h() && a.h == 2 * lay.headline().h,
+                    "{a:?}: a button wide, two status lines tall"
+                );
                 for y in a.y..a.bottom() {
                     for x in a.x..a.right() {
                         assert_eq!(ui.hit(x, y), Some(Hit::Carer(i)), "{page:?} ({x},{y})");

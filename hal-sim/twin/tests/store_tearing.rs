@@ -80,9 +80,8 @@ fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings(
             let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
             let seq = access::save(&mut rec, new).expect("a save without power loss succeeds");
             let writes = rec.writes;
-            let inside = |a: u16| {
-                (SLOT_A..SLOT_A + LEN as u16).contains(&a) || (SLOT_B..SLOT_B + LEN as u16).contains(&a)
-            };
+            let inside =
+                |a: u16| (SLOT_A..SLOT_A + LEN as u16).contains(&a) || (SLOT_B..SLOT_B + LEN as u16).contains(&a);
             assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the access slots written");
             let slot_of = |a: u16| if a >= SLOT_B { SLOT_B } else { SLOT_A };
             let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
