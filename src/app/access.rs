@@ -91,13 +91,24 @@ impl Carer {
     };
 }
 
-/// What an `access` command did, for its reply.
+/// What an `access` command did, for its reply (a few bytes: it sits in
+/// `serial::Done`, which every reply copies).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum AccessDone {
     Lock,
     Unlock,
-    /// A setting stored: its sequence number.
-    Stored(Result<u16, SaveError>),
+    /// A setting stored: which, and its sequence number.
+    Stored(AccessSet, Result<u16, SaveError>),
+}
+
+/// Which setting an `access` command stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum AccessSet {
+    /// A PIN set (true) or removed.
+    Pin(bool),
+    /// An item bit hidden (true) or shown.
+    Hide(u8, bool),
+    Cap(SpeedPreset),
 }
 
 impl App {
@@ -157,6 +168,12 @@ impl App {
     }
 
     fn set_locked(&mut self, on: bool) {
+        // A calibration flow the carer left open is closed with the lock
+        // that hides it.
+        if on && self.carer.access.hide & (item::CAL | item::TOUCH) != 0 && self.screen.calibration.is_some() {
+            self.screen.calibration = None;
+            self.screen.ui.invalidate();
+        }
         self.carer.locked = on;
         self.carer.confirm = None;
         self.carer.active_ms = self.carer.now_ms;
@@ -185,7 +202,7 @@ impl App {
     /// Carries out an `access` command.
     pub(super) fn access<E: Storage>(&mut self, cmd: AccessCmd, storage: &mut E) -> Result<AccessDone, Refusal> {
         let mut next = self.carer.access;
-        match cmd {
+        let set = match cmd {
             AccessCmd::Lock if !next.pin.is_set() => return Err(Refusal::NoPin),
             AccessCmd::Lock => {
                 self.set_locked(true);
@@ -193,17 +210,25 @@ impl App {
             }
             AccessCmd::Unlock(pin) => return self.unlock(&pin),
             _ if self.carer.locked => return Err(Refusal::Locked),
-            AccessCmd::SetPin(pin) => next.pin = pin,
-            AccessCmd::Hide(bit, true) => next.hide |= bit,
-            AccessCmd::Hide(bit, false) => next.hide &= !bit,
-            AccessCmd::Cap(p) => next.cap = p,
-        }
+            AccessCmd::SetPin(pin) => {
+                next.pin = pin;
+                AccessSet::Pin(pin.is_set())
+            }
+            AccessCmd::Hide(bit, hide) => {
+                next.hide = if hide { next.hide | bit } else { next.hide & !bit };
+                AccessSet::Hide(bit, hide)
+            }
+            AccessCmd::Cap(p) => {
+                next.cap = p;
+                AccessSet::Cap(p)
+            }
+        };
         // The RAM copy changes only once stored.
         let saved = access::save(storage, &next);
         if saved.is_ok() {
             self.carer.access = next;
         }
-        Ok(AccessDone::Stored(saved))
+        Ok(AccessDone::Stored(set, saved))
     }
 
     /// `access unlock <pin>`, rate-limited: after [`PIN_TRIES`] wrong PINs
@@ -295,8 +320,8 @@ impl App {
     }
 
     /// The reply of an `access` command.
-    pub(super) fn access_reply(&self, done: &AccessDone, cmd: &AccessCmd, r: &mut Line) {
-        let seq = match *done {
+    pub(super) fn access_reply(&self, done: &AccessDone, r: &mut Line) {
+        let (set, seq) = match *done {
             AccessDone::Lock => {
                 r.str(t!("ok access lock"));
                 return;
@@ -305,31 +330,30 @@ impl App {
                 r.str(t!("ok access unlock"));
                 return;
             }
-            AccessDone::Stored(Err(SaveError::Verify)) => {
+            AccessDone::Stored(_, Err(SaveError::Verify)) => {
                 r.str(t!("err save failed: verify"));
                 return;
             }
-            AccessDone::Stored(Err(_)) => {
+            AccessDone::Stored(_, Err(_)) => {
                 r.str(t!("err save failed: storage"));
                 return;
             }
-            AccessDone::Stored(Ok(seq)) => seq,
+            AccessDone::Stored(set, Ok(seq)) => (set, seq),
         };
         r.str(t!("ok access "));
-        match *cmd {
-            AccessCmd::SetPin(p) => {
-                r.str(if p.is_set() { t!("pin set") } else { t!("pin off") });
+        match set {
+            AccessSet::Pin(on) => {
+                r.str(if on { t!("pin set") } else { t!("pin off") });
             }
-            AccessCmd::Hide(bit, hide) => {
+            AccessSet::Hide(bit, hide) => {
                 r.str(if hide { t!("hide") } else { t!("show") });
                 if let Some((_, name)) = (0..).map_while(access::item_nth).find(|(b, _)| *b == bit) {
                     r.word(name);
                 }
             }
-            AccessCmd::Cap(p) => {
+            AccessSet::Cap(p) => {
                 r.str(t!("cap ")).str(p.name());
             }
-            AccessCmd::Lock | AccessCmd::Unlock(_) => {}
         }
         r.word(t!("seq")).num(i32::from(seq));
     }

@@ -42,7 +42,7 @@ use crate::config::settings::CalSet;
 use crate::config::settings::{Config, ConfigError, PathMode, SpeedPreset};
 use crate::config::store::{self, SaveError};
 use crate::motion::plan::LawKind;
-use crate::protocol::command::{parse, AccessCmd, CmdError, Command, LogMode, SerialLine, Verb, STOP_BYTE};
+use crate::protocol::command::{parse, CmdError, Command, LogMode, SerialLine, Verb, STOP_BYTE};
 use crate::seam::{SerialPort, Storage};
 use crate::touch::filter::TouchPoint;
 
@@ -122,7 +122,7 @@ pub(super) enum Done {
     /// `cal set lcd …`: the display overrides' new sequence number.
     CalLcd(Result<u16, SaveError>),
     /// An `access` command.
-    Access(AccessDone, AccessCmd),
+    Access(AccessDone),
 }
 
 impl App {
@@ -196,7 +196,10 @@ impl App {
             };
             done = match parsed {
                 None => Done::Nothing,
-                Some(Ok(cmd)) => self.execute(cmd, io.storage),
+                Some(Ok(cmd)) => match self.check_unlocked(&cmd) {
+                    Ok(()) => self.execute(cmd, io.storage),
+                    Err(e) => Done::Refused(e),
+                },
                 Some(Err(e)) => Done::Bad(e),
             };
             break;
@@ -215,9 +218,6 @@ impl App {
 
     /// Carries out one command.
     fn execute<E: Storage>(&mut self, cmd: Command, storage: &mut E) -> Done {
-        if let Err(e) = self.check_unlocked(&cmd) {
-            return Done::Refused(e);
-        }
         let result = match cmd {
             Command::Move { x, y } => self.move_to_raw(&TouchPoint { x, y }).map(|()| Done::Moved),
             Command::Goto { centideg } => self.move_to_angles(&centideg).map(|()| Done::Went),
@@ -265,7 +265,7 @@ impl App {
             Command::CalLcd(set) => self.cal_lcd(set, storage),
             Command::Park => self.move_to_angles(&self.config.arm.park.map(i32::from)).map(|()| Done::Parked),
             Command::Undo => self.undo().map(|()| Done::Undone),
-            Command::Access(a) => self.access(a, storage).map(|d| Done::Access(d, a)),
+            Command::Access(a) => self.access(a, storage).map(Done::Access),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -439,7 +439,7 @@ impl App {
                 r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
             }
             Done::Pose(PoseDone::List) => self.pose_list(r),
-            Done::Access(d, a) => self.access_reply(&d, &a, r),
+            Done::Access(d) => self.access_reply(&d, r),
         }
         serial.write(reply.finish());
     }
