@@ -40,6 +40,7 @@ use crate::config::settings::SpeedPreset;
 use crate::config::store::SaveError;
 use crate::protocol::command::{AccessCmd, Command};
 use crate::seam::{SerialPort, Storage};
+use crate::text::Text;
 use crate::touch::contact::Contact;
 
 /// Each of the gesture's two holds, ms.
@@ -161,10 +162,20 @@ impl App {
         }
         if !c.locked && c.access.pin.is_set() && now_ms.wrapping_sub(c.active_ms) >= RELOCK_MS {
             self.set_locked(true);
-            let mut line = Line::new();
-            line.str(t!("info access lock idle"));
-            self.emit(serial, &mut line);
+            self.say_access(serial, t!("info access lock idle"), None);
         }
+    }
+
+    /// A line of the lock's nobody asked for: `text`, then the refusal's
+    /// reason if any (one small function for all of them: flash).
+    #[inline(never)] // avr-trap: frame-size
+    fn say_access<U: SerialPort>(&mut self, serial: &mut U, text: Text, reason: Option<Refusal>) {
+        let mut line = Line::new();
+        line.str(text);
+        if let Some(r) = reason {
+            line.word(r.reason());
+        }
+        self.emit(serial, &mut line);
     }
 
     fn set_locked(&mut self, on: bool) {
@@ -263,24 +274,23 @@ impl App {
             return;
         }
         let now = c.last_ms();
-        let mut line = Line::new();
-        if k == 0 {
+        let (text, reason) = if k == 0 {
             self.carer.gesture = Some(now);
-            line.str(t!("info screen access 1 of 2"));
+            (t!("info screen access 1 of 2"), None)
         } else if before.is_some_and(|t| now.wrapping_sub(t) <= GESTURE_WINDOW_MS) {
             if self.carer.locked {
                 self.set_locked(false);
-                line.str(t!("info screen access unlock"));
+                (t!("info screen access unlock"), None)
             } else if self.carer.access.pin.is_set() {
                 self.set_locked(true);
-                line.str(t!("info screen access lock"));
+                (t!("info screen access lock"), None)
             } else {
-                line.str(t!("err screen access ")).str(Refusal::NoPin.reason());
+                (t!("err screen access"), Some(Refusal::NoPin))
             }
         } else {
             return;
-        }
-        self.emit(serial, &mut line);
+        };
+        self.say_access(serial, text, reason);
     }
 
     /// A pose button lifted after `held` ms: in carer mode a hold of
