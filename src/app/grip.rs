@@ -304,7 +304,7 @@ impl App {
     /// The speed preset's share for a grip: the slow preset at most until a
     /// grip move has completed since power-up.
     fn grip_percent(&self) -> u8 {
-        let pct = self.config.speed.percent();
+        let pct = self.speed_now().percent();
         if self.grip.first {
             pct.min(SpeedPreset::Slow.percent())
         } else {

@@ -60,6 +60,7 @@ impl App {
         // frames included: a latch is no heavy work (`serial.rs`).
         self.poll_stop_byte(io.serial);
         let now = io.clock.now_ms();
+        self.carer_tick(now, io.serial);
         // A late frame starts busy: the catch-up (module doc of `app`, step 0).
         let catch_up = core::mem::take(&mut self.late);
         // A deferred re-plan is this frame's heavy thing (`finish_plan`).
@@ -99,6 +100,7 @@ impl App {
         self.poses = crate::config::poses::load(storage).poses;
         self.grip_boot(storage, serial);
         self.lcd = crate::config::lcd::load(storage).2;
+        self.access_boot(storage);
         self.source = loaded.source;
         self.warning = loaded.warning;
         match build_maps(&loaded.config) {
@@ -517,7 +519,7 @@ impl App {
     /// The speed preset's percentage for the next move: the slow preset at
     /// most before the first move has completed.
     pub(super) fn move_percent(&self) -> u8 {
-        let pct = self.config.speed.percent();
+        let pct = self.speed_now().percent();
         if self.first_move {
             pct.min(SpeedPreset::Slow.percent())
         } else {

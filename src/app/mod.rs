@@ -88,7 +88,8 @@
 //! `screen.rs` (the touch screen), `path_move.rs` (paths and lifts),
 //! `grip.rs` (the gripper), `poses.rs` (saved poses), `recalibrate.rs`
 //! (calibration changes while holding), `wiring.rs` (the panel's wiring),
-//! `telemetry.rs` (output lines), `undo.rs` (going back). The rule they follow:
+//! `telemetry.rs` (output lines), `undo.rs` (going back), `access.rs` (the
+//! carer lock). The rule they follow:
 //! - A feature's own state is one field of its own type, declared in its
 //!   file (`grip: grip::Grip`, `path: path_move::PathRun`, `screen:
 //!   screen::Screen`, `session: serial::Session`); only that file changes
@@ -110,6 +111,7 @@
 //! - A feature's replies and refusals go through `refusal.rs` and
 //!   `text.rs`: one reason text per refusal, one line type.
 
+mod access;
 mod grip;
 mod lcd;
 mod machine;
@@ -338,7 +340,8 @@ pub struct Status {
     pub state: State,
     /// The trajectory law new moves use.
     pub law: LawKind,
-    /// The speed preset new moves use.
+    /// The speed preset new moves use (the one chosen, or the carer's cap
+    /// below it).
     pub speed: SpeedPreset,
     /// How targets are reached (`path joint|line`).
     pub path: PathMode,
@@ -536,6 +539,8 @@ pub struct App {
     press: press::Press,
     /// The poses to go back to (`undo.rs`).
     undo: undo::Undo,
+    /// The carer lock and its settings (`access.rs`), loaded at boot.
+    carer: access::Carer,
 }
 
 // `App::init` assigns over an uninitialized slot: sound only while nothing
@@ -639,6 +644,7 @@ impl App {
                 lcd: crate::config::lcd::LCD_DEFAULT,
                 press: press::Press::IDLE,
                 undo: undo::Undo::EMPTY,
+                carer: access::Carer::NEW,
             };
             Ok(&mut *at)
         }
@@ -683,7 +689,7 @@ impl App {
         Status {
             state: self.state(),
             law: self.config.law,
-            speed: self.config.speed,
+            speed: self.speed_now(),
             path: self.config.path,
             lift_centi: self.config.lift_centi,
             commanded: self.commanded,

@@ -26,6 +26,9 @@
 //!   same target (the map, or the same button) continues it: their holds
 //!   add up, so the flicker of a force tremor is one touch (issue #19 §6),
 //!   acting at the lift-off of the contact that completes the hold.
+//! - The carer's gesture and the carer mode's pose save are long holds on
+//!   no button and on a pose button (`access.rs`): a still contact of the
+//!   rules above, judged at its lift-off.
 //! - Without a screen the same rules commit the robust centre on lift-off
 //!   (the whole panel is the workspace) and send the same lines.
 
@@ -239,6 +242,8 @@ impl App {
         self.press.stop_reads = 0;
         let role = core::mem::replace(&mut self.press.role, Role::Idle);
         let carry = core::mem::take(&mut self.press.carry_ms);
+        // The gesture's second hold must be the very next contact.
+        let gesture = self.carer.gesture.take();
         self.screen_preview(None);
         let landed = match role {
             Role::Idle | Role::Spent | Role::Resume | Role::Resumed => return,
@@ -271,12 +276,17 @@ impl App {
             match (landed, self.hit_of(&last), self.hit_of(&centre)) {
                 (Some(Hit::Map { .. }), Some(Hit::Map { .. }), Some(Hit::Map { .. })) => centre,
                 (Some(a), Some(b), _) if same_button(&a, &b) => last,
-                // Landed and lifted on no button (a gap, the status lines):
-                // deliberately nothing, as before.
+                // Landed and lifted on no button (a gap, the status lines,
+                // a hidden button): deliberately nothing, as before.
                 (None, None, _) => return,
                 _ => return self.press_cancel(serial),
             }
         };
+        match landed.filter(|_| self.screen.calibration.is_none()) {
+            Some(Hit::Carer(k)) => return self.carer_gesture(&c, k, gesture, serial),
+            Some(Hit::Pose(n)) if self.carer_pose_hold(n, held, serial) => return,
+            _ => {}
+        }
         if self.heavy.is_spent() && self.touch_plans(&p) {
             self.deferred_touch = Some(p);
         } else {

@@ -70,11 +70,19 @@ pub enum Refusal {
     LiftTooSlow,
     /// `lift` with `path line`, or `path line` with a lift: one at a time.
     LiftWithLine,
+    /// The carer lock hides what this changes (`access.rs`).
+    Locked,
+    /// `access unlock` with a PIN that is not the one set.
+    WrongPin,
+    /// `access unlock` after three wrong PINs, within the wait.
+    PinWait,
+    /// `access lock` (or the screen's gesture) with no PIN set.
+    NoPin,
 }
 
 impl Refusal {
     /// Every refusal (so the longest reply can be sized and tested).
-    pub const ALL: [Refusal; 34] = [
+    pub const ALL: [Refusal; 38] = [
         Refusal::Stopped,
         Refusal::Homing,
         Refusal::Busy,
@@ -109,6 +117,10 @@ impl Refusal {
         Refusal::LiftJointLimit(Joint::Elbow),
         Refusal::LiftTooSlow,
         Refusal::LiftWithLine,
+        Refusal::Locked,
+        Refusal::WrongPin,
+        Refusal::PinWait,
+        Refusal::NoPin,
     ];
 
     /// Text of the `err <reason>` reply.
@@ -148,6 +160,10 @@ impl Refusal {
             Refusal::LiftJointLimit(Joint::Elbow) => t!("lift joint limit elbow"),
             Refusal::LiftTooSlow => t!("lift needs ts above max"),
             Refusal::LiftWithLine => t!("lift and path line exclusive"),
+            Refusal::Locked => t!("locked"),
+            Refusal::WrongPin => t!("wrong pin"),
+            Refusal::PinWait => t!("wrong pin 3 times: wait 30 s"),
+            Refusal::NoPin => t!("no pin set (access pin <digits>)"),
         }
     }
 }

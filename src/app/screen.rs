@@ -5,6 +5,8 @@
 //! toggle `path line|joint` and the Lift toggle `lift 0.20|off` through the
 //! same app paths as the serial commands, Calibrate starts the crosshair
 //! flow), and the app draws its state through the UI after each frame.
+//! What the carer lock hides does nothing (`access.rs`), and in carer mode
+//! a pose button held 2 s and confirmed saves the pose held now.
 //! Without a screen the whole panel is the workspace, as in the paper.
 
 use crate::config::settings::{PathMode, SpeedPreset};
@@ -70,6 +72,9 @@ enum ScreenEvent {
     Page(Page),
     /// A pose button refused at once (a refusal, or an empty slot: `None`).
     Pose(u8, Option<Refusal>),
+    /// A carer's confirmed pose save: the sequence number, or the refusal
+    /// (`None`: the EEPROM save failed).
+    PoseSave(u8, Result<u16, Option<Refusal>>),
     Grip(Refusal),
     /// Undo refused at once (STOP latched, nothing to undo).
     Undo(Refusal),
@@ -177,6 +182,11 @@ impl App {
             Ok((x, y)) => self.screen.ui.hit_panel(x, y),
             Err(_) => None,
         };
+        // What the lock hides now does nothing, even if the glass has not
+        // caught up yet.
+        let hidden = self.hidden_now();
+        let hit = hit.filter(|h| !ui::hides(hidden, h));
+        let confirm = self.take_confirm();
         match hit {
             Some(Hit::Map { x_p, y_p }) => {
                 self.screen.touched = Some((x_p, y_p));
@@ -216,6 +226,7 @@ impl App {
                 self.screen.page = self.screen.page.next();
                 ScreenEvent::Page(self.screen.page)
             }
+            Some(Hit::Pose(n)) if confirm == Some(n) => self.screen_pose_save(n, storage),
             Some(Hit::Pose(n)) => self.screen_pose(n, storage),
             Some(Hit::Grip) => match self.screen_grip() {
                 // Answered once planned (`finish_grip`).
@@ -242,8 +253,9 @@ impl App {
             },
             Some(Hit::Line) => self.screen_toggle(false),
             Some(Hit::Lift) => self.screen_toggle(true),
-            // Guard bands and gaps between buttons: deliberately nothing.
-            None => ScreenEvent::Nothing,
+            // Guard bands and gaps between buttons: deliberately nothing
+            // (the carer's places act at the lift-off: `press.rs`).
+            Some(Hit::Carer(_)) | None => ScreenEvent::Nothing,
         }
     }
 
@@ -278,6 +290,17 @@ impl App {
                 ScreenEvent::Pose(n, Some(e))
             }
         }
+    }
+
+    /// The carer's confirmed save: exactly `pose save <n>`.
+    #[inline(never)] // avr-trap: frame-size
+    fn screen_pose_save<E: Storage>(&mut self, n: u8, storage: &mut E) -> ScreenEvent {
+        let r = match self.pose(PoseCmd::Save(n), storage) {
+            Ok(PoseDone::Stored(_, _, Ok(seq))) => Ok(seq),
+            Ok(_) => Err(None),
+            Err(e) => Err(Some(e)),
+        };
+        ScreenEvent::PoseSave(n, r)
     }
 
     /// `info screen pose go <n> …` once a screen pose's move is planned, or
@@ -342,6 +365,7 @@ impl App {
             }
             ScreenEvent::Speed(s) => {
                 line.str(t!("info screen speed")).word(s.name());
+                self.cap_suffix(s, &mut line);
             }
             ScreenEvent::Calibrate(Ok(())) => {
                 line.str(t!("info screen calibrate"));
@@ -360,6 +384,18 @@ impl App {
                 line.str(t!("err screen pose go")).num(i32::from(n)).str(t!(" empty"));
             }
             ScreenEvent::Pose(n, Some(r)) => return self.report_screen_pose(serial, n, Err(r)),
+            ScreenEvent::PoseSave(n, r) => {
+                line.str(match r {
+                    Ok(_) => t!("info screen pose save"),
+                    Err(_) => t!("err screen pose save"),
+                });
+                line.num(i32::from(n));
+                match r {
+                    Ok(seq) => line.word(t!("seq")).num(i32::from(seq)),
+                    Err(Some(e)) => line.word(e.reason()),
+                    Err(None) => line.word(t!("save failed")),
+                };
+            }
             ScreenEvent::Grip(r) => {
                 line.str(t!("err screen grip")).word(r.reason());
             }
@@ -488,6 +524,8 @@ impl App {
             alpha: st.touch_target.map_or(f32::NAN, |t| t.alpha),
             joints: st.commanded,
             speed: st.speed,
+            hide: self.hidden_now(),
+            confirm: self.confirm_slot(),
             warnings,
             page: self.screen.page,
             grip_closed: self.grip_closed(),

@@ -32,6 +32,7 @@
 //!   and is otherwise counted, then reported as `warn output full: <n> lines
 //!   dropped` as soon as that fits.
 
+use super::access::AccessDone;
 use super::poses::{PoseDone, PoseStoreError};
 use super::refusal::Refusal;
 use super::telemetry::status_line;
@@ -120,6 +121,8 @@ pub(super) enum Done {
     Undone,
     /// `cal set lcd …`: the display overrides' new sequence number.
     CalLcd(Result<u16, SaveError>),
+    /// An `access` command.
+    Access(AccessDone),
 }
 
 impl App {
@@ -193,7 +196,10 @@ impl App {
             };
             done = match parsed {
                 None => Done::Nothing,
-                Some(Ok(cmd)) => self.execute(cmd, io.storage),
+                Some(Ok(cmd)) => match self.check_unlocked(&cmd) {
+                    Ok(()) => self.execute(cmd, io.storage),
+                    Err(e) => Done::Refused(e),
+                },
                 Some(Err(e)) => Done::Bad(e),
             };
             break;
@@ -259,6 +265,7 @@ impl App {
             Command::CalLcd(set) => self.cal_lcd(set, storage),
             Command::Park => self.move_to_angles(&self.config.arm.park.map(i32::from)).map(|()| Done::Parked),
             Command::Undo => self.undo().map(|()| Done::Undone),
+            Command::Access(a) => self.access(a, storage).map(Done::Access),
         };
         result.unwrap_or_else(Done::Refused)
     }
@@ -335,6 +342,7 @@ impl App {
             }
             Done::Speed(s) => {
                 r.str(t!("ok speed ")).str(s.name());
+                self.cap_suffix(s, r);
             }
             Done::Log(mode) => {
                 r.str(match mode {
@@ -431,6 +439,7 @@ impl App {
                 r.str(t!("err pose")).num(i32::from(n)).str(t!(" empty"));
             }
             Done::Pose(PoseDone::List) => self.pose_list(r),
+            Done::Access(d) => self.access_reply(&d, r),
         }
         serial.write(reply.finish());
     }

@@ -11,7 +11,7 @@ use crate::seam::SerialPort;
 use crate::servo::map::Joint;
 
 /// `cal show` lines before its final `ok` line.
-const CAL_SHOW_LINES: u8 = 7;
+const CAL_SHOW_LINES: u8 = 8;
 
 impl App {
     /// Appends ` [cond <c>] ts_ms <ms> [replan [wait_ms <ms>]] [a_milli <a>
@@ -147,6 +147,10 @@ impl App {
         if i == 5 {
             line.str(t!("cal "));
             self.lcd_words(line);
+            return;
+        }
+        if i == 7 {
+            self.access_show_line(line);
             return;
         }
         if i == 6 {

@@ -2,8 +2,9 @@
 //! ([`settings`]) and the EEPROM record that stores them twice with a CRC
 //! ([`store`], [`crc`]); the saved poses and the gripper's calibration,
 //! stored the same way in their own records ([`poses`], [`grip`]), and the
-//! display overrides ([`lcd`]).
+//! display overrides ([`lcd`]) and the carer's access settings ([`access`]).
 
+pub mod access;
 pub mod crc;
 pub mod grip;
 pub mod lcd;

@@ -36,6 +36,8 @@
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
 //! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
+//! | `access lock` / `access unlock <pin>` | the carer lock: lock the user's pages (a PIN must be set), or open carer mode; see [`AccessCmd`] |
+//! | `access pin <4-8 digits>\|off`, `access hide\|show <cal\|line\|lift\|fast\|touch>`, `access cap <slow\|normal\|fast>` | the carer's settings, stored at once (carer mode only) |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
@@ -47,6 +49,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
+use crate::config::access::{item_nth, Pin};
 use crate::config::lcd::{LcdChoice, LcdSet};
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 #[cfg(doc)]
@@ -134,6 +137,24 @@ pub enum Command {
     Park,
     /// `undo`: back to the pose held before the last accepted target.
     Undo,
+    /// `access …`: the carer lock and its settings.
+    Access(AccessCmd),
+}
+
+/// An `access` command (the carer lock, `config::access`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AccessCmd {
+    /// `access lock`: the user's pages locked (needs a PIN).
+    Lock,
+    /// `access unlock <pin>`: carer mode, if the PIN is right.
+    Unlock(Pin),
+    /// `access pin <digits>` / `access pin off` ([`Pin::NONE`]).
+    SetPin(Pin),
+    /// `access hide <item>` (true) / `access show <item>`: an
+    /// [`crate::config::access::item`] bit.
+    Hide(u8, bool),
+    /// `access cap <preset>`: the fastest preset any move uses.
+    Cap(SpeedPreset),
 }
 
 /// What `log` prints every frame.
@@ -180,6 +201,8 @@ pub enum Verb {
     Park,
     /// `undo`
     Undo,
+    /// `access`
+    Access,
     /// `cal`
     Cal,
     /// `log`
@@ -192,7 +215,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 18] = [
+    pub const ALL: [Verb; 19] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -207,6 +230,7 @@ impl Verb {
         Verb::Pose,
         Verb::Park,
         Verb::Undo,
+        Verb::Access,
         Verb::Cal,
         Verb::Log,
         Verb::Help,
@@ -236,10 +260,11 @@ impl Verb {
             11 => Verb::Pose,
             12 => Verb::Park,
             13 => Verb::Undo,
-            14 => Verb::Cal,
-            15 => Verb::Log,
-            16 => Verb::Help,
-            17 => Verb::Version,
+            14 => Verb::Access,
+            15 => Verb::Cal,
+            16 => Verb::Log,
+            17 => Verb::Help,
+            18 => Verb::Version,
             _ => return None,
         })
     }
@@ -261,6 +286,7 @@ impl Verb {
             Verb::Pose => t!("pose"),
             Verb::Park => t!("park"),
             Verb::Undo => t!("undo"),
+            Verb::Access => t!("access"),
             Verb::Cal => t!("cal"),
             Verb::Log => t!("log"),
             Verb::Help => t!("help"),
@@ -538,6 +564,27 @@ fn parse_lcd_set(t: &mut Tokens) -> Result<LcdSet, CmdError> {
     (0..).map_while(LcdChoice::from_id).find(|c| is(w, c.name())).map(LcdSet::Controller).ok_or(CmdError::BadArgument)
 }
 
+/// The words after `access`.
+fn parse_access(t: &mut Tokens) -> Result<AccessCmd, CmdError> {
+    let w = t.arg()?;
+    let hide = is(w, t!("hide"));
+    Ok(match w {
+        w if is(w, t!("lock")) => AccessCmd::Lock,
+        w if is(w, t!("unlock")) => AccessCmd::Unlock(Pin::parse(t.arg()?).ok_or(CmdError::BadArgument)?),
+        w if is(w, t!("pin")) => AccessCmd::SetPin(match t.arg()? {
+            p if is(p, t!("off")) => Pin::NONE,
+            p => Pin::parse(p).ok_or(CmdError::BadArgument)?,
+        }),
+        w if hide || is(w, t!("show")) => {
+            let name = t.arg()?;
+            let bit = (0..).map_while(item_nth).find(|(_, n)| is(name, *n)).ok_or(CmdError::BadArgument)?.0;
+            AccessCmd::Hide(bit, hide)
+        }
+        w if is(w, t!("cap")) => AccessCmd::Cap(SpeedPreset::from_name(t.arg()?).ok_or(CmdError::BadArgument)?),
+        _ => return Err(CmdError::BadArgument),
+    })
+}
+
 /// Parses one line (without or with its terminator).
 pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
     // A line from the buffer is at most LINE_LEN bytes; allow a caller that
@@ -617,6 +664,7 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         }),
         Verb::Park => Command::Park,
         Verb::Undo => Command::Undo,
+        Verb::Access => Command::Access(parse_access(&mut t)?),
         Verb::Help => Command::Help,
         Verb::Version => Command::Version,
     };

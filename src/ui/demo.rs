@@ -37,6 +37,8 @@ fn moving(progress: f32) -> UiModel {
         alpha: 0.896_055,
         joints: [0.896_055, 0.7, 1.4],
         speed: SpeedPreset::Normal,
+        hide: 0,
+        confirm: 0,
         warnings: 0,
         page: Page::Main,
         grip_closed: false,

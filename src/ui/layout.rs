@@ -44,10 +44,12 @@
 //! page that turned by itself could put a different button under a finger
 //! already on its way (a pose, which moves the arm, where a speed button
 //! was). While a page change is being drawn, only STOP answers.
-//! Saving a pose stays a serial command (`pose save <n>`): a screen save
-//! would overwrite a carer's preset with one mis-aimed press, and there is
-//! no room for a confirmation step that a user with limited hand use could
-//! not also hit by mistake.
+//! The user's pages cannot save a pose (one mis-aimed press would
+//! overwrite a carer's preset); in carer mode a pose button held 2 s and
+//! confirmed by a tap saves one (`app::access`). While the carer lock is
+//! on, the buttons it hides are blank and do nothing; the carer's gesture
+//! places ([`Layout::carer_corner`]) are at both ends of the headline and
+//! detail rows.
 //!
 //! **Panel coordinates** are what the touch pipeline produces from a raw
 //! reading with the calibration (method.md §3): `(x_p, y_p)` over the *whole* glass,
@@ -120,6 +122,33 @@ impl Layout {
     /// calibration stays the glass's.
     pub const fn turned(self, on: bool) -> Layout {
         Layout { turned: on, ..self }
+    }
+
+    /// The carer's gesture places (`app::access`): `i` = 0 the left end of
+    /// the headline and the detail line, 1 their right end, each a button
+    /// wide: places where the user's pages have nothing to press, below the
+    /// guard band and two status lines above the buttons.
+    pub const fn carer_corner(&self, i: u8) -> Area {
+        let top = self.headline().y;
+        let h = (self.detail().bottom() - top) as u16;
+        let w = self.button_h();
+        let x = if i == 0 { 0 } else { (self.w - w) as i16 };
+        Area::new(x, top, w, h)
+    }
+
+    /// Which carer place `(x, y)` is in ([`Layout::carer_corner`]): one
+    /// test of the rows and one of the columns.
+    pub const fn carer_at(&self, x: i16, y: i16) -> Option<u8> {
+        let a = self.carer_corner(0);
+        if y < a.y || y >= a.bottom() || x < 0 || x >= self.w as i16 {
+            None
+        } else if x < a.right() {
+            Some(0)
+        } else if x >= (self.w - a.w) as i16 {
+            Some(1)
+        } else {
+            None
+        }
     }
 
     /// Screen width, pixels.

@@ -34,5 +34,5 @@ pub use calibration::{CalFailure, CalPhase, CalibrationEvent, CalibrationFlow};
 pub use draw::{Canvas, Run};
 pub use layout::Layout;
 pub use model::{warn, Page, Preview, Refusal, UiModel, UiState};
-pub use screen::{warning_line, Drawn, Hit, Redrawn, Ui, UiConfig};
+pub use screen::{hides, warning_line, Drawn, Hit, Redrawn, Ui, UiConfig};
 pub use slice::{DrawBudget, PixelBudget, Unlimited};

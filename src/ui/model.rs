@@ -118,6 +118,12 @@ pub struct UiModel {
     pub joints: [f32; 3],
     /// The preset button shown pressed.
     pub speed: SpeedPreset,
+    /// The carer lock's hidden items now (`config::access::item` bits; 0
+    /// in carer mode): their buttons are blank and do nothing.
+    pub hide: u8,
+    /// The pose slot (1..=4) whose carer save waits for its confirming tap
+    /// (its button says Save); 0 for none.
+    pub confirm: u8,
     /// [`warn`] bits.
     pub warnings: u8,
     /// The button set shown.
@@ -144,6 +150,8 @@ impl UiModel {
             alpha: 0.0,
             joints: [f32::NAN; 3],
             speed,
+            hide: 0,
+            confirm: 0,
             warnings: 0,
             page: Page::Main,
             grip_closed: false,

@@ -17,6 +17,7 @@ use super::model::{warn, Page, Refusal, UiModel, UiState};
 use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
+use crate::config::access::item;
 use crate::config::settings::SpeedPreset;
 use crate::text::line::Line;
 use crate::text::Text;
@@ -97,6 +98,10 @@ pub enum Hit {
     Line,
     /// The Lift toggle (Setup page): a lift ↔ `lift off`.
     Lift,
+    /// Carer gesture place `k` ([`Layout::carer_corner`], every page):
+    /// nothing is drawn there and a touch does nothing but a step of the
+    /// carer's gesture (`app::access`).
+    Carer(u8),
     /// A point of the map, in workspace coordinates.
     Map {
         /// −1..=1, left → right.
@@ -190,6 +195,10 @@ struct View {
     /// one byte, since the renderer holds two views (what is shown and the
     /// redraw's target) in the app's RAM.
     more: u8,
+    /// [`UiModel::hide`].
+    hide: u8,
+    /// [`UiModel::confirm`].
+    confirm: u8,
 }
 
 const GRIP_CLOSED: u8 = 1 << 0;
@@ -279,6 +288,8 @@ impl View {
             more: if m.grip_closed { GRIP_CLOSED } else { 0 }
                 | if m.path_line { PATH_LINE } else { 0 }
                 | if m.lift { LIFT } else { 0 },
+            hide: m.hide,
+            confirm: m.confirm,
         }
     }
 
@@ -543,7 +554,7 @@ impl Ui {
         let markers = if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 };
         // A new page: its row of buttons (STOP, the headline, the status
         // lines and the map as usual).
-        let page = if old.page != v.page { PAGE_STEPS } else { 0 };
+        let page = if old.page != v.page || old.hide != v.hide { PAGE_STEPS } else { 0 };
         let more = old.more ^ v.more;
         page | bit(old.stop_shown != v.stop_shown, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
@@ -553,6 +564,7 @@ impl Ui {
             | bit(old.joints != v.joints, S_JOINTS)
             | bit(old.speed != v.speed && v.page == Page::Main, S_SPEED)
             | bit(more & GRIP_CLOSED != 0 && v.page == Page::Setup, S_ROW2)
+            | bit(old.confirm != v.confirm && v.page == Page::More, S_ROW2)
             | bit(more & (PATH_LINE | LIFT) != 0 && v.page == Page::Setup, S_TOGGLES)
             | markers
     }
@@ -583,9 +595,9 @@ impl Ui {
     fn main_step<D: Canvas>(&self, old: Option<&View>, v: &View, k: u8, d: &mut D) -> Result<u16, D::Error> {
         let lay = &self.layout;
         let ws = lay.ws();
-        // The row of buttons is new with a new page.
+        // The row of buttons is new with a new page or a lock change.
         let page_step = (PAGE_STEPS >> k) & 1 != 0;
-        let old = old.filter(|o| o.page == v.page || !page_step);
+        let old = old.filter(|o| (o.page == v.page && o.hide == v.hide) || !page_step);
         let main = v.page == Page::Main;
         let setup = v.page == Page::Setup;
         match k {
@@ -639,7 +651,7 @@ impl Ui {
                 return Ok(Redrawn::JOINTS);
             }
             S_SPEED if main && old.is_none_or(|o| o.speed != v.speed) => {
-                draw_speed(d, lay, v.speed)?;
+                draw_speed(d, lay, v.speed, v.hide)?;
                 return Ok(Redrawn::SPEED);
             }
             S_KEY if old.is_none() => {
@@ -647,8 +659,12 @@ impl Ui {
                 button(d, lay.page_key(), label, &label_style(lay, theme::TEXT, theme::BUTTON))?;
                 return Ok(Redrawn::PAGE_KEY);
             }
-            S_ROW2 if old.is_none_or(|o| setup && (o.more ^ v.more) & GRIP_CLOSED != 0) => {
-                draw_row2(d, lay, v.page, v.more & GRIP_CLOSED != 0, old.is_none())?;
+            S_ROW2
+                if old.is_none_or(|o| {
+                    (setup && (o.more ^ v.more) & GRIP_CLOSED != 0) || (v.page == Page::More && o.confirm != v.confirm)
+                }) =>
+            {
+                draw_row2(d, lay, v, old.is_none())?;
                 return Ok(Redrawn::ROW2);
             }
             S_TOGGLES if setup => {
@@ -656,10 +672,17 @@ impl Ui {
                 let changed = old.map_or(PATH_LINE | LIFT, |o| o.more ^ v.more);
                 let (line, lift) = (changed & PATH_LINE != 0, changed & LIFT != 0);
                 if line {
-                    draw_toggle(d, lay.line_toggle(), t!("Line"), v.more & PATH_LINE != 0, lay)?;
+                    draw_toggle(
+                        d,
+                        lay.line_toggle(),
+                        t!("Line"),
+                        v.more & PATH_LINE != 0,
+                        v.hide & item::LINE != 0,
+                        lay,
+                    )?;
                 }
                 if lift {
-                    draw_toggle(d, lay.lift_toggle(), t!("Lift"), v.more & LIFT != 0, lay)?;
+                    draw_toggle(d, lay.lift_toggle(), t!("Lift"), v.more & LIFT != 0, v.hide & item::LIFT != 0, lay)?;
                 }
                 return Ok(if line || lift { Redrawn::TOGGLES } else { 0 });
             }
@@ -738,14 +761,19 @@ impl Ui {
         }
         // A page change being drawn: the glass is part old, part new page,
         // so no button below the map counts until it is done.
-        if matches!(self.pass, Some(Pass { target: Shown::Main(t), .. }) if t.page != view.page) {
+        // So is a lock change (a button hidden or shown).
+        if matches!(self.pass, Some(Pass { target: Shown::Main(t), .. }) if t.page != view.page || t.hide != view.hide)
+        {
             return None;
         }
         if lay.page_key().contains(x, y) {
             return Some(Hit::Page);
         }
+        if let Some(k) = lay.carer_at(x, y) {
+            return Some(Hit::Carer(k));
+        }
         let i = (0..SLOTS - 1).find(|&i| lay.slot(i).contains(x, y))?;
-        Some(page_button(view.page, i))
+        Some(page_button(view.page, i)).filter(|h| !hides(view.hide, h))
     }
 
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
@@ -786,6 +814,21 @@ pub const fn page_button(page: Page, i: u8) -> Hit {
         (Page::Setup, 2) => Hit::Line,
         (Page::Setup, _) => Hit::Lift,
     }
+}
+
+/// The carer lock hides `hit` under the hidden [`item`] bits `hide`: the
+/// Cal button with the calibration or the touch settings (its flow is the
+/// touch's calibration), Line, Lift and Fast with their items. The one
+/// table the hit test, the drawing and the app's own check follow.
+pub fn hides(hide: u8, hit: &Hit) -> bool {
+    let needs = match hit {
+        Hit::Calibrate => item::CAL | item::TOUCH,
+        Hit::Line => item::LINE,
+        Hit::Lift => item::LIFT,
+        Hit::Speed(SpeedPreset::Fast) => item::FAST,
+        _ => 0,
+    };
+    hide & needs != 0
 }
 
 /// The guard bands and gaps (out of line: the six areas are not in the
@@ -871,33 +914,48 @@ fn draw_joints<D: Canvas>(d: &mut D, lay: &Layout, joints: &[Option<i16>; 3]) ->
 }
 
 /// The page's buttons other than the speed presets, the toggles and the
-/// page key: Undo (Main), poses 1–4 (More), or Grip, labelled with what a
-/// press does, and Cal (Setup; Cal only when `all`: its label never
-/// changes).
-fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, page: Page, grip_closed: bool, all: bool) -> Result<(), D::Error> {
+/// page key: Undo (Main), poses 1–4 (More; *Save*, highlighted, for the one
+/// whose carer save waits for its confirmation), or Grip, labelled with what
+/// a press does, and Cal (Setup; Cal only when `all`: its label never
+/// changes; blank while the lock hides it).
+fn draw_row2<D: Canvas>(d: &mut D, lay: &Layout, v: &View, all: bool) -> Result<(), D::Error> {
     let style = label_style(lay, theme::TEXT, theme::BUTTON);
-    match page {
+    match v.page {
         Page::Main => button(d, lay.undo(), t!("Undo"), &style),
         Page::More => {
             let labels = [t!("1"), t!("2"), t!("3"), t!("4")];
+            let on = label_style(lay, theme::WHITE, theme::BUTTON_ON);
             for (n, label) in (0u8..).zip(labels) {
-                button(d, lay.pose(n), label, &style)?;
+                let (label, style) = if v.confirm == n + 1 { (t!("Save"), &on) } else { (label, &style) };
+                button(d, lay.pose(n), label, style)?;
             }
             Ok(())
         }
         Page::Setup => {
-            if all {
+            if all && hides(v.hide, &Hit::Calibrate) {
+                fill(d, lay.calibrate(), theme::BG)?;
+            } else if all {
                 button(d, lay.calibrate(), t!("Cal"), &style)?;
             }
-            let grip = if grip_closed { t!("Open") } else { t!("Grab") };
+            let grip = if v.more & GRIP_CLOSED != 0 { t!("Open") } else { t!("Grab") };
             button(d, lay.grip(), grip, &label_style(lay, theme::WHITE, theme::BUTTON_ON))
         }
     }
 }
 
 /// A toggle of the More page: highlighted while on, as the speed buttons
-/// show the preset.
-fn draw_toggle<D: Canvas>(d: &mut D, a: Area, label: Text, on: bool, lay: &Layout) -> Result<(), D::Error> {
+/// show the preset; blank while the lock hides it.
+fn draw_toggle<D: Canvas>(
+    d: &mut D,
+    a: Area,
+    label: Text,
+    on: bool,
+    hidden: bool,
+    lay: &Layout,
+) -> Result<(), D::Error> {
+    if hidden {
+        return fill(d, a, theme::BG);
+    }
     let style = if on {
         label_style(lay, theme::WHITE, theme::BUTTON_ON)
     } else {
@@ -906,13 +964,18 @@ fn draw_toggle<D: Canvas>(d: &mut D, a: Area, label: Text, on: bool, lay: &Layou
     button(d, a, label, &style)
 }
 
-fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset) -> Result<(), D::Error> {
+/// The presets (Fast blank while the lock hides it).
+fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset, hide: u8) -> Result<(), D::Error> {
     let items: [(Area, SpeedPreset, Text); 3] = [
         (lay.slow(), SpeedPreset::Slow, t!("Slow")),
         (lay.normal(), SpeedPreset::Normal, t!("Mid")),
         (lay.fast(), SpeedPreset::Fast, t!("Fast")),
     ];
     for (a, p, label) in items {
+        if hides(hide, &Hit::Speed(p)) {
+            fill(d, a, theme::BG)?;
+            continue;
+        }
         let style = if p == speed {
             label_style(lay, theme::WHITE, theme::BUTTON_ON)
         } else {

@@ -376,6 +376,8 @@ fn the_layout_lists_every_hit_region_and_a_press_by_name_does_it() {
     let page = |names: [&str; 5]| {
         let mut v: Vec<Value> = common.to_vec();
         v.extend(names.iter().enumerate().map(|(i, n)| r(n, 67 * i as i32, 188, 52, 52)));
+        // The carer's gesture places, the same on every page.
+        v.extend([r("carer_left", 0, 120, 52, 40), r("carer_right", 268, 120, 52, 40)]);
         Value::Array(v)
     };
     let want = json!({
@@ -445,7 +447,8 @@ fn a_larger_screen_and_wiring_c_still_land_on_the_host_target() {
     let main = l["pages"]["main"].as_array().unwrap();
     assert_eq!(main[0], json!({"name": "map", "x": 0, "y": 0, "w": 320, "h": 160}));
     assert_eq!(main[7], json!({"name": "slow", "x": 0, "y": 240, "w": 83, "h": 80}));
-    assert_eq!(main.len(), 12);
+    assert_eq!(main[12], json!({"name": "carer_left", "x": 0, "y": 168, "w": 80, "h": 48}));
+    assert_eq!(main.len(), 14);
     holding(a);
     let (px, py) = lay.ws_point_to_pixel(0.4, 0.6).unwrap();
     assert!(u32::from(lay.width()) > 320 && px >= 0);

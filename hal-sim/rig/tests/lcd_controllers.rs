@@ -145,6 +145,8 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            hide: 0,
+            confirm: 0,
         };
         assert_screen(&s, &host_screen(lay, &model), &format!("lcd_{name}_after_touch"));
     }
@@ -174,6 +176,8 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
         grip_closed: false,
         path_line: false,
         lift: false,
+        hide: 0,
+        confirm: 0,
     };
     assert_screen(&s, &host_screen(Layout::QVGA, &idle), "lcd_unknown_idle");
     // Fully usable over serial.
@@ -243,6 +247,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            hide: 0,
+            confirm: 0,
         };
         assert_screen(&s, &host_screen(lay, &more), &format!("lcd_{name}_more"));
         // More again: the Setup page (Grip, Cal, the toggles, Back).
@@ -301,6 +307,8 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            hide: 0,
+            confirm: 0,
             joints: [90.0f32, 90.0, -90.0].map(f32::to_radians),
             ..more
         };
@@ -325,6 +333,8 @@ fn idle_model() -> UiModel {
         grip_closed: false,
         path_line: false,
         lift: false,
+        hide: 0,
+        confirm: 0,
     }
 }
 

@@ -82,6 +82,8 @@
 //!   (`""` for none)
 //! - `expect screen_state "<state>"`: the screen model's state as Rust
 //!   prints it (`Holding`, `Refused(Cancelled)`, `Refused(Hand)`, …)
+//! - `expect screen_speed slow|normal|fast`: the preset the screen shows
+//!   pressed (the one in effect under the carer's cap)
 //! - `expect preview shown|none`: the candidate marker under a finger on
 //!   the map
 //!
@@ -152,6 +154,7 @@ enum Expect {
     NoRefusal,
     ScreenWarning(String),
     ScreenState(String),
+    ScreenSpeed(String),
     Preview(bool),
     GripDeg(f64, f64),
     GripPulse(f64, f64),
@@ -454,6 +457,7 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         "no_refusal" => Expect::NoRefusal,
         "screen_warning" => Expect::ScreenWarning(a.text()?),
         "screen_state" => Expect::ScreenState(a.text()?),
+        "screen_speed" => Expect::ScreenSpeed(a.word()?),
         "preview" => Expect::Preview(match a.word()?.as_str() {
             "shown" => true,
             "none" => false,
@@ -970,6 +974,12 @@ impl Runner {
                     return Err(format!("screen warning {:?}, want {text:?}", shown.as_str()));
                 }
             }
+            Expect::ScreenSpeed(want) => {
+                let shown = sim.app.ui_model().speed.name();
+                if shown.as_str() != want {
+                    return Err(format!("screen speed {:?}, want {want}", shown.as_str()));
+                }
+            }
             Expect::ScreenState(text) => {
                 let shown = format!("{:?}", sim.app.ui_model().state);
                 if shown != *text {
@@ -1126,6 +1136,8 @@ fn button_raw(name: &str) -> Result<(f64, f64), String> {
         "pose3" => lay.pose(2),
         "pose4" => lay.pose(3),
         "undo" => lay.undo(),
+        "carer_left" => lay.carer_corner(0),
+        "carer_right" => lay.carer_corner(1),
         _ => return Err(format!("unknown button {name:?}")),
     };
     crate::host::raw_at_centre(&lay, area).ok_or_else(|| format!("button {name:?} has no raw reading"))

@@ -28,6 +28,9 @@ macro_rules! scenarios {
 }
 
 scenarios!(
+    access_lock,
+    carer_pose_save,
+    speed_cap,
     arm_geometry,
     undo,
     arrive_together,

@@ -15,6 +15,147 @@ use touch_arm::motion::plan::LawKind;
 use touch_arm::seam::StorageError;
 use touch_arm::touch::map::Calibration;
 
+/// The carer's access settings (`config::access`) are stored the same way:
+/// a power loss at any byte of their save, with every kind of value in the
+/// torn byte, from blank, equal, unequal, corrupt and uncommitted copies,
+/// loads the settings before the save or the new ones, and the new ones once
+/// the first copy is complete; a torn save never leaves a PIN that is
+/// neither the old nor the new one. No byte outside their two slots is
+/// written.
+#[test]
+fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings() {
+    use touch_arm::config::access::{self, item, Access, Pin, ACCESS_DEFAULT, ACCESS_RECORD_LEN as LEN};
+    use touch_arm::config::access::{ACCESS_SLOT_A as SLOT_A, ACCESS_SLOT_B as SLOT_B};
+    let pin = Pin::parse(b"2468").unwrap();
+    let locked = Access { pin, ..ACCESS_DEFAULT };
+    // One digit apart: a record differing in one byte (and its CRC).
+    let other_pin = Access { pin: Pin::parse(b"2469").unwrap(), ..locked };
+    let custom =
+        Access { hide: item::LINE | item::TOUCH, cap: SpeedPreset::Slow, pin: Pin::parse(b"13579864").unwrap() };
+    let sets = [ACCESS_DEFAULT, locked, other_pin, custom];
+    #[derive(Clone, Copy, Debug)]
+    enum P {
+        Blank,
+        Valid(usize, u16),
+        Corrupt(usize, u16),
+        Uncommitted(usize, u16),
+    }
+    let fill = |e: &mut SimEeprom, at: u16, p: P| {
+        let bytes = match p {
+            P::Blank => vec![0xFF; LEN],
+            P::Valid(k, seq) => access::encode(&sets[k], seq).to_vec(),
+            P::Corrupt(k, seq) => {
+                let mut r = access::encode(&sets[k], seq);
+                r[9] ^= 0x01;
+                r.to_vec()
+            }
+            P::Uncommitted(k, seq) => {
+                let mut r = access::encode(&sets[k], seq);
+                r[0] = UNCOMMITTED;
+                r.to_vec()
+            }
+        };
+        e.mem[at as usize..at as usize + LEN].copy_from_slice(&bytes);
+    };
+    use P::*;
+    let priors = [
+        (Blank, Blank),
+        (Valid(1, 4), Valid(1, 4)),
+        (Valid(2, 4), Valid(1, 4)),
+        (Valid(1, 9), Valid(2, 8)),
+        (Valid(1, 0xFFFF), Valid(2, 0)),
+        (Valid(2, 5), Corrupt(1, 6)),
+        (Corrupt(1, 6), Valid(2, 5)),
+        (Valid(1, 5), Uncommitted(3, 6)),
+        (Uncommitted(3, 6), Valid(1, 5)),
+    ];
+    let mut cases = 0u64;
+    for (pa, pb) in priors {
+        let mut prior = SimEeprom::new();
+        fill(&mut prior, SLOT_A, pa);
+        fill(&mut prior, SLOT_B, pb);
+        let before = access::load(&mut prior.clone());
+        for new in &sets {
+            let mut dry = prior.clone();
+            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+            let seq = access::save(&mut rec, new).expect("a save without power loss succeeds");
+            let writes = rec.writes;
+            let inside =
+                |a: u16| (SLOT_A..SLOT_A + LEN as u16).contains(&a) || (SLOT_B..SLOT_B + LEN as u16).contains(&a);
+            assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the access slots written");
+            let slot_of = |a: u16| if a >= SLOT_B { SLOT_B } else { SLOT_A };
+            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+            for cut in 0..=writes.len() {
+                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                let old_byte = prior.mem[addr as usize];
+                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                    let mut e = prior.clone();
+                    e.power_loss_after(cut);
+                    e.torn_value = torn;
+                    let _ = access::save(&mut e, new);
+                    e.restore_power();
+                    let l = access::load(&mut e);
+                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                    let is_new = (l.2, l.1) == (*new, seq) && l.0 != Source::Defaults;
+                    assert!(is_new || l == before, "{ctx}: loaded {l:?}");
+                    if cut >= first_len {
+                        assert_eq!((l.2, l.1), (*new, seq), "{ctx}: the first copy was complete");
+                    }
+                    let again = access::save(&mut e, &sets[3]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                    assert_eq!(access::load(&mut e).1, again, "{ctx}");
+                    assert_eq!(access::load(&mut e).2, sets[3], "{ctx}");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{cases} torn access saves");
+    // 9 priors × 4 records × (18 or 19 bytes a slot, twice, + the uncut
+    // save) × 6 torn values.
+    assert!(cases > 8_000);
+}
+
+/// The access record's layout: the documented offsets, and what load
+/// refuses (each refusal leaves the defaults: no PIN, so never locked).
+#[test]
+fn the_access_record_round_trips_and_refuses_what_it_should() {
+    use touch_arm::config::access::{self, item, Access, Pin, ACCESS_DEFAULT, ACCESS_RECORD_LEN as LEN};
+    let a = Access { hide: item::CAL | item::FAST, cap: SpeedPreset::Normal, pin: Pin::parse(b"07734").unwrap() };
+    let r = access::encode(&a, 0x1234);
+    assert_eq!(&r[..16], &[b'T', b'C', 1, 0x34, 0x12, 0b1001, 1, 5, b'0', b'7', b'7', b'3', b'4', 0, 0, 0]);
+    assert_eq!(access::decode(&r), Ok((0x1234, a)));
+    assert_eq!(access::decode(&access::encode(&ACCESS_DEFAULT, 7)), Ok((7, ACCESS_DEFAULT)));
+    // PINs: 4 to 8 digits, nothing else.
+    for ok in [&b"0000"[..], b"12345678"] {
+        assert!(Pin::parse(ok).is_some());
+    }
+    for bad in [&b"123"[..], b"123456789", b"12a4", b"", b"-1234"] {
+        assert_eq!(Pin::parse(bad), None, "{bad:?}");
+    }
+    let mut bad = r;
+    bad[2] = 2;
+    assert_eq!(access::decode(&bad), Err(RecordError::Version(2)));
+    let mut bad = r;
+    bad[LEN - 1] ^= 1;
+    assert_eq!(access::decode(&bad), Err(RecordError::Crc));
+    // A valid CRC over an unknown item, an unknown cap, a PIN length of 1,
+    // 3 or 9, a non-digit in the PIN, a byte after it, or a length that
+    // does not match its digits.
+    for (at, v) in [(5, 0b10_0000), (6, 3), (7, 1), (7, 3), (7, 9), (9, b'x'), (13, b'1'), (7, 4), (7, 0)] {
+        let mut odd = r;
+        odd[at] = v;
+        let crc = touch_arm::config::crc::crc16(&odd[..LEN - 2]).to_le_bytes();
+        odd[LEN - 2..].copy_from_slice(&crc);
+        assert_eq!(access::decode(&odd), Err(RecordError::Invalid), "byte {at} = {v}");
+    }
+    // Never written, or damaged: the defaults (no PIN: unlocked).
+    let mut e = SimEeprom::new();
+    assert_eq!(access::load(&mut e), (Source::Defaults, 0, ACCESS_DEFAULT));
+    let at = access::ACCESS_SLOT_A as usize;
+    e.mem[at..at + LEN].copy_from_slice(&bad);
+    assert_eq!(access::load(&mut e), (Source::Defaults, 0, ACCESS_DEFAULT));
+}
+
 /// Records every byte written through it (address, value), in order.
 struct Recorder<'a> {
     inner: &'a mut SimEeprom,

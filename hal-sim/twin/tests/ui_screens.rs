@@ -92,6 +92,8 @@ fn moving_model() -> UiModel {
         grip_closed: false,
         path_line: false,
         lift: false,
+        hide: 0,
+        confirm: 0,
     }
 }
 

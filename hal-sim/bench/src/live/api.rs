@@ -126,6 +126,8 @@ fn hit_name(hit: Hit) -> &'static str {
         Hit::Line => "line",
         Hit::Lift => "lift",
         Hit::Map { .. } => "map",
+        Hit::Carer(0) => "carer_left",
+        Hit::Carer(_) => "carer_right",
     }
 }
 
@@ -135,7 +137,9 @@ fn hit_name(hit: Hit) -> &'static str {
 /// beside and below it (where a touch counts as STOP; RESUME, shown in its
 /// place after a stop, answers only inside STOP's drawn box), the guard
 /// band below the map and the gaps between the buttons (`"guard"`: a touch
-/// does nothing), and the buttons. A pixel in no region (the headline and
+/// does nothing), the buttons, and the carer's two gesture places
+/// (`"carer_left"`, `"carer_right"`: only a 3 s hold there counts, as a
+/// step of the carer's unlock). A pixel in no region (the headline and
 /// the status lines) does nothing either.
 pub fn layout_json(lay: &Layout, mm_per_px: f64) -> Value {
     let region = |name: &str, a: Area| json!({"name": name, "x": a.x, "y": a.y, "w": a.w, "h": a.h});
@@ -147,6 +151,7 @@ pub fn layout_json(lay: &Layout, mm_per_px: f64) -> Value {
         r.extend(gaps[2..].iter().map(|g| region("guard", *g)));
         r.extend((0..SLOTS - 1).map(|i| region(hit_name(page_button(page, i)), lay.slot(i))));
         r.push(region(if page == Page::Setup { "back" } else { "more" }, lay.page_key()));
+        r.extend((0..2).map(|k| region(hit_name(Hit::Carer(k)), lay.carer_corner(k))));
         pages.insert(key.into(), Value::Array(r));
     }
     json!({"width_px": lay.width(), "height_px": lay.height(), "mm_per_px": mm_per_px, "pages": pages})
