@@ -112,6 +112,8 @@ pub(super) enum Done {
     Pose(PoseDone),
     Path(PathMode),
     Lift(Option<u8>),
+    /// `mode hold` (`true`) or `mode tap`.
+    Mode(bool),
     /// A circle, once its check decided.
     Circled,
     /// `park`, once planned.
@@ -240,6 +242,7 @@ impl App {
             Command::Version => Ok(Done::Version),
             Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
             Command::Lift(h) => self.set_lift(h).map(|()| Done::Lift(h)),
+            Command::Mode(hold) => self.set_hold_mode(hold).map(|()| Done::Mode(hold)),
             Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
@@ -363,6 +366,9 @@ impl App {
             }
             Done::Lift(None) => {
                 r.str(t!("ok lift off"));
+            }
+            Done::Mode(hold) => {
+                r.str(t!("ok mode ")).str(mode_name(hold));
             }
             Done::Circled => {
                 r.str(t!("ok circle"));
@@ -494,4 +500,13 @@ fn config_error(e: &ConfigError, line: &mut Line) {
         ConfigError::Touch(_) | ConfigError::Arm => {}
     }
     line.str(e.reason());
+}
+
+/// The word of `mode` for hold to run on (`hold`) or off (`tap`).
+pub(super) fn mode_name(hold: bool) -> crate::text::Text {
+    if hold {
+        t!("hold")
+    } else {
+        t!("tap")
+    }
 }

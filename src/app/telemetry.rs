@@ -191,6 +191,7 @@ impl App {
             return;
         }
         line.str(t!("ok cal show law ")).str(self.config.law.name()).word(t!("speed")).word(self.config.speed.name());
+        line.word(t!("mode")).word(super::serial::mode_name(self.config.hold_to_run));
     }
 }
 

@@ -70,16 +70,15 @@ pub struct Warp {
 
 impl Warp {
     /// A stop of `m`, whose last frame was at `tau` and the one before at
-    /// `tau − dt` (clamped at 0), under the joints' acceleration limits
+    /// `tau − dt`, under the joints' acceleration limits
     /// `accel` (rad/s²); `None` if the motion cannot be evaluated there.
     pub fn begin<M: Timeline>(m: &M, tau: f32, dt: f32, accel: &[f32; JOINTS]) -> Option<Warp> {
-        let before = (tau - dt).max(0.0);
-        let (prev, now) = (m.pose(before)?, m.pose(tau)?);
-        let step = tau - before;
+        let (prev, now) = (m.pose(tau - dt)?, m.pose(tau)?);
+        let step = dt;
         // Frames of the ramp: 3·|v|/A, |v| from the last step.
         let mut t = 0.0f32;
         for ((p, q), a) in prev.iter().zip(now.iter()).zip(accel.iter()) {
-            t = t.max(3.0 * (q - p).abs() / (step.max(1e-6) * a));
+            t = t.max(3.0 * (q - p).abs() / (step * a));
         }
         let frames = t / dt;
         let n = if frames < f32::from(MAX_RAMP) { (frames as u16).saturating_add(1) } else { MAX_RAMP };
@@ -130,6 +129,11 @@ impl Warp {
     /// At rest: the ramp has reached r = 0 and the last step moved nothing.
     pub fn at_rest(&self) -> bool {
         self.k == self.n && self.step == 0.0
+    }
+
+    /// Ramping toward full speed.
+    pub fn rising(&self) -> bool {
+        self.up
     }
 
     /// Back at full speed (r = 1) after a resume.

@@ -36,6 +36,7 @@
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
 //! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
+//! | `mode <tap\|hold>` | how a map touch moves the arm: on its commit after the hold (`tap`, the default), or only while it stays held (`hold`: a lift brings the arm to rest along its path) |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
@@ -113,6 +114,8 @@ pub enum Command {
     /// `lift <h>` (hundredths of a workspace unit, 1..=[`LIFT_MAX_CENTI`])
     /// or `lift off` (`None`).
     Lift(Option<u8>),
+    /// `mode hold` (`true`) or `mode tap`: hold to run.
+    Mode(bool),
     /// `circle <r>`: one turn of radius `r` hundredths of a workspace unit.
     Circle {
         /// Radius, hundredths of a workspace unit, 1..=[`CIRCLE_MAX_CENTI`].
@@ -170,6 +173,8 @@ pub enum Verb {
     Path,
     /// `lift`
     Lift,
+    /// `mode`
+    Mode,
     /// `circle`
     Circle,
     /// `grip`
@@ -192,7 +197,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 18] = [
+    pub const ALL: [Verb; 19] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -202,6 +207,7 @@ impl Verb {
         Verb::Speed,
         Verb::Path,
         Verb::Lift,
+        Verb::Mode,
         Verb::Circle,
         Verb::Grip,
         Verb::Pose,
@@ -231,15 +237,16 @@ impl Verb {
             6 => Verb::Speed,
             7 => Verb::Path,
             8 => Verb::Lift,
-            9 => Verb::Circle,
-            10 => Verb::Grip,
-            11 => Verb::Pose,
-            12 => Verb::Park,
-            13 => Verb::Undo,
-            14 => Verb::Cal,
-            15 => Verb::Log,
-            16 => Verb::Help,
-            17 => Verb::Version,
+            9 => Verb::Mode,
+            10 => Verb::Circle,
+            11 => Verb::Grip,
+            12 => Verb::Pose,
+            13 => Verb::Park,
+            14 => Verb::Undo,
+            15 => Verb::Cal,
+            16 => Verb::Log,
+            17 => Verb::Help,
+            18 => Verb::Version,
             _ => return None,
         })
     }
@@ -256,6 +263,7 @@ impl Verb {
             Verb::Speed => t!("speed"),
             Verb::Path => t!("path"),
             Verb::Lift => t!("lift"),
+            Verb::Mode => t!("mode"),
             Verb::Circle => t!("circle"),
             Verb::Grip => t!("grip"),
             Verb::Pose => t!("pose"),
@@ -578,6 +586,11 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         Verb::Lift => match t.arg()? {
             w if is(w, t!("off")) => Command::Lift(None),
             tok => Command::Lift(Some(parse_centi(tok, 1, LIFT_MAX_CENTI)? as u8)),
+        },
+        Verb::Mode => match t.arg()? {
+            w if is(w, t!("hold")) => Command::Mode(true),
+            w if is(w, t!("tap")) => Command::Mode(false),
+            _ => return Err(CmdError::BadArgument),
         },
         Verb::Circle => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
         Verb::Cal => match t.arg()? {

@@ -77,6 +77,7 @@ scenarios!(
     hold_boundaries,
     palm,
     unreachable,
+    hold_release,
 );
 
 #[test]
