@@ -38,10 +38,15 @@ use crate::motion::stop::{Timeline, Warp};
 use crate::seam::SerialPort;
 use crate::servo::track::ServoTrack;
 
-/// A line `hold.rs` owes.
+/// A line `hold.rs` owes. Fieldless, `Nothing` first, so that
+/// [`HoldRun::IDLE`] is all zero bytes (initializing `App` copies no
+/// constant from RAM).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
 enum Said {
-    Released(u16),
+    Nothing = 0,
+    /// `info hold released <ms>`, [`HoldRun::stop_frames`] long.
+    Released,
     Rest,
     Resumed,
 }
@@ -55,16 +60,28 @@ pub(super) struct HoldRun {
     touch: bool,
     /// The switch is held (the switch feature's hook).
     switch: bool,
-    /// The held move's clock, once released (kept until the move ends).
-    warp: Option<Warp>,
+    /// The held move has been released: its clock is `warp`'s from then
+    /// until the move ends.
+    released: bool,
+    warp: Warp,
     /// The rest line has been sent for this rest.
     rested: bool,
-    said: Option<Said>,
+    said: Said,
+    /// The planned stop's frames, for the released line.
+    stop_frames: u16,
 }
 
 impl HoldRun {
-    pub(super) const IDLE: HoldRun =
-        HoldRun { armed: false, touch: false, switch: false, warp: None, rested: false, said: None };
+    pub(super) const IDLE: HoldRun = HoldRun {
+        armed: false,
+        touch: false,
+        switch: false,
+        released: false,
+        warp: Warp::NONE,
+        rested: false,
+        said: Said::Nothing,
+        stop_frames: 0,
+    };
 }
 
 /// The running move as the stop sees it: the servo track's motion or a
@@ -77,7 +94,8 @@ struct Running<'a> {
 impl Timeline for Running<'_> {
     fn pose(&self, tau: f32) -> Option<[f32; JOINTS]> {
         match self.path {
-            PathRun::Running { run, .. } => run.angles(tau.clamp(0.0, run.ts())),
+            // Not `clamp`: its panic path would cost flash and RAM.
+            PathRun::Running { run, .. } => run.angles(tau.max(0.0).min(run.ts())),
             _ => Some(self.track.positions(&self.track.frame(tau))),
         }
     }
@@ -96,13 +114,14 @@ impl App {
 
     /// The hold-to-run input: a committed contact on the glass or the
     /// switch held. The one place "held" is decided.
-    pub(super) fn hold_input(&self) -> bool {
+    pub fn hold_input(&self) -> bool {
         self.hold.touch || self.hold.switch
     }
 
-    /// The switch's hook (§4): held or let go.
-    #[allow(dead_code)] // reason: called by the switch feature
-    pub(super) fn hold_switch(&mut self, down: bool) {
+    /// The assistive switch's hook (issue #20 §4): held or let go. A held
+    /// move runs while [`App::hold_input`] is true: a committed contact on
+    /// the glass or the switch held.
+    pub fn hold_switch(&mut self, down: bool) {
         self.hold.switch = down;
     }
 
@@ -115,7 +134,7 @@ impl App {
         serial: &mut U,
     ) {
         self.hold.touch = true;
-        if self.hold.warp.is_some() {
+        if self.hold.released {
             return;
         }
         self.hold.armed = true;
@@ -135,8 +154,10 @@ impl App {
     /// held move was released: at rest the released move is dropped (the
     /// target starts from rest); while its clock changes, busy.
     pub(super) fn hold_accept(&mut self) -> Result<(), Refusal> {
-        let Some(w) = &self.hold.warp else { return Ok(()) };
-        if !w.at_rest() {
+        if !self.hold.released {
+            return Ok(());
+        }
+        if !self.hold.warp.at_rest() {
             return Err(Refusal::Busy);
         }
         self.hold_drop();
@@ -147,8 +168,13 @@ impl App {
 
     /// STOP, a fault, or the end of the move: nothing is held any more.
     pub(super) fn hold_drop(&mut self) {
-        let HoldRun { touch, switch, .. } = self.hold;
-        self.hold = HoldRun { touch, switch, ..HoldRun::IDLE };
+        // Field by field: a struct update from `IDLE` made the compiler
+        // keep a copy of it in RAM. The warp is unused while not released.
+        let h = &mut self.hold;
+        h.armed = false;
+        h.released = false;
+        h.rested = false;
+        h.said = Said::Nothing;
     }
 
     /// Steps a held move (module doc): `false` when the frame steps the
@@ -172,10 +198,10 @@ impl App {
             PathRun::Running { run, .. } => run.ts(),
             _ => self.track.end_s(),
         };
-        let mut w = match self.hold.warp {
-            Some(w) => w,
-            None if held => return false,
-            None => {
+        let mut w = match self.hold.released {
+            true => self.hold.warp,
+            false if held => return false,
+            false => {
                 // The last frame ran at the clock's previous count.
                 let frames = match &self.path {
                     PathRun::Running { frame, .. } => *frame,
@@ -188,10 +214,11 @@ impl App {
             }
         };
         if held && w.at_rest() {
-            self.hold.said = Some(Said::Resumed);
+            self.hold.said = Said::Resumed;
             self.hold.rested = false;
-        } else if !held && (self.hold.warp.is_none() || w.rising()) {
-            self.hold.said = Some(Said::Released(w.frames_to_rest()));
+        } else if !held && (!self.hold.released || w.rising()) {
+            self.hold.said = Said::Released;
+            self.hold.stop_frames = w.frames_to_rest();
         }
         w.set_up(held);
         let q = w.next(&Running { track: &self.track, path: &self.path }, &accel);
@@ -207,9 +234,10 @@ impl App {
         }
         if w.at_rest() && !self.hold.rested {
             self.hold.rested = true;
-            self.hold.said = Some(Said::Rest);
+            self.hold.said = Said::Rest;
         }
-        self.hold.warp = Some(w);
+        self.hold.warp = w;
+        self.hold.released = true;
         true
     }
 
@@ -232,17 +260,19 @@ impl App {
     /// hold resumed`, after the frame's pulses.
     #[inline(never)] // avr-trap: frame-size
     pub(super) fn hold_report<U: SerialPort>(&mut self, serial: &mut U) {
-        let Some(said) = self.hold.said.take() else { return };
+        let said = core::mem::replace(&mut self.hold.said, Said::Nothing);
         let mut line = Line::new();
         line.str(t!("info hold"));
         match said {
-            Said::Released(frames) => {
-                line.word(t!("released")).num(i32::from(frames) * super::FRAME_MS as i32);
+            Said::Nothing => return,
+            Said::Released => {
+                line.word(t!("released")).num(i32::from(self.hold.stop_frames) * super::FRAME_MS as i32);
             }
             Said::Rest => {
+                // As `status` prints `q`.
                 line.word(t!("rest"));
                 for q in self.commanded {
-                    line.bytes(b" ").centi(rad_to_centideg(q));
+                    line.num(rad_to_centideg(q));
                 }
             }
             Said::Resumed => {

@@ -69,9 +69,14 @@ pub struct Warp {
 }
 
 impl Warp {
+    /// No stop (all zero bytes: a static's initializer copies nothing).
+    pub const NONE: Warp =
+        Warp { tau: 0.0, step: 0.0, prev: [0.0; JOINTS], now: [0.0; JOINTS], k: 0, n: 0, up: false, dt: 0.0 };
+
     /// A stop of `m`, whose last frame was at `tau` and the one before at
     /// `tau − dt`, under the joints' acceleration limits
     /// `accel` (rad/s²); `None` if the motion cannot be evaluated there.
+    #[inline(never)] // avr-trap: frame-size
     pub fn begin<M: Timeline>(m: &M, tau: f32, dt: f32, accel: &[f32; JOINTS]) -> Option<Warp> {
         let (prev, now) = (m.pose(tau - dt)?, m.pose(tau)?);
         let step = dt;
@@ -92,6 +97,7 @@ impl Warp {
 
     /// The pose of the next frame (see the module doc); `None` if the motion
     /// cannot be evaluated (the caller faults).
+    #[inline(never)] // avr-trap: frame-size
     pub fn next<M: Timeline>(&mut self, m: &M, accel: &[f32; JOINTS]) -> Option<[f32; JOINTS]> {
         let k = if self.up { self.k.saturating_sub(1) } else { (self.k + 1).min(self.n) };
         if k != self.k {

@@ -843,7 +843,7 @@ mod config {
         want.lift_centi = None;
         want.press = PressSettings::DEFAULT;
         want.arm = ArmSettings::DEFAULT;
-            want.hold_to_run = false;
+        want.hold_to_run = false;
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v3(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v3(41, tail);
