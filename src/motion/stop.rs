@@ -152,33 +152,3 @@ impl Warp {
         self.n - self.k
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A joint moving at constant speed v along all three joints.
-    struct Cruise(f32);
-    impl Timeline for Cruise {
-        fn pose(&self, tau: f32) -> Option<[f32; JOINTS]> {
-            Some([self.0 * tau; JOINTS])
-        }
-    }
-
-    #[test]
-    fn cruise_stops_within_three_v_over_a() {
-        // v = 1 rad/s, A = 10 rad/s²: 3·v/A = 0.3 s = 15 frames, n = 16.
-        let (m, a) = (Cruise(1.0), [10.0; JOINTS]);
-        let mut w = Warp::begin(&m, 1.0, 0.02, &a).unwrap();
-        assert_eq!(w.frames_to_rest(), 16);
-        let mut last = [1.0f32; JOINTS];
-        for _ in 0..16 {
-            let q = w.next(&m, &a).unwrap();
-            assert!(q[0] >= last[0]);
-            last = q;
-        }
-        assert!(w.at_rest());
-        // τ advanced by Σ r·dt ≈ n·dt/2 = 0.16 s: stopped at q ≈ 1.16.
-        assert!((w.tau() - 1.16).abs() < 0.021, "{}", w.tau());
-    }
-}
