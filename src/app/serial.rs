@@ -368,7 +368,7 @@ impl App {
                 r.str(t!("ok lift off"));
             }
             Done::Mode(hold) => {
-                r.str(t!("ok mode ")).str(mode_name(hold));
+                r.str(t!("ok mode ")).str(super::text::mode_name(hold));
             }
             Done::Circled => {
                 r.str(t!("ok circle"));
@@ -500,13 +500,4 @@ fn config_error(e: &ConfigError, line: &mut Line) {
         ConfigError::Touch(_) | ConfigError::Arm => {}
     }
     line.str(e.reason());
-}
-
-/// The word of `mode` for hold to run on (`hold`) or off (`tap`).
-pub(super) fn mode_name(hold: bool) -> crate::text::Text {
-    if hold {
-        t!("hold")
-    } else {
-        t!("tap")
-    }
 }
