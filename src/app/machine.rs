@@ -81,6 +81,7 @@ impl App {
         // A path check takes what the period leaves (`path_move`).
         self.step_path_check(io.servos, io.serial, catch_up);
         self.send_telemetry(io.serial, now);
+        self.hold_report(io.serial);
         self.flush_pending(io.serial);
         self.report_dropped(io.serial);
     }
@@ -347,6 +348,7 @@ impl App {
             Mode::Run => {}
             _ => return Err(Refusal::Homing),
         }
+        self.hold_accept()?;
         if self.path_busy() || (kind != MoveKind::Joint && !self.track.is_done()) {
             return Err(Refusal::Busy);
         }
@@ -575,7 +577,7 @@ impl App {
             };
         }
         self.frame_pulses = None;
-        if self.step_path() {
+        if self.step_hold() || self.step_path() {
             return;
         }
         if !self.track.is_done() {
@@ -632,6 +634,7 @@ impl App {
     pub(super) fn latch_fault(&mut self) {
         self.stopped = true;
         self.track.halt();
+        self.hold_drop();
         self.halt_grip();
         self.last_refusal = Some(Refusal::Fault);
     }
@@ -640,6 +643,7 @@ impl App {
     pub(super) fn stop(&mut self) {
         self.stopped = true;
         self.track.halt();
+        self.hold_drop();
         self.halt_grip();
         // A running path move freezes on the previous frame's pose; a
         // pending check is cancelled and answered after the pulses.

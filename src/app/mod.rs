@@ -30,11 +30,15 @@
 //!    answered `err line timeout (no line ending?)`.
 //! 2. Touch: one filtered read feeds the contact (`press.rs`): STOP latches
 //!    on contact; a map point or a button acts when the finger lifts after
-//!    the hold, at the contact's robust centre. A frame does one heavy
+//!    the hold, at the contact's robust centre (`mode hold`: a map point as
+//!    soon as the hold is reached, and the move runs while it stays down,
+//!    `hold.rs`). A frame does one heavy
 //!    thing: after a serial line the panel is not read and a lift-off that
 //!    would plan waits a frame.
 //! 3. Motion: the setpoint of every joint at t = frames since the plan × 20 ms
-//!    (exact, no clock drift); the move ends exactly on its target at tₛ.
+//!    (exact, no clock drift); the move ends exactly on its target at tₛ. A
+//!    held move once released (`mode hold`) runs on its planned stop's
+//!    clock instead ([`crate::motion::stop`]).
 //! 4. Servos: every setpoint goes through [`ServoMap::angle_to_pulse`]
 //!    (angle and pulse limits), then `set_pulses`. A non-finite setpoint keeps
 //!    the previous pulse and latches STOP (`Refusal::Fault`).
@@ -89,7 +93,7 @@
 //! `grip.rs` (the gripper), `poses.rs` (saved poses), `recalibrate.rs`
 //! (calibration changes while holding), `wiring.rs` (the panel's wiring),
 //! `telemetry.rs` (output lines), `undo.rs` (going back), `access.rs` (the
-//! carer lock). The rule they follow:
+//! carer lock), `hold.rs` (hold to run). The rule they follow:
 //! - A feature's own state is one field of its own type, declared in its
 //!   file (`grip: grip::Grip`, `path: path_move::PathRun`, `screen:
 //!   screen::Screen`, `session: serial::Session`); only that file changes
@@ -98,8 +102,10 @@
 //!   `last_move`) belongs to `machine.rs`: a feature moves the arm only
 //!   through the planner (`plan_motion`, `start_move`) or a latch (`stop`),
 //!   never by writing a pose or a pulse, so every move keeps the limits and
-//!   the no-jump rule. The one exception is `path_move.rs`, whose accepted
-//!   path or lift move commands its IK pose frame by frame.
+//!   the no-jump rule. The exceptions are `path_move.rs`, whose accepted
+//!   path or lift move commands its IK pose frame by frame, and `hold.rs`,
+//!   whose planned stop commands the running move's own poses on a slowed
+//!   clock, each frame checked against the acceleration limits.
 //! - The running configuration (`config`, `maps`) changes only as a whole
 //!   validated record (`recalibrate.rs`'s `replace_config`, the screen's
 //!   calibration, boot) or by one field a command owns (`speed`, `law`,
@@ -113,6 +119,7 @@
 
 mod access;
 mod grip;
+mod hold;
 mod lcd;
 mod machine;
 mod path_move;
@@ -541,6 +548,8 @@ pub struct App {
     undo: undo::Undo,
     /// The carer lock and its settings (`access.rs`), loaded at boot.
     carer: access::Carer,
+    /// Hold to run (`hold.rs`): the held move and its planned stop.
+    hold: hold::HoldRun,
 }
 
 // `App::init` assigns over an uninitialized slot: sound only while nothing
@@ -645,6 +654,7 @@ impl App {
                 press: press::Press::IDLE,
                 undo: undo::Undo::EMPTY,
                 carer: access::Carer::NEW,
+                hold: hold::HoldRun::IDLE,
             };
             Ok(&mut *at)
         }

@@ -106,14 +106,14 @@ pub(super) enum Run {
 }
 
 impl Run {
-    fn ts(&self) -> f32 {
+    pub(super) fn ts(&self) -> f32 {
         match self {
             Run::Path(p) => p.ts(),
             Run::Lift(l) => l.ts(),
         }
     }
 
-    fn angles(&self, t: f32) -> Option<[f32; JOINTS]> {
+    pub(super) fn angles(&self, t: f32) -> Option<[f32; JOINTS]> {
         match self {
             Run::Path(p) => p.angles(t).ok(),
             Run::Lift(l) => Some(l.angles(t)),

@@ -31,6 +31,9 @@
 //!   rules above, judged at its lift-off.
 //! - Without a screen the same rules commit the robust centre on lift-off
 //!   (the whole panel is the workspace) and send the same lines.
+//! - `mode hold` (`hold.rs`): a map contact (without a screen, any) that has
+//!   rested `hold` commits its robust centre there and then, and its lift
+//!   is the release (nothing more at lift-off).
 
 use super::text::Line;
 use super::App;
@@ -196,9 +199,31 @@ impl App {
                 self.press.ring = ring_of(self.press.contact.duration_ms() + self.press.carry_ms, hold);
                 let centre = self.press.contact.centre();
                 self.screen_candidate(&centre);
+                self.press_hold_commit(storage, serial);
             }
+            Role::Blank if !self.params.screen => self.press_hold_commit(storage, serial),
             _ => {}
         }
+    }
+
+    /// `mode hold`: a contact on the map (the panel, without a screen) that
+    /// has rested `hold` commits its robust centre now, not at lift-off,
+    /// and spends the contact (`hold.rs`).
+    fn press_hold_commit<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
+        let c = &self.press.contact;
+        let hold = u32::from(self.config.press.hold_cs) * 10;
+        if !self.config.hold_to_run || c.duration_ms() + self.press.carry_ms < hold || c.wandered() {
+            return;
+        }
+        let centre = c.centre();
+        if self.params.screen && !matches!(self.hit_of(&centre), Some(Hit::Map { .. })) {
+            return;
+        }
+        self.press.role = Role::Spent;
+        self.press.ring = 0;
+        self.press.carry_ms = 0;
+        self.screen_preview(None);
+        self.hold_commit(&centre, storage, serial);
     }
 
     /// A new contact: what it may become.
@@ -236,6 +261,7 @@ impl App {
 
     /// The finger lifted: act, cancel or ignore (module doc).
     fn press_lifted<E: Storage, U: SerialPort>(&mut self, storage: &mut E, serial: &mut U) {
+        self.hold_lifted();
         let c = self.press.contact;
         self.press.lifted_ms = Some(c.last_ms());
         self.press.ring = 0;

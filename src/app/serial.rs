@@ -113,6 +113,8 @@ pub(super) enum Done {
     Pose(PoseDone),
     Path(PathMode),
     Lift(Option<u8>),
+    /// `mode hold` (`true`) or `mode tap`.
+    Mode(bool),
     /// A circle, once its check decided.
     Circled,
     /// `park`, once planned.
@@ -246,6 +248,7 @@ impl App {
             Command::Version => Ok(Done::Version),
             Command::Path(m) => self.set_path(m).map(|()| Done::Path(m)),
             Command::Lift(h) => self.set_lift(h).map(|()| Done::Lift(h)),
+            Command::Mode(hold) => self.set_hold_mode(hold).map(|()| Done::Mode(hold)),
             Command::Circle { r_centi } => self.start_circle(r_centi).map(|()| Done::Circled),
             Command::CalShow => {
                 // The data lines follow one per frame, starting with this one.
@@ -371,6 +374,9 @@ impl App {
             }
             Done::Lift(None) => {
                 r.str(t!("ok lift off"));
+            }
+            Done::Mode(hold) => {
+                r.str(t!("ok mode ")).str(super::text::mode_name(hold));
             }
             Done::Circled => {
                 r.str(t!("ok circle"));

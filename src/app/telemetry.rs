@@ -195,6 +195,7 @@ impl App {
             return;
         }
         line.str(t!("ok cal show law ")).str(self.config.law.name()).word(t!("speed")).word(self.config.speed.name());
+        line.word(t!("mode")).word(super::text::mode_name(self.config.hold_to_run));
     }
 }
 

@@ -1,5 +1,5 @@
 //! The app's output lines: [`crate::text::line::Line`] sized for the longest
-//! reply, and [`milli`] for the thousandths they print.
+//! reply, [`milli`] for the thousandths they print, and the words lines share.
 
 use crate::math::units::round_i32;
 
@@ -14,4 +14,14 @@ pub type Line = crate::text::line::Line<LINE_CAP>;
 /// A value in thousandths (e.g. mrad/s from rad/s), rounded, saturating.
 pub fn milli(v: f32) -> i32 {
     round_i32(v * 1000.0)
+}
+
+/// The word of `mode` for hold to run on (`hold`) or off (`tap`), for its
+/// reply and `cal show`.
+pub fn mode_name(hold: bool) -> crate::text::Text {
+    if hold {
+        t!("hold")
+    } else {
+        t!("tap")
+    }
 }

@@ -203,6 +203,10 @@ pub struct Config {
     pub press: PressSettings,
     /// The links' lengths, the home and the park pose.
     pub arm: ArmSettings,
+    /// `mode hold`: a map touch moves the arm only while it is held (or the
+    /// switch is), and a lift brings it to rest (`app::hold`); `false`:
+    /// `mode tap`, the default.
+    pub hold_to_run: bool,
 }
 
 /// Why a configuration is refused (by `validate`, or a `cal set` that
@@ -246,6 +250,7 @@ impl Config {
         lift_centi: None,
         press: PressSettings::DEFAULT,
         arm: ArmSettings::DEFAULT,
+        hold_to_run: false,
     };
 
     /// Checks every joint calibration and the touch calibration; the first

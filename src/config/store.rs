@@ -1,10 +1,10 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 6, little-endian, 124 bytes)
+//! # Record layout (version 7, little-endian, 125 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (6) |
+//! | 2  | 1  | layout version (7) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
@@ -21,9 +21,12 @@
 //! | 106 | 4 | arm `l2`, `l3` u16, hundredths of a millimetre, 1000..=65000, at most 4× apart (version 6) |
 //! | 110 | 6 | home pose: base, shoulder, elbow i16, hundredths of a degree (version 6) |
 //! | 116 | 6 | park pose, as home (version 6) |
-//! | 122 | 2 | CRC-16/CCITT-FALSE of bytes 0..122 |
+//! | 122 | 1 | touch mode: 0 `tap`, 1 `hold` (version 7) |
+//! | 123 | 2 | CRC-16/CCITT-FALSE of bytes 0..123 |
 //!
-//! Older records are still read, and the next save writes version 6:
+//! Older records are still read, and the next save writes version 7:
+//! - version 6 (before hold to run) ends with its CRC of bytes 0..122 at
+//!   122; it reads with `mode tap`;
 //! - version 5 (before the arm's own geometry) ends with its CRC of bytes
 //!   0..106 at 106; it reads with the default [`ArmSettings`] (equal links,
 //!   home and park at 90°, 90°, −90°);
@@ -40,7 +43,8 @@
 //!   ([`JointCal::DEFAULTS`]) too.
 //!
 //! Every version before 5 reads with the default [`PressSettings`], every
-//! version before 6 with the default [`ArmSettings`].
+//! version before 6 with the default [`ArmSettings`], every version before 7
+//! with `mode tap`.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -85,7 +89,9 @@ use crate::touch::wiring::Wiring;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 124;
+pub const RECORD_LEN: usize = 125;
+/// A version-6 record's length (its CRC at 122).
+const RECORD_LEN_V6: usize = 124;
 /// A version-5 record's length (its CRC at 106).
 const RECORD_LEN_V5: usize = 108;
 /// A version-4 record's length (its CRC at 103).
@@ -103,9 +109,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; versions 1 to 5 are still read
+/// Layout version of the record written; versions 1 to 6 are still read
 /// (see the module doc), any other is not.
-pub const VERSION: u8 = 6;
+pub const VERSION: u8 = 7;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -154,11 +160,12 @@ impl Config {
         for v in a.home.iter().chain(a.park.iter()) {
             w.put(&v.to_le_bytes());
         }
+        w.put(&[u8::from(self.hold_to_run)]);
         seal(&mut buf);
         buf
     }
 
-    /// Parses and validates a record (version 6; 5 with the default arm
+    /// Parses and validates a record (version 7; 6 with `mode tap`; 5 also with the default arm
     /// settings; 4 also with the default touch hold, repeat and radius; 3 also with joint moves and no lift; 2 also
     /// without a wiring; 1 also with the default acceleration limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
@@ -169,6 +176,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            6 => RECORD_LEN_V6 - 2,
             5 => RECORD_LEN_V5 - 2,
             4 => RECORD_LEN_V4 - 2,
             3 => RECORD_LEN_V3 - 2,
@@ -202,7 +210,7 @@ impl Config {
             }
         }
         let wiring = match version {
-            VERSION | 5 | 4 | 3 => match r.take::<1>() {
+            VERSION | 6 | 5 | 4 | 3 => match r.take::<1>() {
                 [0] => None,
                 [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
             },
@@ -231,6 +239,14 @@ impl Config {
                 *v = i16::from_le_bytes(r.take());
             }
         }
+        let hold_to_run = match version {
+            VERSION => match r.take::<1>() {
+                [0] => false,
+                [1] => true,
+                _ => return Err(RecordError::Invalid),
+            },
+            _ => false,
+        };
         let config = Config {
             joints,
             touch: Calibration {
@@ -249,6 +265,7 @@ impl Config {
             lift_centi,
             press,
             arm,
+            hold_to_run,
         };
         config.validate().map_err(|_| RecordError::Invalid)?;
         Ok(Record { seq, config })

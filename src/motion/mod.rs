@@ -3,7 +3,8 @@
 //! end-effector paths paced by a law ([`path`]), moves lifted over a via
 //! pose ([`lift`]), a
 //! synchronized multi-joint move ([`plan`]) and the planner that picks its
-//! duration and shape under the speed and acceleration limits ([`planner`]). This module holds the types every law shares: one sample of
+//! duration and shape under the speed and acceleration limits ([`planner`]), and
+//! the planned stop that brings any of them to rest along its path ([`stop`]). This module holds the types every law shares: one sample of
 //! a motion and the error of all trajectory constructors.
 
 pub mod laws;
@@ -12,6 +13,7 @@ pub mod path;
 pub mod plan;
 pub mod planner;
 pub mod scaled;
+pub mod stop;
 pub mod superpose;
 pub mod via;
 pub mod zat;

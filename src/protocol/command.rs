@@ -36,6 +36,7 @@
 //! | `pose <save\|go\|clear> <1-4>` / `pose list` | saved poses, see [`PoseCmd`] |
 //! | `path <joint\|line>` | how targets are reached: joint-space moves, or the effector along the straight segment |
 //! | `lift <h>` / `lift off` | joint moves pass a via pose h (workspace units, 0.01..=0.50) above the higher end, halfway in base rotation and reach; excludes `path line` |
+//! | `mode <tap\|hold>` | how a map touch moves the arm: on its commit after the hold (`tap`, the default), or only while it stays held (`hold`: a lift brings the arm to rest along its path) |
 //! | `access lock` / `access unlock <pin>` | the carer lock: lock the user's pages (a PIN must be set), or open carer mode; see [`AccessCmd`] |
 //! | `access pin <4-8 digits>\|off`, `access hide\|show <cal\|line\|lift\|fast\|touch>`, `access cap <slow\|normal\|fast>` | the carer's settings, stored at once (carer mode only) |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
@@ -116,6 +117,8 @@ pub enum Command {
     /// `lift <h>` (hundredths of a workspace unit, 1..=[`LIFT_MAX_CENTI`])
     /// or `lift off` (`None`).
     Lift(Option<u8>),
+    /// `mode hold` (`true`) or `mode tap`: hold to run.
+    Mode(bool),
     /// `circle <r>`: one turn of radius `r` hundredths of a workspace unit.
     Circle {
         /// Radius, hundredths of a workspace unit, 1..=[`CIRCLE_MAX_CENTI`].
@@ -191,6 +194,8 @@ pub enum Verb {
     Path,
     /// `lift`
     Lift,
+    /// `mode`
+    Mode,
     /// `circle`
     Circle,
     /// `grip`
@@ -215,7 +220,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 19] = [
+    pub const ALL: [Verb; 20] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -225,6 +230,7 @@ impl Verb {
         Verb::Speed,
         Verb::Path,
         Verb::Lift,
+        Verb::Mode,
         Verb::Circle,
         Verb::Grip,
         Verb::Pose,
@@ -255,16 +261,17 @@ impl Verb {
             6 => Verb::Speed,
             7 => Verb::Path,
             8 => Verb::Lift,
-            9 => Verb::Circle,
-            10 => Verb::Grip,
-            11 => Verb::Pose,
-            12 => Verb::Park,
-            13 => Verb::Undo,
-            14 => Verb::Access,
-            15 => Verb::Cal,
-            16 => Verb::Log,
-            17 => Verb::Help,
-            18 => Verb::Version,
+            9 => Verb::Mode,
+            10 => Verb::Circle,
+            11 => Verb::Grip,
+            12 => Verb::Pose,
+            13 => Verb::Park,
+            14 => Verb::Undo,
+            15 => Verb::Access,
+            16 => Verb::Cal,
+            17 => Verb::Log,
+            18 => Verb::Help,
+            19 => Verb::Version,
             _ => return None,
         })
     }
@@ -281,6 +288,7 @@ impl Verb {
             Verb::Speed => t!("speed"),
             Verb::Path => t!("path"),
             Verb::Lift => t!("lift"),
+            Verb::Mode => t!("mode"),
             Verb::Circle => t!("circle"),
             Verb::Grip => t!("grip"),
             Verb::Pose => t!("pose"),
@@ -625,6 +633,11 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         Verb::Lift => match t.arg()? {
             w if is(w, t!("off")) => Command::Lift(None),
             tok => Command::Lift(Some(parse_centi(tok, 1, LIFT_MAX_CENTI)? as u8)),
+        },
+        Verb::Mode => match t.arg()? {
+            w if is(w, t!("hold")) => Command::Mode(true),
+            w if is(w, t!("tap")) => Command::Mode(false),
+            _ => return Err(CmdError::BadArgument),
         },
         Verb::Circle => Command::Circle { r_centi: parse_centi(t.arg()?, 1, CIRCLE_MAX_CENTI)? as u16 },
         Verb::Cal => match t.arg()? {

@@ -435,6 +435,22 @@ impl ServoTrack {
         out
     }
 
+    /// Frames since the track was built (the clock of [`ServoTrack::frame`]).
+    pub fn frames(&self) -> u16 {
+        self.n
+    }
+
+    /// When the last term ends, s on [`ServoTrack::frame`]'s clock.
+    pub fn end_s(&self) -> f32 {
+        let mut end = 0.0f32;
+        for (term, lead) in self.motion.terms().iter().zip(self.lead.iter()) {
+            if let Some(term) = term {
+                end = end.max(term.duration() - self.frames_s(i32::from(*lead)));
+            }
+        }
+        end
+    }
+
     /// Frames term `slot` has run in this frame (< 0: still to wait).
     pub fn clock(&self, slot: usize) -> Option<i32> {
         self.lead.get(slot).map(|l| i32::from(self.n) + i32::from(*l))

@@ -66,6 +66,8 @@
 //! - `expect max_step_us <n> [since <mark>]`: largest pulse change between frames
 //! - `expect speed_within <pct> [since <mark>]`: every joint's commanded
 //!   speed (frame differences) ≤ pct % of its configured max speed
+//! - `expect accel_within <pct> [since <mark>]`: every joint's commanded
+//!   acceleration (second differences over 20 ms) ≤ pct % of its max_accel
 //! - `expect peak_speed_at_least <pct> since <mark>`: some joint reached it
 //! - `expect synchronized since <mark> tol <t>`: all moving joints share the
 //!   same normalized progress at every frame (within t)
@@ -145,6 +147,7 @@ enum Expect {
     Still(String),
     MaxStepUs(f64, Option<String>),
     SpeedWithin(f64, Option<String>),
+    AccelWithin(f64, Option<String>),
     PeakSpeedAtLeast(f64, String),
     Synchronized(String, f64),
     MoveMs(f64, f64, String),
@@ -426,6 +429,7 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         }
         "max_step_us" => Expect::MaxStepUs(a.num()?, a.since()?),
         "speed_within" => Expect::SpeedWithin(a.num()?, a.since()?),
+        "accel_within" => Expect::AccelWithin(a.num()?, a.since()?),
         "peak_speed_at_least" => {
             let p = a.num()?;
             a.keyword("since")?;
@@ -884,6 +888,32 @@ impl Runner {
                     return Err(format!(
                         "a joint moved at {:.2} % of its max speed (frame {frame}) > {pct} %",
                         worst * 100.0
+                    ));
+                }
+            }
+            Expect::AccelWithin(pct, m) => {
+                // Second differences of the commanded angles over 20 ms
+                // frames against each joint's max_accel.
+                let cfg = self.sim.app.config();
+                let mut worst = (0.0f64, 0u64);
+                for p in self.window(self.mark(m)?).windows(3) {
+                    if p[1].boot_frame == 0 || p[2].boot_frame == 0 {
+                        continue;
+                    }
+                    for j in 0..3 {
+                        let q = |k: usize| p[k].commanded[j] as f64;
+                        let a = (q(2) - 2.0 * q(1) + q(0)).abs() / (FRAME_S * FRAME_S);
+                        let share = a / cfg.joints[j].max_accel_rad_s2 as f64;
+                        if share > worst.0 {
+                            worst = (share, p[2].frame);
+                        }
+                    }
+                }
+                if worst.0 > pct / 100.0 * (1.0 + 1e-3) {
+                    return Err(format!(
+                        "a joint accelerated at {:.2} % of its max accel (frame {}) > {pct} %",
+                        worst.0 * 100.0,
+                        worst.1
                     ));
                 }
             }

@@ -647,6 +647,7 @@ mod config {
         c.lift_centi = Some(35);
         c.press = PressSettings { hold_cs: 25, repeat_cs: 50, radius: 90 };
         c.arm = ArmSettings { l2_cmm: 12_050, l3_cmm: 8_000, home: [9000, 4500, -13_500], park: [-1, 17_000, -32_767] };
+        c.hold_to_run = true;
         assert_eq!(c.validate(), Ok(()));
         c
     }
@@ -721,7 +722,9 @@ mod config {
             (&[0x28, 0x23][..], &[0x94, 0x11][..], &[0x44, 0xCB][..])
         );
         assert_eq!((&r[116..118], &r[120..122]), (&[0xFF, 0xFF][..], &(-32_767i16).to_le_bytes()[..]));
-        assert_eq!(&r[122..124], &crc16(&r[..122]).to_le_bytes());
+        // Version 7 the touch mode (1: hold).
+        assert_eq!(r[122], 1);
+        assert_eq!(&r[123..125], &crc16(&r[..123]).to_le_bytes());
         let mut line = c;
         (line.path, line.lift_centi) = (PathMode::Line, None);
         let l = line.encode(9);
@@ -756,6 +759,7 @@ mod config {
             // default arm before version 6.
             want.press = PressSettings::DEFAULT;
             want.arm = ArmSettings::DEFAULT;
+            want.hold_to_run = false;
             assert_eq!(d, Record { seq: 41, config: want }, "tail {tail:#x}");
             // A bad version-1 CRC is a CRC error, not a migration.
             let mut bad = r;
@@ -796,6 +800,7 @@ mod config {
                 lift_centi: None,
                 press: PressSettings::DEFAULT,
                 arm: ArmSettings::DEFAULT,
+                hold_to_run: false,
                 ..c
             };
             assert_eq!(Config::decode(&r), Ok(Record { seq: 77, config: want }), "tail {tail:#x}");
@@ -838,6 +843,7 @@ mod config {
         want.lift_centi = None;
         want.press = PressSettings::DEFAULT;
         want.arm = ArmSettings::DEFAULT;
+        want.hold_to_run = false;
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v3(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v3(41, tail);
@@ -869,7 +875,7 @@ mod config {
             r[103..105].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        let want = Config { press: PressSettings::DEFAULT, arm: ArmSettings::DEFAULT, ..c };
+        let want = Config { press: PressSettings::DEFAULT, arm: ArmSettings::DEFAULT, hold_to_run: false, ..c };
         assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 });
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v4(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
@@ -904,7 +910,7 @@ mod config {
             r[106..108].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        let want = Config { arm: ArmSettings::DEFAULT, ..c };
+        let want = Config { arm: ArmSettings::DEFAULT, hold_to_run: false, ..c };
         assert_eq!(
             ArmSettings::DEFAULT,
             ArmSettings { l2_cmm: 10_000, l3_cmm: 10_000, home: [9000, 9000, -9000], park: [9000, 9000, -9000] }
@@ -924,7 +930,47 @@ mod config {
         let l = load(&mut ee);
         assert_eq!((l.seq, l.warning, l.config), (6, None, c));
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
-        assert_eq!(VERSION, 6);
+    }
+
+    /// A version-6 record (124 bytes, CRC of 0..122 at 122, written before
+    /// hold to run) loads with every field it has and `mode tap`; the next
+    /// save writes version 7, whose mode byte at 122 is 0 or 1 (anything
+    /// else refuses the record whole).
+    #[test]
+    fn version_6_records_migrate_to_tap_mode() {
+        let c = sample_config();
+        let v6 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..122].copy_from_slice(&c.encode(seq)[..122]);
+            r[2] = 6;
+            let crc = crc16(&r[..122]);
+            r[122..124].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let want = Config { hold_to_run: false, ..c };
+        for tail in [0xFFu8, 0x00, 0x01] {
+            assert_eq!(Config::decode(&v6(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v6(41, tail);
+            bad[121] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v6(5, 0xFF)[..124]).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &v6(4, 0xFF)[..124]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
+        assert_eq!(save(&mut ee, &c), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        let r = record(&mut ee, SLOT_B_ADDR);
+        assert_eq!((r[2], r[122]), (VERSION, 1));
+        assert_eq!(VERSION, 7);
+        // The mode byte: 0 tap, 1 hold, anything else invalid.
+        let mut odd = c.encode(9);
+        odd[122] = 2;
+        let crc = crc16(&odd[..123]);
+        odd[123..125].copy_from_slice(&crc.to_le_bytes());
+        assert_eq!(Config::decode(&odd), Err(RecordError::Invalid));
     }
 
     /// The arm's links: each 10..=650 mm, the longer at most 4x the shorter
@@ -940,8 +986,8 @@ mod config {
         assert_eq!(c.validate(), Err(ConfigError::Arm));
         let mut r = sample_config().encode(3);
         r[108..110].copy_from_slice(&3_012u16.to_le_bytes());
-        let crc = crc16(&r[..122]);
-        r[122..124].copy_from_slice(&crc.to_le_bytes());
+        let crc = crc16(&r[..123]);
+        r[123..125].copy_from_slice(&crc.to_le_bytes());
         assert_eq!(Config::decode(&r), Err(RecordError::Invalid));
         // `cal set arm` goes through the same rule.
         let mut c = Config::DEFAULT;
@@ -1008,8 +1054,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 7;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(7)));
+        r[2] = 8;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(8)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -1017,17 +1063,18 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..122]);
-            r[122..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..123]);
+            r[123..].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        // Also: an unknown wiring id, an unknown path mode, a lift over 0.5,
+        // Also: a touch mode of 2, an unknown wiring id, an unknown path mode, a lift over 0.5,
         // a lift with path line (sample_config lifts by 0.35), a hold below
         // 0.04 s or above 2 s, a repeat above 2 s, a radius below 20, an l2
         // of 0.18 mm (its high byte 0), an l3 of 653.44 mm (its high byte
         // 255).
         for (off, val) in [
-            (107usize, 0u8),
+            (122usize, 2u8),
+            (107, 0),
             (109, 255),
             (87, 9),
             (86, 3),
@@ -1100,8 +1147,8 @@ mod config {
         // named poses anywhere an i16 reaches.
         let arm = (1000u16..=65000, 1000u16..=65000, any::<[i16; 3]>(), any::<[i16; 3]>())
             .prop_map(|(l2_cmm, l3_cmm, home, park)| ArmSettings { l2_cmm, l3_cmm, home, park });
-        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press, arm))
-            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press, arm))| Config {
+        (prop::array::uniform3(joint), touch, 0u8..3, 0u8..6, (0u8..4, path_lift, press, arm, any::<bool>()))
+            .prop_map(|(joints, touch, s, l, (w, (path, lift_centi), press, arm, hold_to_run))| Config {
                 joints,
                 touch,
                 speed: SpeedPreset::from_id(s).unwrap(),
@@ -1111,6 +1158,7 @@ mod config {
                 lift_centi,
                 press,
                 arm,
+                hold_to_run,
             })
             .prop_filter("valid", |c| c.validate().is_ok())
     }

@@ -80,6 +80,7 @@ scenarios!(
     hold_boundaries,
     palm,
     unreachable,
+    hold_release,
 );
 
 #[test]

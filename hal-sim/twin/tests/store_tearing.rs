@@ -204,7 +204,9 @@ fn configs() -> Vec<Config> {
         press: touch_arm::config::settings::PressSettings { hold_cs: 50, ..Config::DEFAULT.press },
         ..Config::DEFAULT
     };
-    let all = vec![Config::DEFAULT, sample, speed, law, hold];
+    // Hold to run alone (record version 7): the mode byte and the CRC.
+    let mode = Config { hold_to_run: true, ..Config::DEFAULT };
+    let all = vec![Config::DEFAULT, sample, speed, law, hold, mode];
     for c in &all {
         assert_eq!(c.validate(), Ok(()));
     }

@@ -198,10 +198,10 @@ mod tests {
         assert_eq!(r.on_line("t 100 9000 9000 -9000 1500 1500 1500"), Routed { console: true, state: None });
         assert_eq!(r.on_line("err touch 10 20 unreachable"), Routed { console: true, state: None });
         assert!(r.on_line("cal base offset 600").console);
-        assert!(r.on_line("ok cal show law zat speed normal").console);
+        assert!(r.on_line("ok cal show law zat speed normal mode tap").console);
         assert_eq!(
             rx.recv().unwrap(),
-            vec!["cal base offset 600".to_string(), "ok cal show law zat speed normal".into()]
+            vec!["cal base offset 600".to_string(), "ok cal show law zat speed normal mode tap".into()]
         );
         // No status too soon after the last, nor while the line is busy.
         assert_eq!(r.poll_status(1.05, true), None);
