@@ -425,6 +425,11 @@ proptest! {
         let cond = ts > 1.0 && n.ln() < ts.ln() / (ts.sqrt() - 1.0).powi(2);
         let bound = ts.ln() / (ts.sqrt() - 1.0).powi(2);
         prop_assume!(ts <= 1.0 || (n.ln() - bound).abs() > 1e-9);
+        // Just above tₛ = 1 the margin of Shape's test a < u_min(tₛ) shrinks
+        // like (tₛ − 1)² and falls below f64's resolution (tₛ = 1 + 1.16e-6,
+        // n = 48.1 failed once): the condition holds, the check rounds it
+        // away. The product never plans ζ-a-tₛ under 1.2 s (`zat_ts_min`).
+        prop_assume!(ts <= 1.0 || ts > 1.0 + 1e-4);
         match smooth_stop_a(ts, n) {
             Some(a) => {
                 prop_assert!(cond);
