@@ -333,7 +333,8 @@ impl Real for f32 {
         // Above −0 and at most −∞: the negative numbers, not the NaNs.
         opaque_bits(self).wrapping_sub(0x8000_0001) < 0x7F80_0000
     }
-    #[inline]
+    // One body for its ~20 callers (~50 B inlined each).
+    #[inline(never)] // reason: code-size
     fn twice(self) -> Self {
         let b = self.to_bits();
         // Exponent field 1..=253: one more in the exponent is the exact double
