@@ -105,7 +105,7 @@ impl<R: Real> Path<R> {
         if !rho.is_finite() {
             return Err(PathShapeError::NotFinite);
         }
-        if !radius.lt_num(rho) {
+        if !radius.lt_cold(rho) {
             return Err(PathShapeError::CrossesBaseAxis);
         }
         let dir = [center[0] / rho, center[1] / rho];

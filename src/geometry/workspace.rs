@@ -58,13 +58,13 @@ impl Condition {
     /// [`WorkspacePoint`] guarantees it).
     #[inline]
     fn classify<R: Real>(x: R, y: R) -> Self {
-        if y.le_num(x) {
+        if y.le_cold(x) {
             // 0..=45°, and the origin.
             Condition::C1
         } else if !x.is_negative() {
             // (45°, 90°]
             Condition::C2
-        } else if (-x).le_num(y) {
+        } else if (-x).le_cold(y) {
             // (90°, 135°]
             Condition::C3
         } else {
@@ -130,7 +130,7 @@ impl<R: Real> WorkspacePoint<R> {
         if !(x_p.is_finite() && y_p.is_finite()) {
             return Err(WorkspaceError::NotFinite);
         }
-        if !(x_p.abs().le_num(R::ONE) && !y_p.is_negative() && y_p.le_num(R::ONE)) {
+        if !(x_p.abs().le_cold(R::ONE) && !y_p.is_negative() && y_p.le_cold(R::ONE)) {
             return Err(WorkspaceError::OutOfWorkspace);
         }
         let plus_zero = |v: R| if v.is_zero() { R::ZERO } else { v };

@@ -242,7 +242,9 @@ const T3: u32 = 816_956_759;
 /// |S(r)| for r = ±ρ (ρ = |r| ≤ 1/16 in Q0.32), Q0.32: S's coefficients
 /// alternate in sign, so for r < 0 every term adds and for r > 0 every
 /// bracket stays positive; either way only unsigned products.
-#[inline(always)]
+/// One body for [`ln_near_one`] and [`ln_sum`] (three inlined multiplies
+/// each otherwise).
+#[inline(never)] // reason: code-size
 fn ln_s(rho: u32, neg: bool) -> u32 {
     if neg {
         let t = T2 + mul_hi_approx(T3, rho);

@@ -130,6 +130,17 @@ pub trait Real:
     fn is_positive(self) -> bool {
         self > Self::ZERO
     }
+    /// [`Real::le_num`] for code off the frame's path (planning, set-up):
+    /// on f32 one called body instead of the inlined compare.
+    #[inline]
+    fn le_cold(self, o: Self) -> bool {
+        self.le_num(o)
+    }
+    /// [`Real::lt_num`] as [`Real::le_cold`].
+    #[inline]
+    fn lt_cold(self, o: Self) -> bool {
+        !o.le_cold(self)
+    }
     /// `self == o` for operands that are not NaN.
     #[inline]
     fn eq_num(self, o: Self) -> bool {
@@ -333,7 +344,8 @@ impl Real for f32 {
         // Above −0 and at most −∞: the negative numbers, not the NaNs.
         opaque_bits(self).wrapping_sub(0x8000_0001) < 0x7F80_0000
     }
-    #[inline]
+    // One body for its ~20 callers (~50 B inlined each).
+    #[inline(never)] // reason: code-size
     fn twice(self) -> Self {
         let b = self.to_bits();
         // Exponent field 1..=253: one more in the exponent is the exact double
@@ -362,6 +374,11 @@ impl Real for f32 {
             }
         }
         key(self) <= key(o)
+    }
+    // One body for the cold callers (~30 B inlined each).
+    #[inline(never)] // reason: code-size
+    fn le_cold(self, o: Self) -> bool {
+        self.le_num(o)
     }
     #[inline]
     fn is_positive(self) -> bool {

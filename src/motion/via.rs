@@ -104,7 +104,7 @@ fn shapes<R: Real>(p: &ViaParams<R>) -> Result<(Shape<R>, Shape<R>), TrajError<R
         return Err(TrajError::NotFinite);
     }
     let g = Shape::from_finite(&ShapeParams { ts: p.ts, a: p.a, n: p.n }, None)?;
-    if !(p.tv.is_positive() && p.tv.lt_num(p.ts)) {
+    if !(p.tv.is_positive() && p.tv.lt_cold(p.ts)) {
         return Err(TrajError::ViaTimeOutOfRange);
     }
     // One logarithm when both segments share the base.
@@ -379,7 +379,7 @@ impl<R: Real> fmt::Display for ContinuityError<R> {
 /// C1's domain ln t_v/(√t_v − 1)², since ln s > 2(s − 1)/(s + 1) for s = √t_v > 1.
 #[inline]
 pub fn c2_ln_base<R: Real>(tv: R) -> Option<R> {
-    if !(tv.is_finite() && R::ONE.lt_num(tv)) {
+    if !(tv.is_finite() && R::ONE.lt_cold(tv)) {
         return None;
     }
     let l = R::TWO / (tv - R::ONE);
@@ -406,7 +406,7 @@ pub fn via_shape_for<R: Real>(tv: R, av: R, nv: R, c: Continuity) -> Result<(R, 
             if !(tv.is_finite() && nv.is_finite()) {
                 return Err(ContinuityError::NotFinite);
             }
-            if !R::ONE.lt_num(tv) {
+            if !R::ONE.lt_cold(tv) {
                 return Err(ContinuityError::ViaTooEarly { tv });
             }
             match smooth_via_a(tv, nv) {
@@ -418,7 +418,7 @@ pub fn via_shape_for<R: Real>(tv: R, av: R, nv: R, c: Continuity) -> Result<(R, 
             if !tv.is_finite() {
                 return Err(ContinuityError::NotFinite);
             }
-            if !R::ONE.lt_num(tv) {
+            if !R::ONE.lt_cold(tv) {
                 return Err(ContinuityError::ViaTooEarly { tv });
             }
             let nv = c2_ln_base(tv).ok_or(ContinuityError::NotFinite)?.exp();

@@ -130,7 +130,7 @@ pub fn pole_margin<R: Real>(ts: R, a: R) -> R {
 /// The "smooth stop" shape a* = tₛ − log_n tₛ, the only a with G′(tₛ⁻) = 0.
 /// `None` when it is not admissible (tₛ ≤ 1, or ln n ≥ ln tₛ/(√tₛ − 1)²).
 pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
-    if !(ts.is_finite() && n.is_finite() && R::ONE.lt_num(ts) && R::ONE.lt_num(n)) {
+    if !(ts.is_finite() && n.is_finite() && R::ONE.lt_cold(ts) && R::ONE.lt_cold(n)) {
         return None;
     }
     let a = ts - ts.ln() / ln_base(n);
@@ -140,7 +140,7 @@ pub fn smooth_stop_a<R: Real>(ts: R, n: R) -> Option<R> {
     // The same tests as Shape::new, so every a returned here is accepted there.
     let (s, c) = sqrt_split(ts);
     let (um, delta) = long_bounds(s, c, a);
-    if a.lt_num(um) && delta.is_positive() {
+    if a.lt_cold(um) && delta.is_positive() {
         Some(a)
     } else {
         None
@@ -208,7 +208,7 @@ fn zeta_from<R: Real>(l: R, one_minus: R, d: R) -> Option<R> {
     let prod = d * one_minus;
     // Only d = ∞ in `zeta` can make prod NaN, which the finiteness test
     // catches either way.
-    let ln_sum = if !prod.lt_num(R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
+    let ln_sum = if !prod.lt_cold(R::EPSILON) && prod.is_finite() { prod.ln() } else { d.ln() + one_minus.ln() };
     let z = -ln_sum / l;
     if z.is_finite() {
         Some(z)
@@ -308,7 +308,7 @@ impl<R: Real> Shape<R> {
         if !p.ts.is_positive() {
             return Err(TrajError::NonPositiveDuration);
         }
-        if !R::ONE.lt_num(p.n) {
+        if !R::ONE.lt_cold(p.n) {
             return Err(TrajError::BaseNotAboveOne);
         }
         let l = match l {
@@ -336,7 +336,7 @@ impl<R: Real> Shape<R> {
         // computed, |φ(tₛ)| ≤ 2ε·L·(tₛ + |a|) (three roundings of ln tₛ/L, one
         // of a, one of L·(tₛ − a)), an eighth of `margin_tol`: monotone,
         // as `monotone_margin` finds, without forming it.
-        if !R::TWO.lt_num(l * (ts - R::ONE)) {
+        if !R::TWO.lt_cold(l * (ts - R::ONE)) {
             return Self::build(&p, l, Mono::Yes);
         }
         let s = Self::build(&p, l, Mono::Unknown)?;
@@ -356,7 +356,7 @@ impl<R: Real> Shape<R> {
         if !ts.is_positive() {
             return Err(TrajError::NonPositiveDuration);
         }
-        if !R::ONE.lt_num(n) {
+        if !R::ONE.lt_cold(n) {
             return Err(TrajError::BaseNotAboveOne);
         }
         Ok(())
@@ -375,11 +375,11 @@ impl<R: Real> Shape<R> {
     /// every operand here is finite or ±∞ (inputs finite), never NaN.
     #[inline(always)]
     fn build(p: &ShapeParams<R>, l: R, mono: Mono) -> Result<Self, TrajError<R>> {
-        let long = !p.ts.lt_num(R::ONE);
+        let long = !p.ts.lt_cold(R::ONE);
         let (sqrt_ts, sqrt_corr) = sqrt_split(p.ts);
         let (um, delta) = if long { long_bounds(sqrt_ts, sqrt_corr, p.a) } else { (p.ts, p.ts - p.a) };
         // u_min > 0 (tₛ > 0).
-        if !(p.a.lt_num(um) && delta.is_positive()) {
+        if !(p.a.lt_cold(um) && delta.is_positive()) {
             return Err(TrajError::ShapeNotAdmissible { a: p.a, u_min: um });
         }
         let l_delta = l * delta;
@@ -389,7 +389,7 @@ impl<R: Real> Shape<R> {
         // on the pole. expm1 returns its argument below ε, and only there can
         // 1/· overflow, so the test needs no expm1; E ≥ L·δ (tₛ − a ≥ δ), so
         // both are fine once L·δ ≥ ε. (L > 0 follows from n > 1.)
-        let on_pole = l_delta.lt_num(R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
+        let on_pole = l_delta.lt_cold(R::EPSILON) && !(l_delta.recip().is_finite() && e_s.recip().is_finite());
         // L = ln n and √tₛ (both parts) are finite for finite n > 1, tₛ > 0,
         // and 1 − n^(a − tₛ) lies in [0, 1]; only L·δ can overflow.
         if on_pole || !l_delta.is_finite() {
