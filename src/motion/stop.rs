@@ -110,7 +110,14 @@ impl Warp {
         }
         // The ramp pauses: the same step, within the plan's own bound.
         let q = m.pose(self.tau + self.step)?;
-        Some(self.take(q, self.step))
+        let q = self.take(q, self.step);
+        // The motion has reached its own end (three equal poses): at rest
+        // now, not after the rest of a ramp that would move nothing.
+        if !self.up && self.now == self.prev {
+            self.k = self.n;
+            self.step = 0.0;
+        }
+        Some(q)
     }
 
     fn within(&self, q: &[f32; JOINTS], accel: &[f32; JOINTS]) -> bool {
