@@ -15,6 +15,98 @@ use touch_arm::motion::plan::LawKind;
 use touch_arm::seam::StorageError;
 use touch_arm::touch::map::Calibration;
 
+/// The power-loss sweep of a small record kept as two tear-proof copies
+/// whose `load` returns `(Source, seq, value)` (the access settings, the
+/// display overrides): from every kind of prior pair of copies, a save cut
+/// at every byte it writes, with every kind of value in the torn byte,
+/// loads the value before the save or the new one (the new one once the
+/// first copy is complete), and a save after it works. `$corrupt` is a body
+/// byte and the bit flipped to make a copy corrupt; `$outside` names the
+/// slots in the message when a byte outside them is written. Counts the
+/// cases.
+macro_rules! torn_two_copy_saves {
+    ($m:ident, $len:expr, $slot_a:expr, $slot_b:expr, $sets:expr, $corrupt:expr, $outside:expr) => {{
+        let (len, slot_a, slot_b, sets) = ($len, $slot_a, $slot_b, $sets);
+        #[derive(Clone, Copy, Debug)]
+        enum P {
+            Blank,
+            Valid(usize, u16),
+            Corrupt(usize, u16),
+            Uncommitted(usize, u16),
+        }
+        let fill = |e: &mut SimEeprom, at: u16, p: P| {
+            let bytes = match p {
+                P::Blank => vec![0xFF; len],
+                P::Valid(k, seq) => $m::encode(&sets[k], seq).to_vec(),
+                P::Corrupt(k, seq) => {
+                    let mut r = $m::encode(&sets[k], seq);
+                    r[$corrupt.0] ^= $corrupt.1;
+                    r.to_vec()
+                }
+                P::Uncommitted(k, seq) => {
+                    let mut r = $m::encode(&sets[k], seq);
+                    r[0] = UNCOMMITTED;
+                    r.to_vec()
+                }
+            };
+            e.mem[at as usize..at as usize + len].copy_from_slice(&bytes);
+        };
+        use P::*;
+        let priors = [
+            (Blank, Blank),
+            (Valid(1, 4), Valid(1, 4)),
+            (Valid(2, 4), Valid(1, 4)),
+            (Valid(1, 9), Valid(2, 8)),
+            (Valid(1, 0xFFFF), Valid(2, 0)),
+            (Valid(2, 5), Corrupt(1, 6)),
+            (Corrupt(1, 6), Valid(2, 5)),
+            (Valid(1, 5), Uncommitted(3, 6)),
+            (Uncommitted(3, 6), Valid(1, 5)),
+        ];
+        let mut cases = 0u64;
+        for (pa, pb) in priors {
+            let mut prior = SimEeprom::new();
+            fill(&mut prior, slot_a, pa);
+            fill(&mut prior, slot_b, pb);
+            let before = $m::load(&mut prior.clone());
+            for new in &sets {
+                let mut dry = prior.clone();
+                let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
+                let seq = $m::save(&mut rec, new).expect("a save without power loss succeeds");
+                let writes = rec.writes;
+                let inside =
+                    |a: u16| (slot_a..slot_a + len as u16).contains(&a) || (slot_b..slot_b + len as u16).contains(&a);
+                assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the {} written", $outside);
+                let slot_of = |a: u16| if a >= slot_b { slot_b } else { slot_a };
+                let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
+                for cut in 0..=writes.len() {
+                    let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
+                    let old_byte = prior.mem[addr as usize];
+                    for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
+                        let mut e = prior.clone();
+                        e.power_loss_after(cut);
+                        e.torn_value = torn;
+                        let _ = $m::save(&mut e, new);
+                        e.restore_power();
+                        let l = $m::load(&mut e);
+                        let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
+                        let is_new = (l.2, l.1) == (*new, seq) && l.0 != Source::Defaults;
+                        assert!(is_new || l == before, "{ctx}: loaded {l:?}");
+                        if cut >= first_len {
+                            assert_eq!((l.2, l.1), (*new, seq), "{ctx}: the first copy was complete");
+                        }
+                        let again = $m::save(&mut e, &sets[3]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
+                        assert_eq!($m::load(&mut e).1, again, "{ctx}");
+                        assert_eq!($m::load(&mut e).2, sets[3], "{ctx}");
+                        cases += 1;
+                    }
+                }
+            }
+        }
+        cases
+    }};
+}
+
 /// The carer's access settings (`config::access`) are stored the same way:
 /// a power loss at any byte of their save, with every kind of value in the
 /// torn byte, from blank, equal, unequal, corrupt and uncommitted copies,
@@ -33,82 +125,7 @@ fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings(
     let custom =
         Access { hide: item::LINE | item::TOUCH, cap: SpeedPreset::Slow, pin: Pin::parse(b"13579864").unwrap() };
     let sets = [ACCESS_DEFAULT, locked, other_pin, custom];
-    #[derive(Clone, Copy, Debug)]
-    enum P {
-        Blank,
-        Valid(usize, u16),
-        Corrupt(usize, u16),
-        Uncommitted(usize, u16),
-    }
-    let fill = |e: &mut SimEeprom, at: u16, p: P| {
-        let bytes = match p {
-            P::Blank => vec![0xFF; LEN],
-            P::Valid(k, seq) => access::encode(&sets[k], seq).to_vec(),
-            P::Corrupt(k, seq) => {
-                let mut r = access::encode(&sets[k], seq);
-                r[9] ^= 0x01;
-                r.to_vec()
-            }
-            P::Uncommitted(k, seq) => {
-                let mut r = access::encode(&sets[k], seq);
-                r[0] = UNCOMMITTED;
-                r.to_vec()
-            }
-        };
-        e.mem[at as usize..at as usize + LEN].copy_from_slice(&bytes);
-    };
-    use P::*;
-    let priors = [
-        (Blank, Blank),
-        (Valid(1, 4), Valid(1, 4)),
-        (Valid(2, 4), Valid(1, 4)),
-        (Valid(1, 9), Valid(2, 8)),
-        (Valid(1, 0xFFFF), Valid(2, 0)),
-        (Valid(2, 5), Corrupt(1, 6)),
-        (Corrupt(1, 6), Valid(2, 5)),
-        (Valid(1, 5), Uncommitted(3, 6)),
-        (Uncommitted(3, 6), Valid(1, 5)),
-    ];
-    let mut cases = 0u64;
-    for (pa, pb) in priors {
-        let mut prior = SimEeprom::new();
-        fill(&mut prior, SLOT_A, pa);
-        fill(&mut prior, SLOT_B, pb);
-        let before = access::load(&mut prior.clone());
-        for new in &sets {
-            let mut dry = prior.clone();
-            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
-            let seq = access::save(&mut rec, new).expect("a save without power loss succeeds");
-            let writes = rec.writes;
-            let inside =
-                |a: u16| (SLOT_A..SLOT_A + LEN as u16).contains(&a) || (SLOT_B..SLOT_B + LEN as u16).contains(&a);
-            assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the access slots written");
-            let slot_of = |a: u16| if a >= SLOT_B { SLOT_B } else { SLOT_A };
-            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
-            for cut in 0..=writes.len() {
-                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
-                let old_byte = prior.mem[addr as usize];
-                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
-                    let mut e = prior.clone();
-                    e.power_loss_after(cut);
-                    e.torn_value = torn;
-                    let _ = access::save(&mut e, new);
-                    e.restore_power();
-                    let l = access::load(&mut e);
-                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
-                    let is_new = (l.2, l.1) == (*new, seq) && l.0 != Source::Defaults;
-                    assert!(is_new || l == before, "{ctx}: loaded {l:?}");
-                    if cut >= first_len {
-                        assert_eq!((l.2, l.1), (*new, seq), "{ctx}: the first copy was complete");
-                    }
-                    let again = access::save(&mut e, &sets[3]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
-                    assert_eq!(access::load(&mut e).1, again, "{ctx}");
-                    assert_eq!(access::load(&mut e).2, sets[3], "{ctx}");
-                    cases += 1;
-                }
-            }
-        }
-    }
+    let cases = torn_two_copy_saves!(access, LEN, SLOT_A, SLOT_B, sets, (9, 0x01), "access slots");
     eprintln!("{cases} torn access saves");
     // 9 priors × 4 records × (18 or 19 bytes a slot, twice, + the uncut
     // save) × 6 torn values.
@@ -658,84 +675,7 @@ fn a_power_loss_at_any_byte_of_an_lcd_save_loads_the_old_or_the_new_overrides() 
     let inverted = LcdSettings { invert: true, ..forced };
     let all = LcdSettings { controller: LcdChoice::Ili9325, invert: true, rotate_180: true };
     let sets = [LCD_DEFAULT, forced, inverted, all];
-    #[derive(Clone, Copy, Debug)]
-    enum P {
-        Blank,
-        Valid(usize, u16),
-        Corrupt(usize, u16),
-        Uncommitted(usize, u16),
-    }
-    let fill = |e: &mut SimEeprom, at: u16, p: P| {
-        let bytes = match p {
-            P::Blank => vec![0xFF; LCD_RECORD_LEN],
-            P::Valid(k, seq) => lcd::encode(&sets[k], seq).to_vec(),
-            P::Corrupt(k, seq) => {
-                let mut r = lcd::encode(&sets[k], seq);
-                r[5] ^= 0x01;
-                r.to_vec()
-            }
-            P::Uncommitted(k, seq) => {
-                let mut r = lcd::encode(&sets[k], seq);
-                r[0] = UNCOMMITTED;
-                r.to_vec()
-            }
-        };
-        e.mem[at as usize..at as usize + LCD_RECORD_LEN].copy_from_slice(&bytes);
-    };
-    use P::*;
-    let priors = [
-        (Blank, Blank),
-        (Valid(1, 4), Valid(1, 4)),
-        (Valid(2, 4), Valid(1, 4)),
-        (Valid(1, 9), Valid(2, 8)),
-        (Valid(1, 0xFFFF), Valid(2, 0)),
-        (Valid(2, 5), Corrupt(1, 6)),
-        (Corrupt(1, 6), Valid(2, 5)),
-        (Valid(1, 5), Uncommitted(3, 6)),
-        (Uncommitted(3, 6), Valid(1, 5)),
-    ];
-    let mut cases = 0u64;
-    for (pa, pb) in priors {
-        let mut prior = SimEeprom::new();
-        fill(&mut prior, LCD_SLOT_A, pa);
-        fill(&mut prior, LCD_SLOT_B, pb);
-        let before = lcd::load(&mut prior.clone());
-        for new in &sets {
-            let mut dry = prior.clone();
-            let mut rec = Recorder { inner: &mut dry, writes: Vec::new() };
-            let seq = lcd::save(&mut rec, new).expect("a save without power loss succeeds");
-            let writes = rec.writes;
-            let inside = |a: u16| {
-                (LCD_SLOT_A..LCD_SLOT_A + LCD_RECORD_LEN as u16).contains(&a)
-                    || (LCD_SLOT_B..LCD_SLOT_B + LCD_RECORD_LEN as u16).contains(&a)
-            };
-            assert!(writes.iter().all(|(a, _)| inside(*a)), "a byte outside the overrides' slots written");
-            let slot_of = |a: u16| if a >= LCD_SLOT_B { LCD_SLOT_B } else { LCD_SLOT_A };
-            let first_len = writes.iter().take_while(|(a, _)| slot_of(*a) == slot_of(writes[0].0)).count();
-            for cut in 0..=writes.len() {
-                let (addr, new_byte) = writes.get(cut).copied().unwrap_or((0, 0));
-                let old_byte = prior.mem[addr as usize];
-                for torn in [0x00, 0xFF, MAGIC[0], old_byte, new_byte, 0xA5] {
-                    let mut e = prior.clone();
-                    e.power_loss_after(cut);
-                    e.torn_value = torn;
-                    let _ = lcd::save(&mut e, new);
-                    e.restore_power();
-                    let l = lcd::load(&mut e);
-                    let ctx = format!("prior ({pa:?}, {pb:?}), cut {cut} of {}, torn {torn:#04x}", writes.len());
-                    let is_new = (l.2, l.1) == (*new, seq) && l.0 != Source::Defaults;
-                    assert!(is_new || l == before, "{ctx}: loaded {l:?}");
-                    if cut >= first_len {
-                        assert_eq!((l.2, l.1), (*new, seq), "{ctx}: the first copy was complete");
-                    }
-                    let again = lcd::save(&mut e, &sets[3]).unwrap_or_else(|err| panic!("{ctx}: {err:?}"));
-                    assert_eq!(lcd::load(&mut e).1, again, "{ctx}");
-                    assert_eq!(lcd::load(&mut e).2, sets[3], "{ctx}");
-                    cases += 1;
-                }
-            }
-        }
-    }
+    let cases = torn_two_copy_saves!(lcd, LCD_RECORD_LEN, LCD_SLOT_A, LCD_SLOT_B, sets, (5, 0x01), "overrides' slots");
     eprintln!("{cases} torn lcd saves");
     // 9 priors × 4 records × (9 or 10 bytes a slot, twice, + the uncut
     // save) × 6 torn values.
