@@ -90,7 +90,7 @@ fn main() -> ! {
     let _ = uwriteln!(out, "reading: touch the screen");
     let z_min = FilterConfig::DEFAULT.z_min;
     loop {
-        let mut s = [RawSample { x: 0, y: 0, z: 0 }];
+        let mut s = [RawSample { x: 0, y: 0, z: 0, z1: 0 }];
         if bus.touch(&mut adc, Some(&wiring)).read(&mut s).is_ok() && s[0].z >= z_min {
             let _ = uwriteln!(out, "raw {} {} {}", s[0].x, s[0].y, s[0].z);
             let _ = led.toggle();

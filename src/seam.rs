@@ -29,8 +29,9 @@
 
 pub mod pins;
 
-/// One sample of the panel: X and Y positions and the pressure measure
-/// (see [`crate::touch::filter::pressure`]), all in ADC counts.
+/// One sample of the panel: X and Y positions, the pressure measure
+/// (see [`crate::touch::filter::pressure`]) and the first pressure reading,
+/// all in ADC counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RawSample {
     /// Voltage on the Y plate with the X plate driven, ADC counts 0..=1023.
@@ -39,6 +40,11 @@ pub struct RawSample {
     pub y: u16,
     /// Pressure measure, 0..=2046, ≈ 0 untouched.
     pub z: u16,
+    /// The pressure read's z1 (XM with XP low and YM high): the X plate's
+    /// voltage at the contact, 0..=1023. With `x`, `y` and `z` it gives the
+    /// panel's plate ratio, which a second contact breaks
+    /// ([`crate::touch::filter::plate_ratio`]).
+    pub z1: u16,
 }
 
 /// The 4-wire resistive panel. An implementation drives and floats the panel

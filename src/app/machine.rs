@@ -186,7 +186,7 @@ impl App {
         if self.heavy.is_spent() {
             return;
         }
-        let mut buf = [RawSample { x: 0, y: 0, z: 0 }; MAX_SAMPLES];
+        let mut buf = [RawSample { x: 0, y: 0, z: 0, z1: 0 }; MAX_SAMPLES];
         let n = usize::from(self.filter.config().samples);
         let Some(samples) = buf.get_mut(..n) else { return };
         // A failed read is a miss: the filter refuses an empty read.

@@ -143,6 +143,7 @@ impl App {
         let cfg = ContactConfig {
             release_confirm: self.params.filter.release_confirm,
             radius: u16::from(self.config.press.radius),
+            plate: self.config.press.plate,
         };
         let Some(ev) = self.press.contact.update(read, now_ms, &cfg) else { return };
         match ev {

@@ -157,13 +157,22 @@ impl App {
 
     /// What a confirmed touch does on the screen.
     fn screen_event<E: Storage>(&mut self, p: &TouchPoint, storage: &mut E) -> ScreenEvent {
+        let plate = self.press.contact.plate();
         if let Some(flow) = self.screen.calibration.as_mut() {
-            return match flow.feed(p.x, p.y) {
+            return match flow.feed(p.x, p.y, plate) {
                 Some(CalibrationEvent::Done(cal)) => {
-                    self.screen.calibration = None;
-                    self.screen.ui.invalidate();
                     let mut next = self.config;
                     next.touch = cal;
+                    // Measured by the crosshair touches, with the panel's
+                    // own ratio (0: the second-contact check off).
+                    next.press.plate = flow.plate();
+                    if let Some(p) = flow.settings() {
+                        next.press.hold_cs = p.hold_cs;
+                        next.press.repeat_cs = p.repeat_cs;
+                        next.press.radius = p.radius;
+                    }
+                    self.screen.calibration = None;
+                    self.screen.ui.invalidate();
                     let saved = self.save_config(storage, &next).ok();
                     if saved.is_some() {
                         self.config = next;
@@ -219,7 +228,10 @@ impl App {
             Some(Hit::Calibrate) => {
                 // Measured again once the finger is lifted: the shield may have changed.
                 self.probe_wanted = true;
-                self.screen.calibration = Some(CalibrationFlow::new(self.config.touch, self.screen.ui.layout()));
+                let flow = CalibrationFlow::new(self.config.touch, self.screen.ui.layout());
+                // The touch settings' page, unless the carer lock hides them.
+                let touch_hidden = hidden & crate::config::access::item::TOUCH != 0;
+                self.screen.calibration = Some(if touch_hidden { flow } else { flow.with_settings(self.config.press) });
                 ScreenEvent::Calibrate(Ok(()))
             }
             Some(Hit::Page) => {
@@ -349,7 +361,11 @@ impl App {
             ScreenEvent::Nothing => return,
             ScreenEvent::Map(r) => return self.report_touch(serial, p, r),
             ScreenEvent::CalSaved(Some(seq)) => {
-                line.str(t!("info cal touch saved seq")).num(i32::from(seq));
+                let p = self.config.press;
+                line.str(t!("info cal touch saved seq")).num(i32::from(seq)).str(t!(" plate"));
+                super::text::plate_word(&mut line, p.plate);
+                line.str(t!(" hold ")).centi(i32::from(p.hold_cs)).str(t!(" repeat "));
+                line.centi(i32::from(p.repeat_cs)).str(t!(" radius")).num(i32::from(p.radius));
             }
             ScreenEvent::CalSaved(None) => {
                 line.str(t!("err cal touch not saved"));

@@ -184,6 +184,11 @@ impl App {
                     TouchField::Hold => u16::from(self.config.press.hold_cs),
                     TouchField::Repeat => u16::from(self.config.press.repeat_cs),
                     TouchField::Radius => u16::from(self.config.press.radius),
+                    TouchField::Plate => {
+                        line.word(f.name());
+                        super::text::plate_word(line, self.config.press.plate);
+                        continue;
+                    }
                 };
                 line.word(f.name());
                 if f.is_centi() {

@@ -25,3 +25,13 @@ pub fn mode_name(hold: bool) -> crate::text::Text {
         t!("tap")
     }
 }
+
+/// ` off` for a plate ratio not measured (0), else ` <ratio>` with two
+/// decimals: how `cal show` and the calibration's reply print it.
+pub fn plate_word(line: &mut Line, plate: u16) {
+    if plate == 0 {
+        line.word(t!("off"));
+    } else {
+        line.bytes(b" ").centi(crate::config::settings::plate_centi(plate));
+    }
+}

@@ -329,7 +329,7 @@ fn main() -> ! {
         "touch_sample",
         |_| (),
         |_| {
-            let mut samples = [RawSample { x: 0, y: 0, z: 0 }; 5];
+            let mut samples = [RawSample { x: 0, y: 0, z: 0, z1: 0 }; 5];
             bus.touch(&mut adc, Some(&TouchWiring::A)).read(&mut samples)
         },
     );

@@ -87,7 +87,7 @@ impl TouchPins<'_> {
         let x = self.read_x()?;
         let y = self.read_y()?;
         let p = self.read_pressure()?;
-        Ok(RawSample { x, y, z: pressure(p.z1, p.z2) })
+        Ok(RawSample { x, y, z: pressure(p.z1, p.z2), z1: p.z1 })
     }
 
     /// Fills `out` with consecutive samples; stops at the first ADC fault.
@@ -129,7 +129,7 @@ impl TouchPanel for TouchReader<'_> {
         match self.wiring {
             Some(w) => self.bus.with_touch(self.adc, w, |p| p.fill(out)),
             None => {
-                out.fill(RawSample { x: 0, y: 0, z: 0 });
+                out.fill(RawSample { x: 0, y: 0, z: 0, z1: 0 });
                 Ok(())
             }
         }

@@ -137,12 +137,13 @@ pub enum TouchCalError {
     Order,
     /// An axis spans fewer than [`MIN_TOUCH_SPAN`] counts.
     Span,
-    /// A hold, repeat or radius outside its range ([`PressSettings`]).
+    /// A hold, repeat, radius or plate ratio outside its range ([`PressSettings`]).
     Press,
 }
 
 /// How a touch becomes an action (issue #19): `cal set touch
-/// hold|repeat|radius`, stored in the configuration record (version 5).
+/// hold|repeat|radius|plate`, stored in the configuration record (version 5;
+/// the plate ratio since version 8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PressSettings {
     /// A contact acts only if it lasted this long, hundredths of a second,
@@ -156,6 +157,11 @@ pub struct PressSettings {
     /// counts per mm across and 18 up the 2.8" panel with the default
     /// calibration; 160 ≈ 11 × 9 mm).
     pub radius: u8,
+    /// The panel's plate ratio ([`crate::touch::filter::plate_ratio`],
+    /// 256 = 1) as the touch calibration measured it, [`PLATE_MIN`]..=
+    /// [`PLATE_MAX`]; 0: not measured (a second contact is then found by
+    /// its jump alone).
+    pub plate: u16,
 }
 
 /// Shortest `hold`, hundredths of a second (0.04 s: two reads).
@@ -164,18 +170,34 @@ pub const HOLD_MIN_CS: u8 = 4;
 pub const TIME_MAX_CS: u8 = 200;
 /// Smallest cancel radius, ADC counts.
 pub const RADIUS_MIN: u8 = 20;
+/// A plate ratio (256 = 1) in hundredths, rounded: 427 → 167.
+pub const fn plate_centi(plate: u16) -> i32 {
+    ((plate as i32) * 100 + 128) / 256
+}
+
+/// Hundredths of a plate ratio as the ratio (256 = 1), rounded: 167 → 428.
+pub const fn centi_plate(centi: u16) -> u16 {
+    ((centi as u32 * 256 + 50) / 100) as u16
+}
+
+/// Smallest plate ratio taken, 256 = 1 (0.25: plates 1:4).
+pub const PLATE_MIN: u16 = 64;
+/// Largest plate ratio taken (4.00).
+pub const PLATE_MAX: u16 = 1024;
 
 impl PressSettings {
     /// Hold 0.10 s (five reads: a brush of 80 ms never acts, and the
     /// centre has its mid-range), repeat 0.30 s, radius 240 counts (a 5 mm
-    /// tremor of ±20 % stays inside it on the 2.8" panel: BENCHMARKS.md, "Touch for an unsteady hand").
-    pub const DEFAULT: PressSettings = PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 };
+    /// tremor of ±20 % stays inside it on the 2.8" panel: BENCHMARKS.md, "Touch for an unsteady hand"),
+    /// the plate ratio not measured (the touch calibration measures it).
+    pub const DEFAULT: PressSettings = PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240, plate: 0 };
 
     /// Every value in its range.
     pub fn is_valid(&self) -> bool {
         (HOLD_MIN_CS..=TIME_MAX_CS).contains(&self.hold_cs)
             && self.repeat_cs <= TIME_MAX_CS
             && self.radius >= RADIUS_MIN
+            && (self.plate == 0 || (PLATE_MIN..=PLATE_MAX).contains(&self.plate))
     }
 }
 
@@ -231,7 +253,7 @@ impl ConfigError {
             ConfigError::Touch(TouchCalError::OutOfRange) => t!("touch limit above 1023"),
             ConfigError::Touch(TouchCalError::Order) => t!("touch min >= max"),
             ConfigError::Touch(TouchCalError::Span) => t!("touch span too small"),
-            ConfigError::Touch(TouchCalError::Press) => t!("touch hold/repeat/radius out of range"),
+            ConfigError::Touch(TouchCalError::Press) => t!("touch hold/repeat/radius/plate out of range"),
             ConfigError::Arm => t!("arm links differ more than 4x"),
         }
     }
@@ -314,6 +336,7 @@ impl Config {
                     TouchField::Hold => next.press.hold_cs = value as u8,
                     TouchField::Repeat => next.press.repeat_cs = value as u8,
                     TouchField::Radius => next.press.radius = value as u8,
+                    TouchField::Plate => next.press.plate = centi_plate(value),
                 }
             }
             CalSet::Arm { link: ArmLink::L2, cmm } => next.arm.l2_cmm = cmm,
@@ -446,11 +469,15 @@ pub enum TouchField {
     Repeat,
     /// `radius`: ADC counts, integers 20..=255.
     Radius,
+    /// `plate`: the panel's plate ratio with two decimals, 0.25..=4.00, or
+    /// 0 (the second-contact check off): what the touch calibration
+    /// measures ([`PressSettings::plate`]).
+    Plate,
 }
 
 impl TouchField {
     /// Every field, in the order `cal show` prints them.
-    pub const ALL: [TouchField; 10] = [
+    pub const ALL: [TouchField; 11] = [
         TouchField::XMin,
         TouchField::XMax,
         TouchField::YMin,
@@ -461,6 +488,7 @@ impl TouchField {
         TouchField::Hold,
         TouchField::Repeat,
         TouchField::Radius,
+        TouchField::Plate,
     ];
 
     /// The field's word in `cal set touch` and `cal show`.
@@ -476,6 +504,7 @@ impl TouchField {
             TouchField::Hold => t!("hold"),
             TouchField::Repeat => t!("repeat"),
             TouchField::Radius => t!("radius"),
+            TouchField::Plate => t!("plate"),
         }
     }
 
@@ -493,12 +522,14 @@ impl TouchField {
             TouchField::Hold => (i32::from(HOLD_MIN_CS), i32::from(TIME_MAX_CS)),
             TouchField::Repeat => (0, i32::from(TIME_MAX_CS)),
             TouchField::Radius => (i32::from(RADIUS_MIN), 255),
+            // 0 or 0.25..=4.00: the gap is `PressSettings::is_valid`'s.
+            TouchField::Plate => (0, plate_centi(PLATE_MAX)),
         }
     }
 
     /// True if the value is in hundredths (typed and printed with two decimals).
     pub fn is_centi(self) -> bool {
-        matches!(self, TouchField::Hold | TouchField::Repeat)
+        matches!(self, TouchField::Hold | TouchField::Repeat | TouchField::Plate)
     }
 }
 

@@ -1,10 +1,10 @@
 //! Persistent configuration in the ATmega2560's 4 KiB EEPROM.
 //!
-//! # Record layout (version 7, little-endian, 125 bytes)
+//! # Record layout (version 8, little-endian, 127 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0  | 2  | magic `b"TA"` |
-//! | 2  | 1  | layout version (7) |
+//! | 2  | 1  | layout version (8) |
 //! | 3  | 2  | sequence counter (u16, wraps; compared by serial arithmetic) |
 //! | 5  | 72 | 3 × joint (base, shoulder, elbow), 24 bytes each: `offset_us` f32, `us_per_rad` f32, `min_us` u16, `max_us` u16, `min_rad` f32, `max_rad` f32, `max_speed_rad_s` f32 |
 //! | 77 | 8  | touch `x_min`, `x_max`, `y_min`, `y_max` u16 |
@@ -22,9 +22,13 @@
 //! | 110 | 6 | home pose: base, shoulder, elbow i16, hundredths of a degree (version 6) |
 //! | 116 | 6 | park pose, as home (version 6) |
 //! | 122 | 1 | touch mode: 0 `tap`, 1 `hold` (version 7) |
-//! | 123 | 2 | CRC-16/CCITT-FALSE of bytes 0..123 |
+//! | 123 | 2 | touch `plate` ratio u16, 256 = 1, 64..=1024; 0 = not measured (version 8) |
+//! | 125 | 2 | CRC-16/CCITT-FALSE of bytes 0..125 |
 //!
-//! Older records are still read, and the next save writes version 7:
+//! Older records are still read, and the next save writes version 8:
+//! - version 7 (before the panel's plate ratio) ends with its CRC of bytes
+//!   0..123 at 123; it reads with the ratio not measured (the
+//!   second-contact check by the ratio off until a touch calibration);
 //! - version 6 (before hold to run) ends with its CRC of bytes 0..122 at
 //!   122; it reads with `mode tap`;
 //! - version 5 (before the arm's own geometry) ends with its CRC of bytes
@@ -44,7 +48,7 @@
 //!
 //! Every version before 5 reads with the default [`PressSettings`], every
 //! version before 6 with the default [`ArmSettings`], every version before 7
-//! with `mode tap`.
+//! with `mode tap`, every version before 8 with no plate ratio.
 //!
 //! Floats are stored as their IEEE-754 bit patterns (`to_le_bytes`), so a
 //! record is bit-identical on the chip and on the host.
@@ -61,7 +65,7 @@
 //! # Tear-proof by construction
 //! Byte 0 (the magic's `T`) is the record's commit byte, and a slot is written
 //! in three steps: byte 0 := [`UNCOMMITTED`] (≠ `T`) if it reads `T` (left alone
-//! otherwise), then bytes 1..124 (body and CRC), then byte 0 := `T`. A power
+//! otherwise), then bytes 1..126 (body and CRC), then byte 0 := `T`. A power
 //! loss tears at most the one byte being written; whatever value that byte is
 //! left with:
 //! - during step 1 the body is untouched and byte 0 read `T` before: the slot
@@ -89,7 +93,9 @@ use crate::touch::wiring::Wiring;
 /// EEPROM size of the ATmega2560.
 pub const EEPROM_SIZE: u16 = 4096;
 /// Bytes of one record, CRC included.
-pub const RECORD_LEN: usize = 125;
+pub const RECORD_LEN: usize = 127;
+/// A version-7 record's length (its CRC at 123).
+const RECORD_LEN_V7: usize = 125;
 /// A version-6 record's length (its CRC at 122).
 const RECORD_LEN_V6: usize = 124;
 /// A version-5 record's length (its CRC at 106).
@@ -109,9 +115,9 @@ pub const SLOT_B_ADDR: u16 = 128;
 /// The record's first bytes: tells a written slot from erased or foreign
 /// contents.
 pub const MAGIC: [u8; 2] = *b"TA";
-/// Layout version of the record written; versions 1 to 6 are still read
+/// Layout version of the record written; versions 1 to 7 are still read
 /// (see the module doc), any other is not.
-pub const VERSION: u8 = 7;
+pub const VERSION: u8 = 8;
 
 const CRC_OFFSET: usize = RECORD_LEN - 2;
 /// Byte 0 of a slot while its record is being written: anything but `MAGIC[0]`.
@@ -161,11 +167,12 @@ impl Config {
             w.put(&v.to_le_bytes());
         }
         w.put(&[u8::from(self.hold_to_run)]);
+        w.put(&p.plate.to_le_bytes());
         seal(&mut buf);
         buf
     }
 
-    /// Parses and validates a record (version 7; 6 with `mode tap`; 5 also with the default arm
+    /// Parses and validates a record (version 8; 7 without a plate ratio; 6 also with `mode tap`; 5 also with the default arm
     /// settings; 4 also with the default touch hold, repeat and radius; 3 also with joint moves and no lift; 2 also
     /// without a wiring; 1 also with the default acceleration limits). Checks, in order: magic, version, CRC, field values.
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
@@ -176,6 +183,7 @@ impl Config {
         let [version] = r.take::<1>();
         let crc_at = match version {
             VERSION => CRC_OFFSET,
+            7 => RECORD_LEN_V7 - 2,
             6 => RECORD_LEN_V6 - 2,
             5 => RECORD_LEN_V5 - 2,
             4 => RECORD_LEN_V4 - 2,
@@ -210,7 +218,7 @@ impl Config {
             }
         }
         let wiring = match version {
-            VERSION | 6 | 5 | 4 | 3 => match r.take::<1>() {
+            VERSION | 7 | 6 | 5 | 4 | 3 => match r.take::<1>() {
                 [0] => None,
                 [id] => Some(Wiring::from_id(id).ok_or(RecordError::Invalid)?),
             },
@@ -229,7 +237,7 @@ impl Config {
         let mut press = PressSettings::DEFAULT;
         if version >= 5 {
             let [hold_cs, repeat_cs, radius] = r.take::<3>();
-            press = PressSettings { hold_cs, repeat_cs, radius };
+            press = PressSettings { hold_cs, repeat_cs, radius, plate: 0 };
         }
         let mut arm = ArmSettings::DEFAULT;
         if version >= 6 {
@@ -240,13 +248,17 @@ impl Config {
             }
         }
         let hold_to_run = match version {
-            VERSION => match r.take::<1>() {
+            VERSION | 7 => match r.take::<1>() {
                 [0] => false,
                 [1] => true,
                 _ => return Err(RecordError::Invalid),
             },
             _ => false,
         };
+        if version == VERSION {
+            // Ranged by `validate` below.
+            press.plate = u16::from_le_bytes(r.take());
+        }
         let config = Config {
             joints,
             touch: Calibration {

@@ -30,7 +30,15 @@
 //!   point between them, with a lower contact resistance. A jump of more
 //!   than [`PALM_JUMP`] counts between consecutive touched reads (no
 //!   release between them) while the pressure measure rises by more than
-//!   [`PALM_Z_RISE`] marks the contact as a hand: never a target.
+//!   [`PALM_Z_RISE`] marks the contact as a hand: never a target. A palm
+//!   that lands with the finger makes no jump; it is caught by the plate
+//!   ratio ([`super::filter::plate_ratio`]): one contact anywhere, of any
+//!   force, reads the panel's own ratio, which the touch calibration
+//!   measures; a read farther than 1/[`PLATE_TOL_DIV`] of it from that
+//!   marks the contact as a hand too. Until a calibration has measured the
+//!   ratio (`ContactConfig::plate` 0), only the jump counts.
+//! - **Plate ratio**: the mean of the contact's reads' ratios, for the
+//!   calibration to take from its crosshair touches.
 
 use super::filter::{Read, TouchPoint};
 
@@ -55,6 +63,17 @@ pub const PALM_JUMP: u16 = 200;
 /// such a jump when a second contact joins: parallel contacts lower the
 /// contact resistance.
 pub const PALM_Z_RISE: u16 = 20;
+/// A read whose plate ratio differs from the panel's by more than
+/// 1/`PLATE_TOL_DIV` of it is not one contact. Single contacts of 0.1–10×
+/// a firm finger's force, anywhere on the map, read within a few per cent
+/// of the panel's ratio in the twin (ADC noise of 1 count; the quantization
+/// of a small z1 sets the spread); a palm beside a finger mostly reads far
+/// from it (the measurement: `plate_tolerance_separates_one_contact_from_two`
+/// in the twin's tests, and BENCHMARKS.md's palm cell).
+pub const PLATE_TOL_DIV: u32 = 25;
+/// Reads of a contact its mean plate ratio covers (20 s: the sum of as many
+/// ratios of at most `u16::MAX` stays within 32 bits).
+const PLATE_READS: u16 = 1024;
 
 /// What a contact is measured against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,6 +83,9 @@ pub struct ContactConfig {
     /// Farther than this from the first read (ADC counts, per axis) the
     /// contact has wandered.
     pub radius: u16,
+    /// The panel's plate ratio as the touch calibration measured it
+    /// ([`super::filter::plate_ratio`]); 0: not measured, no ratio check.
+    pub plate: u16,
 }
 
 /// What one read did to the contact.
@@ -152,6 +174,7 @@ pub struct Contact {
     reads: u16,
     tail_n: u8,
     last_z: u16,
+    plate_sum: u32,
     start_ms: u32,
     last_ms: u32,
     first: TouchPoint,
@@ -172,6 +195,7 @@ impl Contact {
         reads: 0,
         tail_n: 0,
         last_z: 0,
+        plate_sum: 0,
         start_ms: 0,
         last_ms: 0,
         first: P0,
@@ -184,13 +208,14 @@ impl Contact {
     /// Feeds one classified read taken at `now_ms`.
     pub fn update(&mut self, read: &Read, now_ms: u32, cfg: &ContactConfig) -> Option<ContactEvent> {
         match *read {
-            Read::Touched { point, z } if !self.down => {
+            Read::Touched { point, z, plate } if !self.down => {
                 // Field by field: a whole new value would be a constant
                 // copied from RAM.
                 self.down = true;
                 self.misses = 0;
                 self.wandered = false;
-                self.palm = false;
+                self.palm = off_plate(plate, cfg.plate);
+                self.plate_sum = u32::from(plate);
                 self.reads = 1;
                 self.tail_n = 1;
                 self.last_z = z;
@@ -203,10 +228,15 @@ impl Contact {
                 self.late.n = 0;
                 Some(ContactEvent::Landed)
             }
-            Read::Touched { point, z } => {
+            Read::Touched { point, z, plate } => {
                 self.misses = 0;
-                if cheb(point, self.last) > PALM_JUMP && z > self.last_z.saturating_add(PALM_Z_RISE) {
+                if cheb(point, self.last) > PALM_JUMP && z > self.last_z.saturating_add(PALM_Z_RISE)
+                    || off_plate(plate, cfg.plate)
+                {
                     self.palm = true;
+                }
+                if self.reads < PLATE_READS {
+                    self.plate_sum += u32::from(plate);
                 }
                 if cheb(point, self.first) > cfg.radius {
                     self.wandered = true;
@@ -287,6 +317,13 @@ impl Contact {
         self.palm
     }
 
+    /// The mean plate ratio of the contact's touched reads
+    /// ([`super::filter::plate_ratio`]).
+    pub fn plate(&self) -> u16 {
+        let n = u32::from(self.reads.clamp(1, PLATE_READS));
+        ((self.plate_sum + n / 2) / n) as u16
+    }
+
     /// The robust centre: the mid-range of the reads after the landing and
     /// before the lift transient; of every read but the held-back ones for
     /// a short contact; of the held-back ones for the shortest.
@@ -326,6 +363,11 @@ impl Contact {
     }
 }
 
+/// A read's plate ratio `q` is not the panel's `k` (0: not measured).
+fn off_plate(q: u16, k: u16) -> bool {
+    k != 0 && u32::from(q.abs_diff(k)) * PLATE_TOL_DIV > u32::from(k)
+}
+
 /// Chebyshev distance, ADC counts.
 fn cheb(a: TouchPoint, b: TouchPoint) -> u16 {
     a.x.abs_diff(b.x).max(a.y.abs_diff(b.y))
@@ -337,14 +379,14 @@ mod tests {
     use super::*;
     use std::vec::Vec;
 
-    const CFG: ContactConfig = ContactConfig { release_confirm: 3, radius: 160 };
+    const CFG: ContactConfig = ContactConfig { release_confirm: 3, radius: 160, plate: 0 };
     /// Counts per mm of the default calibration on the 2.8" 320×240 panel:
     /// 809 counts over 320 px and 769 over 240 px, 0.18 mm per pixel.
     const CPM_X: f64 = 809.0 / 320.0 / 0.18;
     const CPM_Y: f64 = 769.0 / 240.0 / 0.18;
 
     fn touched(x: f64, y: f64) -> Read {
-        Read::Touched { point: TouchPoint { x: (x + 0.5) as u16, y: (y + 0.5) as u16 }, z: 800 }
+        Read::Touched { point: TouchPoint { x: (x + 0.5) as u16, y: (y + 0.5) as u16 }, z: 800, plate: 0 }
     }
 
     const NONE: Read = Read::NotTouched(crate::touch::filter::NoTouch::PressureLow);
@@ -434,7 +476,7 @@ mod tests {
     fn feed(c: &mut Contact, reads: &[(u16, u16)], t0: u32) -> u32 {
         let mut t = t0;
         for &(x, y) in reads {
-            c.update(&Read::Touched { point: TouchPoint { x, y }, z: 800 }, t, &CFG);
+            c.update(&Read::Touched { point: TouchPoint { x, y }, z: 800, plate: 0 }, t, &CFG);
             t += 20;
         }
         t
@@ -492,9 +534,12 @@ mod tests {
                 let t = f64::from(k) * 0.02;
                 let mm = 6.0 * (core::f64::consts::TAU * 13.2 * t + phase).sin();
                 let y = 500.0 + mm * CPM_Y;
-                let read =
-                    Read::Touched { point: TouchPoint { x: 500, y: (y + 0.5) as u16 }, z: (800.0 + 5.0 * mm) as u16 };
-                c.update(&read, k * 20, &ContactConfig { release_confirm: 3, radius: 255 });
+                let read = Read::Touched {
+                    point: TouchPoint { x: 500, y: (y + 0.5) as u16 },
+                    z: (800.0 + 5.0 * mm) as u16,
+                    plate: 0,
+                };
+                c.update(&read, k * 20, &ContactConfig { release_confirm: 3, radius: 255, plate: 0 });
             }
             assert!(!c.palm(), "phase {phase}");
         }
@@ -503,7 +548,7 @@ mod tests {
     #[test]
     fn a_jump_with_rising_pressure_is_a_second_contact() {
         let mut c = Contact::IDLE;
-        let at = |x, y, z| Read::Touched { point: TouchPoint { x, y }, z };
+        let at = |x, y, z| Read::Touched { point: TouchPoint { x, y }, z, plate: 0 };
         c.update(&at(300, 300, 700), 0, &CFG);
         c.update(&at(305, 300, 705), 20, &CFG);
         // The palm lands: the reading jumps 250 counts and z rises by 150.
@@ -516,5 +561,45 @@ mod tests {
         c.update(&at(300, 300, 990), 20, &CFG);
         c.update(&at(500, 300, 900), 40, &CFG);
         assert!(!c.palm());
+    }
+
+    #[test]
+    fn a_read_off_the_panels_plate_ratio_is_a_second_contact() {
+        // The panel's ratio 427 (5/3 · 256): 1/25 of it is 17.08, so 410..=444
+        // is one contact and 409 or 445 is not.
+        let cfg = ContactConfig { plate: 427, ..CFG };
+        let at = |plate| Read::Touched { point: TouchPoint { x: 300, y: 300 }, z: 800, plate };
+        for (reads, palm) in [
+            (&[427u16, 410, 444, 427][..], false),
+            (&[427, 409][..], true),
+            (&[427, 445][..], true),
+            // The landing read alone is enough: a palm that lands with the
+            // finger makes no jump.
+            (&[470][..], true),
+        ] {
+            let mut c = Contact::IDLE;
+            for (k, q) in reads.iter().enumerate() {
+                c.update(&at(*q), k as u32 * 20, &cfg);
+            }
+            assert_eq!(c.palm(), palm, "{reads:?}");
+        }
+        // Not measured: the ratio never counts.
+        let mut c = Contact::IDLE;
+        c.update(&at(900), 0, &CFG);
+        c.update(&at(100), 20, &CFG);
+        assert!(!c.palm());
+        // The contact's mean ratio (for the calibration), rounded:
+        // (430 + 421 + 425) / 3 = 425.33.
+        let mut c = Contact::IDLE;
+        for (k, q) in [430u16, 421, 425].iter().enumerate() {
+            c.update(&at(*q), k as u32 * 20, &CFG);
+        }
+        assert_eq!(c.plate(), 425);
+        // A new contact starts its own mean.
+        c.update(&NONE, 60, &CFG);
+        c.update(&NONE, 80, &CFG);
+        c.update(&NONE, 100, &CFG);
+        c.update(&at(300), 120, &CFG);
+        assert_eq!(c.plate(), 300);
     }
 }

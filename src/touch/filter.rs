@@ -46,7 +46,9 @@
 //! shield libraries: untouched, the plates are disconnected, so `z1 ≈ 0`,
 //! `z2 ≈ 1023` and `z ≈ 0`; pressing harder lowers the contact resistance, `z1`
 //! rises, `z2` falls and `z` grows. It depends a little on the touch position,
-//! so the window should be generous (default 200..1000).
+//! so the window should be generous (default 200..1015: a plate short reads
+//! 1021–1023, and a finger pressed ten times as firmly as usual reads inside
+//! it in the twin's panel model: BENCHMARKS.md, "Touch for an unsteady hand").
 
 use crate::seam::RawSample;
 
@@ -70,6 +72,37 @@ pub struct TouchPoint {
 /// the ADC range are clamped to 1023 first.
 pub fn pressure(z1: u16, z2: u16) -> u16 {
     ADC_MAX + z1.min(ADC_MAX) - z2.min(ADC_MAX)
+}
+
+/// Fixed-point one of [`plate_ratio`]: a ratio of 1 is 256.
+pub const PLATE_ONE: u32 = 256;
+
+/// The panel's plate ratio as one read sees it, [`PLATE_ONE`] = 1, from the
+/// X read `x`, the Y read `y`, the pressure measure `z` and the pressure
+/// read's `z1` (all ADC counts).
+///
+/// With a single contact at fraction `fx` of the X plate from XM and `fy` of
+/// the Y plate from YM, the pressure read (XP low, YM high) drives a current
+/// through the Y plate's `Ry·fy`, the contact and the X plate's `Rx·(1 − fx)`;
+/// `z1` is the X plate's voltage at the contact and `1023 − z2 = z − z1` the
+/// drop across `Ry·fy`, so `(z − z1)/z1 = Ry·fy / (Rx·(1 − fx))`. With
+/// `x ≈ 1024·fx` and `y ≈ 1024·fy`,
+/// `(z − z1)·(1023 − x) / (z1·y) = Ry/Rx`: the same for every point and force
+/// (the contact resistance drops out). These are the two touch-resistance
+/// formulas of the resistive-panel application notes (through z1 and z2, and
+/// through z1 with x and y) set equal. A second contact makes a network that
+/// no single point and resistance explains: the ratio moves away from the
+/// panel's own ([`crate::touch::contact`] uses that against a palm).
+///
+/// Each reading is taken at the middle of its ADC step (`code + ½`: the ADC
+/// truncates), which keeps small readings from biasing the ratio and the
+/// denominator from being 0.
+pub fn plate_ratio(x: u16, y: u16, z: u16, z1: u16) -> u16 {
+    let half = |v: u16| 2 * u32::from(v.min(ADC_MAX)) + 1;
+    let num = half(z.saturating_sub(z1)) * half(ADC_MAX.saturating_sub(x));
+    let den = half(z1) * half(y);
+    // num < 2^22, so num · 256 + den/2 < 2^31; rounded.
+    ((num * PLATE_ONE + den / 2) / den).min(u32::from(u16::MAX)) as u16
 }
 
 /// Median of `v` by insertion sort (sorts `v` in place; meant for `len ≤ 9`).
@@ -108,12 +141,12 @@ pub struct FilterConfig {
 
 impl FilterConfig {
     /// Starting values for a MCUFRIEND-style shield: 5 samples, spread 24,
-    /// pressure 200..1000, 3 reads to press, 3 to release, radius 8.
+    /// pressure 200..1015, 3 reads to press, 3 to release, radius 8.
     pub const DEFAULT: FilterConfig = FilterConfig {
         samples: 5,
         max_spread: 24,
         z_min: 200,
-        z_max: 1000,
+        z_max: 1015,
         press_confirm: 3,
         release_confirm: 3,
         stability_radius: 8,
@@ -182,6 +215,8 @@ pub enum Read {
         point: TouchPoint,
         /// The median pressure (see [`pressure`]).
         z: u16,
+        /// The plate ratio of the medians ([`plate_ratio`]).
+        plate: u16,
     },
     /// Nothing on the panel (or a fault that looks like it).
     NotTouched(NoTouch),
@@ -312,38 +347,36 @@ impl TouchFilter {
         if n != self.cfg.samples as usize || n > MAX_SAMPLES {
             return Read::Rejected(Reject::SampleCount);
         }
-        let mut xs = [0u16; MAX_SAMPLES];
-        let mut ys = [0u16; MAX_SAMPLES];
-        let mut zs = [0u16; MAX_SAMPLES];
-        let mut in_window = 0usize;
-        for (i, s) in samples.iter().enumerate() {
-            if let (Some(x), Some(y), Some(z)) = (xs.get_mut(i), ys.get_mut(i), zs.get_mut(i)) {
-                *x = s.x;
-                *y = s.y;
-                *z = s.z;
+        let in_window = samples.iter().filter(|s| s.z >= self.cfg.z_min && s.z <= self.cfg.z_max).count();
+        // One channel at a time through one buffer: the read's frame is on
+        // the deepest stack chain (`poll_touch`), so no array per channel.
+        let mut buf = [0u16; MAX_SAMPLES];
+        let mut sorted = |channel: fn(&RawSample) -> u16| -> (u16, u16) {
+            let v = buf.get_mut(..n).unwrap_or(&mut []);
+            for (slot, s) in v.iter_mut().zip(samples) {
+                *slot = channel(s);
             }
-            if s.z >= self.cfg.z_min && s.z <= self.cfg.z_max {
-                in_window += 1;
-            }
-        }
-        let (xs, ys, zs) = (&mut xs[..n], &mut ys[..n], &mut zs[..n]);
-        let z = median_u16(zs);
+            // Sorted by the median: the spread is last − first.
+            let median = median_u16(v);
+            (median, spread(v))
+        };
+        let (z, _) = sorted(|s| s.z);
         if in_window == 0 {
             return Read::NotTouched(if z < self.cfg.z_min { NoTouch::PressureLow } else { NoTouch::PressureHigh });
         }
         if in_window < n {
             return Read::Rejected(Reject::PartialContact);
         }
-        let x = median_u16(xs);
-        let y = median_u16(ys);
-        // Sorted by the median: spread is last − first.
-        if spread(xs) > self.cfg.max_spread {
+        let (x, spread_x) = sorted(|s| s.x);
+        if spread_x > self.cfg.max_spread {
             return Read::Rejected(Reject::SpreadX);
         }
-        if spread(ys) > self.cfg.max_spread {
+        let (y, spread_y) = sorted(|s| s.y);
+        if spread_y > self.cfg.max_spread {
             return Read::Rejected(Reject::SpreadY);
         }
-        Read::Touched { point: TouchPoint { x, y }, z }
+        let (z1, _) = sorted(|s| s.z1);
+        Read::Touched { point: TouchPoint { x, y }, z, plate: plate_ratio(x, y, z, z1) }
     }
 
     /// Feeds one read (exactly `FilterConfig::samples` samples).

@@ -10,6 +10,14 @@
 //! touch is mapped with the *new* calibration (when the fit succeeded), so
 //! hitting Save already proves the new mapping works; after a failed fit the
 //! old one is used for Retry / Cancel.
+//!
+//! With [`CalibrationFlow::with_settings`] (the app's Calib button, unless
+//! the carer lock hides the touch settings) Save leads to a last page that
+//! sets the touch's `hold`, `repeat` and `radius` (issue #19 §3) with its −
+//! and + buttons on a ladder of steps; its Save keeps the calibration and those values
+//! in one record, its Cancel keeps the old ones. The edited values are not
+//! in force until saved, so the − and + taps themselves are judged by the
+//! settings in use (a carer who raises `hold` is not caught by it halfway).
 
 use embedded_graphics::pixelcolor::Rgb565;
 
@@ -17,9 +25,13 @@ use super::draw::{fill, text_centered, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::Layout;
 use super::theme;
-use crate::config::settings::MIN_TOUCH_SPAN;
+use crate::config::settings::{
+    PressSettings, HOLD_MIN_CS, MIN_TOUCH_SPAN, PLATE_MAX, PLATE_MIN, RADIUS_MIN, TIME_MAX_CS,
+};
 use crate::text::line::Line;
 use crate::text::Text;
+use crate::touch::contact::PLATE_TOL_DIV;
+use crate::touch::filter::median_u16;
 use crate::touch::map::{Calibration, CalibrationError, Crosshair, SwapMode};
 
 /// Crosshairs per calibration.
@@ -79,6 +91,12 @@ pub enum CalPhase {
         /// The fitted calibration, or why there is none.
         result: Result<Calibration, CalFailure>,
     },
+    /// The touch settings page, after Save on a good fit (only with
+    /// [`CalibrationFlow::with_settings`]).
+    Settings {
+        /// The fit that Save accepted.
+        cal: Calibration,
+    },
 }
 
 /// What a touch on the calibration screen decided.
@@ -97,7 +115,11 @@ pub struct CalibrationFlow {
     old: Calibration,
     phase: CalPhase,
     samples: [Crosshair<f32>; CAL_COUNT],
+    /// Each crosshair touch's mean plate ratio ([`crate::touch::contact::Contact::plate`]).
+    plates: [u16; CAL_COUNT],
     rejected: bool,
+    /// The touch settings being edited (`None`: no settings page).
+    press: Option<PressSettings>,
 }
 
 /// The result screen's Cancel button: (16, 168, 136, 56) at 320×240.
@@ -115,7 +137,27 @@ impl CalibrationFlow {
     /// kept for Cancel.
     pub fn new(old: Calibration, lay: &Layout) -> Self {
         let blank = Crosshair { x_p: 0.0, y_p: 0.0, raw_x: 0, raw_y: 0 };
-        Self { layout: *lay, old, phase: CalPhase::Touch { index: 0 }, samples: [blank; CAL_COUNT], rejected: false }
+        Self {
+            layout: *lay,
+            old,
+            phase: CalPhase::Touch { index: 0 },
+            samples: [blank; CAL_COUNT],
+            plates: [0; CAL_COUNT],
+            rejected: false,
+            press: None,
+        }
+    }
+
+    /// With a touch settings page after Save, starting from `press`.
+    pub fn with_settings(mut self, press: PressSettings) -> Self {
+        self.press = Some(press);
+        self
+    }
+
+    /// The touch settings as edited on the settings page (`None` without
+    /// one): what [`CalibrationEvent::Done`] asks to store with the fit.
+    pub fn settings(&self) -> Option<PressSettings> {
+        self.press
     }
 
     /// The screen the crosshairs are placed on.
@@ -137,7 +179,7 @@ impl CalibrationFlow {
     pub fn crosshair_pixel(&self) -> Option<(i16, i16)> {
         match self.phase {
             CalPhase::Touch { index } => cal_pixel(&self.layout, usize::from(index)),
-            CalPhase::Review { .. } => None,
+            CalPhase::Review { .. } | CalPhase::Settings { .. } => None,
         }
     }
 
@@ -146,31 +188,80 @@ impl CalibrationFlow {
         self.rejected
     }
 
-    /// Feeds a confirmed press (raw channels as read).
-    pub fn feed(&mut self, raw_x: u16, raw_y: u16) -> Option<CalibrationEvent> {
+    /// Feeds a confirmed press (raw channels as read) and its contact's
+    /// plate ratio ([`crate::touch::contact::Contact::plate`]).
+    pub fn feed(&mut self, raw_x: u16, raw_y: u16, plate: u16) -> Option<CalibrationEvent> {
         match self.phase {
             CalPhase::Touch { index } => {
                 self.take_sample(usize::from(index), raw_x, raw_y);
+                if !self.rejected {
+                    if let Some(slot) = self.plates.get_mut(usize::from(index)) {
+                        *slot = plate;
+                    }
+                }
                 None
             }
+            // After a failed fit the old calibration maps Retry / Cancel;
+            // after a good one the new fit maps every button: Save on its
+            // review already proved it.
             CalPhase::Review { result } => {
                 let cal = result.unwrap_or(self.old);
-                let p = cal.map::<f32>(raw_x, raw_y).ok()?;
-                let (x, y) = self.layout.panel_to_pixel(p.x_p, p.y_p)?;
-                if cancel_area(&self.layout).contains(x, y) {
-                    Some(CalibrationEvent::Cancelled)
-                } else if save_area(&self.layout).contains(x, y) {
-                    match result {
-                        Ok(c) => Some(CalibrationEvent::Done(c)),
-                        Err(_) => {
-                            *self = Self::new(self.old, &self.layout);
-                            None
-                        }
-                    }
-                } else {
-                    None
-                }
+                self.button_at(&cal, raw_x, raw_y)
             }
+            CalPhase::Settings { cal } => self.button_at(&cal, raw_x, raw_y),
+        }
+    }
+
+    /// A touch on the review or settings page's buttons, mapped by `cal`.
+    #[inline(never)] // reason: cold
+    fn button_at(&mut self, cal: &Calibration, raw_x: u16, raw_y: u16) -> Option<CalibrationEvent> {
+        let p = cal.map::<f32>(raw_x, raw_y).ok()?;
+        let lay = self.layout;
+        let (x, y) = lay.panel_to_pixel(p.x_p, p.y_p)?;
+        if cancel_area(&lay).contains(x, y) {
+            return Some(CalibrationEvent::Cancelled);
+        }
+        let save = save_area(&lay).contains(x, y);
+        match self.phase {
+            CalPhase::Review { result: Ok(c) } if save && self.press.is_some() => {
+                self.phase = CalPhase::Settings { cal: c };
+                None
+            }
+            CalPhase::Review { result: Ok(c) } | CalPhase::Settings { cal: c } if save => {
+                Some(CalibrationEvent::Done(c))
+            }
+            CalPhase::Review { result: Err(_) } if save => {
+                let press = self.press;
+                *self = Self::new(self.old, &lay);
+                self.press = press;
+                None
+            }
+            CalPhase::Settings { .. } => {
+                let field = Setting::ALL.into_iter().find(|&f| {
+                    setting_area(&lay, f, false).contains(x, y) || setting_area(&lay, f, true).contains(x, y)
+                })?;
+                let up = setting_area(&lay, field, true).contains(x, y);
+                field.step(self.press.as_mut()?, up);
+                None
+            }
+            _ => None,
+        }
+    }
+
+    /// The panel's plate ratio as the crosshair touches measured it: their
+    /// median, if every one lies within half the second-contact check's
+    /// tolerance of it ([`PLATE_TOL_DIV`]: one finger on an even panel) and
+    /// the median is a ratio the settings take; 0 otherwise, which leaves
+    /// the check off (a panel too uneven for it, or a touch that was not
+    /// one finger).
+    pub fn plate(&self) -> u16 {
+        let mut p = self.plates;
+        let m = median_u16(&mut p);
+        let even = p.iter().all(|&q| u32::from(q.abs_diff(m)) * 2 * PLATE_TOL_DIV <= u32::from(m));
+        if even && (PLATE_MIN..=PLATE_MAX).contains(&m) {
+            m
+        } else {
+            0
         }
     }
 
@@ -201,6 +292,101 @@ impl CalibrationFlow {
     }
 }
 
+/// A row of the touch settings page.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Setting {
+    /// `hold`, hundredths of a second.
+    Hold,
+    /// `repeat`, hundredths of a second.
+    Repeat,
+    /// `radius`, ADC counts.
+    Radius,
+}
+
+/// The steps − and + go through: finer where a small change matters (a
+/// short hold, a small radius), all inside the ranges the settings take
+/// (`config::settings`), ends included. A value set over serial between
+/// two steps moves to the next step in the direction pressed.
+/// In flash (`.progmem.data`), not copied into SRAM at start-up.
+#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+static HOLD_STEPS: [u8; 14] = [HOLD_MIN_CS, 6, 8, 10, 12, 15, 20, 30, 40, 50, 75, 100, 150, TIME_MAX_CS];
+#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+static REPEAT_STEPS: [u8; 11] = [0, 10, 20, 30, 40, 50, 75, 100, 125, 150, TIME_MAX_CS];
+#[cfg_attr(target_arch = "avr", link_section = ".progmem.data")]
+static RADIUS_STEPS: [u8; 10] = [RADIUS_MIN, 40, 60, 80, 120, 160, 200, 220, 240, 255];
+
+/// Step `i` of a ladder above (`None` past its end).
+fn ladder_at(steps: &'static [u8], i: usize) -> Option<u8> {
+    if i >= steps.len() {
+        return None;
+    }
+    // SAFETY: `steps` is one of the `.progmem.data` statics above and
+    // `i < len`: on the chip the byte is in flash, read with `lpm` (a
+    // plain load would read SRAM at that address).
+    Some(unsafe { crate::text::flash_byte(steps.as_ptr().wrapping_add(i)) })
+}
+
+impl Setting {
+    /// The page's rows, top to bottom.
+    pub const ALL: [Setting; 3] = [Setting::Hold, Setting::Repeat, Setting::Radius];
+
+    const fn row(self) -> i16 {
+        match self {
+            Setting::Hold => 0,
+            Setting::Repeat => 1,
+            Setting::Radius => 2,
+        }
+    }
+
+    fn steps(self) -> &'static [u8] {
+        match self {
+            Setting::Hold => &HOLD_STEPS,
+            Setting::Repeat => &REPEAT_STEPS,
+            Setting::Radius => &RADIUS_STEPS,
+        }
+    }
+
+    /// The field's value in `p`.
+    pub fn value(self, p: &PressSettings) -> u8 {
+        match self {
+            Setting::Hold => p.hold_cs,
+            Setting::Repeat => p.repeat_cs,
+            Setting::Radius => p.radius,
+        }
+    }
+
+    /// One step up or down the field's ladder (nothing past its ends).
+    pub fn step(self, p: &mut PressSettings, up: bool) {
+        let v = self.value(p);
+        let steps = self.steps();
+        // Read with `lpm`: the ladders are in flash.
+        let at = |i| ladder_at(steps, i);
+        let next = if up {
+            (0..steps.len()).filter_map(at).find(|&s| s > v)
+        } else {
+            (0..steps.len()).rev().filter_map(at).find(|&s| s < v)
+        };
+        let Some(n) = next else { return };
+        match self {
+            Setting::Hold => p.hold_cs = n,
+            Setting::Repeat => p.repeat_cs = n,
+            Setting::Radius => p.radius = n,
+        }
+    }
+}
+
+/// Setting `field`'s + (`up`) or − button: 60×50 at the row's ends, rows
+/// 50 high 4 apart from y 4, at 320×240 (above Save and Cancel).
+pub const fn setting_area(lay: &Layout, field: Setting, up: bool) -> Area {
+    let x = if up { 252 } else { 8 };
+    Area::new(lay.sx(x), lay.sy(4 + 54 * field.row()), lay.sx(60) as u16, lay.sy(50) as u16)
+}
+
+/// The value between a row's − and +.
+fn value_area(lay: &Layout, field: Setting) -> Area {
+    Area::new(lay.sx(72), lay.sy(4 + 54 * field.row()), lay.sx(176) as u16, lay.sy(50) as u16)
+}
+
 fn fit(samples: &[Crosshair<f32>]) -> Result<Calibration, CalFailure> {
     let cal = Calibration::from_crosshairs(samples, SwapMode::Detect).map_err(CalFailure::Fit)?;
     if cal.x_max - cal.x_min < MIN_TOUCH_SPAN || cal.y_max - cal.y_min < MIN_TOUCH_SPAN {
@@ -212,8 +398,18 @@ fn fit(samples: &[Crosshair<f32>]) -> Result<Calibration, CalFailure> {
 /// What the calibration screen shows, for partial repaints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum CalView {
-    Touch { index: u8, rejected: bool },
+    Touch {
+        index: u8,
+        rejected: bool,
+    },
     Review(Result<Calibration, CalFailure>),
+    /// The settings page: the values shown, and `radius` in screen pixels
+    /// on the axis where the fit gives the fewest (where a wander cancels
+    /// first).
+    Settings {
+        press: PressSettings,
+        radius_px: u16,
+    },
 }
 
 const BG: Rgb565 = theme::WHITE;
@@ -298,6 +494,7 @@ fn yes_no(b: bool) -> Text {
     }
 }
 
+#[inline(never)] // reason: cold
 fn draw_review<D: Canvas>(d: &mut D, lay: &Layout, result: &Result<Calibration, CalFailure>) -> Result<(), D::Error> {
     fill(d, lay.screen(), BG)?;
     let style = style(lay);
@@ -334,9 +531,68 @@ fn draw_review<D: Canvas>(d: &mut D, lay: &Layout, result: &Result<Calibration, 
     text_centered(d, cancel, &t!("Cancel"), &TextStyle::opaque(t, theme::TEXT, theme::BUTTON))
 }
 
+/// `radius` counts in screen pixels along the axis where `cal` gives the
+/// fewest: the per-axis wander check ([`crate::touch::contact`]) cancels
+/// there first.
+fn radius_px(lay: &Layout, cal: &Calibration, radius: u8) -> u16 {
+    let px = |screen: u16, span: u16| u32::from(radius) * u32::from(screen) / u32::from(span.max(1));
+    let across = px(lay.width(), cal.x_max.saturating_sub(cal.x_min));
+    let up = px(lay.height(), cal.y_max.saturating_sub(cal.y_min));
+    across.min(up).min(u32::from(u16::MAX)) as u16
+}
+
+#[inline(never)] // reason: cold
+fn draw_setting<D: Canvas>(d: &mut D, lay: &Layout, field: Setting, value: u8, radius_px: u16) -> Result<(), D::Error> {
+    let a = value_area(lay, field);
+    fill(d, a, BG)?;
+    let style = style(lay);
+    let (_, h) = style.extent(1);
+    let name = match field {
+        Setting::Hold => t!("Hold"),
+        Setting::Repeat => t!("Ignore repeat"),
+        Setting::Radius => t!("Wander limit"),
+    };
+    let mut l: Line<16> = Line::new();
+    match field {
+        Setting::Hold | Setting::Repeat => {
+            l.centi(i32::from(value)).str(t!(" s"));
+        }
+        Setting::Radius => {
+            l.i32(i32::from(value)).str(t!(" = ")).i32(i32::from(radius_px)).str(t!(" px"));
+        }
+    }
+    let gap = (a.h.saturating_sub(2 * h)) / 3;
+    text_centered(d, Area::new(a.x, a.y + gap as i16, a.w, h), &name, &style)?;
+    text_centered(d, Area::new(a.x, a.y + (2 * gap + h) as i16, a.w, h), l.as_bytes(), &style)
+}
+
+#[inline(never)] // reason: cold
+fn draw_settings_page<D: Canvas>(d: &mut D, lay: &Layout) -> Result<(), D::Error> {
+    fill(d, lay.screen(), BG)?;
+    let t = lay.text_scale();
+    let key = TextStyle::opaque(t, theme::WHITE, theme::BUTTON_ON);
+    for field in Setting::ALL {
+        for (up, label) in [(false, t!("-")), (true, t!("+"))] {
+            let a = setting_area(lay, field, up);
+            fill(d, a, theme::BUTTON_ON)?;
+            text_centered(d, a, &label, &key)?;
+        }
+    }
+    line_centered(d, lay, 228, &t!("Touch settings: Save keeps them"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
+    let (save, cancel) = (save_area(lay), cancel_area(lay));
+    fill(d, save, theme::RESUME_GREEN)?;
+    text_centered(d, save, &t!("Save"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN))?;
+    fill(d, cancel, theme::BUTTON)?;
+    text_centered(d, cancel, &t!("Cancel"), &TextStyle::opaque(t, theme::TEXT, theme::BUTTON))
+}
+
 /// What the calibration screen shows for `flow`.
 pub(crate) fn view(flow: &CalibrationFlow) -> CalView {
     match flow.phase {
+        CalPhase::Settings { cal } => {
+            let p = flow.press.unwrap_or(PressSettings::DEFAULT);
+            CalView::Settings { press: p, radius_px: radius_px(&flow.layout, &cal, p.radius) }
+        }
         CalPhase::Review { result } => CalView::Review(result),
         CalPhase::Touch { index } => CalView::Touch { index, rejected: flow.rejected },
     }
@@ -348,6 +604,23 @@ pub(crate) fn view(flow: &CalibrationFlow) -> CalView {
 #[inline(never)] // avr-trap: frame-size
 pub(crate) fn draw<D: Canvas>(lay: &Layout, new: &CalView, old: Option<&CalView>, d: &mut D) -> Result<(), D::Error> {
     match *new {
+        CalView::Settings { press, radius_px } => {
+            let was = match old {
+                Some(&CalView::Settings { press, radius_px }) => Some((press, radius_px)),
+                _ => None,
+            };
+            if was.is_none() {
+                draw_settings_page(d, lay)?;
+            }
+            for field in Setting::ALL {
+                let same = was.is_some_and(|(p, px)| {
+                    field.value(&p) == field.value(&press) && (field != Setting::Radius || px == radius_px)
+                });
+                if !same {
+                    draw_setting(d, lay, field, field.value(&press), radius_px)?;
+                }
+            }
+        }
         CalView::Review(result) => {
             if old != Some(new) {
                 draw_review(d, lay, &result)?;

@@ -76,7 +76,7 @@ pub fn screen(k: u8, lay: &Layout) -> Screen {
             let mut flow = CalibrationFlow::new(cal, lay);
             if k == 14 {
                 if let Some(raw) = cal_point(lay, 0).and_then(|(x, y)| cal.unmap::<f32>(x, y).ok()) {
-                    flow.feed(raw.x, raw.y);
+                    flow.feed(raw.x, raw.y, 0);
                 }
             }
             return Screen::Calibration(flow);

@@ -353,17 +353,20 @@ impl Layout {
 
     /// `v` (a length or position on the 320-wide reference screen) scaled to
     /// this width: the calibration screen's positions.
+    #[inline(never)] // reason: code-size
     pub const fn sx(&self, v: i16) -> i16 {
         (v as i32 * self.w as i32 / 320) as i16
     }
 
     /// `v` (on the 240-high reference screen) scaled to this height.
+    #[inline(never)] // reason: code-size
     pub const fn sy(&self, v: i16) -> i16 {
         (v as i32 * self.h as i32 / 240) as i16
     }
 
     /// `v` (a size on the 112-px-per-unit map of 320×240) scaled to this
     /// map: markers, the arm base, the crosshairs.
+    #[inline(never)] // reason: code-size
     pub const fn sm(&self, v: u16) -> u16 {
         (v as u32 * self.s as u32 / 112) as u16
     }

@@ -180,6 +180,8 @@ enum Detail {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct View {
     stop_shown: bool,
+    /// RESUME's countdown ring, 0..=4 (0 while STOP is shown).
+    resume_ring: u8,
     headline: Headline,
     detail: Detail,
     zone: Option<(u8, Option<i16>)>,
@@ -273,6 +275,7 @@ impl View {
         };
         View {
             stop_shown: m.state != UiState::Stopped,
+            resume_ring: if m.state == UiState::Stopped { m.resume.unwrap_or(0).min(4) } else { 0 },
             headline,
             detail,
             zone: m.condition.map(|c| (c.number(), whole_deg(m.alpha))),
@@ -556,7 +559,7 @@ impl Ui {
         // lines and the map as usual).
         let page = if old.page != v.page || old.hide != v.hide { PAGE_STEPS } else { 0 };
         let more = old.more ^ v.more;
-        page | bit(old.stop_shown != v.stop_shown, S_STOP)
+        page | bit(old.stop_shown != v.stop_shown || old.resume_ring != v.resume_ring, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
             | bit(old.detail != v.detail, S_DETAIL)
             | bit(old.zone != v.zone, S_INFO)
@@ -618,8 +621,9 @@ impl Ui {
                 draw_gaps(d, lay)?;
                 return Ok(Redrawn::GAPS);
             }
-            S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown) => {
-                draw_stop(d, lay, v.stop_shown)?;
+            S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown || o.resume_ring != v.resume_ring) => {
+                let ring = old.filter(|o| o.stop_shown == v.stop_shown).map(|o| o.resume_ring);
+                draw_stop(d, lay, v.stop_shown, v.resume_ring, ring)?;
                 return Ok(Redrawn::STOP);
             }
             S_HEADLINE if old.is_none_or(|o| o.headline != v.headline) => {
@@ -841,13 +845,29 @@ fn draw_gaps<D: Canvas>(d: &mut D, lay: &Layout) -> Result<(), D::Error> {
     Ok(())
 }
 
-fn draw_stop<D: Canvas>(d: &mut D, lay: &Layout, stop: bool) -> Result<(), D::Error> {
+/// STOP, or RESUME with its countdown: a white band inside its edge, one
+/// text-scale pixel thick per step of `ring` (0..=4), so it closes in on the
+/// label as the hold fills (issue #19 §3). `was` is the ring on the glass
+/// (`None`: the button is not drawn as RESUME yet): a ring that grew adds
+/// its new band only, one that fell back (a new contact) repaints.
+fn draw_stop<D: Canvas>(d: &mut D, lay: &Layout, stop: bool, ring: u8, was: Option<u8>) -> Result<(), D::Error> {
     let t = lay.text_scale();
+    let a = lay.stop().shrink(1);
     if stop {
-        button(d, lay.stop(), t!("STOP"), &TextStyle::opaque(t + 1, theme::WHITE, theme::STOP_RED).tight())
-    } else {
-        button(d, lay.stop(), t!("RESUME"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN).tight())
+        return button(d, lay.stop(), t!("STOP"), &TextStyle::opaque(t + 1, theme::WHITE, theme::STOP_RED).tight());
     }
+    let from = match was {
+        Some(w) if w <= ring => w,
+        _ => {
+            button(d, lay.stop(), t!("RESUME"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN).tight())?;
+            0
+        }
+    };
+    let band = u16::from(t);
+    for k in from..ring {
+        frame(d, a.shrink(band * u16::from(k)), band, theme::WHITE)?;
+    }
+    Ok(())
 }
 
 fn draw_headline<D: Canvas>(d: &mut D, lay: &Layout, h: Headline) -> Result<(), D::Error> {

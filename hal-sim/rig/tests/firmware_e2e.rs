@@ -7,7 +7,7 @@
 use std::f64::consts::PI;
 
 use touch_arm::touch::map::Calibration;
-use touch_arm::ui::calibration::{cal_pixel, save_area, CAL_COUNT};
+use touch_arm::ui::calibration::{cal_pixel, save_area, setting_area, Setting, CAL_COUNT};
 use touch_arm::ui::Layout;
 use touch_arm_rig::firmware::{self, Session};
 use touch_arm_rig::panel::PanelWiring;
@@ -543,13 +543,25 @@ fn on_screen_calibration_learns_the_panel_and_saves_it() {
         touch(&mut s, rx, ry);
         s.run_for(0.4).unwrap();
     }
-    // Save, where the new calibration puts the Save button.
+    // Save, where the new calibration puts the Save button: the touch
+    // settings' page follows. Hold + twice (0.10 → 0.12 → 0.15 s), repeat −
+    // once (0.30 → 0.20 s), then Save there.
     let save = save_area(&L);
-    let (sx, sy) = pixel_raw(&truth, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
+    let centre_raw = |a: touch_arm::ui::draw::Area| pixel_raw(&truth, a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let (sx, sy) = centre_raw(save);
+    touch(&mut s, sx, sy);
+    s.run_for(0.4).unwrap();
+    assert!(!s.avr.uart_output_string().contains("info cal touch saved"), "{}", s.avr.uart_output_string());
+    for (field, up) in [(Setting::Hold, true), (Setting::Hold, true), (Setting::Repeat, false)] {
+        let (rx, ry) = centre_raw(setting_area(&L, field, up));
+        touch(&mut s, rx, ry);
+        s.run_for(0.4).unwrap();
+    }
     touch(&mut s, sx, sy);
     s.run_for(0.3).unwrap();
     let out = s.avr.uart_output_string();
-    assert!(out.contains("info cal touch saved seq"), "{out}");
+    let saved = out.lines().find(|l| l.starts_with("info cal touch saved seq")).unwrap_or_else(|| panic!("{out}"));
+    assert!(saved.ends_with(" hold 0.15 repeat 0.20 radius 240"), "{saved}");
     // The learned calibration is in use and in EEPROM: `cal show` reports it.
     s.command("cal show").unwrap();
     let out = s.avr.uart_output_string();
@@ -561,6 +573,14 @@ fn on_screen_calibration_learns_the_panel_and_saves_it() {
     }
     assert_eq!(field("invert_x"), 1, "{line}");
     assert_eq!(field("swap"), 0, "{line}");
+    // The crosshair touches measured the panel's plate ratio on the chip:
+    // the rig's panel is the twin's model, Ry/Rx = 500/300 Ω = 1.667
+    // (`filter::plate_ratio`; within 1 %: the ADC's steps at the crosshairs).
+    let plate: f64 = line.split_whitespace().skip_while(|w| *w != "plate").nth(1).unwrap().parse().unwrap();
+    assert!((plate / (500.0 / 300.0) - 1.0).abs() < 0.01, "plate {plate} ({line})");
+    assert!(out.contains(&format!("plate {plate:.2}")), "{out}");
+    // The settings' page's values were stored with the fit.
+    assert!(line.contains(" hold 0.15 repeat 0.20 radius 240 plate "), "{line}");
 }
 
 #[test]

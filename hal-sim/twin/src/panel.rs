@@ -382,7 +382,7 @@ impl SimPanel {
         let z1 = self.adc(&PanelPins::READ_Z, Pin::Xm);
         let z2 = self.adc(&PanelPins::READ_Z, Pin::Yp);
         self.samples += 1;
-        RawSample { x, y, z: pressure(z1, z2) }
+        RawSample { x, y, z: pressure(z1, z2), z1 }
     }
 }
 

@@ -21,7 +21,7 @@ mod touch {
 
     /// A read of 5 identical samples.
     fn steady(x: u16, y: u16, z: u16) -> [RawSample; 5] {
-        [RawSample { x, y, z }; 5]
+        [RawSample { x, y, z, z1: 0 }; 5]
     }
 
     fn idle() -> [RawSample; 5] {
@@ -111,7 +111,8 @@ mod touch {
         s[1].x = 495;
         s[4].y = 615;
         s[2].z = 420;
-        assert_eq!(f.classify(&s), Read::Touched { point: pt(500, 600), z: 400 });
+        // z1 = 0: no plate ratio (`u16::MAX`).
+        assert_eq!(f.classify(&s), Read::Touched { point: pt(500, 600), z: 400, plate: u16::MAX });
         assert_eq!(f.classify(&s[..4]), Read::Rejected(Reject::SampleCount));
         assert_eq!(f.classify(&[]), Read::Rejected(Reject::SampleCount));
         assert_eq!(f.classify(&idle()), Read::NotTouched(NoTouch::PressureLow));
@@ -154,7 +155,7 @@ mod touch {
             let mut f = filter();
             let mut pressed = None;
             for read in 0..C.press_confirm as usize {
-                let mut s = [RawSample { x: 0, y: 0, z: 0 }; 5];
+                let mut s = [RawSample { x: 0, y: 0, z: 0, z1: 0 }; 5];
                 for v in s.iter_mut() {
                     v.x = (tx as i32 + noise(&mut rng, 3)) as u16;
                     v.y = (ty as i32 + noise(&mut rng, 3)) as u16;
@@ -316,7 +317,7 @@ mod touch {
     }
 
     fn idle_sample() -> impl Strategy<Value = RawSample> {
-        (any::<u16>(), any::<u16>(), 0..C.z_min).prop_map(|(x, y, z)| RawSample { x, y, z })
+        (any::<u16>(), any::<u16>(), 0..C.z_min).prop_map(|(x, y, z)| RawSample { x, y, z, z1: 0 })
     }
 
     /// Samples where at least one sample of each read is outside the window.
@@ -327,7 +328,7 @@ mod touch {
             prop_oneof![0..C.z_min, (C.z_max + 1)..2047],
         )
             .prop_map(|(v, k, zout)| {
-                let mut s: Vec<_> = v.into_iter().map(|(x, y, z)| RawSample { x, y, z }).collect();
+                let mut s: Vec<_> = v.into_iter().map(|(x, y, z)| RawSample { x, y, z, z1: 0 }).collect();
                 s[k].z = zout;
                 s
             })
@@ -370,6 +371,7 @@ mod touch {
                     x: (tx as i32 + dx).clamp(0, 1023) as u16,
                     y: (ty as i32 + dy).clamp(0, 1023) as u16,
                     z: 600,
+                    z1: 0,
                 }).collect();
                 events.extend(f.update(&s).event);
             }
@@ -645,7 +647,7 @@ mod config {
         c.law = LawKind::Quintic;
         c.wiring = Some(Wiring::C);
         c.lift_centi = Some(35);
-        c.press = PressSettings { hold_cs: 25, repeat_cs: 50, radius: 90 };
+        c.press = PressSettings { hold_cs: 25, repeat_cs: 50, radius: 90, plate: 431 };
         c.arm = ArmSettings { l2_cmm: 12_050, l3_cmm: 8_000, home: [9000, 4500, -13_500], park: [-1, 17_000, -32_767] };
         c.hold_to_run = true;
         assert_eq!(c.validate(), Ok(()));
@@ -722,9 +724,10 @@ mod config {
             (&[0x28, 0x23][..], &[0x94, 0x11][..], &[0x44, 0xCB][..])
         );
         assert_eq!((&r[116..118], &r[120..122]), (&[0xFF, 0xFF][..], &(-32_767i16).to_le_bytes()[..]));
-        // Version 7 the touch mode (1: hold).
+        // Version 7 the touch mode (1: hold), version 8 the plate ratio.
         assert_eq!(r[122], 1);
-        assert_eq!(&r[123..125], &crc16(&r[..123]).to_le_bytes());
+        assert_eq!(&r[123..125], &431u16.to_le_bytes());
+        assert_eq!(&r[125..127], &crc16(&r[..125]).to_le_bytes());
         let mut line = c;
         (line.path, line.lift_centi) = (PathMode::Line, None);
         let l = line.encode(9);
@@ -876,7 +879,7 @@ mod config {
             r
         };
         let want = Config { press: PressSettings::DEFAULT, arm: ArmSettings::DEFAULT, hold_to_run: false, ..c };
-        assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240 });
+        assert_eq!(PressSettings::DEFAULT, PressSettings { hold_cs: 10, repeat_cs: 30, radius: 240, plate: 0 });
         for tail in [0xFFu8, 0x00, 0x5A] {
             assert_eq!(Config::decode(&v4(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v4(41, tail);
@@ -910,7 +913,8 @@ mod config {
             r[106..108].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        let want = Config { arm: ArmSettings::DEFAULT, hold_to_run: false, ..c };
+        let want =
+            Config { arm: ArmSettings::DEFAULT, hold_to_run: false, press: PressSettings { plate: 0, ..c.press }, ..c };
         assert_eq!(
             ArmSettings::DEFAULT,
             ArmSettings { l2_cmm: 10_000, l3_cmm: 10_000, home: [9000, 9000, -9000], park: [9000, 9000, -9000] }
@@ -947,7 +951,7 @@ mod config {
             r[122..124].copy_from_slice(&crc.to_le_bytes());
             r
         };
-        let want = Config { hold_to_run: false, ..c };
+        let want = Config { hold_to_run: false, press: PressSettings { plate: 0, ..c.press }, ..c };
         for tail in [0xFFu8, 0x00, 0x01] {
             assert_eq!(Config::decode(&v6(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
             let mut bad = v6(41, tail);
@@ -964,13 +968,56 @@ mod config {
         assert_eq!((l.seq, l.warning, l.config), (6, None, c));
         let r = record(&mut ee, SLOT_B_ADDR);
         assert_eq!((r[2], r[122]), (VERSION, 1));
-        assert_eq!(VERSION, 7);
         // The mode byte: 0 tap, 1 hold, anything else invalid.
         let mut odd = c.encode(9);
         odd[122] = 2;
-        let crc = crc16(&odd[..123]);
-        odd[123..125].copy_from_slice(&crc.to_le_bytes());
+        let crc = crc16(&odd[..125]);
+        odd[125..127].copy_from_slice(&crc.to_le_bytes());
         assert_eq!(Config::decode(&odd), Err(RecordError::Invalid));
+    }
+
+    /// A version-7 record (125 bytes, CRC of 0..123 at 123, written before
+    /// the panel's plate ratio) loads with every field it has and the ratio
+    /// not measured (0: the ratio's second-contact check off until a touch
+    /// calibration); the next save writes version 8, whose ratio at 123 is
+    /// 0 or 64..=1024 (anything else refuses the record whole).
+    #[test]
+    fn version_7_records_migrate_without_a_plate_ratio() {
+        let c = sample_config();
+        let v7 = |seq: u16, tail: u8| {
+            let mut r = [tail; RECORD_LEN];
+            r[..123].copy_from_slice(&c.encode(seq)[..123]);
+            r[2] = 7;
+            let crc = crc16(&r[..123]);
+            r[123..125].copy_from_slice(&crc.to_le_bytes());
+            r
+        };
+        let want = Config { press: PressSettings { plate: 0, ..c.press }, ..c };
+        for tail in [0xFFu8, 0x00, 0x01] {
+            assert_eq!(Config::decode(&v7(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = v7(41, tail);
+            bad[122] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &v7(5, 0xFF)[..125]).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &v7(4, 0xFF)[..125]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
+        assert_eq!(save(&mut ee, &c), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        let r = record(&mut ee, SLOT_B_ADDR);
+        assert_eq!((r[2], &r[123..125]), (VERSION, &431u16.to_le_bytes()[..]));
+        assert_eq!(VERSION, 8);
+        // The ratio: 0, or 0.25..=4.00 (64..=1024).
+        for (plate, ok) in [(0u16, true), (1, false), (63, false), (64, true), (1024, true), (1025, false)] {
+            let mut r = c.encode(9);
+            r[123..125].copy_from_slice(&plate.to_le_bytes());
+            let crc = crc16(&r[..125]);
+            r[125..127].copy_from_slice(&crc.to_le_bytes());
+            assert_eq!(Config::decode(&r).is_ok(), ok, "plate {plate}");
+        }
     }
 
     /// The arm's links: each 10..=650 mm, the longer at most 4x the shorter
@@ -986,8 +1033,8 @@ mod config {
         assert_eq!(c.validate(), Err(ConfigError::Arm));
         let mut r = sample_config().encode(3);
         r[108..110].copy_from_slice(&3_012u16.to_le_bytes());
-        let crc = crc16(&r[..123]);
-        r[123..125].copy_from_slice(&crc.to_le_bytes());
+        let crc = crc16(&r[..125]);
+        r[125..127].copy_from_slice(&crc.to_le_bytes());
         assert_eq!(Config::decode(&r), Err(RecordError::Invalid));
         // `cal set arm` goes through the same rule.
         let mut c = Config::DEFAULT;
@@ -1054,8 +1101,8 @@ mod config {
         assert_eq!(Config::decode(&r), Err(RecordError::NoMagic));
         assert_eq!(Config::decode(&[0xFF; RECORD_LEN]), Err(RecordError::NoMagic));
         let mut r = good;
-        r[2] = 8;
-        assert_eq!(Config::decode(&r), Err(RecordError::Version(8)));
+        r[2] = 9;
+        assert_eq!(Config::decode(&r), Err(RecordError::Version(9)));
         for i in 3..RECORD_LEN {
             let mut r = good;
             r[i] ^= 0x40;
@@ -1063,8 +1110,8 @@ mod config {
         }
         // CRC right but values invalid: unknown law, stray flag bits, NaN scale.
         let reseal = |mut r: [u8; RECORD_LEN]| {
-            let crc = crc16(&r[..123]);
-            r[123..].copy_from_slice(&crc.to_le_bytes());
+            let crc = crc16(&r[..125]);
+            r[125..].copy_from_slice(&crc.to_le_bytes());
             r
         };
         // Also: a touch mode of 2, an unknown wiring id, an unknown path mode, a lift over 0.5,
@@ -1138,11 +1185,9 @@ mod config {
             Just((PathMode::Joint, None)),
             (1u8..=50).prop_map(|h| (PathMode::Joint, Some(h))),
         ];
-        let press = (4u8..=200, 0u8..=200, 20u8..=255).prop_map(|(hold_cs, repeat_cs, radius)| PressSettings {
-            hold_cs,
-            repeat_cs,
-            radius,
-        });
+        let plate = prop_oneof![Just(0u16), 64u16..=1024];
+        let press = (4u8..=200, 0u8..=200, 20u8..=255, plate)
+            .prop_map(|(hold_cs, repeat_cs, radius, plate)| PressSettings { hold_cs, repeat_cs, radius, plate });
         // Links within their range (the filter drops pairs over 4x apart),
         // named poses anywhere an i16 reaches.
         let arm = (1000u16..=65000, 1000u16..=65000, any::<[i16; 3]>(), any::<[i16; 3]>())

@@ -190,12 +190,22 @@ fn the_screens_calibration_save_clears_the_stored_settings_warning() {
     for (x, y) in (0..5).map(|i| cal_pixel(&LAY, i).unwrap()) {
         tap_pixel(&mut sim, &cal, x, y);
     }
+    // Save on the fit's review, then Save on the touch settings' page
+    // (the same place), which keeps hold, repeat and radius as they were.
+    tap_pixel(&mut sim, &cal, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
+    assert!(sim.serial.lines().iter().all(|l| !l.starts_with("info cal touch saved")));
     tap_pixel(&mut sim, &cal, save.x + save.w as i16 / 2, save.y + save.h as i16 / 2);
     let lines = sim.serial.lines();
     assert!(lines.iter().any(|l| l == "info screen page more"), "{lines:?}");
     assert!(lines.iter().any(|l| l == "info screen page setup"), "{lines:?}");
     assert!(lines.iter().any(|l| l == "info screen calibrate"), "{lines:?}");
-    assert!(lines.iter().any(|l| l == "info cal touch saved seq 1"), "{lines:?}");
+    // The crosshair touches measured the twin's plate ratio, Ry/Rx = 500 / 300 Ω
+    // (`hal_sim::panel::PanelModel`) = 1.6667 = 426.67/256, as 426 (1.664:
+    // the ADC's quantization and noise at the crosshairs), and saved it with
+    // the calibration.
+    let saved = "info cal touch saved seq 1 plate 1.66 hold 0.10 repeat 0.30 radius 240";
+    assert!(lines.iter().any(|l| l == saved), "{lines:?}");
+    assert_eq!(sim.app.config().press.plate, 426);
     assert_eq!(sim.app.status().config_warning, None);
     assert_eq!(warning(&sim), "");
     sim.send_line("status");

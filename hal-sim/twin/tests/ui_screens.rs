@@ -15,10 +15,12 @@ use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use hal_sim::display::{Counting, Framebuffer};
 use hal_sim::rng::Rng;
-use touch_arm::config::settings::SpeedPreset;
+use touch_arm::config::settings::{PressSettings, SpeedPreset};
 use touch_arm::geometry::workspace::{condition, Condition};
 use touch_arm::touch::map::{Calibration, CalibrationError};
-use touch_arm::ui::calibration::{cal_pixel, cal_point, cancel_area, cross_r, save_area, CAL_COUNT};
+use touch_arm::ui::calibration::{
+    cal_pixel, cal_point, cancel_area, cross_r, save_area, setting_area, Setting, CAL_COUNT,
+};
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
 use touch_arm::ui::layout::{Layout, GUARD, SLOTS};
@@ -589,6 +591,34 @@ fn stop_is_large_red_and_becomes_a_green_resume() {
     assert_eq!(ui.hit(280, 60), Some(Hit::Resume));
     assert_eq!(ui.hit(228, 60), None);
     assert_eq!(ui.hit(300, 116), None);
+
+    // Held, RESUME counts down as a white band closing in from its edge:
+    // 2 px (the text scale) a step inside a 1-px margin; each step paints
+    // its new band only, and the label stays whole.
+    let mut fb = fb_after.clone();
+    for k in 1..=4u8 {
+        m.resume = Some(k);
+        let mut c = Counting::new(&mut fb);
+        let r = ui.draw(&m, &mut c).unwrap();
+        assert!(r.contains(Redrawn::STOP));
+        let (outer, inner) = (L.stop().shrink(1 + 2 * (u16::from(k) - 1)), L.stop().shrink(1 + 2 * u16::from(k)));
+        let in_stop = (stop.top_left.x..stop.top_left.x + 88)
+            .flat_map(|x| (0..112).map(move |y| (x, y)))
+            .filter(|&(x, y)| c.writes_at(x, y) > 0)
+            .count();
+        let area = |a: Area| a.w as usize * a.h as usize;
+        assert_eq!(in_stop, area(outer) - area(inner), "step {k}: its new band only");
+        let band = fb.count_in(&stop, theme::WHITE) - fb_after.count_in(&stop, theme::WHITE);
+        assert_eq!(band, area(L.stop().shrink(1)) - area(inner), "step {k}");
+        assert_text_at(&fb, b"RESUME", 243, 48, &TextStyle::opaque(2, theme::WHITE, theme::RESUME_GREEN).tight());
+    }
+    snapshot(&fb, "resume_held");
+    // A dropout starts a new contact from 0: the button is drawn afresh.
+    m.resume = Some(1);
+    ui.draw(&m, &mut fb).unwrap();
+    m.resume = None;
+    ui.draw(&m, &mut fb).unwrap();
+    assert_eq!(fb, fb_after);
 }
 
 #[test]
@@ -1008,7 +1038,7 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
                 assert_eq!(flow.phase(), CalPhase::Touch { index: i as u8 });
                 assert_eq!(flow.crosshair_pixel(), cal_pixel(&lay, i));
                 let (x, y) = raw_at_on(&lay, &truth, i);
-                assert_eq!(flow.feed(x, y), None);
+                assert_eq!(flow.feed(x, y, 0), None);
             }
             let CalPhase::Review { result: Ok(fit) } = flow.phase() else {
                 panic!("fit failed for {truth:?}: {:?}", flow.phase())
@@ -1022,17 +1052,17 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
             // Touches outside the buttons do nothing; Save (mapped with the
             // new calibration) hands the fit over.
             let (x, y) = raw_on_screen(&lay, &truth, Area::new(lay.sx(150), lay.sy(40), 20, 20));
-            assert_eq!(flow.feed(x, y), None);
+            assert_eq!(flow.feed(x, y, 0), None);
             let (x, y) = raw_on_screen(&lay, &truth, save_area(&lay));
-            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Done(fit)));
+            assert_eq!(flow.feed(x, y, 0), Some(CalibrationEvent::Done(fit)));
             // Cancel keeps the old one.
             let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay);
             for i in 0..CAL_COUNT {
                 let (x, y) = raw_at_on(&lay, &truth, i);
-                flow.feed(x, y);
+                flow.feed(x, y, 0);
             }
             let (x, y) = raw_on_screen(&lay, &truth, cancel_area(&lay));
-            assert_eq!(flow.feed(x, y), Some(CalibrationEvent::Cancelled));
+            assert_eq!(flow.feed(x, y, 0), Some(CalibrationEvent::Cancelled));
         }
     }
     // The 480×320 crosshairs: the same 10 % insets and the centre.
@@ -1040,31 +1070,142 @@ fn calibration_flow_recovers_the_panel_and_saves_only_on_save() {
     assert_eq!(big, [(48, 32), (432, 32), (432, 288), (48, 288), (240, 160)]);
 }
 
+/// The touch settings' page (issue #19 §3): after Save on a good fit, its
+/// − and + walk each setting's ladder and stop at its ends, which are the
+/// ranges `cal set touch` takes; Save hands the fit over with the edited
+/// values, Cancel keeps both; the values repaint alone.
+#[test]
+fn the_touch_settings_page_steps_each_setting_within_its_range() {
+    let truth = panels()[4];
+    for lay in [Layout::QVGA, Layout::HVGA] {
+        let start = PressSettings { hold_cs: 13, ..PressSettings::DEFAULT };
+        let fitted = || {
+            let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &lay).with_settings(start);
+            for i in 0..CAL_COUNT {
+                let (x, y) = raw_at_on(&lay, &truth, i);
+                flow.feed(x, y, 0);
+            }
+            let CalPhase::Review { result: Ok(fit) } = flow.phase() else { panic!("{:?}", flow.phase()) };
+            let (x, y) = raw_on_screen(&lay, &truth, save_area(&lay));
+            assert_eq!(flow.feed(x, y, 0), None, "Save leads to the settings' page");
+            assert_eq!(flow.phase(), CalPhase::Settings { cal: fit });
+            (flow, fit)
+        };
+        let (mut flow, fit) = fitted();
+        let press = |flow: &mut CalibrationFlow, field, up| {
+            let (x, y) = raw_on_screen(&lay, &truth, setting_area(&lay, field, up));
+            assert_eq!(flow.feed(x, y, 0), None);
+            field.value(&flow.settings().unwrap())
+        };
+        // 0.13 s (set over serial) is between steps: + goes to the next one.
+        assert_eq!(press(&mut flow, Setting::Hold, true), 15);
+        assert_eq!(press(&mut flow, Setting::Hold, false), 12);
+        let mut seen = vec![];
+        for _ in 0..20 {
+            seen.push(press(&mut flow, Setting::Hold, false));
+        }
+        assert_eq!(seen[..4], [10, 8, 6, 4]);
+        assert!(seen[3..].iter().all(|&v| v == 4), "stops at 0.04 s: {seen:?}");
+        for (field, top, bottom) in [(Setting::Hold, 200, 4), (Setting::Repeat, 200, 0), (Setting::Radius, 255, 20)] {
+            let ups: Vec<u8> = (0..20).map(|_| press(&mut flow, field, true)).collect();
+            assert!(ups.windows(2).all(|w| w[0] <= w[1]) && ups[19] == top, "{field:?} {ups:?}");
+            let downs: Vec<u8> = (0..20).map(|_| press(&mut flow, field, false)).collect();
+            assert!(downs.windows(2).all(|w| w[0] >= w[1]) && downs[19] == bottom, "{field:?} {downs:?}");
+            // Every step is a value the settings store takes.
+            for v in ups.iter().chain(&downs) {
+                let mut p = PressSettings::DEFAULT;
+                match field {
+                    Setting::Hold => p.hold_cs = *v,
+                    Setting::Repeat => p.repeat_cs = *v,
+                    Setting::Radius => p.radius = *v,
+                }
+                assert!(p.is_valid(), "{field:?} {v}");
+            }
+        }
+        assert_eq!(flow.settings().unwrap(), PressSettings { hold_cs: 4, repeat_cs: 0, radius: 20, ..start });
+        let (x, y) = raw_on_screen(&lay, &truth, save_area(&lay));
+        assert_eq!(flow.feed(x, y, 0), Some(CalibrationEvent::Done(fit)));
+        // Cancel on the page keeps the old calibration (and so the old
+        // settings: the app stores nothing).
+        let (mut flow, _) = fitted();
+        press(&mut flow, Setting::Radius, false);
+        let (x, y) = raw_on_screen(&lay, &truth, cancel_area(&lay));
+        assert_eq!(flow.feed(x, y, 0), Some(CalibrationEvent::Cancelled));
+        // No two of the page's buttons overlap, and all lie on the screen.
+        let mut areas = vec![save_area(&lay), cancel_area(&lay)];
+        areas.extend(Setting::ALL.iter().flat_map(|&f| [setting_area(&lay, f, false), setting_area(&lay, f, true)]));
+        for (i, a) in areas.iter().enumerate() {
+            assert!(a.x >= 0 && a.y >= 0 && a.x as u16 + a.w <= lay.width() && a.y as u16 + a.h <= lay.height());
+            for b in &areas[i + 1..] {
+                let apart = a.x + a.w as i16 <= b.x
+                    || b.x + b.w as i16 <= a.x
+                    || a.y + a.h as i16 <= b.y
+                    || b.y + b.h as i16 <= a.y;
+                assert!(apart, "{a:?} {b:?}");
+            }
+        }
+    }
+    // Drawn: the page, then only a changed value.
+    let mut ui = Ui::new(&CONFIG);
+    let mut fb = Framebuffer::landscape();
+    let (mut flow, fit) = {
+        let mut flow = CalibrationFlow::new(Calibration::DEFAULT, &L).with_settings(PressSettings::DEFAULT);
+        for i in 0..CAL_COUNT {
+            let (x, y) = raw_at(&truth, i);
+            flow.feed(x, y, 0);
+        }
+        let CalPhase::Review { result: Ok(fit) } = flow.phase() else { panic!() };
+        let (x, y) = raw_on(&truth, SAVE_AREA);
+        flow.feed(x, y, 0);
+        (flow, fit)
+    };
+    ui.draw_calibration(&flow, &mut fb).unwrap();
+    snapshot(&fb, "calibration_settings");
+    let style = TextStyle::opaque(2, theme::TEXT, theme::WHITE);
+    let centred = |s: &[u8]| (320 - 12 * s.len() as i16 + 2) / 2;
+    // Row 0 (y 4..54): the name and the value, each 16 high, 6 apart.
+    assert_text_at(&fb, b"Hold", centred(b"Hold"), 4 + 6, &style);
+    assert_text_at(&fb, b"0.10 s", centred(b"0.10 s"), 4 + 6 + 16 + 6, &style);
+    assert_text_at(&fb, b"0.30 s", centred(b"0.30 s"), 58 + 6 + 16 + 6, &style);
+    // 240 counts over the fit's span, on the axis with fewer pixels per
+    // count: 240·320/(x span) across, 240·240/(y span) up.
+    let px = (240 * 320 / u32::from(fit.x_max - fit.x_min)).min(240 * 240 / u32::from(fit.y_max - fit.y_min));
+    let radius = format!("240 = {px} px");
+    assert_text_at(&fb, radius.as_bytes(), centred(radius.as_bytes()), 112 + 6 + 16 + 6, &style);
+    let (x, y) = raw_on(&truth, setting_area(&L, Setting::Repeat, true));
+    flow.feed(x, y, 0);
+    let mut c = Counting::new(&mut fb);
+    ui.draw_calibration(&flow, &mut c).unwrap();
+    let row = setting_area(&L, Setting::Repeat, true);
+    assert_only_in(&c, &[Area::new(72, row.y, 176, row.h)], "the repeat value");
+    assert_text_at(&fb, b"0.40 s", centred(b"0.40 s"), 58 + 6 + 16 + 6, &style);
+}
+
 #[test]
 fn calibration_ignores_repeats_and_offers_retry_after_a_bad_fit() {
     let truth = Calibration::DEFAULT;
     let mut flow = CalibrationFlow::new(truth, &L);
     let (x0, y0) = raw_at(&truth, 0);
-    flow.feed(x0, y0);
+    flow.feed(x0, y0, 0);
     // The same spot again (a bounce, or the finger still on the first cross).
-    flow.feed(x0 + 10, y0 - 5);
+    flow.feed(x0 + 10, y0 - 5, 0);
     assert_eq!(flow.phase(), CalPhase::Touch { index: 1 });
     assert!(flow.last_rejected());
     let (x1, y1) = raw_at(&truth, 1);
-    flow.feed(x1, y1);
+    flow.feed(x1, y1, 0);
     assert!(!flow.last_rejected());
     assert_eq!(flow.phase(), CalPhase::Touch { index: 2 });
     // Readings where both channels say the same: neither assignment of
     // channels to axes explains them.
     let mut flow = CalibrationFlow::new(truth, &L);
     for (x, y) in DIAGONAL {
-        flow.feed(x, y);
+        flow.feed(x, y, 0);
     }
     let CalPhase::Review { result: Err(e) } = flow.phase() else { panic!("{:?}", flow.phase()) };
     assert_eq!(e, CalFailure::Fit(CalibrationError::AmbiguousAxes));
     // On failure the old calibration maps the buttons: Retry starts over.
     let (x, y) = raw_on(&truth, SAVE_AREA);
-    assert_eq!(flow.feed(x, y), None);
+    assert_eq!(flow.feed(x, y, 0), None);
     assert_eq!(flow.phase(), CalPhase::Touch { index: 0 });
     assert_eq!(flow.cancel(), CalibrationEvent::Cancelled);
 }
@@ -1095,7 +1236,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
             }
         }
         let (x, y) = raw_at(&truth, i);
-        flow.feed(x, y);
+        flow.feed(x, y, 0);
         let mut c = Counting::new(&mut fb);
         ui.draw_calibration(&flow, &mut c).unwrap();
         if i + 1 < CAL_COUNT {
@@ -1114,7 +1255,7 @@ fn calibration_screens_show_each_cross_and_repaint_only_what_changed() {
     // A failed fit shows Retry.
     let mut bad = CalibrationFlow::new(Calibration::DEFAULT, &L);
     for (x, y) in DIAGONAL {
-        bad.feed(x, y);
+        bad.feed(x, y, 0);
     }
     assert!(matches!(bad.phase(), CalPhase::Review { result: Err(_) }));
     let mut fb2 = fb.clone();
