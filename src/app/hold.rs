@@ -102,6 +102,11 @@ impl Timeline for Running<'_> {
 }
 
 impl App {
+    /// A released held move at rest on its path ([`super::State::Paused`]).
+    pub(super) fn hold_paused(&self) -> bool {
+        self.hold.released && self.hold.warp.at_rest()
+    }
+
     /// `mode hold|tap`; refused while the arm moves or rests on a released
     /// move (its clock belongs to the mode it started in).
     pub(super) fn set_hold_mode(&mut self, hold: bool) -> Result<(), Refusal> {

@@ -303,12 +303,16 @@ pub enum State {
     /// A path move's plan-time check runs, a bounded part per frame; the
     /// arm holds still until it decides.
     Checking,
+    /// `mode hold`: the held move was released by the lift and has come to
+    /// rest on its path; a new held contact resumes it (its move is paused,
+    /// not over).
+    Paused,
 }
 
 impl State {
     /// Every state, for tests that go through them all.
-    pub const ALL: [State; 6] =
-        [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped, State::Checking];
+    pub const ALL: [State; 7] =
+        [State::Off, State::Homing, State::Holding, State::Moving, State::Stopped, State::Checking, State::Paused];
 
     /// The word `status` prints for the state.
     pub fn name(self) -> crate::text::Text {
@@ -319,6 +323,7 @@ impl State {
             State::Moving => t!("moving"),
             State::Stopped => t!("stopped"),
             State::Checking => t!("checking"),
+            State::Paused => t!("paused"),
         }
     }
 }
@@ -683,6 +688,7 @@ impl App {
             _ if self.stopped => State::Stopped,
             Mode::Homing { .. } => State::Homing,
             Mode::Run if matches!(self.path, path_move::PathRun::Checking { .. }) => State::Checking,
+            Mode::Run if self.hold_paused() => State::Paused,
             Mode::Run if !self.track.is_done() || self.path_busy() => State::Moving,
             Mode::Run => State::Holding,
         }

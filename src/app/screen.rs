@@ -511,6 +511,7 @@ impl App {
             State::Moving => UiState::Moving { progress: f32::from(st.progress) / 100.0 },
             // STOP stays on the screen while a path is checked.
             State::Checking => UiState::Moving { progress: 0.0 },
+            State::Paused => UiState::Paused,
             State::Holding => match self.screen.refusal {
                 Some(r) => UiState::Refused(r),
                 None if st.touch_target.is_none() && st.first_move_pending => UiState::Idle,

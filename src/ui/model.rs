@@ -74,6 +74,9 @@ pub enum UiState {
     },
     /// Arrived; the servos hold the pose.
     Holding,
+    /// Hold to run: the lift brought the arm to rest on its way; a held
+    /// finger goes on.
+    Paused,
     /// The user pressed STOP: motion halted where it was.
     Stopped,
     /// The last touch was refused.

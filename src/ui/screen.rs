@@ -128,6 +128,7 @@ enum Headline {
     Ready,
     Moving,
     Holding,
+    Paused,
     Stopped,
     OutOfReach,
     OffMap,
@@ -145,6 +146,7 @@ impl Headline {
             Headline::Ready => t!("Ready"),
             Headline::Moving => t!("Moving to target"),
             Headline::Holding => t!("Holding"),
+            Headline::Paused => t!("Paused"),
             Headline::Stopped => t!("Stopped - hold RESUME"),
             Headline::Cancelled => t!("Cancelled"),
             Headline::Hand => t!("Lift your hand"),
@@ -252,6 +254,7 @@ impl View {
                 (Headline::Moving, Detail::Progress { px, percent })
             }
             UiState::Holding => (Headline::Holding, Detail::Hint(t!("Touch the map to move"))),
+            UiState::Paused => (Headline::Paused, Detail::Hint(t!("Hold the map to go on"))),
             UiState::Stopped => match m.resume {
                 Some(k) => {
                     let (px, percent) = progress_of(f32::from(k) / 4.0, lay.bar_fill().w);

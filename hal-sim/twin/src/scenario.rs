@@ -386,6 +386,7 @@ fn parse_state(w: &str) -> Result<State, String> {
         "moving" => State::Moving,
         "stopped" => State::Stopped,
         "checking" => State::Checking,
+        "paused" => State::Paused,
         _ => return Err(format!("unknown state {w:?}")),
     })
 }

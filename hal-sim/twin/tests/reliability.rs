@@ -166,6 +166,47 @@ fn tap_pixel(sim: &mut hal_sim::Sim, cal: &touch_arm::touch::map::Calibration, x
     sim.run_ms(400);
 }
 
+/// The carer lock closes a calibration screen the carer left open (issue
+/// #20 §3, left out of its first note): a locked board never shows the
+/// crosshairs or the touch settings' page, and a tap where Save was does
+/// nothing. The glass returns to the main screen: STOP red, the map drawn.
+#[test]
+fn locking_closes_an_open_calibration_screen() {
+    use touch_arm::touch::map::Calibration;
+    use touch_arm::ui::calibration::{cal_pixel, save_area};
+    use touch_arm::ui::theme;
+    let cal = Calibration::DEFAULT;
+    let mut setup = hal_sim::SimSetup::default();
+    setup.params.screen = true;
+    let mut sim = hal_sim::Sim::new(&setup).unwrap();
+    sim.run_ms(1500);
+    sim.send_line("access pin 2468");
+    sim.run_frames(2);
+    assert!(sim.serial.lines().iter().any(|l| l == "ok access pin set seq 1"));
+    let centre = |a: touch_arm::ui::draw::Area| (a.x + a.w as i16 / 2, a.y + a.h as i16 / 2);
+    let (key, calib) = (centre(LAY.page_key()), centre(LAY.calibrate()));
+    for (x, y) in [key, key, calib] {
+        tap_pixel(&mut sim, &cal, x, y);
+    }
+    assert!(sim.serial.lines().iter().any(|l| l == "info screen calibrate"));
+    let stop = centre(LAY.stop());
+    let (cx, cy) = cal_pixel(&LAY, 0).unwrap();
+    let px = |sim: &hal_sim::Sim, x: i16, y: i16| sim.display.as_ref().unwrap().pixel(x.into(), y.into());
+    assert_eq!(px(&sim, cx, cy), Some(theme::TEXT), "the first crosshair's centre dot");
+    assert_eq!(px(&sim, stop.0, stop.1 - 30), Some(theme::WHITE), "the calibration screen covers STOP");
+    sim.send_line("access lock");
+    sim.run_ms(1000);
+    assert!(sim.serial.lines().iter().any(|l| l == "ok access lock"));
+    assert_eq!(px(&sim, stop.0, stop.1 - 30), Some(theme::STOP_RED), "the main screen is back");
+    // The five crosshairs and Save, tapped as before, calibrate nothing.
+    sim.serial.output.clear();
+    for (x, y) in (0..5).filter_map(|i| cal_pixel(&LAY, i)).chain([centre(save_area(&LAY))]) {
+        tap_pixel(&mut sim, &cal, x, y);
+    }
+    assert!(sim.serial.lines().iter().all(|l| !l.starts_with("info cal touch")), "{:?}", sim.serial.lines());
+    assert_eq!(sim.app.config().touch, cal);
+}
+
 /// Issue #11, defect 3: the screen's calibration Save writes both copies like
 /// `cal save`, so the stored-settings warning goes (in `status` and on the
 /// screen) as it does after `cal save`.
