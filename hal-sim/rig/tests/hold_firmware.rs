@@ -33,7 +33,9 @@ fn a_lifted_finger_brings_the_arm_to_rest_and_a_held_one_resumes() {
     let held = s.last_pulses();
     s.run_for(0.5).unwrap();
     assert_eq!(s.last_pulses(), held, "{rest:?}");
-    assert!(s.command("status").unwrap().starts_with("ok status moving"));
+    // Paused, not over: `status` says so.
+    let status = s.command("status").unwrap();
+    assert!(status.starts_with("ok status paused"), "{status}");
     // A new finger held on the map: the same move resumes and arrives.
     let again = s.avr.uart_output().len();
     s.press_raw(rx, ry).unwrap();

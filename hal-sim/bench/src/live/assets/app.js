@@ -316,7 +316,7 @@ function setPill(el, text, cls) {
   el.className = `pill ${cls || ''}`;
 }
 
-const STATE_CLASS = { holding: 'ok', moving: 'warn', stopped: 'bad', stalled: 'bad', halted: 'bad' };
+const STATE_CLASS = { holding: 'ok', moving: 'warn', paused: 'warn', checking: 'warn', stopped: 'bad', stalled: 'bad', halted: 'bad' };
 
 function showState(st) {
   lastState = st;
