@@ -9,7 +9,7 @@
 //! a pose button held 2 s and confirmed saves the pose held now.
 //! Without a screen the whole panel is the workspace, as in the paper.
 
-use crate::config::settings::{PathMode, SpeedPreset};
+use crate::config::settings::{PathMode, PressSettings, SpeedPreset};
 use crate::config::store;
 use crate::geometry::pose::ArmGeometry;
 use crate::protocol::command::PoseCmd;
@@ -163,14 +163,10 @@ impl App {
                 Some(CalibrationEvent::Done(cal)) => {
                     let mut next = self.config;
                     next.touch = cal;
-                    // Measured by the crosshair touches, with the panel's
-                    // own ratio (0: the second-contact check off).
-                    next.press.plate = flow.plate();
-                    if let Some(p) = flow.settings() {
-                        next.press.hold_cs = p.hold_cs;
-                        next.press.repeat_cs = p.repeat_cs;
-                        next.press.radius = p.radius;
-                    }
+                    // The settings' page's values (started from these), and
+                    // the panel's ratio the crosshair touches measured (0:
+                    // the second-contact check off).
+                    next.press = PressSettings { plate: flow.plate(), ..flow.settings().unwrap_or(next.press) };
                     self.screen.calibration = None;
                     self.screen.ui.invalidate();
                     let saved = self.save_config(storage, &next).ok();

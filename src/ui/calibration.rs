@@ -499,7 +499,6 @@ fn draw_review<D: Canvas>(d: &mut D, lay: &Layout, result: &Result<Calibration, 
     fill(d, lay.screen(), BG)?;
     let style = style(lay);
     let t = lay.text_scale();
-    let (save, cancel) = (save_area(lay), cancel_area(lay));
     match result {
         Ok(c) => {
             line_centered(d, lay, 16, &t!("Calibration result"), &style)?;
@@ -516,17 +515,23 @@ fn draw_review<D: Canvas>(d: &mut D, lay: &Layout, result: &Result<Calibration, 
             l.str(t!("Flip X: ")).str(yes_no(c.invert_x)).str(t!("  Flip Y: ")).str(yes_no(c.invert_y));
             line_centered(d, lay, 120, l.as_bytes(), &style)?;
             line_centered(d, lay, 148, &t!("Save to keep it"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
-            fill(d, save, theme::RESUME_GREEN)?;
-            text_centered(d, save, &t!("Save"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN))?;
+            draw_buttons(d, lay, t!("Save"), theme::RESUME_GREEN)
         }
         Err(f) => {
             line_centered(d, lay, 16, &t!("Calibration failed"), &TextStyle::opaque(t, theme::REFUSED, BG))?;
             line_centered(d, lay, 64, &failure_text(*f), &style)?;
             line_centered(d, lay, 96, &t!("Please try again"), &style)?;
-            fill(d, save, theme::BUTTON_ON)?;
-            text_centered(d, save, &t!("Retry"), &TextStyle::opaque(t, theme::WHITE, theme::BUTTON_ON))?;
+            draw_buttons(d, lay, t!("Retry"), theme::BUTTON_ON)
         }
     }
+}
+
+/// The pages' two buttons: Save (or Retry: `label` on `color`) and Cancel.
+fn draw_buttons<D: Canvas>(d: &mut D, lay: &Layout, label: Text, color: Rgb565) -> Result<(), D::Error> {
+    let (save, cancel) = (save_area(lay), cancel_area(lay));
+    let t = lay.text_scale();
+    fill(d, save, color)?;
+    text_centered(d, save, &label, &TextStyle::opaque(t, theme::WHITE, color))?;
     fill(d, cancel, theme::BUTTON)?;
     text_centered(d, cancel, &t!("Cancel"), &TextStyle::opaque(t, theme::TEXT, theme::BUTTON))
 }
@@ -579,11 +584,7 @@ fn draw_settings_page<D: Canvas>(d: &mut D, lay: &Layout) -> Result<(), D::Error
         }
     }
     line_centered(d, lay, 228, &t!("Touch settings: Save keeps them"), &TextStyle::opaque(1, theme::TEXT_DIM, BG))?;
-    let (save, cancel) = (save_area(lay), cancel_area(lay));
-    fill(d, save, theme::RESUME_GREEN)?;
-    text_centered(d, save, &t!("Save"), &TextStyle::opaque(t, theme::WHITE, theme::RESUME_GREEN))?;
-    fill(d, cancel, theme::BUTTON)?;
-    text_centered(d, cancel, &t!("Cancel"), &TextStyle::opaque(t, theme::TEXT, theme::BUTTON))
+    draw_buttons(d, lay, t!("Save"), theme::RESUME_GREEN)
 }
 
 /// What the calibration screen shows for `flow`.

@@ -898,6 +898,53 @@ mod config {
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
     }
 
+    /// `c` as an older layout wrote it: the first `crc_at` bytes of today's
+    /// record under `version`, their CRC at `crc_at`, `tail` after it.
+    fn older_record(c: &Config, seq: u16, tail: u8, version: u8, crc_at: usize) -> [u8; RECORD_LEN] {
+        let mut r = [tail; RECORD_LEN];
+        r[..crc_at].copy_from_slice(&c.encode(seq)[..crc_at]);
+        r[2] = version;
+        let crc = crc16(&r[..crc_at]);
+        r[crc_at..crc_at + 2].copy_from_slice(&crc.to_le_bytes());
+        r
+    }
+
+    /// An older record (`old`, CRC at `crc_at`) decodes to `want` whatever
+    /// follows it, a flipped byte before its CRC refuses it; both slots of
+    /// it load as `want`, and the next save of `c` writes today's record.
+    fn assert_migrates(
+        c: &Config,
+        want: Config,
+        tails: [u8; 3],
+        crc_at: usize,
+        old: impl Fn(u16, u8) -> [u8; RECORD_LEN],
+    ) -> SimEeprom {
+        for tail in tails {
+            assert_eq!(Config::decode(&old(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
+            let mut bad = old(41, tail);
+            bad[crc_at - 1] ^= 1;
+            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
+        }
+        let mut ee = SimEeprom::new();
+        ee.write(u32::from(SLOT_A_ADDR), &old(5, 0xFF)[..crc_at + 2]).unwrap();
+        ee.write(u32::from(SLOT_B_ADDR), &old(4, 0xFF)[..crc_at + 2]).unwrap();
+        let l = load(&mut ee);
+        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
+        assert_eq!(save(&mut ee, c), Ok(6));
+        let l = load(&mut ee);
+        assert_eq!((l.seq, l.warning, l.config), (6, None, *c));
+        ee
+    }
+
+    /// Today's record of `c` with `edit` applied and its CRC redone.
+    fn resealed(c: &Config, edit: impl FnOnce(&mut [u8; RECORD_LEN])) -> [u8; RECORD_LEN] {
+        let mut r = c.encode(9);
+        edit(&mut r);
+        let crc = crc16(&r[..RECORD_LEN - 2]);
+        r[RECORD_LEN - 2..].copy_from_slice(&crc.to_le_bytes());
+        r
+    }
+
     /// A version-5 record (108 bytes, CRC of 0..106 at 106, written before
     /// the arm's own geometry) loads with every field it has and the
     /// default arm (equal links, home and park at 90°, 90°, −90°); the next
@@ -905,34 +952,14 @@ mod config {
     #[test]
     fn version_5_records_migrate_to_the_default_arm() {
         let c = sample_config();
-        let v5 = |seq: u16, tail: u8| {
-            let mut r = [tail; RECORD_LEN];
-            r[..106].copy_from_slice(&c.encode(seq)[..106]);
-            r[2] = 5;
-            let crc = crc16(&r[..106]);
-            r[106..108].copy_from_slice(&crc.to_le_bytes());
-            r
-        };
         let want =
             Config { arm: ArmSettings::DEFAULT, hold_to_run: false, press: PressSettings { plate: 0, ..c.press }, ..c };
         assert_eq!(
             ArmSettings::DEFAULT,
             ArmSettings { l2_cmm: 10_000, l3_cmm: 10_000, home: [9000, 9000, -9000], park: [9000, 9000, -9000] }
         );
-        for tail in [0xFFu8, 0x00, 0x5A] {
-            assert_eq!(Config::decode(&v5(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
-            let mut bad = v5(41, tail);
-            bad[105] ^= 1;
-            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
-        }
-        let mut ee = SimEeprom::new();
-        ee.write(u32::from(SLOT_A_ADDR), &v5(5, 0xFF)[..108]).unwrap();
-        ee.write(u32::from(SLOT_B_ADDR), &v5(4, 0xFF)[..108]).unwrap();
-        let l = load(&mut ee);
-        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
-        assert_eq!(save(&mut ee, &c), Ok(6));
-        let l = load(&mut ee);
-        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        let mut ee =
+            assert_migrates(&c, want, [0xFF, 0x00, 0x5A], 106, |seq, tail| older_record(&c, seq, tail, 5, 106));
         assert_eq!(record(&mut ee, SLOT_B_ADDR)[2], VERSION);
     }
 
@@ -943,37 +970,13 @@ mod config {
     #[test]
     fn version_6_records_migrate_to_tap_mode() {
         let c = sample_config();
-        let v6 = |seq: u16, tail: u8| {
-            let mut r = [tail; RECORD_LEN];
-            r[..122].copy_from_slice(&c.encode(seq)[..122]);
-            r[2] = 6;
-            let crc = crc16(&r[..122]);
-            r[122..124].copy_from_slice(&crc.to_le_bytes());
-            r
-        };
         let want = Config { hold_to_run: false, press: PressSettings { plate: 0, ..c.press }, ..c };
-        for tail in [0xFFu8, 0x00, 0x01] {
-            assert_eq!(Config::decode(&v6(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
-            let mut bad = v6(41, tail);
-            bad[121] ^= 1;
-            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
-        }
-        let mut ee = SimEeprom::new();
-        ee.write(u32::from(SLOT_A_ADDR), &v6(5, 0xFF)[..124]).unwrap();
-        ee.write(u32::from(SLOT_B_ADDR), &v6(4, 0xFF)[..124]).unwrap();
-        let l = load(&mut ee);
-        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
-        assert_eq!(save(&mut ee, &c), Ok(6));
-        let l = load(&mut ee);
-        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        let mut ee =
+            assert_migrates(&c, want, [0xFF, 0x00, 0x01], 122, |seq, tail| older_record(&c, seq, tail, 6, 122));
         let r = record(&mut ee, SLOT_B_ADDR);
         assert_eq!((r[2], r[122]), (VERSION, 1));
         // The mode byte: 0 tap, 1 hold, anything else invalid.
-        let mut odd = c.encode(9);
-        odd[122] = 2;
-        let crc = crc16(&odd[..125]);
-        odd[125..127].copy_from_slice(&crc.to_le_bytes());
-        assert_eq!(Config::decode(&odd), Err(RecordError::Invalid));
+        assert_eq!(Config::decode(&resealed(&c, |r| r[122] = 2)), Err(RecordError::Invalid));
     }
 
     /// A version-7 record (125 bytes, CRC of 0..123 at 123, written before
@@ -984,38 +987,15 @@ mod config {
     #[test]
     fn version_7_records_migrate_without_a_plate_ratio() {
         let c = sample_config();
-        let v7 = |seq: u16, tail: u8| {
-            let mut r = [tail; RECORD_LEN];
-            r[..123].copy_from_slice(&c.encode(seq)[..123]);
-            r[2] = 7;
-            let crc = crc16(&r[..123]);
-            r[123..125].copy_from_slice(&crc.to_le_bytes());
-            r
-        };
         let want = Config { press: PressSettings { plate: 0, ..c.press }, ..c };
-        for tail in [0xFFu8, 0x00, 0x01] {
-            assert_eq!(Config::decode(&v7(41, tail)), Ok(Record { seq: 41, config: want }), "tail {tail:#x}");
-            let mut bad = v7(41, tail);
-            bad[122] ^= 1;
-            assert_eq!(Config::decode(&bad), Err(RecordError::Crc));
-        }
-        let mut ee = SimEeprom::new();
-        ee.write(u32::from(SLOT_A_ADDR), &v7(5, 0xFF)[..125]).unwrap();
-        ee.write(u32::from(SLOT_B_ADDR), &v7(4, 0xFF)[..125]).unwrap();
-        let l = load(&mut ee);
-        assert_eq!((l.source, l.seq, l.warning, l.config), (Source::SlotA, 5, None, want));
-        assert_eq!(save(&mut ee, &c), Ok(6));
-        let l = load(&mut ee);
-        assert_eq!((l.seq, l.warning, l.config), (6, None, c));
+        let mut ee =
+            assert_migrates(&c, want, [0xFF, 0x00, 0x01], 123, |seq, tail| older_record(&c, seq, tail, 7, 123));
         let r = record(&mut ee, SLOT_B_ADDR);
         assert_eq!((r[2], &r[123..125]), (VERSION, &431u16.to_le_bytes()[..]));
         assert_eq!(VERSION, 8);
         // The ratio: 0, or 0.25..=4.00 (64..=1024).
         for (plate, ok) in [(0u16, true), (1, false), (63, false), (64, true), (1024, true), (1025, false)] {
-            let mut r = c.encode(9);
-            r[123..125].copy_from_slice(&plate.to_le_bytes());
-            let crc = crc16(&r[..125]);
-            r[125..127].copy_from_slice(&crc.to_le_bytes());
+            let r = resealed(&c, |r| r[123..125].copy_from_slice(&plate.to_le_bytes()));
             assert_eq!(Config::decode(&r).is_ok(), ok, "plate {plate}");
         }
     }
