@@ -84,25 +84,7 @@ fn main() -> ! {
     report_boot(&mut board.serial, cause);
     // Taken after the boot frame (below): resume or home.
     let mut restart = Some(cause);
-    // The screen: reset, which controller, its initialisation, landscape
-    // (≈ 270 ms, more for the ILI9325; before the watchdog runs), with the
-    // stored display overrides (`config::lcd`: a forced controller, colours
-    // inverted, turned by 180°). An unknown controller is driven as an
-    // ILI9341; the arm works over serial either way.
-    let display = touch_arm::config::lcd::load(&mut board.eeprom).2;
-    let forced = Controller::forced(display.controller);
-    if display.rotate_180 {
-        board.rotation = Rotation::LandscapeFlipped;
-    }
-    let (ids, found) = Lcd::new(&mut board.bus).start_forced(forced, board.rotation, display.invert);
-    board.lcd = forced.or(found).unwrap_or(Controller::Ili9341);
-    report_lcd(&mut board.serial, &ids, found, &display);
-    let Some(app) = start_app() else {
-        let _ = uwriteln!(board.serial, "err app parameters invalid");
-        halt()
-    };
-    // Turned, the touch mapping turns with the picture (`ui::layout`).
-    app.set_screen_layout(board.lcd.layout().turned(display.rotate_180));
+    let app = start_screen_and_app(&mut board);
     board.dog.enable(WATCHDOG);
     // The overflow flag has been set since Timer5 started: drop it, so the
     // first frame starts at a period start like every other.
@@ -126,6 +108,34 @@ fn main() -> ! {
             let _ = board.pwm.period_started();
         }
     }
+}
+
+/// The screen: reset, which controller, its initialisation, landscape
+/// (≈ 270 ms, more for the ILI9325; before the watchdog runs), with the
+/// stored display overrides (`config::lcd`: a forced controller, colours
+/// inverted, turned by 180°); then the app, with the screen's touch layout.
+/// An unknown controller is driven as an ILI9341; the arm works over serial
+/// either way.
+// Out of line: the identification reads and the display settings are
+// boot-only locals; in `main`'s frame they sat under every frame's deepest
+// call path (`cargo xtask elf-check`, stack-bound).
+#[inline(never)] // avr-trap: frame-size
+fn start_screen_and_app(board: &mut Board) -> &'static mut App {
+    let display = touch_arm::config::lcd::load(&mut board.eeprom).2;
+    let forced = Controller::forced(display.controller);
+    if display.rotate_180 {
+        board.rotation = Rotation::LandscapeFlipped;
+    }
+    let (ids, found) = Lcd::new(&mut board.bus).start_forced(forced, board.rotation, display.invert);
+    board.lcd = forced.or(found).unwrap_or(Controller::Ili9341);
+    report_lcd(&mut board.serial, &ids, found, &display);
+    let Some(app) = start_app() else {
+        let _ = uwriteln!(board.serial, "err app parameters invalid");
+        halt()
+    };
+    // Turned, the touch mapping turns with the picture (`ui::layout`).
+    app.set_screen_layout(board.lcd.layout().turned(display.rotate_180));
+    app
 }
 
 static mut APP: MaybeUninit<App> = MaybeUninit::uninit();

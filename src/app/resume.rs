@@ -33,6 +33,7 @@
 use super::text::Line;
 use super::{App, Mode};
 use crate::config::crc::crc16;
+use crate::config::store::copy;
 use crate::motion::plan::JOINTS;
 use crate::seam::SerialPort;
 use crate::servo::map::{Joint, ServoMap, ABS_MAX_US, ABS_MIN_US, TICKS_PER_US};
@@ -99,11 +100,11 @@ impl Snapshot {
         let mut b = [0u8; Snapshot::BYTES];
         let words = [MAGIC, self.joints[0], self.joints[1], self.joints[2], self.grip.unwrap_or(0)];
         for (chunk, w) in b.chunks_exact_mut(2).zip(words.iter()) {
-            chunk.copy_from_slice(&w.to_le_bytes());
+            copy(chunk, &w.to_le_bytes());
         }
         let crc = crc16(b.get(..10).unwrap_or(&[]));
         if let Some(tail) = b.get_mut(10..) {
-            tail.copy_from_slice(&crc.to_le_bytes());
+            copy(tail, &crc.to_le_bytes());
         }
         b
     }

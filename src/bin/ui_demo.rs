@@ -8,6 +8,8 @@
 #![no_std]
 #![no_main]
 
+use core::mem::MaybeUninit;
+
 use avr_device::atmega2560 as pac;
 use touch_arm::board::fault::halt;
 use touch_arm::board::lcd::{Lcd, Rotation};
@@ -32,7 +34,11 @@ fn main() -> ! {
     let boot = tc1.tcnt1().read().bits().wrapping_sub(t0);
     let controller = found.unwrap_or(Controller::Ili9341);
     let layout = controller.layout();
-    let mut ui = Ui::with_layout(&demo::CONFIG, layout);
+    // In .bss, as the product's (inside its `App`): the stack figure the
+    // simavr test reads is the drawing's, not the demo's own copy of the UI.
+    // SAFETY: `main` runs once and never returns; this is the only
+    // reference ever made to UI.
+    let ui = unsafe { &mut *core::ptr::addr_of_mut!(UI) }.write(Ui::with_layout(&demo::CONFIG, layout));
     let _ = uwriteln!(serial, "lcd {} start {}", found.is_some() as u8, u32::from(boot) * 256);
     let _ = uwriteln!(serial, "ui-demo {}", demo::STEPS);
     for k in 0..demo::STEPS {
@@ -50,6 +56,8 @@ fn main() -> ! {
     serial.flush();
     halt()
 }
+
+static mut UI: MaybeUninit<Ui> = MaybeUninit::uninit();
 
 fn wait_byte() -> u8 {
     // SAFETY: only USART0's receive side is read; `Usart0` only transmits.

@@ -32,7 +32,7 @@
 
 use super::crc::crc16;
 use super::settings::SpeedPreset;
-use super::store::{next_write, pick_copy, seal, write_both, RecordError, SaveError, Source, UNCOMMITTED};
+use super::store::{copy, next_write, pick_copy, seal, write_both, RecordError, SaveError, Source, UNCOMMITTED};
 use crate::seam::Storage;
 use crate::text::Text;
 
@@ -108,7 +108,7 @@ impl Pin {
             return None;
         }
         let mut pin = Pin { len: tok.len() as u8, digits: [0; PIN_MAX] };
-        pin.digits.get_mut(..tok.len())?.copy_from_slice(tok);
+        copy(&mut pin.digits, tok);
         Some(pin)
     }
 
@@ -149,10 +149,10 @@ pub fn encode(a: &Access, seq: u16) -> [u8; ACCESS_RECORD_LEN] {
     let [q0, q1] = seq.to_le_bytes();
     let head = [ACCESS_MAGIC[0], ACCESS_MAGIC[1], ACCESS_VERSION, q0, q1, a.hide, a.cap.id(), a.pin.len];
     if let Some(dst) = buf.get_mut(..8) {
-        dst.copy_from_slice(&head);
+        copy(dst, &head);
     }
     if let Some(dst) = buf.get_mut(8..CRC_AT) {
-        dst.copy_from_slice(&a.pin.digits);
+        copy(dst, &a.pin.digits);
     }
     seal(&mut buf);
     buf

@@ -29,7 +29,9 @@
 //! configuration's two 128-byte slots.
 
 use super::crc::crc16;
-use super::store::{next_write, pick_copy, seal, write_both, RecordError, SaveError, Source, Writer, UNCOMMITTED};
+use super::store::{
+    copy, next_write, pick_copy, seal, write_both, RecordError, SaveError, Source, Writer, UNCOMMITTED,
+};
 use crate::seam::Storage;
 
 /// Saved poses at most.
@@ -149,7 +151,7 @@ impl Poses {
         let word = |i: usize| -> i32 {
             let mut w = [0u8; 4];
             if let Some(src) = buf.get(i..i + 4) {
-                w.copy_from_slice(src);
+                copy(&mut w, src);
             }
             i32::from_le_bytes(w)
         };

@@ -284,6 +284,17 @@ impl Config {
     }
 }
 
+/// Copies `src` into `dst` (as many bytes as the shorter holds), for every
+/// record's encode and decode. Not `copy_from_slice`: out of line (the
+/// firmware's inline threshold is 0), its length check keeps a panic
+/// location in static RAM per call site, 12 B each (BENCHMARKS.md, flash
+/// by module), for lengths that always match here.
+pub fn copy(dst: &mut [u8], src: &[u8]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
 /// Writes a record's fields in order, little-endian, for every record
 /// stored this way (configuration, poses, gripper); bytes past the end are
 /// dropped (each layout is sized so none are).
@@ -300,7 +311,7 @@ impl<'a> Writer<'a> {
     pub(super) fn put(&mut self, bytes: &[u8]) {
         let end = self.pos + bytes.len();
         if let Some(dst) = self.buf.get_mut(self.pos..end) {
-            dst.copy_from_slice(bytes);
+            copy(dst, bytes);
         }
         self.pos = end;
     }
@@ -324,7 +335,7 @@ pub(super) fn seal(buf: &mut [u8]) {
     let at = buf.len().saturating_sub(2);
     let crc = crc16(buf.get(..at).unwrap_or(&[]));
     if let Some(dst) = buf.get_mut(at..) {
-        dst.copy_from_slice(&crc.to_le_bytes());
+        copy(dst, &crc.to_le_bytes());
     }
 }
 
@@ -346,7 +357,7 @@ impl<'a> Reader<'a> {
     pub(super) fn take<const K: usize>(&mut self) -> [u8; K] {
         let mut out = [0u8; K];
         if let Some(src) = self.buf.get(self.pos..self.pos + K) {
-            out.copy_from_slice(src);
+            copy(&mut out, src);
         }
         self.pos += K;
         out
@@ -452,6 +463,15 @@ fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordErr
     Config::decode(&buf)
 }
 
+/// The sequence number of the slot at `addr` if it holds a valid record.
+// Out of line: [`save`] needs only the two numbers, and two whole decoded
+// records in its frame put the deepest call path over the stack budget
+// (`cargo xtask elf-check`, stack-bound).
+#[inline(never)] // avr-trap: frame-size
+fn slot_seq<S: Storage>(storage: &mut S, addr: u16) -> Option<u16> {
+    read_slot(storage, addr).ok().map(|r| r.seq)
+}
+
 /// Which of two read slots [`load`] uses: the valid one, or of two valid ones
 /// the newer, A on a tie. [`save`] writes the other slot first.
 pub fn pick(a: &Result<Record, RecordError>, b: &Result<Record, RecordError>) -> Option<Source> {
@@ -554,11 +574,11 @@ pub enum SaveError {
 /// commit byte) and returns the new sequence number.
 pub fn save<S: Storage>(storage: &mut S, config: &Config) -> Result<u16, SaveError> {
     config.validate().map_err(SaveError::Invalid)?;
-    let a = read_slot(storage, SLOT_A_ADDR);
-    let b = read_slot(storage, SLOT_B_ADDR);
-    let used = match pick(&a, &b) {
-        Some(Source::SlotA) => a.ok().map(|r| (Source::SlotA, r.seq)),
-        Some(Source::SlotB) => b.ok().map(|r| (Source::SlotB, r.seq)),
+    let a = slot_seq(storage, SLOT_A_ADDR);
+    let b = slot_seq(storage, SLOT_B_ADDR);
+    let used = match pick_seq(a, b) {
+        Some(Source::SlotA) => a.map(|seq| (Source::SlotA, seq)),
+        Some(Source::SlotB) => b.map(|seq| (Source::SlotB, seq)),
         _ => None,
     };
     let (seq, order) = next_write(used, [SLOT_A_ADDR, SLOT_B_ADDR]);

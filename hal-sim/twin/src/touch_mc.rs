@@ -489,7 +489,7 @@ pub fn markdown(now: &[CellStats], before: &[CellStats], seed: u64) -> String {
          with the screen on (320×240, 0.180 mm/px, ADC noise {NOISE_COUNTS} count), what the app did read from its \
          serial lines (`hal-sim/twin/src/touch_mc.rs`, seed {seed}; `cargo run --release -p hal-sim --bin touch-mc`). \
          err p99: 99th percentile of the distance between a move's point and the intended one; once: taps with \
-         exactly one move; none: taps with no move; actions: touch actions per tap; moves: in all; far: moves more \
+         exactly one move; none: taps with no move; actions: touch actions per tap, `ignored` included (a force tremor's re-contacts inside `repeat`: one move and an `ignored` each); moves: in all; far: moves more \
          than 3 mm from the intended point; releases: bounce trials on STOP that resumed; STOP p99: latency from contact to latch (frame-quantized). \
          Before each cell the twin is calibrated on the screen as a carer does it (five crosshairs, which also \
          measure the panel's plate ratio), except in \"plate ratio not measured\"; the palm, force and STOP-bounce \
