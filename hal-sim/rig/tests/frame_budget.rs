@@ -78,6 +78,9 @@ struct Window {
     skipped: u64,
     /// Frames that changed some pulse (the arm was moving).
     moving_share: f64,
+    /// Per period of the window: whether its pulses differed from the
+    /// previous period's.
+    moved: Vec<bool>,
 }
 
 impl Window {
@@ -107,24 +110,23 @@ fn measure(s: &mut Session, n: u32, mut each_frame: impl FnMut(&mut Session, u32
     s.avr.run_until(|a| a.pulses(pin).len() > rises, PERIOD_CYCLES * 2).unwrap();
     reset_stats(s);
     let first = s.avr.pulses(pin).len();
-    let mut moving = 0;
+    let mut moved = Vec::with_capacity(n as usize);
     let mut last = s.last_pulses();
     for k in 0..n {
         each_frame(s, k);
         s.avr.run_cycles(PERIOD_CYCLES).unwrap();
         let now = s.last_pulses();
-        if now != last {
-            moving += 1;
-        }
+        moved.push(now != last);
         last = now;
     }
+    let moving = moved.iter().filter(|&&m| m).count() as u32;
     let periods = |s: &Session| (s.avr.pulses(pin).len() - first) as u64 + 1;
     let mut skipped = u64::MAX;
     for _ in 0..TAIL * 80 {
         s.avr.run_cycles(PERIOD_CYCLES / 80).unwrap();
         skipped = skipped.min(periods(s).saturating_sub(u64::from(stats(s).frames)));
     }
-    Window { stats: stats(s), periods: periods(s), skipped, moving_share: f64::from(moving) / f64::from(n) }
+    Window { stats: stats(s), periods: periods(s), skipped, moving_share: f64::from(moving) / f64::from(n), moved }
 }
 
 fn cycles(ticks: u16) -> u64 {
@@ -221,7 +223,7 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         cycles(st.worst_app_ticks),
         cycles(st.worst_ticks)
     );
-    let pw = path_moves_window();
+    let (pw, latency) = path_moves_window();
     let ps = &pw.stats;
     println!(
         "md: | path moves, 22.6 s: line, circle and lift checks (spread over frames) and moves, telemetry, a status line every other frame (moving in {:.0} % of the frames) | {} | {} | {} | {} ({}) | {} | {} | {} |",
@@ -240,6 +242,11 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
         "md: Cycles after the period start (one period is {PERIOD_CYCLES}). Of the {sent} lines of the flood {} were answered one by one and {lost} with `err input lost`; the receive interrupt lost {} bytes in hardware.",
         answered - lost,
         s.avr.uart_overruns()
+    );
+    let [l1, c1, l2, c2, lift] = latency[..] else { panic!("{latency:?}") };
+    println!("md:");
+    println!(
+        "md: From a checked move's command to the arm's first moving period in the path window (the check decides first; issue #22 §1 asks for at most 10): line {l1} and {l2}, circle {c1} and {c2}, lift {lift} periods."
     );
     assert_eq!(b.late_pulses + b.overruns, 0, "power-up: {b:?}");
     assert_eq!(w.missed(), 0, "missed PWM periods: {st:?}, {} periods", w.periods);
@@ -261,9 +268,10 @@ fn the_busiest_frames_never_miss_a_pwm_period() {
 
 /// Path, circle and lift moves with their checks spread over frames (issue
 /// #13), telemetry and a status line every other frame: the window, every
-/// move decided and accepted. Its row goes into the busiest test's
+/// move decided and accepted, and per move the periods from its command to
+/// its first moving one (issue #22 §1). Its row goes into the busiest test's
 /// table (one test, so the table's lines come out in order).
-fn path_moves_window() -> Window {
+fn path_moves_window() -> (Window, Vec<u32>) {
     let mut s = Session::start(&firmware::default_elf(), PanelWiring::A, 19).expect("firmware ELF (cargo avr)");
     s.run_for(1.5).unwrap();
     assert_eq!(s.command("log on").unwrap(), "ok log on");
@@ -284,8 +292,8 @@ fn path_moves_window() -> Window {
         ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15", "path joint\nlift 0.2\ngoto 40 70 -110"];
     let out0 = s.avr.uart_output().len();
     let w = measure(&mut s, 1130, |s, k| {
-        if k % 220 == 0 && k < 1100 {
-            s.avr.uart_send(format!("{}\n", moves[(k / 220) as usize]).as_bytes());
+        if k % MOVE_EVERY == 0 && k < 1100 {
+            s.avr.uart_send(format!("{}\n", moves[(k / MOVE_EVERY) as usize]).as_bytes());
         } else if k % 2 == 0 {
             s.avr.uart_send(b"status\n");
         }
@@ -302,5 +310,17 @@ fn path_moves_window() -> Window {
         out.lines().filter(|l| !l.starts_with("t ") && !l.starts_with("ok status")).collect::<Vec<_>>().join("\n")
     );
     assert_eq!(s.avr.resets(), 0);
-    w
+    // Every move came to rest before the next was sent: the first moving
+    // period after a send is that move's first.
+    let latency = (0..moves.len())
+        .map(|m| {
+            let k0 = m * MOVE_EVERY as usize;
+            w.moved[k0..].iter().position(|&v| v).expect("the move started") as u32
+        })
+        .collect::<Vec<u32>>();
+    assert!(latency.iter().all(|&l| l < MOVE_EVERY), "a move started only after the next was sent: {latency:?}");
+    (w, latency)
 }
+
+/// Periods between the path window's moves.
+const MOVE_EVERY: u32 = 220;
