@@ -18,8 +18,8 @@
 //! critical instant, or one stretch's bound) takes up to [`UNIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
 //! the via pose reachable, every joint inside its output window on a 513-point scan
 //! where the two terms can overshoot, the shortest duration within the
-//! speed and acceleration limits) likewise, a scan point a unit, up to
-//! [`LIFT_UNIT_MAX_TICKS`]. So the frame that accepts
+//! speed and acceleration limits, decided on the scan's hull vertices)
+//! likewise, a vertex a unit, up to [`LIFT_UNIT_MAX_TICKS`]. So the frame that accepts
 //! the target only sets the check up (state `checking`), and every following
 //! frame, after its pulses, runs units while the PWM period has room for one
 //! more at its worst ([`ServoOutputs::period_ticks_left`]); where the outputs
@@ -74,13 +74,15 @@ pub const UNIT_MAX_TICKS: u16 = 17_500;
 const TAIL_TICKS: u16 = 4_000;
 /// Units per frame where the outputs keep no time.
 pub const HOST_UNITS_PER_FRAME: u16 = 4;
-/// The longest unit of a lift's check (one scan point: both shapes with
-/// their derivatives, three joints), Timer5 ticks: BENCHMARKS.md
+/// The longest unit of a lift's check (one hull vertex, three joints; the
+/// last unit also works out the duration), Timer5 ticks: BENCHMARKS.md
 /// `lift_check_unit` max, rounded up with some room.
-pub const LIFT_UNIT_MAX_TICKS: u16 = 4_500;
-/// Lift units per frame where the outputs keep no time: the 513-point scan
-/// in 17 frames.
-pub const HOST_LIFT_UNITS_PER_FRAME: u16 = 32;
+pub const LIFT_UNIT_MAX_TICKS: u16 = 1_400;
+/// Lift units per frame where the outputs keep no time: the check's
+/// vertices ([`crate::motion::lift_hull::UNITS`]) in 4 frames, about what a
+/// checking frame on the chip has room for (BENCHMARKS.md, the checked
+/// moves' latency).
+pub const HOST_LIFT_UNITS_PER_FRAME: u16 = 48;
 /// Scan intervals of the chip's check: the bench's `path_check_unit` scan.
 const CHECK_SAMPLES: u16 = 24;
 /// Refinement steps around each critical point: offsets down to

@@ -37,6 +37,7 @@ use touch_arm::geometry::pose::{pose_for_point, ArmGeometry};
 use touch_arm::math::real::Real;
 use touch_arm::motion::laws::Law;
 use touch_arm::motion::lift::{LiftCheck, LiftPlan, LiftRequest};
+use touch_arm::motion::lift_hull;
 use touch_arm::motion::path::{path_angles, Pace, PathArm, PathCheck, PathLimits, PathRequest};
 use touch_arm::motion::plan::LawKind;
 use touch_arm::motion::plan::{JointLaw, MultiPlan, JOINTS};
@@ -552,13 +553,14 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
 #[inline(never)] // reason: measured
 fn lift_frames(b: &mut Bench, maps: &[TickMap; JOINTS], lim: &PathLimits<f32>) {
     let Ok(links) = Links::new(1.0f32, 1.0) else { halt() };
-    // One unit of a lift's check (a scan point: both shapes with their
-    // derivatives, three joints) across its 513 points, and the lift's frame
-    // on the chip (`LiftPlan::angles`, both shapes' G, three pulses).
+    // One unit of a lift's check (a hull vertex: two products and a sum per
+    // joint) across its units, the last (the duration) included, and the
+    // lift's frame on the chip (`LiftPlan::angles`, both shapes' G, three
+    // pulses).
     let lreq = LiftRequest { start: START, target: TARGET, h: 0.2, links, branch: Branch::Minus, ts_min: 0.5 };
     let lat = |i: usize| {
         let Ok(mut c) = LiftCheck::new(&lreq, lim) else { halt() };
-        let _ = c.step((i as u16) * 36);
+        let _ = c.step((i * (lift_hull::UNITS - 1) / (REPS - 1)) as u16);
         c
     };
     b.run_mut("lift_check_unit", lat, |c| c.step(1).is_some());

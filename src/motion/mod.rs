@@ -9,6 +9,7 @@
 
 pub mod laws;
 pub mod lift;
+pub mod lift_hull;
 pub mod path;
 pub mod plan;
 pub mod planner;

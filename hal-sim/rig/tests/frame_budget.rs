@@ -286,8 +286,8 @@ fn path_moves_window() -> (Window, Vec<u32>) {
     // frame while the checks run and the arm moves.
     // Each is decided and done within the 4.4 s before the next (a check
     // takes about 2 s of the frames' spare time, its refinement around the
-    // path's ends included); the last a lift (its own check, a scan point a
-    // unit), in the 5 s left.
+    // path's ends included); the last a lift (its own check, a hull vertex a
+    // unit, decided in a few frames), in the 5 s left.
     let moves =
         ["goto 40 70 -110", "circle 0.1", "goto 90 100 -100", "circle 0.15", "path joint\nlift 0.2\ngoto 40 70 -110"];
     let out0 = s.avr.uart_output().len();

@@ -318,8 +318,10 @@ fn lift_refusals_stop_and_the_line_exclusion() {
     s.run_for(ts(&r) + 0.2).unwrap();
     assert_eq!(s.command("lift 0.2").unwrap(), "ok lift 0.20");
     let from = s.avr.uart_output().len();
+    // One frame in: the check (a few frames of hull vertices) is still
+    // running.
     s.avr.uart_send(b"goto 40 70 -110\n");
-    s.run_for(0.1).unwrap();
+    s.run_for(0.02).unwrap();
     assert_eq!(s.command("stop").unwrap(), "ok stop");
     let (cancelled, _) = s.await_line(from, &["err"], 0.2).unwrap().expect("the cancelled move's reply");
     assert_eq!(cancelled, "err path check stopped");

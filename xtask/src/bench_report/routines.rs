@@ -60,7 +60,7 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
     ),
     (
         "lift_check_unit",
-        "one unit of a lift's check (`LiftCheck::step(1)`: a scan point, both shapes with their derivatives, 3 joints)",
+        "one unit of a lift's check (`LiftCheck::step(1)`: a vertex of the scan's hulls, 3 joints; the last also the duration)",
     ),
     ("lift_frame", "lift frame on the chip: `LiftPlan::angles` (both shapes' G, 3 joints), 3 pulses (`TickMap`)"),
     ("frame_superposed", "frame with a correction superposed: two ζ-a-tₛ terms → pulse widths"),
