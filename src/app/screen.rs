@@ -506,7 +506,7 @@ impl App {
             State::Stopped => UiState::Stopped,
             State::Moving => UiState::Moving { progress: f32::from(st.progress) / 100.0 },
             // STOP stays on the screen while a path is checked.
-            State::Checking => UiState::Moving { progress: 0.0 },
+            State::Checking => UiState::Checking,
             State::Paused => UiState::Paused,
             State::Holding => match self.screen.refusal {
                 Some(r) => UiState::Refused(r),

@@ -67,6 +67,10 @@ pub enum UiState {
     PowerUp,
     /// Ready, waiting for a touch.
     Idle,
+    /// A line's, circle's or lift's check runs before the move starts: the
+    /// arm holds still, and says so (a "Moving" that does not move would
+    /// invite a second tap).
+    Checking,
     /// On the way.
     Moving {
         /// Share of the planned duration elapsed, 0..=1.

@@ -126,6 +126,7 @@ pub struct UiConfig {
 enum Headline {
     Starting,
     Ready,
+    Checking,
     Moving,
     Holding,
     Paused,
@@ -144,6 +145,7 @@ impl Headline {
         match self {
             Headline::Starting => t!("Starting up"),
             Headline::Ready => t!("Ready"),
+            Headline::Checking => t!("Checking the way"),
             Headline::Moving => t!("Moving to target"),
             Headline::Holding => t!("Holding"),
             Headline::Paused => t!("Paused"),
@@ -249,6 +251,7 @@ impl View {
         let (headline, detail) = match m.state {
             UiState::PowerUp => (Headline::Starting, Detail::Hint(t!("Please wait"))),
             UiState::Idle => (Headline::Ready, Detail::Hint(t!("Touch the map to move"))),
+            UiState::Checking => (Headline::Checking, Detail::Hint(t!("The arm starts soon"))),
             UiState::Moving { progress } => {
                 let (px, percent) = progress_of(progress, lay.bar_fill().w);
                 (Headline::Moving, Detail::Progress { px, percent })

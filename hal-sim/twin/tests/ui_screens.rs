@@ -510,9 +510,10 @@ fn status_lines_say_what_happens_in_words() {
     let head = |c: Rgb565| TextStyle::opaque(2, c, theme::BG);
     let small = TextStyle::opaque(1, theme::TEXT, theme::BG);
     type Case<'a> = (UiState, &'a [u8], Rgb565, Option<&'a [u8]>);
-    let cases: [Case; 10] = [
+    let cases: [Case; 11] = [
         (UiState::PowerUp, b"Starting up", theme::TEXT, Some(b"Please wait")),
         (UiState::Idle, b"Ready", theme::TEXT, Some(b"Touch the map to move")),
+        (UiState::Checking, b"Checking the way", theme::TEXT, Some(b"The arm starts soon")),
         (UiState::Moving { progress: 0.25 }, b"Moving to target", theme::TEXT, None),
         (UiState::Holding, b"Holding", theme::TEXT, Some(b"Touch the map to move")),
         (UiState::Paused, b"Paused", theme::TEXT, Some(b"Hold the map to go on")),
