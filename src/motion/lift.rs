@@ -136,10 +136,12 @@ fn via_pose<R: Real>(r: &LiftRequest<R>) -> Result<([R; JOINTS], [R; 3]), LiftEr
 /// is q0 + (S_v − q0)·Gv + (S_f − S_v)·G, the rates likewise. A weighted sum's
 /// largest and smallest value over the scan's points are at vertices of
 /// their convex hull (of the points and their negatives, for the |rates|),
-/// so visiting the hull's vertices decides exactly what the scan of all
-/// 513 points decides, in a third of the units and without evaluating a
-/// shape (`tests/lift.rs` recomputes the hulls from the shapes and runs both
-/// checks on random lifts).
+/// so visiting the hull's vertices decides what the scan of all 513 points
+/// decides, in a third of the units and without evaluating a shape. The
+/// tables hold the f64 shapes' points rounded to f32, so the two differ only
+/// where an extreme sits within that rounding of a limit (`tests/lift.rs`
+/// recomputes the hulls from the shapes and runs both checks on random
+/// lifts: the same refusals, the same duration to 1e-6).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LiftCheck<R> {
     /// The plan at tₛ = 1 s until decided.
