@@ -15,7 +15,8 @@
 //! output window (angle ∩ pulse limits), on one IK branch, no joint over its speed or acceleration
 //! limit; slowed down to the shortest admissible duration, never clamped)
 //! takes far more than a frame: a unit of it (one visit, or the search for a
-//! critical instant, or one stretch's bound) takes up to [`UNIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
+//! critical instant, or one stretch's bound) takes up to [`UNIT_MAX_TICKS`],
+//! a visit up to [`VISIT_MAX_TICKS`]. A lift's ([`LiftCheck`]:
 //! the via pose reachable, every joint inside its output window on a 513-point scan
 //! where the two terms can overshoot, the shortest duration within the
 //! speed and acceleration limits, decided on the scan's hull vertices)
@@ -69,6 +70,14 @@ use crate::servo::map::{Joint, TickMap};
 /// `hal-sim/rig/tests/bench_elf.rs` keeps it within this), rounded up with
 /// some room.
 pub const UNIT_MAX_TICKS: u16 = 17_500;
+/// The longest unit of a path check that [`PathCheck::next_is_visit`]
+/// says is a visit (law, IK with rates, three joints), Timer5 ticks:
+/// BENCHMARKS.md `path_visit_unit` max (`hal-sim/rig/tests/bench_elf.rs`
+/// keeps it within nine tenths of this), rounded up with about a fifth of
+/// room; a visit's work is the same float operations wherever the path
+/// goes. Most of a check's units are visits: a frame fits
+/// two or three of them where it fits one unit of [`UNIT_MAX_TICKS`].
+pub const VISIT_MAX_TICKS: u16 = 8_000;
 /// Left at the end of a checking frame for its reply line (float to
 /// decimal), telemetry and the jump back to the wait.
 const TAIL_TICKS: u16 = 4_000;
@@ -370,12 +379,17 @@ impl App {
     /// refusal once it decides.
     fn run_check_units<S: ServoOutputs>(&mut self, servos: &S) -> Option<Result<Run, Refusal>> {
         let PathRun::Checking { check, .. } = &mut self.path else { return None };
-        let (unit_max, host_units) = match check {
-            Check::Path(_) => (UNIT_MAX_TICKS, HOST_UNITS_PER_FRAME),
-            Check::Lift(_) => (LIFT_UNIT_MAX_TICKS, HOST_LIFT_UNITS_PER_FRAME),
+        let host_units = match check {
+            Check::Path(_) => HOST_UNITS_PER_FRAME,
+            Check::Lift(_) => HOST_LIFT_UNITS_PER_FRAME,
         };
         let mut units = 0u16;
         loop {
+            let unit_max = match check {
+                Check::Path(c) if c.next_is_visit() => VISIT_MAX_TICKS,
+                Check::Path(_) => UNIT_MAX_TICKS,
+                Check::Lift(_) => LIFT_UNIT_MAX_TICKS,
+            };
             let room = match servos.period_ticks_left() {
                 Some(left) => left >= unit_max + TAIL_TICKS,
                 None => units < host_units,

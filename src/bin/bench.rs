@@ -514,6 +514,18 @@ fn path_frames(b: &mut Bench, maps: &[ServoMap; JOINTS]) {
         c
     };
     b.run_mut("path_check_unit", at, |c| c.step(1).is_some());
+    // One unit of it that `PathCheck::next_is_visit` says is at most a visit
+    // (what the app fits more of into a frame): the grid and the
+    // refinement's instants, from the same points on, to the next such unit.
+    let at = |i: usize| {
+        let Ok(mut c) = PathCheck::new(&req, &arm, &lim) else { halt() };
+        let _ = c.step(UNITS_AT.get(i).copied().unwrap_or(0));
+        while !c.next_is_visit() {
+            let _ = c.step(1);
+        }
+        c
+    };
+    b.run_mut("path_visit_unit", at, |c| c.step(1).is_some());
     // One unit of the bounds between the scan's points (issue #24, F4: a
     // visit of a stretch's far end, the path rates' interval bound and the
     // law's cell bounds), after the grid and the refinement's 205 units.

@@ -693,6 +693,22 @@ impl<R: Real> PathCheck<R> {
         self.scan.halvings
     }
 
+    /// The next unit is at most one visit (a grid or refinement instant, or
+    /// a step between the scan's phases), not a search for a critical
+    /// instant nor a stretch's bound, which take about three times as long
+    /// (BENCHMARKS.md, `path_visit_unit` against `path_check_unit` and
+    /// `path_bound_unit`): a caller with a frame to keep can fit more of
+    /// them in (`app::path_move`).
+    pub fn next_is_visit(&self) -> bool {
+        match self.scan.at {
+            // The path's two critical points are searched for; the ends
+            // and the step to the bounds are not.
+            ScanAt::Critical(crit) => crit >= 2,
+            ScanAt::Bound { .. } => false,
+            ScanAt::Grid(_) | ScanAt::Cluster { .. } | ScanAt::Finished => true,
+        }
+    }
+
     /// After a complete scan: the plan at the asked duration, a refusal,
     /// or (slowing down) the plan at the shortest admissible duration. Not
     /// scanned again: the scan's grid, refinement and stretches sit at the

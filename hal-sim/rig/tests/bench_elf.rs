@@ -240,3 +240,17 @@ fn path_bound_unit_fits_the_check_unit() {
     eprintln!("path bound unit: median {median}, min {min}, max {max} cycles, stack {stack} B; check unit {unit:?}");
     assert!(max <= 17_500 * 8, "bound unit {max} cycles > the check unit budget");
 }
+
+/// A unit `PathCheck::next_is_visit` calls a visit stays within the shorter
+/// budget the app plans a frame's visits for
+/// (`app::path_move::VISIT_MAX_TICKS`, 8 000 Timer5 ticks of 8 cycles),
+/// with a tenth of it to spare.
+#[test]
+fn path_visit_unit_fits_the_visit_budget() {
+    let b = benches();
+    let [median, min, max, stack] = b["path_visit_unit"];
+    eprintln!("path visit unit: median {median}, min {min}, max {max} cycles, stack {stack} B");
+    assert!(max * 10 <= 8_000 * 8 * 9, "visit unit {max} cycles > 90 % of the visit budget");
+    // And it is the cheap kind: the units it leaves out take longer.
+    assert!(max < b["path_check_unit"][2] && max < b["path_bound_unit"][2]);
+}

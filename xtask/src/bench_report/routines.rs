@@ -55,6 +55,10 @@ const DESCRIPTIONS: &[(&str, &str)] = &[
         "one unit of a path's plan-time check (`PathCheck::step(1)`: a visit, law + IK + joint rates; or the search for a critical instant)",
     ),
     (
+        "path_visit_unit",
+        "one unit of it that is a visit (`PathCheck::next_is_visit`: a grid or refinement instant, law + IK + joint rates)",
+    ),
+    (
         "path_bound_unit",
         "one unit of a path check's bounds between its samples (issue #24, F4: a stretch's far end visited, the interval bound of the path rates, the law's cell bounds)",
     ),
