@@ -114,6 +114,11 @@ pub struct ElfCheckArgs {
     /// ELF files [default: every firmware and example `cargo avr` and
     /// `cargo avr-mipidsi` build].
     pub elfs: Vec<PathBuf>,
+    /// Print each ELF's deepest stack chains (thread and interrupts, every
+    /// function's frame on the way) also when its bound is within budget:
+    /// where to cut when the bound grows.
+    #[arg(long)]
+    pub chains: bool,
 }
 
 /// Runs every check of [`elf::checks::CHECKS`] on each ELF, one line per
@@ -152,10 +157,16 @@ pub fn elf_check(args: &ElfCheckArgs) -> ExitCode {
                 continue;
             }
         };
-        let fw = elf::checks::Firmware { name, image: &image, budgets: &budgets };
+        let fw = elf::checks::Firmware { name, image: &image, budgets: &budgets, chains: args.chains };
         for check in elf::checks::CHECKS {
             match (check.run)(&fw) {
-                Ok(summary) => println!("ok   {name}: {}: {summary}", check.name),
+                Ok(summary) => {
+                    let mut lines = summary.lines();
+                    println!("ok   {name}: {}: {}", check.name, lines.next().unwrap_or(""));
+                    for l in lines {
+                        println!("    {l}");
+                    }
+                }
                 Err(problems) => {
                     failed = true;
                     println!("FAIL {name}: {}:", check.name);

@@ -16,6 +16,9 @@ pub struct Firmware<'a> {
     pub image: &'a Image<'a>,
     /// The budgets memory.x states.
     pub budgets: &'a Budgets,
+    /// Also report the stack bound's deepest chains when it passes (a
+    /// failing bound always prints them).
+    pub chains: bool,
 }
 
 /// A post-link check: `run` gives `Ok(summary)` or `Err(problems)`, one
@@ -109,8 +112,9 @@ fn stack_bound(fw: &Firmware) -> Result<String, String> {
     let budget =
         touch_arm_rig::firmware::stack_budget_of(fw.name, fw.budgets.stack, fw.budgets.ram, fw.image.static_ram());
     let b = stack_bound::check(fw.image, budget)?;
-    Ok(format!(
+    let summary = format!(
         "stack bound {} B ({} thread + {} interrupts) within the {budget}-byte budget",
         b.total, b.thread.depth, b.interrupts
-    ))
+    );
+    Ok(if fw.chains { format!("{summary}\n{b}") } else { summary })
 }
