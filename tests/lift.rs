@@ -199,18 +199,17 @@ fn scan_points() -> [Vec<(f32, f32)>; 3] {
 /// the scan's order. Andrew's monotone chain; the products of f32 values are
 /// exact in f64, so collinear points are dropped exactly.
 fn hull(pts: &[(f32, f32)], symmetric: bool) -> Vec<usize> {
-    let mut all: Vec<(f64, f64, usize, bool)> =
-        pts.iter().enumerate().map(|(i, &(x, y))| (f64::from(x), f64::from(y), i, false)).collect();
+    // (x, y, index into `pts`); a negated point keeps its original's index.
+    type P = (f64, f64, usize);
+    let mut all: Vec<P> = pts.iter().enumerate().map(|(i, &(x, y))| (f64::from(x), f64::from(y), i)).collect();
     if symmetric {
-        all.extend(pts.iter().enumerate().map(|(i, &(x, y))| (-f64::from(x), -f64::from(y), i, true)));
+        all.extend(pts.iter().enumerate().map(|(i, &(x, y))| (-f64::from(x), -f64::from(y), i)));
     }
     all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
     all.dedup_by(|a, b| a.0 == b.0 && a.1 == b.1);
-    let cross = |o: &(f64, f64, usize, bool), a: &(f64, f64, usize, bool), b: &(f64, f64, usize, bool)| {
-        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
-    };
-    let chain = |it: &mut dyn Iterator<Item = &(f64, f64, usize, bool)>| {
-        let mut h: Vec<(f64, f64, usize, bool)> = Vec::new();
+    let cross = |o: &P, a: &P, b: &P| (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0);
+    let chain = |it: &mut dyn Iterator<Item = &P>| {
+        let mut h: Vec<P> = Vec::new();
         for p in it {
             while h.len() >= 2 && cross(&h[h.len() - 2], &h[h.len() - 1], p) <= 0.0 {
                 h.pop();

@@ -287,8 +287,8 @@ impl Config {
 /// Copies `src` into `dst` (as many bytes as the shorter holds), for every
 /// record's encode and decode. Not `copy_from_slice`: out of line (the
 /// firmware's inline threshold is 0), its length check keeps a panic
-/// location in static RAM per call site, 12 B each (BENCHMARKS.md, flash
-/// by module), for lengths that always match here.
+/// location in static RAM per call site, for lengths that always match
+/// here.
 pub fn copy(dst: &mut [u8], src: &[u8]) {
     for (d, s) in dst.iter_mut().zip(src) {
         *d = *s;

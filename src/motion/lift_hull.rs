@@ -33,15 +33,14 @@ pub const UNITS: usize = ANGLE.len() + SPEED.len() + ACCEL.len();
 /// Vertex `i` of the check's order (the angles' hull, the speeds', the
 /// accelerations'), with its set; `None` past the last.
 pub fn vertex<R: Real>(i: usize) -> Option<(Set, R, R)> {
-    let (set, row) = match (ANGLE.get(i), i.checked_sub(ANGLE.len())) {
-        (Some(row), _) => (Set::Angle, row),
-        (None, Some(k)) => match (SPEED.get(k), k.checked_sub(SPEED.len())) {
-            (Some(row), _) => (Set::Speed, row),
-            (None, Some(k)) => (Set::Accel, ACCEL.get(k)?),
-            (None, None) => return None,
-        },
-        (None, None) => return None,
+    let (set, table, k): (Set, &[[u32; 2]], usize) = if i < ANGLE.len() {
+        (Set::Angle, &ANGLE, i)
+    } else if i < ANGLE.len() + SPEED.len() {
+        (Set::Speed, &SPEED, i - ANGLE.len())
+    } else {
+        (Set::Accel, &ACCEL, i - ANGLE.len() - SPEED.len())
     };
+    let row = table.get(k)?;
     let f = |w: &u32| R::from_f32(f32::from_bits(flash_u32(w)));
     Some((set, f(&row[0]), f(&row[1])))
 }
