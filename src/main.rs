@@ -15,12 +15,14 @@
 use core::mem::MaybeUninit;
 
 use avr_device::atmega2560 as pac;
+use embedded_hal::digital::InputPin;
 use touch_arm::app::resume::{ResetKind, Restart};
 use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
 use touch_arm::board::fault::halt;
 use touch_arm::board::frame::{self, FrameBudget};
+use touch_arm::board::gpio::{self, Input};
 use touch_arm::board::lcd::{Controller, IdReads, Lcd, Rotation};
 use touch_arm::board::resume;
 use touch_arm::board::servo_pwm::{ServoPwm, TickLimits, CHANNELS, SERVO_RANGE};
@@ -55,6 +57,12 @@ struct Board {
     rotation: Rotation,
     /// The panel's wiring being measured (`touch::wiring`), if the app asked.
     probe: Option<Probe>,
+    /// The assistive switch's jack: D22 (PA0), pulled up, closed = low.
+    /// D22 is the first pin of the Mega's end header, which no Uno-shaped
+    /// shield covers and no driver here uses (ports E–H are the shield's,
+    /// L and B the servos'), so a 3.5 mm jack's two wires go to D22 and GND
+    /// beside it with the shield on.
+    switch: Input,
 }
 
 #[avr_device::entry]
@@ -77,6 +85,7 @@ fn main() -> ! {
         lcd: Controller::Ili9341,
         rotation: Rotation::Landscape,
         probe: None,
+        switch: switch_pin(dp.PORTA),
     };
     // SAFETY: every peripheral the interrupt handlers touch is initialised.
     unsafe { avr_device::interrupt::enable() };
@@ -152,6 +161,16 @@ fn start_app() -> Option<&'static mut App> {
     App::init(slot, &AppParams { screen: true, ..AppParams::DEFAULT }).ok()
 }
 
+/// D22 (PA0) as the switch's input with its pull-up; the port's other pins
+/// stay as reset left them (inputs, no pull-up).
+fn switch_pin(port: pac::PORTA) -> Input {
+    // The pin map's switch is this port's bit 0.
+    const _: () = assert!(matches!(touch_arm::seam::pins::mega::SWITCH.port(), touch_arm::seam::pins::Port::A));
+    const _: () = assert!(touch_arm::seam::pins::mega::SWITCH.bit() == 0);
+    let [pa0, ..] = gpio::split(port);
+    pa0.into_input(true)
+}
+
 /// One 20 ms frame: the hardware clamp follows the calibration (the
 /// gripper's too), then the
 /// app reads serial and touch and writes the servo pulses. Not inlined, so
@@ -163,6 +182,7 @@ fn frame(app: &mut App, b: &mut Board) {
     // The measured wiring; none (not measured, or not identified) reads nothing.
     let wiring = app.config().wiring.map(TouchWiring::preset);
     let mut panel = b.bus.touch(&mut b.adc, wiring.as_ref());
+    app.set_switch(matches!(b.switch.is_low(), Ok(true)));
     app.frame(&mut Io {
         panel: &mut panel,
         servos: &mut b.pwm,

@@ -79,6 +79,11 @@ pub(super) struct Carer {
 }
 
 impl Carer {
+    /// The last frame's clock, ms.
+    pub(super) fn now_ms(&self) -> u32 {
+        self.now_ms
+    }
+
     /// Unlocked with the defaults, until the boot loads the record.
     pub(super) const NEW: Carer = Carer {
         access: ACCESS_DEFAULT,
@@ -110,6 +115,10 @@ pub(super) enum AccessSet {
     /// An item bit hidden (true) or shown.
     Hide(u8, bool),
     Cap(SpeedPreset),
+    /// The switch turned on (true) or off.
+    Switch(bool),
+    /// The switch's sweep, tenths of a second.
+    Sweep(u8),
 }
 
 impl App {
@@ -233,6 +242,14 @@ impl App {
                 next.cap = p;
                 AccessSet::Cap(p)
             }
+            AccessCmd::Switch(on) => {
+                next.switch_on = on;
+                AccessSet::Switch(on)
+            }
+            AccessCmd::Sweep(ds) => {
+                next.sweep_ds = ds;
+                AccessSet::Sweep(ds)
+            }
         };
         // The RAM copy changes only once stored.
         let saved = access::save(storage, &next);
@@ -312,7 +329,8 @@ impl App {
         self.carer.confirm.take().filter(|_| !self.carer.locked).map(|(n, _)| n)
     }
 
-    /// `cal access <locked|carer> pin <set|none> hide <items|none> cap <preset>`.
+    /// `cal access <locked|carer> pin <set|none> hide <items|none> cap
+    /// <preset> switch <on|off> sweep <s>`.
     pub(super) fn access_show_line(&self, line: &mut Line) {
         let a = &self.carer.access;
         line.str(t!("cal access ")).str(if self.carer.locked { t!("locked") } else { t!("carer") });
@@ -327,6 +345,8 @@ impl App {
             line.word(t!("none"));
         }
         line.word(t!("cap")).word(a.cap.name());
+        line.word(t!("switch")).word(if a.switch_on { t!("on") } else { t!("off") });
+        line.word(t!("sweep")).bytes(b" ").centi(i32::from(a.sweep_ds) * 10);
     }
 
     /// The reply of an `access` command.
@@ -350,8 +370,18 @@ impl App {
             }
             AccessDone::Stored(set, Ok(seq)) => (set, seq),
         };
-        r.str(t!("ok access "));
+        let switch = matches!(set, AccessSet::Switch(_) | AccessSet::Sweep(_));
+        r.str(if switch { t!("ok switch ") } else { t!("ok access ") });
         match set {
+            AccessSet::Switch(false) => {
+                r.str(t!("off"));
+            }
+            AccessSet::Switch(true) => {
+                r.str(t!("on sweep ")).centi(i32::from(self.carer.access.sweep_ds) * 10);
+            }
+            AccessSet::Sweep(ds) => {
+                r.str(t!("sweep ")).centi(i32::from(ds) * 10);
+            }
             AccessSet::Pin(on) => {
                 r.str(if on { t!("pin set") } else { t!("pin off") });
             }

@@ -130,6 +130,20 @@ impl App {
         self.hold.switch = down;
     }
 
+    /// A held move runs or rests on its path: the switch holds it rather
+    /// than stopping it (`switch.rs`).
+    pub(super) fn hold_armed(&self) -> bool {
+        self.hold.armed
+    }
+
+    /// The switch's Go in hold mode: the move it plans runs while the
+    /// switch stays down, as a held finger's does.
+    pub(super) fn hold_arm(&mut self) {
+        if self.config.hold_to_run {
+            self.hold.armed = true;
+        }
+    }
+
     /// A contact in hold mode rested `hold` at `p`: resumes a released move,
     /// else commits `p` as a new held move.
     pub(super) fn hold_commit<E: crate::seam::Storage, U: SerialPort>(

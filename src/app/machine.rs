@@ -67,6 +67,7 @@ impl App {
         self.heavy = HeavyTask::new_frame(catch_up || self.plan_deferred);
         self.poll_serial(io, now);
         self.poll_touch(io.panel, now, io.storage, io.serial);
+        self.poll_switch(now, io.storage, io.serial);
         self.step_motion();
         self.write_pulses(io.servos);
         // The gripper after the joints' pulses, so its step does not delay them.

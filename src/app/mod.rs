@@ -6,6 +6,7 @@
 //! let mut app = App::new(&AppParams::DEFAULT)?;
 //! loop {
 //!     wait for the Timer5 period start;          // 50 Hz, aligned with the PWM
+//!     app.set_switch(switch pin is low);          // the assistive switch
 //!     app.frame(&mut Io { panel, servos, clock, storage, serial });
 //!     draw(app.status());                         // the display, never during frame()
 //! }
@@ -93,7 +94,7 @@
 //! `grip.rs` (the gripper), `poses.rs` (saved poses), `recalibrate.rs`
 //! (calibration changes while holding), `wiring.rs` (the panel's wiring),
 //! `telemetry.rs` (output lines), `undo.rs` (going back), `access.rs` (the
-//! carer lock), `hold.rs` (hold to run). The rule they follow:
+//! carer lock), `hold.rs` (hold to run), `switch.rs` (the assistive switch). The rule they follow:
 //! - A feature's own state is one field of its own type, declared in its
 //!   file (`grip: grip::Grip`, `path: path_move::PathRun`, `screen:
 //!   screen::Screen`, `session: serial::Session`); only that file changes
@@ -130,6 +131,7 @@ pub mod refusal;
 pub mod resume;
 mod screen;
 mod serial;
+mod switch;
 mod telemetry;
 pub mod text;
 mod undo;
@@ -555,6 +557,8 @@ pub struct App {
     carer: access::Carer,
     /// Hold to run (`hold.rs`): the held move and its planned stop.
     hold: hold::HoldRun,
+    /// The assistive switch and its scan (`switch.rs`).
+    switch: switch::SwitchRun,
 }
 
 // `App::init` assigns over an uninitialized slot: sound only while nothing
@@ -660,6 +664,7 @@ impl App {
                 undo: undo::Undo::EMPTY,
                 carer: access::Carer::NEW,
                 hold: hold::HoldRun::IDLE,
+                switch: switch::SwitchRun::IDLE,
             };
             Ok(&mut *at)
         }

@@ -361,7 +361,7 @@ impl App {
 
     /// The RESUME countdown's fill, 0..=[`RING_STEPS`] (`None`: none runs).
     pub(super) fn resume_ring(&self) -> Option<u8> {
-        (self.press.role == Role::Resume).then_some(self.press.ring)
+        (self.press.role == Role::Resume).then_some(self.press.ring).or_else(|| self.switch_resume_ring())
     }
 }
 

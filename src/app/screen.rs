@@ -187,6 +187,26 @@ impl App {
             Ok((x, y)) => self.screen.ui.hit_panel(x, y),
             Err(_) => None,
         };
+        self.screen_hit(hit, p, storage)
+    }
+
+    /// A press on the switch's scan (`switch.rs`): what a touch on `hit`
+    /// does (`p`: the raw reading of that place), and its line.
+    pub(super) fn screen_press<E: Storage, U: SerialPort>(
+        &mut self,
+        hit: Hit,
+        p: &TouchPoint,
+        storage: &mut E,
+        serial: &mut U,
+    ) {
+        let event = self.screen_hit(Some(hit), p, storage);
+        if event != ScreenEvent::Nothing {
+            self.report_screen(serial, p, &event);
+        }
+    }
+
+    /// What a confirmed touch on `hit` does (the touch's raw reading `p`).
+    fn screen_hit<E: Storage>(&mut self, hit: Option<Hit>, p: &TouchPoint, storage: &mut E) -> ScreenEvent {
         // What the lock hides now does nothing, even if the glass has not
         // caught up yet.
         let hidden = self.hidden_now();
@@ -544,6 +564,7 @@ impl App {
             grip_closed: self.grip_closed(),
             path_line: self.config.path == PathMode::Line,
             lift: self.config.lift_centi.is_some(),
+            scan: self.switch_show(),
         }
     }
 }

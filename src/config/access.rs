@@ -1,7 +1,8 @@
-//! The carer's access settings (issue #20 §3): the PIN that locks the
-//! user's pages, which items a locked screen hides, and the speed cap. The
+//! The access settings: the carer's (issue #20 §3: the PIN that locks the
+//! user's pages, which items a locked screen hides, and the speed cap; the
 //! carer decides what the user may change, as a clinician profile does on a
-//! powered wheelchair's controls.
+//! powered wheelchair's controls) and the assistive switch's (§4: on or
+//! off, and the scan's sweep time).
 //!
 //! Stored in their own small EEPROM record, beside the display overrides
 //! and in the same way: two copies with a sequence number and the CRC-16 of
@@ -15,17 +16,23 @@
 //! Whether the screen is locked is not stored: a board with a PIN boots
 //! locked, so a power cycle always ends carer mode.
 //!
-//! # Record layout (version 1, little-endian, 18 bytes)
+//! # Record layout (version 2, little-endian, 20 bytes)
 //! | offset | size | field |
 //! |-------:|-----:|-------|
 //! | 0 | 2 | magic `b"TC"` |
-//! | 2 | 1 | layout version (1) |
+//! | 2 | 1 | layout version (2) |
 //! | 3 | 2 | sequence counter (u16, serial arithmetic as the configuration's) |
 //! | 5 | 1 | hidden items: bit 0 cal, 1 line, 2 lift, 3 fast, 4 touch (other bits 0) |
 //! | 6 | 1 | speed cap ([`SpeedPreset::id`]) |
 //! | 7 | 1 | PIN length: 0 (no PIN) or [`PIN_MIN`]..=[`PIN_MAX`] |
 //! | 8 | 8 | PIN digits, ASCII, then zeros |
-//! | 16 | 2 | CRC-16/CCITT-FALSE of bytes 0..16 |
+//! | 16 | 1 | switch flags: bit 0 on (other bits 0) (version 2) |
+//! | 17 | 1 | switch sweep per axis, tenths of a second, [`SWEEP_MIN_DS`]..=[`SWEEP_MAX_DS`] (version 2) |
+//! | 18 | 2 | CRC-16/CCITT-FALSE of bytes 0..18 |
+//!
+//! A version-1 record (before the switch) ends with its CRC of bytes 0..16
+//! at 16; it reads with the switch off and the default sweep, and the next
+//! save writes version 2.
 //!
 //! Copy A lives at [`ACCESS_SLOT_A`], copy B at [`ACCESS_SLOT_B`], past the
 //! display overrides' two slots.
@@ -37,7 +44,9 @@ use crate::seam::Storage;
 use crate::text::Text;
 
 /// Bytes of one record, CRC included.
-pub const ACCESS_RECORD_LEN: usize = 18;
+pub const ACCESS_RECORD_LEN: usize = 20;
+/// A version-1 record's length (its CRC at 16).
+const ACCESS_RECORD_LEN_V1: usize = 18;
 /// EEPROM address of the first copy (the display overrides use 768..809).
 pub const ACCESS_SLOT_A: u16 = 832;
 /// EEPROM address of the second copy.
@@ -45,13 +54,22 @@ pub const ACCESS_SLOT_B: u16 = 864;
 /// The record's first bytes; byte 0 is the commit byte of [`super::store`].
 pub const ACCESS_MAGIC: [u8; 2] = *b"TC";
 /// Layout version of the record.
-pub const ACCESS_VERSION: u8 = 1;
+pub const ACCESS_VERSION: u8 = 2;
+/// The shortest sweep per axis, tenths of a second (`switch sweep 2`).
+pub const SWEEP_MIN_DS: u8 = 20;
+/// The longest sweep per axis, tenths of a second (`switch sweep 20`).
+pub const SWEEP_MAX_DS: u8 = 200;
+/// The sweep of a board that never set one: 6 s to cross the map.
+pub const SWEEP_DEFAULT_DS: u8 = 60;
 /// Fewest digits of a PIN.
 pub const PIN_MIN: usize = 4;
 /// Most digits of a PIN.
 pub const PIN_MAX: usize = 8;
 
 const CRC_AT: usize = ACCESS_RECORD_LEN - 2;
+/// The PIN's digits' place (both versions).
+const PIN_AT: usize = 8;
+const SWITCH_AT: usize = PIN_AT + PIN_MAX;
 const _: () = assert!(ACCESS_MAGIC[0] == super::store::MAGIC[0] && UNCOMMITTED != ACCESS_MAGIC[0]);
 const _: () = assert!(super::lcd::LCD_SLOT_B as usize + super::lcd::LCD_RECORD_LEN <= ACCESS_SLOT_A as usize);
 const _: () = assert!(ACCESS_SLOT_A as usize + ACCESS_RECORD_LEN <= ACCESS_SLOT_B as usize);
@@ -127,10 +145,16 @@ pub struct Access {
     pub cap: SpeedPreset,
     /// The PIN of `access unlock` ([`Pin::NONE`]: the screen never locks).
     pub pin: Pin,
+    /// The assistive switch is used (`switch on`).
+    pub switch_on: bool,
+    /// The switch scan's sweep per axis, tenths of a second.
+    pub sweep_ds: u8,
 }
 
-/// No PIN, everything hideable hidden (once a PIN locks), no cap.
-pub const ACCESS_DEFAULT: Access = Access { hide: item::ALL, cap: SpeedPreset::Fast, pin: Pin::NONE };
+/// No PIN, everything hideable hidden (once a PIN locks), no cap; the
+/// switch off, with a 6 s sweep.
+pub const ACCESS_DEFAULT: Access =
+    Access { hide: item::ALL, cap: SpeedPreset::Fast, pin: Pin::NONE, switch_on: false, sweep_ds: SWEEP_DEFAULT_DS };
 
 impl Access {
     /// `s`, or the cap if `s` is faster.
@@ -151,36 +175,48 @@ pub fn encode(a: &Access, seq: u16) -> [u8; ACCESS_RECORD_LEN] {
     if let Some(dst) = buf.get_mut(..8) {
         copy(dst, &head);
     }
-    if let Some(dst) = buf.get_mut(8..CRC_AT) {
+    if let Some(dst) = buf.get_mut(PIN_AT..SWITCH_AT) {
         copy(dst, &a.pin.digits);
+    }
+    if let Some(dst) = buf.get_mut(SWITCH_AT..CRC_AT) {
+        copy(dst, &[u8::from(a.switch_on), a.sweep_ds]);
     }
     seal(&mut buf);
     buf
 }
 
-/// Parses and validates a record: magic, version, CRC, no unknown item, a
-/// known cap, a PIN of 0 or 4–8 digits followed by zeros. Returns the
-/// sequence number and the settings.
+/// Parses and validates a record of version 2 or 1: magic, version, CRC,
+/// no unknown item, a known cap, a PIN of 0 or 4–8 digits followed by
+/// zeros, and (version 2) known switch flags and a sweep in range. Returns
+/// the sequence number and the settings.
 pub fn decode(buf: &[u8; ACCESS_RECORD_LEN]) -> Result<(u16, Access), RecordError> {
     let [m0, m1, version, q0, q1, hide, cap, pin_len, ..] = *buf;
     if [m0, m1] != ACCESS_MAGIC {
         return Err(RecordError::NoMagic);
     }
-    if version != ACCESS_VERSION {
-        return Err(RecordError::Version(version));
-    }
-    let (body, crc) = buf.split_at(CRC_AT);
-    if crc16(body).to_le_bytes() != crc {
+    let crc_at = match version {
+        ACCESS_VERSION => CRC_AT,
+        1 => ACCESS_RECORD_LEN_V1 - 2,
+        v => return Err(RecordError::Version(v)),
+    };
+    let (body, rest) = buf.split_at(crc_at);
+    if rest.get(..2) != Some(&crc16(body).to_le_bytes()[..]) {
         return Err(RecordError::Crc);
     }
     let cap = SpeedPreset::from_id(cap).ok_or(RecordError::Invalid)?;
-    let stored = body.get(8..).unwrap_or(&[]);
+    let (switch_on, sweep_ds) = match body.get(SWITCH_AT..) {
+        Some(&[0, d]) if (SWEEP_MIN_DS..=SWEEP_MAX_DS).contains(&d) => (false, d),
+        Some(&[1, d]) if (SWEEP_MIN_DS..=SWEEP_MAX_DS).contains(&d) => (true, d),
+        Some(&[]) | None => (false, SWEEP_DEFAULT_DS),
+        _ => return Err(RecordError::Invalid),
+    };
+    let stored = body.get(PIN_AT..SWITCH_AT).unwrap_or(&[]);
     let (digits, rest) = stored.split_at(usize::from(pin_len).min(stored.len()));
     // Exactly what `encode` writes: the parsed PIN's digits, then zeros.
     let pin = if pin_len == 0 { Some(Pin::NONE) } else { Pin::parse(digits) };
     match pin {
         Some(pin) if pin.len == pin_len && hide & !item::ALL == 0 && rest.iter().all(|&b| b == 0) => {
-            Ok((u16::from_le_bytes([q0, q1]), Access { hide, cap, pin }))
+            Ok((u16::from_le_bytes([q0, q1]), Access { hide, cap, pin, switch_on, sweep_ds }))
         }
         _ => Err(RecordError::Invalid),
     }
@@ -209,4 +245,49 @@ pub fn save<S: Storage>(storage: &mut S, a: &Access) -> Result<u16, SaveError> {
     let (seq, order) = next_write(pick_copy(&x, &y).map(|(s, seq, _)| (s, seq)), [ACCESS_SLOT_A, ACCESS_SLOT_B]);
     write_both(storage, order, &encode(a, seq))?;
     Ok(seq)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SET: Access = Access {
+        hide: item::LINE | item::FAST,
+        cap: SpeedPreset::Normal,
+        pin: Pin { len: 4, digits: *b"2580\0\0\0\0" },
+        switch_on: true,
+        sweep_ds: 35,
+    };
+
+    #[test]
+    fn a_record_reads_back_as_written() {
+        assert_eq!(decode(&encode(&SET, 7)), Ok((7, SET)));
+        let off = Access { switch_on: false, sweep_ds: SWEEP_MAX_DS, ..SET };
+        assert_eq!(decode(&encode(&off, 8)), Ok((8, off)));
+    }
+
+    #[test]
+    fn a_version_1_record_reads_with_the_switch_off() {
+        // Version 1: the same first 16 bytes, its CRC at 16.
+        let mut v1 = encode(&SET, 3);
+        v1[2] = 1;
+        let crc = crc16(&v1[..16]).to_le_bytes();
+        v1[16] = crc[0];
+        v1[17] = crc[1];
+        v1[18] = 0xFF;
+        v1[19] = 0xFF;
+        let want = Access { switch_on: false, sweep_ds: SWEEP_DEFAULT_DS, ..SET };
+        assert_eq!(decode(&v1), Ok((3, want)));
+    }
+
+    #[test]
+    fn unknown_switch_bytes_are_refused() {
+        for (flags, sweep) in [(2u8, 60u8), (1, SWEEP_MIN_DS - 1), (0, SWEEP_MAX_DS + 1)] {
+            let mut b = encode(&SET, 1);
+            b[16] = flags;
+            b[17] = sweep;
+            seal(&mut b);
+            assert_eq!(decode(&b), Err(RecordError::Invalid), "{flags} {sweep}");
+        }
+    }
 }

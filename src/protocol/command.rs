@@ -39,6 +39,7 @@
 //! | `mode <tap\|hold>` | how a map touch moves the arm: on its commit after the hold (`tap`, the default), or only while it stays held (`hold`: a lift brings the arm to rest along its path) |
 //! | `access lock` / `access unlock <pin>` | the carer lock: lock the user's pages (a PIN must be set), or open carer mode; see [`AccessCmd`] |
 //! | `access pin <4-8 digits>\|off`, `access hide\|show <cal\|line\|lift\|fast\|touch>`, `access cap <slow\|normal\|fast>` | the carer's settings, stored at once (carer mode only) |
+//! | `switch on\|off`, `switch sweep <s>` | the assistive switch: used or not, and its scan's sweep per axis, 2.00..=20.00 s (kept to the tenth); stored at once (carer mode only) |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
@@ -50,7 +51,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
-use crate::config::access::{item_nth, Pin};
+use crate::config::access::{item_nth, Pin, SWEEP_MAX_DS, SWEEP_MIN_DS};
 use crate::config::lcd::{LcdChoice, LcdSet};
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 #[cfg(doc)]
@@ -158,6 +159,10 @@ pub enum AccessCmd {
     Hide(u8, bool),
     /// `access cap <preset>`: the fastest preset any move uses.
     Cap(SpeedPreset),
+    /// `switch on` (true) / `switch off`: the assistive switch is used.
+    Switch(bool),
+    /// `switch sweep <s>`: the scan's sweep per axis, tenths of a second.
+    Sweep(u8),
 }
 
 /// What `log` prints every frame.
@@ -208,6 +213,8 @@ pub enum Verb {
     Undo,
     /// `access`
     Access,
+    /// `switch`
+    Switch,
     /// `cal`
     Cal,
     /// `log`
@@ -220,7 +227,7 @@ pub enum Verb {
 
 impl Verb {
     /// Every command word, in the order `help` lists them.
-    pub const ALL: [Verb; 20] = [
+    pub const ALL: [Verb; 21] = [
         Verb::Move,
         Verb::Goto,
         Verb::Stop,
@@ -237,6 +244,7 @@ impl Verb {
         Verb::Park,
         Verb::Undo,
         Verb::Access,
+        Verb::Switch,
         Verb::Cal,
         Verb::Log,
         Verb::Help,
@@ -268,10 +276,11 @@ impl Verb {
             13 => Verb::Park,
             14 => Verb::Undo,
             15 => Verb::Access,
-            16 => Verb::Cal,
-            17 => Verb::Log,
-            18 => Verb::Help,
-            19 => Verb::Version,
+            16 => Verb::Switch,
+            17 => Verb::Cal,
+            18 => Verb::Log,
+            19 => Verb::Help,
+            20 => Verb::Version,
             _ => return None,
         })
     }
@@ -295,6 +304,7 @@ impl Verb {
             Verb::Park => t!("park"),
             Verb::Undo => t!("undo"),
             Verb::Access => t!("access"),
+            Verb::Switch => t!("switch"),
             Verb::Cal => t!("cal"),
             Verb::Log => t!("log"),
             Verb::Help => t!("help"),
@@ -678,6 +688,18 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         Verb::Park => Command::Park,
         Verb::Undo => Command::Undo,
         Verb::Access => Command::Access(parse_access(&mut t)?),
+        Verb::Switch => Command::Access(match t.arg()? {
+            w if is(w, t!("on")) => AccessCmd::Switch(true),
+            w if is(w, t!("off")) => AccessCmd::Switch(false),
+            w if is(w, t!("sweep")) => {
+                let centi = parse_centi(t.arg()?, i32::from(SWEEP_MIN_DS) * 10, i32::from(SWEEP_MAX_DS) * 10)?;
+                // Kept to the nearest tenth; the reply says what is kept.
+                // In u16: an i32 division would link compiler_builtins'
+                // 32-bit division (1.3 KB) over libgcc's.
+                AccessCmd::Sweep(((centi as u16 + 5) / 10) as u8)
+            }
+            _ => return Err(CmdError::BadArgument),
+        }),
         Verb::Help => Command::Help,
         Verb::Version => Command::Version,
     };

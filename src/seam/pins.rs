@@ -124,6 +124,10 @@ pub mod mega {
     /// nothing on the shield, unlike D12 (MISO, which a card drives); D13
     /// (PB7) carries the board's LED.
     pub const D11: Pin = Pin::new(Port::B, 5);
+    /// D22 = PA0: the assistive switch's input (pull-up; closed = low). The
+    /// first pin of the Mega's end header, which no UNO-form shield covers;
+    /// port A carries nothing else here.
+    pub const D22: Pin = Pin::new(Port::A, 0);
     /// D44 = PL5 (OC5C): the elbow servo.
     pub const D44: Pin = Pin::new(Port::L, 5);
     /// D45 = PL4 (OC5B): the shoulder servo.
@@ -149,6 +153,8 @@ pub mod mega {
     pub const SERVOS: [Pin; 3] = [D46, D45, D44];
     /// The gripper servo's signal pin: Timer1's OC1A.
     pub const GRIPPER: Pin = D11;
+    /// The assistive switch (issue #20 §4).
+    pub const SWITCH: Pin = D22;
 }
 
 /// Which shield pins carry the resistive panel's four electrodes. Shields

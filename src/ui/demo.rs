@@ -44,6 +44,7 @@ fn moving(progress: f32) -> UiModel {
         grip_closed: false,
         path_line: false,
         lift: false,
+        scan: None,
     }
 }
 

@@ -78,6 +78,16 @@ impl Area {
         )
     }
 
+    /// The middle pixel line along the long side of a 3-pixel line:
+    /// its middle column (`columns`) or its middle row.
+    pub const fn shrink_across(&self, columns: bool) -> Area {
+        if columns {
+            Area::new(self.x + 1, self.y, 1, self.h)
+        } else {
+            Area::new(self.x, self.y + 1, self.w, 1)
+        }
+    }
+
     /// Shrinks by `d` on every side (empty when too small).
     pub fn shrink(&self, d: u16) -> Area {
         Area::new(

@@ -394,6 +394,12 @@ impl Layout {
         (x_p, y_p)
     }
 
+    /// The glass's pixel under screen pixel `(x, y)` (the opposite one
+    /// when [`Layout::turned`]).
+    pub const fn glass_pixel(&self, x: i16, y: i16) -> (i16, i16) {
+        self.turn(x, y)
+    }
+
     /// Between the glass's pixel and the screen's (its own inverse): the
     /// same pixel unless [`Layout::turned`], else the opposite one.
     const fn turn(&self, x: i16, y: i16) -> (i16, i16) {

@@ -25,6 +25,7 @@ pub mod ili9325;
 pub mod ili9341;
 pub mod layout;
 pub mod model;
+pub mod scan;
 pub mod screen;
 pub mod slice;
 pub mod theme;

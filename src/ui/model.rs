@@ -3,6 +3,8 @@
 use crate::config::settings::SpeedPreset;
 use crate::geometry::workspace::Condition;
 
+use super::scan::ScanShow;
+
 /// Why a touched point was not accepted as a target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Refusal {
@@ -142,6 +144,9 @@ pub struct UiModel {
     pub path_line: bool,
     /// Joint moves pass a via pose (`lift <h>`): the Lift toggle shown on.
     pub lift: bool,
+    /// The switch scan's line, target phase or highlighted item
+    /// ([`crate::ui::scan`]); `None` while the switch is off or idle.
+    pub scan: Option<ScanShow>,
 }
 
 impl UiModel {
@@ -164,6 +169,7 @@ impl UiModel {
             grip_closed: false,
             path_line: false,
             lift: false,
+            scan: None,
         }
     }
 }

@@ -14,6 +14,7 @@ use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
 use super::flash::TextSource;
 use super::layout::{Layout, SLOTS};
 use super::model::{warn, Page, Refusal, UiModel, UiState};
+use super::scan::{ScanShow, STOP_ITEM};
 use super::slice::{DrawBudget, Slicer, Unlimited};
 use super::theme;
 use super::ws_view::{self, Mark, MarkKind, Reach};
@@ -56,6 +57,8 @@ impl Redrawn {
     pub const ROW2: u16 = 1 << 12;
     /// The Setup page's toggles Line and Lift (only the one that changed).
     pub const TOGGLES: u16 = 1 << 13;
+    /// The switch scan's highlight round a button or STOP's place.
+    pub const SCAN: u16 = 1 << 14;
     /// A full redraw of the main page (the map repaint covers the markers).
     pub const ALL_MAIN: u16 = ((1 << 11) - 1 - Self::MARKERS) | Self::ROW2;
     /// A full redraw of the More page: the status lines, the poses and the
@@ -205,6 +208,30 @@ struct View {
     hide: u8,
     /// [`UiModel::confirm`].
     confirm: u8,
+    /// The switch scan's line: `x + 1` for a column, `−(y + 1)` for a row,
+    /// 0 for none (two bytes, not an `Option<Mark>`: two views live in RAM).
+    line: i16,
+    /// The item the switch scan highlights, plus one (0: none).
+    item: u8,
+}
+
+/// The scan's line as a mark ([`View::line`]).
+fn line_mark(line: i16) -> Option<Mark> {
+    match line {
+        0 => None,
+        x if x > 0 => Some(Mark { x: x - 1, y: 0, kind: MarkKind::ScanColumn }),
+        y => Some(Mark { x: 0, y: -y - 1, kind: MarkKind::ScanRow }),
+    }
+}
+
+/// The highlighted item if it is a button of the row (1..=5), else 0: the
+/// row is repainted when it changes.
+const fn slot_highlight(item: u8) -> u8 {
+    if item >= 1 && item <= STOP_ITEM {
+        item
+    } else {
+        0
+    }
 }
 
 const GRIP_CLOSED: u8 = 1 << 0;
@@ -275,6 +302,17 @@ impl View {
                 Refusal::Hand => (Headline::Hand, Detail::Hint(t!("Touch with one finger"))),
             },
         };
+        // The scan says what a press does now, where the hint is a hint.
+        let detail = match (m.scan, detail) {
+            (Some(sc), Detail::Hint(_)) => Detail::Hint(match sc {
+                ScanShow::Column(_) => t!("Press: this column"),
+                ScanShow::Row(_) => t!("Press: this row"),
+                ScanShow::Target { go: true, .. } => t!("Press now to go"),
+                ScanShow::Target { go: false, .. } => t!("Press now to cancel"),
+                ScanShow::Item(_) => t!("Press: this button"),
+            }),
+            (_, d) => d,
+        };
         let refused = matches!(m.state, UiState::Refused(_));
         let mark = |p: Option<(f32, f32)>, kind: MarkKind| {
             p.and_then(|(x, y)| lay.ws_point_to_pixel(x, y)).map(|(x, y)| Mark { x, y, kind })
@@ -299,14 +337,24 @@ impl View {
                 | if m.lift { LIFT } else { 0 },
             hide: m.hide,
             confirm: m.confirm,
+            line: match m.scan {
+                Some(ScanShow::Column(x)) => x + 1,
+                Some(ScanShow::Row(y)) => -(y + 1),
+                _ => 0,
+            },
+            item: match m.scan {
+                Some(ScanShow::Item(i)) => i + 1,
+                _ => 0,
+            },
         }
     }
 
-    /// Markers in drawing order (the touch on top).
-    fn marks(&self) -> ([Mark; 3], usize) {
-        let mut out = [Mark { x: 0, y: 0, kind: MarkKind::Touch }; 3];
+    /// Markers in drawing order (the scan's line under the others, the
+    /// touch on top).
+    fn marks(&self) -> ([Mark; 4], usize) {
+        let mut out = [Mark { x: 0, y: 0, kind: MarkKind::Touch }; 4];
         let mut n = 0;
-        for m in [self.target, self.touch, self.candidate].into_iter().flatten() {
+        for m in [line_mark(self.line), self.target, self.touch, self.candidate].into_iter().flatten() {
             if let Some(slot) = out.get_mut(n) {
                 *slot = m;
                 n += 1;
@@ -376,9 +424,12 @@ const S_SPEED: u8 = BANDS + 8;
 const S_KEY: u8 = BANDS + 9;
 const S_ROW2: u8 = BANDS + 10;
 const S_TOGGLES: u8 = BANDS + 11;
-/// Up to six marker boxes (old and new touch, target and candidate).
-const S_MARKERS: u8 = BANDS + 12;
-const S_END: u8 = S_MARKERS + 6;
+/// The switch scan's frame round the highlighted item.
+const S_SCAN: u8 = BANDS + 12;
+/// Up to eight marker boxes (old and new scan line, target, touch and
+/// candidate).
+const S_MARKERS: u8 = BANDS + 13;
+const S_END: u8 = S_MARKERS + 8;
 /// The steps a page change redraws: the row of buttons.
 const PAGE_STEPS: u64 = (1 << S_SPEED) | (1 << S_KEY) | (1 << S_ROW2) | (1 << S_TOGGLES);
 const _: () = assert!(S_END <= 64);
@@ -556,16 +607,20 @@ impl Ui {
     fn steps_to(&self, target: &Shown) -> u64 {
         let (old, v) = match (&self.shown, target) {
             (Shown::Main(o), Shown::Main(v)) => (o, v),
-            (_, Shown::Main(_)) => return (1 << (S_TOGGLES + 1)) - 1,
+            (_, Shown::Main(_)) => return (1 << (S_SCAN + 1)) - 1,
             _ => return 1,
         };
         let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
-        let markers = if old.touch != v.touch || old.target != v.target { ((1 << 4) - 1) << S_MARKERS } else { 0 };
+        let moved = old.touch != v.touch || old.target != v.target || old.candidate != v.candidate;
+        let markers = if moved || old.line != v.line { ((1 << 8) - 1) << S_MARKERS } else { 0 };
         // A new page: its row of buttons (STOP, the headline, the status
-        // lines and the map as usual).
-        let page = if old.page != v.page || old.hide != v.hide { PAGE_STEPS } else { 0 };
+        // lines and the map as usual); so is a new scan highlight on it.
+        let page = if !same_row(old, v) { PAGE_STEPS } else { 0 };
+        let on_stop = |i: u8| i == STOP_ITEM + 1;
+        let stop_hl = on_stop(old.item) != on_stop(v.item);
         let more = old.more ^ v.more;
-        page | bit(old.stop_shown != v.stop_shown || old.resume_ring != v.resume_ring, S_STOP)
+        let steps = page
+            | bit(old.stop_shown != v.stop_shown || old.resume_ring != v.resume_ring || stop_hl, S_STOP)
             | bit(old.headline != v.headline, S_HEADLINE)
             | bit(old.detail != v.detail, S_DETAIL)
             | bit(old.zone != v.zone, S_INFO)
@@ -575,7 +630,10 @@ impl Ui {
             | bit(more & GRIP_CLOSED != 0 && v.page == Page::Setup, S_ROW2)
             | bit(old.confirm != v.confirm && v.page == Page::More, S_ROW2)
             | bit(more & (PATH_LINE | LIFT) != 0 && v.page == Page::Setup, S_TOGGLES)
-            | markers
+            | markers;
+        // The highlight goes on after whatever repaints under it.
+        let under = PAGE_STEPS | (1 << S_STOP);
+        steps | bit(v.item != 0 && (old.item != v.item || steps & under != 0), S_SCAN)
     }
 
     /// Step `k` of the redraw from `self.shown` to `target` (nothing if the
@@ -606,7 +664,7 @@ impl Ui {
         let ws = lay.ws();
         // The row of buttons is new with a new page or a lock change.
         let page_step = (PAGE_STEPS >> k) & 1 != 0;
-        let old = old.filter(|o| (o.page == v.page && o.hide == v.hide) || !page_step);
+        let old = old.filter(|o| same_row(o, v) || !page_step);
         let main = v.page == Page::Main;
         let setup = v.page == Page::Setup;
         match k {
@@ -627,8 +685,15 @@ impl Ui {
                 draw_gaps(d, lay)?;
                 return Ok(Redrawn::GAPS);
             }
-            S_STOP if old.is_none_or(|o| o.stop_shown != v.stop_shown || o.resume_ring != v.resume_ring) => {
-                let ring = old.filter(|o| o.stop_shown == v.stop_shown).map(|o| o.resume_ring);
+            S_STOP
+                if old.is_none_or(|o| {
+                    o.stop_shown != v.stop_shown
+                        || o.resume_ring != v.resume_ring
+                        || (o.item == STOP_HL) != (v.item == STOP_HL)
+                }) =>
+            {
+                // A highlight that leaves repaints the whole button.
+                let ring = old.filter(|o| o.stop_shown == v.stop_shown && o.item != STOP_HL).map(|o| o.resume_ring);
                 draw_stop(d, lay, v.stop_shown, v.resume_ring, ring)?;
                 return Ok(Redrawn::STOP);
             }
@@ -696,6 +761,12 @@ impl Ui {
                 }
                 return Ok(if line || lift { Redrawn::TOGGLES } else { 0 });
             }
+            S_SCAN if v.item != 0 => {
+                let i = v.item - 1;
+                let a = if i == STOP_ITEM { lay.stop() } else { lay.slot(i) };
+                frame(d, a, lay.sm(4), theme::SCAN)?;
+                return Ok(Redrawn::SCAN);
+            }
             _ if k >= S_MARKERS => {
                 if let Some(o) = old {
                     return self.marker_step(o, v, usize::from(k - S_MARKERS), d);
@@ -724,9 +795,10 @@ impl Ui {
     #[inline(never)] // avr-trap: frame-size
     fn marker_box(&self, old: &View, v: &View, i: usize) -> Option<Area> {
         let lay = &self.layout;
-        let mut dirty = [Area::new(0, 0, 0, 0); 6];
+        let mut dirty = [Area::new(0, 0, 0, 0); 8];
         let mut n = 0;
-        for (a, b) in [(old.touch, v.touch), (old.target, v.target), (old.candidate, v.candidate)] {
+        let lines = (line_mark(old.line), line_mark(v.line));
+        for (a, b) in [lines, (old.touch, v.touch), (old.target, v.target), (old.candidate, v.candidate)] {
             if a != b {
                 for m in [a, b].into_iter().flatten() {
                     if let Some(slot) = dirty.get_mut(n) {
@@ -786,6 +858,17 @@ impl Ui {
         Some(page_button(view.page, i)).filter(|h| !hides(view.hide, h))
     }
 
+    /// The switch scan's line as the glass shows it (the picture last
+    /// finished), if it shows one.
+    pub fn scan_shown(&self) -> Option<ScanShow> {
+        let Shown::Main(v) = self.shown else { return None };
+        match v.line {
+            0 => None,
+            x if x > 0 => Some(ScanShow::Column(x - 1)),
+            y => Some(ScanShow::Row(-y - 1)),
+        }
+    }
+
     /// [`Ui::hit`] for a panel point (what the calibrated touch pipeline
     /// gives).
     pub fn hit_panel(&self, x_p: f32, y_p: f32) -> Option<Hit> {
@@ -839,6 +922,14 @@ pub fn hides(hide: u8, hit: &Hit) -> bool {
         _ => 0,
     };
     hide & needs != 0
+}
+
+/// The highlight on STOP's place in [`View::item`].
+const STOP_HL: u8 = STOP_ITEM + 1;
+
+/// The row of buttons shows the same: page, lock and scan highlight.
+fn same_row(a: &View, b: &View) -> bool {
+    a.page == b.page && a.hide == b.hide && slot_highlight(a.item) == slot_highlight(b.item)
 }
 
 /// The guard bands and gaps (out of line: the six areas are not in the

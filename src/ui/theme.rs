@@ -49,5 +49,8 @@ pub const BASE: Rgb565 = Rgb565::new(8, 16, 8);
 pub const TOUCH_MARK: Rgb565 = Rgb565::new(0, 0, 0);
 /// The target's ring.
 pub const TARGET_MARK: Rgb565 = Rgb565::new(4, 0, 22);
+/// The switch scan's line and highlight: orange, unlike every zone and
+/// button colour.
+pub const SCAN: Rgb565 = Rgb565::new(31, 26, 0);
 /// The calibration crosshair.
 pub const CROSSHAIR: Rgb565 = Rgb565::new(28, 0, 0);

@@ -75,6 +75,12 @@ pub enum MarkKind {
         /// Sides filled, 0..=4.
         ring: u8,
     },
+    /// The switch scan's column line (issue #20 §4), across the map at
+    /// `x`: one pixel of ink between two of white, so it shows on every
+    /// zone colour.
+    ScanColumn,
+    /// The switch scan's row line at `y`, as the column's.
+    ScanRow,
 }
 
 /// A marker at a map pixel.
@@ -91,7 +97,12 @@ pub struct Mark {
 impl Mark {
     /// The box the marker paints (to repaint when it moves).
     pub fn area(&self, lay: &Layout) -> Area {
-        Area::around(self.x, self.y, marker_r(lay))
+        let ws = lay.ws();
+        match self.kind {
+            MarkKind::ScanColumn => Area::new(self.x - 1, ws.y, 3, ws.h),
+            MarkKind::ScanRow => Area::new(ws.x, self.y - 1, ws.w, 3),
+            _ => Area::around(self.x, self.y, marker_r(lay)),
+        }
     }
 }
 
@@ -332,6 +343,11 @@ fn draw_mark<D: Canvas>(d: &mut D, lay: &Layout, m: &Mark) -> Result<(), D::Erro
             frame(d, outer.shrink(4), 1, theme::WHITE)
         }
         MarkKind::Candidate { ok, ring } => draw_candidate(d, lay, m, ok, ring),
+        MarkKind::ScanColumn | MarkKind::ScanRow => {
+            let a = m.area(lay);
+            fill(d, a, theme::WHITE)?;
+            fill(d, a.shrink_across(m.kind == MarkKind::ScanColumn), theme::SCAN)
+        }
     }
 }
 

@@ -3,8 +3,8 @@
 //! real time, a server on a free loopback port. A press on the map ends at
 //! the host's IK target, `stop` freezes the pulses, the faults do what the
 //! page promises, a checked move's late answer reaches `/api/serial`, the
-//! console log reads without gaps, and bad requests get a 4xx with one line
-//! of reason.
+//! console log reads without gaps, the assistive switch's endpoint drives
+//! PA0, and bad requests get a 4xx with one line of reason.
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -404,6 +404,77 @@ fn the_layout_lists_every_hit_region_and_a_press_by_name_does_it() {
     ok(a, "/api/touch", json!({ "x_px": x, "y_px": y, "ms": 300 }));
     wait_console(a, "info screen page more");
     bench.stop();
+}
+
+/// `POST /api/switch`: `{"down": true}` closes the assistive switch (PA0
+/// driven low), `{"down": false}` opens it, each answered at once with the
+/// bench time; `/api/bench` says which. After `switch on` a press held
+/// 0.3 s (over the firmware's 0.10 s hold) in the column sweep fixes a
+/// column; a press while the arm moves is STOP. A malformed body is a 400
+/// with one line of reason and changes nothing.
+#[test]
+fn the_switch_endpoint_closes_and_opens_the_switch_and_the_firmware_scans() {
+    let bench = start();
+    let a = bench.addr();
+    holding(a);
+    for (body, why) in [
+        ("{}", "missing field down"),
+        ("{\"down\": 1}", "down must be true or false, got 1"),
+        ("{\"down\": true, \"ms\": 200}", "unknown field \"ms\""),
+        ("down", "body is not JSON"),
+    ] {
+        let (status, text) = request(a, "POST", "/api/switch", body, &[]);
+        assert_eq!(status, 400, "{body}: {text}");
+        let e = serde_json::from_str::<Value>(&text).unwrap()["error"].as_str().unwrap().to_string();
+        assert!(e.contains(why) && !e.contains('\n'), "{body}: {e:?} lacks {why:?}");
+    }
+    assert_eq!(request(a, "GET", "/api/switch", "", &[]).0, 405);
+    assert_eq!(get(a, "/api/bench")["switch"], false, "the bad bodies closed nothing");
+
+    let on = serial(a, "switch on");
+    assert!(on.len() == 1 && on[0].starts_with("ok switch on sweep 6.00"), "{on:?}");
+    let since = get(a, "/api/console?since=0")["next"].as_u64().unwrap();
+    let down = ok(a, "/api/switch", json!({ "down": true }));
+    assert_eq!(down["down"], true, "{down}");
+    assert!(down["t_s"].as_f64().is_some(), "{down}");
+    assert_eq!(get(a, "/api/bench")["switch"], true);
+    std::thread::sleep(Duration::from_millis(300));
+    let up = ok(a, "/api/switch", json!({ "down": false }));
+    assert_eq!(up["down"], false, "{up}");
+    assert!(up["t_s"].as_f64().unwrap() > down["t_s"].as_f64().unwrap());
+    assert_eq!(get(a, "/api/bench")["switch"], false);
+    let column = wait_console_prefix(a, since, "info switch column ");
+    let x: i64 = column["info switch column ".len()..].parse().unwrap_or_else(|_| panic!("{column:?}"));
+    assert!((0..224).contains(&x), "{column}");
+
+    // While the arm moves, a press is STOP.
+    let replies = serial(a, "goto 20 150 -30");
+    assert!(replies.last().is_some_and(|l| l.starts_with("ok goto")), "{replies:?}");
+    wait_state(a, "the arm moves", 2.0, |s| s["state"] == "moving");
+    std::thread::sleep(Duration::from_millis(500));
+    let since = get(a, "/api/console?since=0")["next"].as_u64().unwrap();
+    ok(a, "/api/switch", json!({ "down": true }));
+    std::thread::sleep(Duration::from_millis(300));
+    ok(a, "/api/switch", json!({ "down": false }));
+    wait_console_prefix(a, since, "info switch stop");
+    wait_state(a, "the firmware reports stopped", 2.0, |s| s["state"] == "stopped");
+    bench.stop();
+}
+
+/// Waits (up to 10 s of wall time) for a firmware line from number `since`
+/// on that starts with `prefix`; returns it.
+fn wait_console_prefix(a: SocketAddr, since: u64, prefix: &str) -> String {
+    let t0 = std::time::Instant::now();
+    loop {
+        let lines = get(a, &format!("/api/console?since={since}"));
+        if let Some(l) =
+            lines["lines"].as_array().unwrap().iter().filter_map(Value::as_str).find(|l| l.starts_with(prefix))
+        {
+            return l.to_string();
+        }
+        assert!(t0.elapsed() < Duration::from_secs(10), "no {prefix:?} in {lines}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
 
 /// Waits (up to 10 s of wall time) for a firmware line `want`.

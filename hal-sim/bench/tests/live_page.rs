@@ -3,8 +3,10 @@
 //! scripts/setup.sh), against a bench started here on a free loopback port.
 //! A click on the map in the screen image moves the drawn arm to the host's
 //! IK angles, a click on STOP in the screen image freezes the pulses, and
-//! `status` typed in the console shows the firmware's reply. Screenshots go
-//! to out/live-page*.png.
+//! `status` typed in the console shows the firmware's reply, and the Switch
+//! button held by the mouse, by Space and by a pointer that slides off
+//! closes and opens the assistive switch (the firmware's scan fixes a column
+//! and a row). Screenshots go to out/live-page*.png.
 
 use std::path::PathBuf;
 use std::process::{Command, Stdio};

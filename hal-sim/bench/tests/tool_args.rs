@@ -33,11 +33,20 @@ fn touch_arm_sim_rejects_bad_arguments_in_one_line() {
     fails(bin, &["--wiring"], "a value is required");
     fails(bin, &["--grip", "squeeze"], "invalid value 'squeeze'");
     fails(bin, &["--grip"], "a value is required");
+    fails(bin, &["--switch", ""], "each time must be a whole number of milliseconds");
+    fails(bin, &["--switch", "500,1.5"], "each time must be a whole number of milliseconds");
+    fails(bin, &["--switch", "500,,900"], "got \"\"");
+    fails(bin, &["--switch", "900,500"], "the times must increase, each at least 200 ms after the one before");
+    fails(bin, &["--switch", "500,600"], "600 after 500");
+    fails(bin, &["--switch", "70000"], "at most 60000 ms");
+    fails(bin, &["--switch", "-5"], "whole number");
+    fails(bin, &["--switch"], "a value is required");
+    fails(bin, &["--switch", "500", "--xy", "0.1,0.2"], "cannot be used with");
     let help = Command::new(bin).arg("--help").output().unwrap();
     assert!(help.status.success());
     let text = String::from_utf8_lossy(&help.stdout);
     assert!(text.contains("--xy <X,Y>") && text.contains("--raw <X,Y>") && text.contains("--out <DIR>"), "{text}");
     assert!(text.contains("--then <X2,Y2@MS>") && text.contains("--law <LAW>"), "{text}");
     assert!(text.contains("--lcd <CONTROLLER>") && text.contains("--wiring <WIRING>"), "{text}");
-    assert!(text.contains("--grip <open|close>"), "{text}");
+    assert!(text.contains("--grip <open|close>") && text.contains("--switch <T1,T2,...>"), "{text}");
 }

@@ -214,6 +214,10 @@ pub const SERVO_PINS: [crate::avr::Pin; 3] =
 /// The gripper servo's pin: OC1A = PB5 = D11 (Timer1, started with Timer5).
 pub const GRIPPER_PIN: crate::avr::Pin = crate::avr::Pin::of(mega::GRIPPER);
 
+/// The assistive switch's pin (issue #20 §4): D22 = PA0, an input under the
+/// firmware's pull-up; the switch, normally open, closes it to ground.
+pub const SWITCH_PIN: crate::avr::Pin = crate::avr::Pin::of(mega::SWITCH);
+
 /// The firmware running in simavr with a touch panel on its ADC and its servo
 /// pins watched: what the end-to-end tests and the main job drive.
 pub struct Session {
@@ -361,6 +365,16 @@ impl Session {
     /// Lifts the finger from the panel.
     pub fn release(&mut self) {
         self.panel.borrow_mut().panel.release();
+    }
+
+    /// Closes (`down`) or opens the assistive switch on [`SWITCH_PIN`]: the
+    /// pin driven low, or high (the level the firmware's pull-up gives an
+    /// open switch). simavr re-applies an input's pull-up whenever the
+    /// firmware writes its port's PORT or DDR register, so a caller that
+    /// holds the switch across such writes (a reset re-initialises the
+    /// port) drives it again afterwards.
+    pub fn set_switch(&mut self, down: bool) -> Result<(), String> {
+        self.avr.drive_pin(SWITCH_PIN, !down).map_err(|e| format!("driving the switch pin: {e:?}"))
     }
 
     /// The ADC conversions so far (the touch reads and the wiring probe's).

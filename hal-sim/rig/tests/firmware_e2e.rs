@@ -350,7 +350,7 @@ fn version_help_case_timeout_and_plot_on_the_chip() {
     assert_eq!(s.command("version").unwrap(), format!("ok version {version} {commit}"));
     assert_eq!(
         s.command("help").unwrap(),
-        "ok help move goto stop resume status law speed path lift mode circle grip pose park undo access cal log help version !"
+        "ok help move goto stop resume status law speed path lift mode circle grip pose park undo access switch cal log help version !"
     );
     assert_eq!(s.command("SPEED Slow").unwrap(), "ok speed slow");
     assert!(s.command("STATUS").unwrap().starts_with("ok status holding law zat speed slow "));

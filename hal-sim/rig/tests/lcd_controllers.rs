@@ -145,6 +145,7 @@ fn each_controller_is_identified_drawn_and_a_touch_moves_the_arm() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            scan: None,
             hide: 0,
             confirm: 0,
         };
@@ -176,6 +177,7 @@ fn an_unknown_controller_is_reported_and_the_arm_still_works() {
         grip_closed: false,
         path_line: false,
         lift: false,
+        scan: None,
         hide: 0,
         confirm: 0,
     };
@@ -247,6 +249,7 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            scan: None,
             hide: 0,
             confirm: 0,
         };
@@ -307,6 +310,7 @@ fn the_more_page_drives_the_gripper_and_the_saved_poses_on_both_sizes() {
             grip_closed: false,
             path_line: false,
             lift: false,
+            scan: None,
             hide: 0,
             confirm: 0,
             joints: [90.0f32, 90.0, -90.0].map(f32::to_radians),
@@ -333,6 +337,7 @@ fn idle_model() -> UiModel {
         grip_closed: false,
         path_line: false,
         lift: false,
+        scan: None,
         hide: 0,
         confirm: 0,
     }

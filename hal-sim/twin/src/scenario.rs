@@ -157,6 +157,11 @@ enum Expect {
     NoRefusal,
     ScreenWarning(String),
     ScreenState(String),
+    /// The switch scan as the screen shows it (`Debug` of the model's
+    /// `scan`: `None`, `Some(Column(112))`, ...).
+    Scan(String),
+    /// The scan's `Debug` contains the text.
+    ScanContains(String),
     ScreenSpeed(String),
     Preview(bool),
     GripDeg(f64, f64),
@@ -190,6 +195,8 @@ enum Step {
     /// A tap: the press, [`TAP_FRAMES`] held, the release, [`LIFT_FRAMES`].
     Tap(Box<Step>),
     Release,
+    /// The assistive switch closed (`true`) or opened.
+    Switch(bool),
     Run(u64),
     RunUntil(State, u64),
     Send(Vec<u8>),
@@ -462,6 +469,8 @@ fn parse_expect(a: &mut Args) -> Result<Expect, String> {
         "no_refusal" => Expect::NoRefusal,
         "screen_warning" => Expect::ScreenWarning(a.text()?),
         "screen_state" => Expect::ScreenState(a.text()?),
+        "scan" => Expect::Scan(a.text()?),
+        "scan_contains" => Expect::ScanContains(a.text()?),
         "screen_speed" => Expect::ScreenSpeed(a.word()?),
         "preview" => Expect::Preview(match a.word()?.as_str() {
             "shown" => true,
@@ -590,6 +599,11 @@ fn parse_step(a: &mut Args) -> Result<Step, String> {
             Step::Finger(Box::new(crate::finger::FingerScript::new(first, second)?))
         }
         "release" => Step::Release,
+        "switch" => Step::Switch(match a.word()?.as_str() {
+            "down" => true,
+            "up" => false,
+            w => return Err(format!("switch needs down or up, got {w:?}")),
+        }),
         "run" => Step::Run(a.duration()?),
         "run_until" => {
             let s = parse_state(&a.word()?)?;
@@ -747,6 +761,7 @@ impl Runner {
                 sim.run_frames(LIFT_FRAMES);
             }
             Step::Release => sim.panel.release(),
+            Step::Switch(down) => sim.switch = *down,
             Step::Run(frames) => sim.run_frames(*frames),
             Step::RunUntil(state, max) => {
                 // At least one frame, so a line just sent is read first.
@@ -1015,6 +1030,18 @@ impl Runner {
                 let shown = format!("{:?}", sim.app.ui_model().state);
                 if shown != *text {
                     return Err(format!("screen state {shown}, want {text}"));
+                }
+            }
+            Expect::Scan(text) => {
+                let shown = format!("{:?}", sim.app.ui_model().scan);
+                if shown != *text {
+                    return Err(format!("scan {shown}, want {text}"));
+                }
+            }
+            Expect::ScanContains(text) => {
+                let shown = format!("{:?}", sim.app.ui_model().scan);
+                if !shown.contains(text.as_str()) {
+                    return Err(format!("scan {shown}, want it to contain {text}"));
                 }
             }
             Expect::Preview(want) => {

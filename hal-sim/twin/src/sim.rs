@@ -82,6 +82,9 @@ pub struct Sim {
     /// The screen, redrawn after every frame when the app runs one
     /// (`AppParams::screen`), as the firmware does.
     pub display: Option<Framebuffer>,
+    /// The assistive switch: closed (`true`) or open, sampled by every
+    /// frame as the firmware samples D22.
+    pub switch: bool,
     frames: u64,
     boot_frames: u64,
 }
@@ -100,6 +103,7 @@ impl Sim {
             serial: SimSerial::default(),
             history: Vec::new(),
             display: setup.params.screen.then(Framebuffer::landscape),
+            switch: false,
             frames: 0,
             boot_frames: 0,
         })
@@ -123,6 +127,7 @@ impl Sim {
             storage: &mut self.eeprom,
             serial: &mut self.serial,
         };
+        self.app.set_switch(self.switch);
         self.app.frame(&mut io);
         if let Some(fb) = &mut self.display {
             let _ = self.app.draw_screen(fb);

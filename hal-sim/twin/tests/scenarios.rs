@@ -76,6 +76,7 @@ scenarios!(
     touch_noisy,
     touch_cancel,
     stop_slide,
+    switch_scan,
     stop_bounce,
     hold_boundaries,
     palm,

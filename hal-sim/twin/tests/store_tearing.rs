@@ -122,12 +122,17 @@ fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings(
     let locked = Access { pin, ..ACCESS_DEFAULT };
     // One digit apart: a record differing in one byte (and its CRC).
     let other_pin = Access { pin: Pin::parse(b"2469").unwrap(), ..locked };
-    let custom =
-        Access { hide: item::LINE | item::TOUCH, cap: SpeedPreset::Slow, pin: Pin::parse(b"13579864").unwrap() };
+    let custom = Access {
+        hide: item::LINE | item::TOUCH,
+        cap: SpeedPreset::Slow,
+        pin: Pin::parse(b"13579864").unwrap(),
+        switch_on: true,
+        sweep_ds: 45,
+    };
     let sets = [ACCESS_DEFAULT, locked, other_pin, custom];
     let cases = torn_two_copy_saves!(access, LEN, SLOT_A, SLOT_B, sets, (9, 0x01), "access slots");
     eprintln!("{cases} torn access saves");
-    // 9 priors × 4 records × (18 or 19 bytes a slot, twice, + the uncut
+    // 9 priors × 4 records × (20 or 21 bytes a slot, twice, + the uncut
     // save) × 6 torn values.
     assert!(cases > 8_000);
 }
@@ -137,9 +142,15 @@ fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings(
 #[test]
 fn the_access_record_round_trips_and_refuses_what_it_should() {
     use touch_arm::config::access::{self, item, Access, Pin, ACCESS_DEFAULT, ACCESS_RECORD_LEN as LEN};
-    let a = Access { hide: item::CAL | item::FAST, cap: SpeedPreset::Normal, pin: Pin::parse(b"07734").unwrap() };
+    let a = Access {
+        hide: item::CAL | item::FAST,
+        cap: SpeedPreset::Normal,
+        pin: Pin::parse(b"07734").unwrap(),
+        switch_on: false,
+        sweep_ds: 200,
+    };
     let r = access::encode(&a, 0x1234);
-    assert_eq!(&r[..16], &[b'T', b'C', 1, 0x34, 0x12, 0b1001, 1, 5, b'0', b'7', b'7', b'3', b'4', 0, 0, 0]);
+    assert_eq!(&r[..18], &[b'T', b'C', 2, 0x34, 0x12, 0b1001, 1, 5, b'0', b'7', b'7', b'3', b'4', 0, 0, 0, 0, 200]);
     assert_eq!(access::decode(&r), Ok((0x1234, a)));
     assert_eq!(access::decode(&access::encode(&ACCESS_DEFAULT, 7)), Ok((7, ACCESS_DEFAULT)));
     // PINs: 4 to 8 digits, nothing else.
@@ -150,15 +161,29 @@ fn the_access_record_round_trips_and_refuses_what_it_should() {
         assert_eq!(Pin::parse(bad), None, "{bad:?}");
     }
     let mut bad = r;
-    bad[2] = 2;
-    assert_eq!(access::decode(&bad), Err(RecordError::Version(2)));
+    bad[2] = 3;
+    assert_eq!(access::decode(&bad), Err(RecordError::Version(3)));
     let mut bad = r;
     bad[LEN - 1] ^= 1;
     assert_eq!(access::decode(&bad), Err(RecordError::Crc));
     // A valid CRC over an unknown item, an unknown cap, a PIN length of 1,
-    // 3 or 9, a non-digit in the PIN, a byte after it, or a length that
-    // does not match its digits.
-    for (at, v) in [(5, 0b10_0000), (6, 3), (7, 1), (7, 3), (7, 9), (9, b'x'), (13, b'1'), (7, 4), (7, 0)] {
+    // 3 or 9, a non-digit in the PIN, a byte after it, a length that does
+    // not match its digits, an unknown switch flag, a sweep under 2 s or
+    // over 20 s.
+    for (at, v) in [
+        (5, 0b10_0000),
+        (6, 3),
+        (7, 1),
+        (7, 3),
+        (7, 9),
+        (9, b'x'),
+        (13, b'1'),
+        (7, 4),
+        (7, 0),
+        (16, 2),
+        (17, 19),
+        (17, 201),
+    ] {
         let mut odd = r;
         odd[at] = v;
         let crc = touch_arm::config::crc::crc16(&odd[..LEN - 2]).to_le_bytes();

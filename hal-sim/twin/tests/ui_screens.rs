@@ -24,10 +24,11 @@ use touch_arm::ui::calibration::{
 use touch_arm::ui::draw::{text, Area, TextStyle};
 use touch_arm::ui::font::{glyph_row, CELL_H, CELL_W, DEGREE};
 use touch_arm::ui::layout::{Layout, GUARD, SLOTS};
+use touch_arm::ui::scan::ScanShow;
 use touch_arm::ui::ws_view::{base_area, marker_r};
 use touch_arm::ui::{
-    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Page, Redrawn, Refusal, Ui, UiConfig,
-    UiModel, UiState,
+    theme, warn, CalFailure, CalPhase, CalibrationEvent, CalibrationFlow, Hit, Page, Preview, Redrawn, Refusal, Ui,
+    UiConfig, UiModel, UiState,
 };
 
 fn snapshot(fb: &Framebuffer, name: &str) {
@@ -94,6 +95,7 @@ fn moving_model() -> UiModel {
         grip_closed: false,
         path_line: false,
         lift: false,
+        scan: None,
         hide: 0,
         confirm: 0,
     }
@@ -945,8 +947,31 @@ fn random_redraws(lay: Layout, steps: usize) {
         Ui::with_layout(&CONFIG, lay).draw_full(m, &mut fb).unwrap();
         fb
     };
+    let ws = lay.ws();
     for step in 0..steps {
-        match rng.below(8) {
+        match rng.below(10) {
+            // The switch scan (issue #20 §4): a column or row line anywhere
+            // on the map, a target, a lit button or STOP's place, or none.
+            8 => {
+                let x = ws.x + rng.below(u64::from(ws.w)) as i16;
+                let y = ws.y + rng.below(u64::from(ws.h)) as i16;
+                m.scan = match rng.below(5) {
+                    0 => None,
+                    1 => Some(ScanShow::Column(x)),
+                    2 => Some(ScanShow::Row(y)),
+                    3 => Some(ScanShow::Target { x, y, go: rng.below(2) == 0 }),
+                    _ => Some(ScanShow::Item(rng.below(6) as u8)),
+                };
+            }
+            // The candidate under a finger, its ring filling.
+            9 => {
+                m.preview = point(&mut rng).map(|(x_p, y_p)| Preview {
+                    x_p,
+                    y_p,
+                    ok: rng.below(2) == 0,
+                    ring: rng.below(5) as u8,
+                });
+            }
             0 => m.touch = point(&mut rng),
             1 => m.target = point(&mut rng),
             2 => {

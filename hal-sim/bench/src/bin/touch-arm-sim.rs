@@ -63,6 +63,19 @@
 //! `move`. Without any move it writes `screen.png` and a `summary.json` of
 //! `touches` (and `wiring`) only.
 //!
+//! `--switch T1,T2,…` replaces the press with the assistive switch (issue
+//! #20 §4, D22 = PA0, pressed = driven low): once the arm has homed the job
+//! sends `switch on` (the firmware starts scanning: a column line, then a
+//! row line over the map, then Go and Cancel) and presses the switch at
+//! each time, in ms after the firmware's `ok switch on` reply, holding PA0
+//! low for 200 ms each. The job runs until 1 s after the last release; the
+//! arm's end point is the pixel of the last `info switch go <px> <py>`, and
+//! `arrival_s` counts from that line. Without a go (or when the go's move
+//! is refused) it writes `screen.png` and a `summary.json` of `touches`,
+//! `wiring`, `switch_ms` and `switch` only. `summary.json` gains `switch_ms`
+//! (the times asked) and `switch`: every `info switch …` line, `[{t_s,
+//! line}]`, `t_s` from the reply.
+//!
 //! `touches` (every run) lists every action the firmware took on a touch,
 //! from its own serial lines (`hal_sim::touches`): `[{t_s, action, x_p,
 //! y_p}]`, `t_s` from the start of the press or script, `action` one of
@@ -84,7 +97,7 @@ use touch_arm_rig::firmware::{self, Session};
 use touch_arm_rig::lcd_bus::Chip;
 use touch_arm_rig::panel::PanelWiring;
 
-/// Runs the firmware in simavr, touches the panel once and writes DIR/pulses.csv,
+/// Runs the firmware in simavr, touches the panel once (or presses the assistive switch, --switch) and writes DIR/pulses.csv,
 /// DIR/summary.json, DIR/angles.png, DIR/effector.csv, DIR/path.png and DIR/screen.png. A press that lands on a
 /// button or between the screen's regions moves nothing: the job says what the
 /// screen did with it and writes DIR/screen.png only.
@@ -130,6 +143,46 @@ struct Args {
     /// A finger script instead of the press: CSV t_ms,x_px,y_px,force[,x2_px,y2_px,force2] in screen pixels
     #[arg(long, value_name = "FILE", conflicts_with_all = ["xy", "raw", "then"])]
     finger: Option<PathBuf>,
+    /// Switch presses instead of the press: `switch on` once homed, then PA0 held low 200 ms at each time (ms after the reply; increasing, each at least 200 ms after the one before, at most 60000)
+    #[arg(long, value_name = "T1,T2,...", value_parser = switch_times, allow_hyphen_values = true, conflicts_with_all = ["xy", "raw", "then", "finger"])]
+    switch: Option<SwitchTimes>,
+}
+
+/// `--switch T1,T2,…`: when the switch is pressed, ms after the firmware's
+/// `ok switch on` (a newtype: clap would read a bare `Vec` as repeated
+/// values).
+#[derive(Debug, Clone)]
+struct SwitchTimes(Vec<u32>);
+
+/// How long each `--switch` press holds PA0 low: twice the firmware's
+/// default `hold` (0.10 s), so a press counts under it.
+const SWITCH_PRESS_MS: u32 = 200;
+/// The last `--switch` time allowed, ms (as a finger script's last knot).
+const SWITCH_MAX_MS: u32 = 60_000;
+/// Time the job runs on after the last switch release, s (a Go's move is
+/// answered once planned).
+const SWITCH_TAIL_S: f64 = 1.0;
+
+fn switch_times(s: &str) -> Result<SwitchTimes, String> {
+    let mut times: Vec<u32> = Vec::new();
+    for w in s.split(',') {
+        let w = w.trim();
+        let t: u32 = w.parse().map_err(|_| {
+            format!("each time must be a whole number of milliseconds (T1,T2,...: ms after `switch on`), got {w:?}")
+        })?;
+        if t > SWITCH_MAX_MS {
+            return Err(format!("each time must be at most {SWITCH_MAX_MS} ms, got {t}"));
+        }
+        if let Some(&prev) = times.last() {
+            if t < prev + SWITCH_PRESS_MS {
+                return Err(format!(
+                    "the times must increase, each at least {SWITCH_PRESS_MS} ms after the one before (a press holds the switch {SWITCH_PRESS_MS} ms): {t} after {prev}"
+                ));
+            }
+        }
+        times.push(t);
+    }
+    Ok(SwitchTimes(times))
 }
 
 /// Time the job runs on after a finger script's last knot, s (the new touch
@@ -286,6 +339,101 @@ fn move_raw(line: &str) -> Option<TouchRaw> {
     Some(TouchRaw(x, y))
 }
 
+/// The firmware's `info switch …` lines after byte `from`, with their times
+/// from `t0` (s): `summary.json`'s `switch`.
+fn switch_lines(s: &Session, from: usize, t0: f64) -> Vec<(String, f64)> {
+    let out = s.avr.uart_output();
+    let cycles = s.avr.uart_output_cycles();
+    let mut lines = Vec::new();
+    let mut start = from;
+    for i in from..out.len() {
+        if out[i] == b'\n' {
+            let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
+            if line.starts_with("info switch ") {
+                let t = cycles.get(start).map_or(f64::NAN, |c| *c as f64 / f64::from(firmware::CPU_HZ));
+                lines.push((line, t - t0));
+            }
+            start = i + 1;
+        }
+    }
+    lines
+}
+
+/// `summary.json`'s `switch`: `[{"t_s": …, "line": "info switch column 74"}, …]`.
+fn switch_json(lines: &[(String, f64)]) -> String {
+    let items: Vec<String> = lines
+        .iter()
+        .map(|(l, t)| format!("{{\"t_s\": {}, \"line\": \"{}\"}}", armsim::report::num(*t), l.replace(['"', '\\'], "")))
+        .collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// What the last `info switch go <px> <py>` after byte `from` led to: the
+/// pixel, the line's time and the firmware's answer to the move it started
+/// (its first later line carrying a `ts_ms`, or an `err` line), if that has
+/// come yet.
+struct SwitchGo {
+    px: (i16, i16),
+    t: f64,
+    answer: Option<(String, f64)>,
+}
+
+fn last_switch_go(s: &Session, from: usize) -> Option<SwitchGo> {
+    let out = s.avr.uart_output();
+    let cycles = s.avr.uart_output_cycles();
+    let at = |i: usize| cycles.get(i).map_or(0.0, |c| *c as f64 / f64::from(firmware::CPU_HZ));
+    let mut go: Option<SwitchGo> = None;
+    let mut start = from;
+    for i in from..out.len() {
+        if out[i] != b'\n' {
+            continue;
+        }
+        let line = String::from_utf8_lossy(&out[start..i]).trim_end().to_string();
+        if let Some(rest) = line.strip_prefix("info switch go ") {
+            let v: Vec<i16> = rest.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+            if let [x, y] = v[..] {
+                go = Some(SwitchGo { px: (x, y), t: at(start), answer: None });
+            }
+        } else if let Some(g) = go.as_mut().filter(|g| g.answer.is_none()) {
+            if line.split_whitespace().any(|w| w == "ts_ms") || line.starts_with("err ") {
+                g.answer = Some((line, at(start)));
+            }
+        }
+        start = i + 1;
+    }
+    go
+}
+
+/// Writes what a run without a move leaves: `screen.png` and a
+/// `summary.json` of `extra` (pairs of key and raw JSON), `wiring` and
+/// `touches`; `what` says why on stdout.
+fn write_no_move(
+    s: &mut Session,
+    out: &std::path::Path,
+    extra: Vec<(&'static str, String)>,
+    touches: String,
+    wiring: &str,
+    what: &str,
+) -> Result<(), String> {
+    // Let the screen finish redrawing before it is saved.
+    s.run_for(0.2)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let screen = out.join("screen.png");
+    s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
+    let mut json = Json::new()
+        .set("wiring", armsim::report::Val::Str(wiring.to_string()))
+        .set("touches", armsim::report::Val::Raw(touches));
+    for (k, v) in extra {
+        json = json.set(k, armsim::report::Val::Raw(v));
+    }
+    let json_path = out.join("summary.json");
+    std::fs::write(&json_path, json.render() + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
+    print_boot(&s.avr.uart_output_string());
+    println!("{what}");
+    println!("wrote {} and {}", screen.display(), json_path.display());
+    Ok(())
+}
+
 /// The lines the firmware answers a confirmed press with.
 const TOUCH_REPLIES: [&str; 4] = ["info touch ", "err touch ", "info screen ", "err screen "];
 
@@ -356,11 +504,21 @@ fn run(args: Args) -> Result<(), String> {
     }
     // A path or lift move is answered when its check decides, some frames on.
     let deferred = path != "joint" || lift.is_some();
+    // The switch's scan starts with the firmware's answer to `switch on`:
+    // the presses count from it.
+    if args.switch.is_some() {
+        let reply = s.command("switch on")?;
+        if !reply.starts_with("ok switch on") {
+            return Err(format!("the firmware refused `switch on`: {reply}"));
+        }
+    }
     let t_touch = s.avr.time_s();
     let from = s.avr.uart_output().len();
     let touch_from = from;
     let mut raw = raw;
     let mut first;
+    // With `--switch`: the go line's time and the summary's switch keys.
+    let mut switch_go: Option<(f64, Vec<(&'static str, String)>)> = None;
     if let Some(script) = script {
         let glass = hal_sim::finger::Glass::for_size(lay.width(), lay.height())
             .ok_or_else(|| format!("no glass of {}x{}", lay.width(), lay.height()))?;
@@ -374,24 +532,57 @@ fn run(args: Args) -> Result<(), String> {
             first = s.await_line(from, &["info touch "], 5.0)?;
         }
         let Some((line, _)) = &first else {
-            s.run_for(0.2)?;
-            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-            let screen = out.join("screen.png");
-            s.lcd.landscape().save_png(&screen).map_err(|e| format!("{}: {e}", screen.display()))?;
-            let json = Json::new()
-                .set("wiring", armsim::report::Val::Str(found.clone()))
-                .set("touches", armsim::report::Val::Raw(touches_json(&s, &lay, touch_from, t_touch)))
-                .render();
-            let json_path = out.join("summary.json");
-            std::fs::write(&json_path, json + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
-            print_boot(&s.avr.uart_output_string());
-            println!("finger script: no move");
-            println!("wrote {} and {}", screen.display(), json_path.display());
-            return Ok(());
+            let touches = touches_json(&s, &lay, touch_from, t_touch);
+            return write_no_move(&mut s, &out, Vec::new(), touches, &found, "finger script: no move");
         };
         if let Some(TouchRaw(x, y)) = move_raw(line) {
             raw = (f64::from(x), f64::from(y));
         }
+    } else if let Some(SwitchTimes(times)) = &args.switch {
+        for &ms in times {
+            s.run_for((t_touch + f64::from(ms) / 1000.0 - s.avr.time_s()).max(0.0))?;
+            s.set_switch(true)?;
+            s.run_for(f64::from(SWITCH_PRESS_MS) / 1000.0)?;
+            s.set_switch(false)?;
+        }
+        s.run_for(SWITCH_TAIL_S)?;
+        let mut go = last_switch_go(&s, from);
+        // A path or lift move is answered once its check has decided.
+        let end = s.avr.time_s() + 5.0;
+        while go.as_ref().is_some_and(|g| g.answer.is_none()) && s.avr.time_s() < end {
+            s.run_for(0.1)?;
+            go = last_switch_go(&s, from);
+        }
+        let lines = switch_lines(&s, from, t_touch);
+        for (l, t) in &lines {
+            println!("switch at {t:.3} s: {l}");
+        }
+        let extra = || {
+            let ms: Vec<String> = times.iter().map(u32::to_string).collect();
+            vec![("switch_ms", format!("[{}]", ms.join(", "))), ("switch", switch_json(&lines))]
+        };
+        let touches = touches_json(&s, &lay, touch_from, t_touch);
+        let Some(g) = go else {
+            return write_no_move(&mut s, &out, extra(), touches, &found, "switch presses: no go, no move");
+        };
+        let answer = match g.answer {
+            Some((a, t)) if !a.starts_with("err") => (a, t),
+            other => {
+                let why = other.map_or("no answer to the move".to_string(), |(a, _)| a);
+                let what = format!("switch go at pixel ({}, {}): no move ({why})", g.px.0, g.px.1);
+                return write_no_move(&mut s, &out, extra(), touches, &found, &what);
+            }
+        };
+        // The end point: the raw reading of the answer when it names one
+        // (`info touch <x> <y> …`), else the one of the chosen pixel's centre
+        // (the host's chain below takes a raw reading).
+        raw = match move_raw(&answer.0) {
+            Some(TouchRaw(x, y)) => (f64::from(x), f64::from(y)),
+            None => firmware::raw_at_pixel(&lay, g.px.0, g.px.1)
+                .ok_or_else(|| format!("pixel ({}, {}) has no raw reading", g.px.0, g.px.1))?,
+        };
+        switch_go = Some((g.t, extra()));
+        first = Some(answer);
     } else {
         // A tap: the firmware acts on the lift-off (issue #19).
         s.press_raw(raw.0, raw.1)?;
@@ -484,6 +675,8 @@ fn run(args: Args) -> Result<(), String> {
     };
     let first_raw = raw;
     let raw = end_raw;
+    // Where the move starts: the press, or the switch's go.
+    let t_start = switch_go.as_ref().map_or(t_touch, |(t, _)| *t);
 
     // Host f64 reference of the same chain (method.md §3–6) for the summary.
     let (x_p, y_p) = firmware::raw_to_map_point_on(&lay, raw.0 as u16, raw.1 as u16)
@@ -501,7 +694,7 @@ fn run(args: Args) -> Result<(), String> {
     // Arrival: the first pulse after which every joint stays within 1 µs of its final width.
     let settled = |i: usize| (0..3).all(|j| trains[j][i..n].iter().all(|(_, w)| (w - finals[j]).abs() <= 1.0));
     let first_settled = (0..n).find(|&i| settled(i)).unwrap_or(n - 1);
-    let arrival = trains[0][first_settled].0 - t_touch;
+    let arrival = trains[0][first_settled].0 - t_start;
 
     // The gripper's pulse of each row's period: its rise within a timer tick
     // of the base's (both timers start on the same prescaler edge).
@@ -563,6 +756,10 @@ fn run(args: Args) -> Result<(), String> {
             .set("then_confirmed_after_s", *after)
             .set("then_ts_s", end_ts)
             .set("then_reply", armsim::report::Val::Str(line2.clone())),
+        None => json,
+    };
+    let json = match switch_go {
+        Some((_, extra)) => extra.into_iter().fold(json, |j, (k, v)| j.set(k, armsim::report::Val::Raw(v))),
         None => json,
     };
     let json = match &grip {
@@ -628,8 +825,8 @@ fn run(args: Args) -> Result<(), String> {
     }
     let eff_path = out.join("effector.csv");
     std::fs::write(&eff_path, ecsv).map_err(|e| format!("{}: {e}", eff_path.display()))?;
-    // The move starts from where the arm was when the panel was touched.
-    let start = eff[t.iter().position(|&ti| ti >= t_touch).unwrap_or(0)];
+    // The move starts from where the arm was when the panel was touched (or the switch's go came).
+    let start = eff[t.iter().position(|&ti| ti >= t_start).unwrap_or(0)];
     let (tx, ty, tz) = touch_arm::geometry::ik::fk3(&links, q[0], q[1], q[2]);
     let col = |k: usize| eff.iter().map(|p| p[k]).collect::<Vec<f64>>();
     let (ex, ey, ez) = (col(0), col(1), col(2));

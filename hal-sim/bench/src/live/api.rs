@@ -211,6 +211,14 @@ pub fn release(body: &[u8]) -> Result<(), Refusal> {
     object(body, &[]).map(|_| ())
 }
 
+/// `POST /api/switch`: `{"down": true | false}`, the assistive switch
+/// closed (PA0 driven low) or open; returns `down`.
+pub fn switch(body: &[u8]) -> Result<bool, Refusal> {
+    let m = object(body, &["down"])?;
+    let v = m.get("down").ok_or_else(|| bad("missing field down (true: the switch closed, false: open)"))?;
+    v.as_bool().ok_or_else(|| bad(format!("down must be true or false, got {v}")))
+}
+
 /// `POST /api/serial`: `{"line": "..."}`, one command line.
 pub fn serial(body: &[u8]) -> Result<String, Refusal> {
     let m = object(body, &["line"])?;
@@ -346,6 +354,25 @@ mod tests {
             (split.as_bytes(), "12000 samples, at most 10000"),
         ] {
             let r = finger(body).unwrap_err();
+            assert_eq!(r.status, 400);
+            assert!(r.reason.starts_with(why), "{} vs {why}", r.reason);
+            assert!(!r.reason.contains('\n'));
+        }
+    }
+
+    #[test]
+    fn switch_bodies() {
+        assert_eq!(switch(br#"{"down": true}"#), Ok(true));
+        assert_eq!(switch(br#"{"down": false}"#), Ok(false));
+        for (body, why) in [
+            (&br#"{}"#[..], "missing field down"),
+            (br#"{"down": 1}"#, "down must be true or false, got 1"),
+            (br#"{"down": "true"}"#, "down must be true or false, got \"true\""),
+            (br#"{"down": true, "ms": 5}"#, "unknown field \"ms\" (expected down)"),
+            (b"down", "body is not JSON"),
+            (b"", "body is not JSON"),
+        ] {
+            let r = switch(body).unwrap_err();
             assert_eq!(r.status, 400);
             assert!(r.reason.starts_with(why), "{} vs {why}", r.reason);
             assert!(!r.reason.contains('\n'));

@@ -46,7 +46,8 @@ const CONSOLE_BACKLOG: usize = 400;
 /// line number says so).
 const FIRMWARE_LOG: usize = 120_000;
 /// A held press (`/api/press`) ends by itself after this long, so a page
-/// that vanished mid-drag does not leave a finger on the panel.
+/// that vanished mid-drag does not leave a finger on the panel; a closed
+/// switch (`/api/switch`) opens after it too.
 const MAX_HOLD_S: f64 = 30.0;
 /// Events queued per page before the page counts as gone.
 pub const EVENT_QUEUE: usize = 256;
@@ -59,6 +60,8 @@ pub enum Command {
     /// A finger script (`/api/finger`), starting now.
     Finger(Box<hal_sim::finger::FingerScript>, Sender<Result<Value, String>>),
     Release(Sender<Result<Value, String>>),
+    /// The assistive switch closed (`true`) or open (`/api/switch`).
+    Switch(bool, Sender<Result<Value, String>>),
     Serial(String, Sender<Vec<String>>),
     Control(Control, Sender<Result<Value, String>>),
     /// `GET /api/console?since=N`: the firmware's lines from number N on.
@@ -159,6 +162,9 @@ struct Bench {
     stalled_at: Option<f64>,
     halted: Option<String>,
     finger: Option<Finger>,
+    /// While the assistive switch is closed: the bench cycle at which it
+    /// opens by itself ([`MAX_HOLD_S`]).
+    switch_until: Option<u64>,
     target: Option<Target>,
     state: String,
     pacer: Pacer,
@@ -270,6 +276,7 @@ impl Bench {
             stalled_at: None,
             halted: None,
             finger: None,
+            switch_until: None,
             target: None,
             state: "booting".into(),
             pacer,
@@ -307,6 +314,16 @@ impl Bench {
         if let Some(f) = self.finger {
             end = end.min(f.until.max(now + 1));
         }
+        if let Some(until) = self.switch_until {
+            end = end.min(until.max(now + 1));
+            // Driven again every slice: simavr puts an input's pull-up back
+            // on its pin whenever the firmware writes the port's PORT or DDR
+            // (at every boot, after a reset or power cycle, which a switch
+            // held shut outlasts).
+            if let Err(e) = self.session.set_switch(true) {
+                self.note(e);
+            }
+        }
         if let Err(e) = self.session.avr.run_cycles(end - now) {
             self.halted = Some(e.to_string());
             self.state = "halted".into();
@@ -315,6 +332,12 @@ impl Bench {
         if self.finger.is_some_and(|f| self.cycles() >= f.until) {
             self.session.release();
             self.finger = None;
+        }
+        if self.switch_until.is_some_and(|u| self.cycles() >= u) {
+            // The page that held it is gone, or a script forgot to open it.
+            if let Err(e) = self.switch(false) {
+                self.note(e);
+            }
         }
         self.read_serial();
         let resets = self.session.avr.resets();
@@ -411,6 +434,12 @@ impl Bench {
                 self.finger = None;
                 let _ = done.send(Ok(json!({ "released": true })));
             }
+            Command::Switch(down, done) => {
+                let r = self.switch(down);
+                // A script that reads /api/bench next sees the switch as set.
+                self.publish(false);
+                let _ = done.send(r);
+            }
             Command::Serial(line, reply) => {
                 self.console("tx", line.clone());
                 let bytes = self.router.client_line(&line, reply, self.now_s());
@@ -441,6 +470,18 @@ impl Bench {
         let lines: Vec<&String> =
             self.fw_log.iter().skip((from - self.fw_first) as usize).take(MAX_CONSOLE_LINES).collect();
         json!({ "lines": lines, "next": from + lines.len() as u64, "first": self.fw_first })
+    }
+
+    /// Closes or opens the assistive switch (PA0 low or high) at once; a
+    /// change shows on the console.
+    fn switch(&mut self, down: bool) -> Result<Value, String> {
+        self.session.set_switch(down)?;
+        let was = self.switch_until.is_some();
+        self.switch_until = down.then(|| self.cycles() + Self::s_to_cycles(MAX_HOLD_S));
+        if was != down {
+            self.note(if down { "switch closed (PA0 low)".into() } else { "switch open (PA0 high)".into() });
+        }
+        Ok(json!({ "down": down, "t_s": self.now_s() }))
     }
 
     /// The finger at the centre of screen pixel (x, y), through the panel's

@@ -207,17 +207,20 @@ fn handle(mut req: Request, ctx: &Context) {
         (Method::Post, "/api/finger") => {
             read_body(&mut req, api::MAX_FINGER_BODY).and_then(|body| post(&path, &body, ctx))
         }
-        (Method::Post, "/api/touch" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
-            read_body(&mut req, api::MAX_BODY).and_then(|body| post(&path, &body, ctx))
-        }
+        (
+            Method::Post,
+            "/api/touch" | "/api/press" | "/api/release" | "/api/switch" | "/api/serial" | "/api/control",
+        ) => read_body(&mut req, api::MAX_BODY).and_then(|body| post(&path, &body, ctx)),
         (
             _,
             "/" | "/index.html" | "/app.js" | "/style.css" | "/favicon.ico" | "/api/state" | "/api/bench"
             | "/api/geometry" | "/api/screen.png" | "/api/console",
         ) => Err(refuse(405, format!("{path} takes GET"))),
-        (_, "/api/touch" | "/api/finger" | "/api/press" | "/api/release" | "/api/serial" | "/api/control") => {
-            Err(refuse(405, format!("{path} takes POST with a JSON body")))
-        }
+        (
+            _,
+            "/api/touch" | "/api/finger" | "/api/press" | "/api/release" | "/api/switch" | "/api/serial"
+            | "/api/control",
+        ) => Err(refuse(405, format!("{path} takes POST with a JSON body"))),
         _ => Err(refuse(404, format!("no such endpoint: {path}"))),
     };
     let _ = match result {
@@ -246,6 +249,10 @@ fn post(path: &str, body: &[u8], ctx: &Context) -> Result<Body, Refusal> {
         "/api/release" => {
             api::release(body)?;
             conflict(ctx.ask(Command::Release, BENCH_TIMEOUT)?)?
+        }
+        "/api/switch" => {
+            let down = api::switch(body)?;
+            conflict(ctx.ask(|tx| Command::Switch(down, tx), BENCH_TIMEOUT)?)?
         }
         "/api/serial" => {
             let line = api::serial(body)?;

@@ -17,6 +17,7 @@
 //! | `GET /api/console?since=N` | `{"lines": [...], "next": M, "first": F}`: every line the firmware sent from line N on (at most 5 000; `first` is the oldest kept) |
 //! | `GET /api/screen.png` | the screen as the firmware drew it |
 //! | `POST /api/press` `{"x_px", "y_px"}` / `POST /api/release` | the page's press-and-drag |
+//! | `POST /api/switch` `{"down": true \| false}` | the assistive switch on D22 = PA0 closed (driven low) or open: `{"down", "t_s"}` |
 //! | `POST /api/control` `{"action", "addr"?}` | `power_cycle`, `reset` (the RESET pin: RAM kept), `corrupt_eeprom`, `noise_on`, `noise_off`, `stall` |
 //! | `GET /api/bench` | pacing figures and fault switches |
 //! | `GET /api/geometry` | arm links, map layout and reachable map pixels |

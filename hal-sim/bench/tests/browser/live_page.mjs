@@ -3,7 +3,10 @@
 // watch the drawn arm reach the target, click STOP on the screen image and
 // see the pulses freeze, type `status` in the console and see the reply,
 // then `resume` and `grip 60` and see the gripper's row reach 60°, then
-// play a scripted tremor through `/api/finger` and see where it committed.
+// play a scripted tremor through `/api/finger` and see where it committed,
+// then `switch on` and hold the Switch button with the mouse, with Space and
+// with a pointer that leaves it: the bench closes and opens PA0 each time,
+// and the firmware's scan fixes a column and a row.
 // Run by hal-sim/bench/tests/live_page.rs, which starts the bench and passes:
 //   node live_page.mjs URL OUT_DIR MAP_X,MAP_Y TARGET_B,TARGET_S,TARGET_E STOP_X,STOP_Y
 // Prints one line per step; exits 0 when every check held, 1 otherwise.
@@ -43,6 +46,22 @@ async function cleanup() {
 
 async function state(page) {
   return page.evaluate(async () => (await fetch('/api/state')).json());
+}
+
+// The console's lines as the page shows them.
+async function consoleLines(page) {
+  return page.evaluate(() => [...document.querySelectorAll('#console-log div')].map((d) => d.textContent));
+}
+
+// Waits (5 s at most) until the bench's switch is `down` (`/api/bench`).
+async function switchIs(page, down, what) {
+  const end = Date.now() + 5_000;
+  for (;;) {
+    const b = await page.evaluate(async () => (await fetch('/api/bench')).json());
+    if (b.switch === down) return;
+    if (Date.now() > end) throw new Error(`${what}: /api/bench switch is ${b.switch}`);
+    await page.waitForTimeout(50);
+  }
 }
 
 async function main() {
@@ -144,6 +163,51 @@ async function main() {
   const info = await page.evaluate(() => document.getElementById('target-info').textContent);
   console.log(`scripted tremor at pixel (${fx}, ${fy}), started at t = ${started.t_s.toFixed(2)} s: ${info}`);
   await page.screenshot({ path: join(outDir, 'live-page-console.png'), fullPage: true });
+
+  // 6. The assistive switch. Scanning runs while the arm is idle (a press
+  // while it moves is STOP), so first the tremor's move ends.
+  await page.waitForFunction(() => document.getElementById('state').textContent === 'holding', null, { timeout: 15_000 });
+  await page.fill('#console-input', 'switch on');
+  await page.press('#console-input', 'Enter');
+  await page.waitForFunction(() => [...document.querySelectorAll('#console-log div')]
+    .some((d) => /^> switch on$/.test(d.textContent)));
+  // Mouse: down on the button (the bench's PA0 low), held 0.3 s, up.
+  const box = await page.locator('#btn-switch').boundingBox();
+  const [bx, by] = [box.x + box.width / 2, box.y + box.height / 2];
+  await page.mouse.move(bx, by);
+  await page.mouse.down();
+  await switchIs(page, true, 'the mouse holds the switch');
+  await page.waitForTimeout(300);
+  await page.mouse.up();
+  await switchIs(page, false, 'the mouse let go');
+  // Space on the focused button, after the firmware's repeat (0.20 s).
+  await page.waitForTimeout(600);
+  await page.focus('#btn-switch');
+  await page.keyboard.down('Space');
+  await switchIs(page, true, 'Space holds the switch');
+  await page.waitForTimeout(300);
+  await page.keyboard.up('Space');
+  await switchIs(page, false, 'Space let go');
+  // A pointer that slides off the button opens the switch.
+  await page.waitForTimeout(600);
+  await page.mouse.move(bx, by);
+  await page.mouse.down();
+  await switchIs(page, true, 'the mouse holds the switch again');
+  await page.mouse.move(bx, by + 200);
+  await switchIs(page, false, 'the pointer left the button');
+  await page.mouse.up();
+  const seen = await consoleLines(page);
+  const notes = seen.filter((t) => t === '# switch closed (PA0 low)').length;
+  if (notes !== 3) throw new Error(`${notes} switch closings on the console, not 3`);
+  // The firmware: `switch on` answered, then a column and a row fixed.
+  for (const want of ['ok switch on sweep ', 'info switch column ', 'info switch row ']) {
+    await page.waitForFunction((w) => [...document.querySelectorAll('#console-log div')]
+      .some((d) => d.textContent.startsWith(w)), want, { timeout: 5_000 })
+      .catch(() => { throw new Error(`no ${JSON.stringify(want)} on the console`); });
+  }
+  const picked = (await consoleLines(page)).filter((t) => t.startsWith('info switch '));
+  console.log(`switch button: mouse, Space and a sliding pointer closed PA0; firmware: ${picked.join(' · ')}`);
+  await page.screenshot({ path: join(outDir, 'live-page-switch.png'), fullPage: true });
   if (errors.length) throw new Error(`errors on the page: ${errors.join('; ')}`);
   await cleanup();
   console.log('PASS');

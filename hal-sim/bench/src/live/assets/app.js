@@ -379,6 +379,83 @@ function showResult(text, bad) {
   r.className = `result ${bad ? 'bad' : ''}`;
 }
 
+// ---- the assistive switch --------------------------------------------------------
+
+// The switch button: held by the pointer (down until up or until it leaves
+// the button) or by Space/Enter. Levels go out one at a time and only the
+// latest waits, so a quick press and release arrive in order; the release
+// follows the press by MIN_TAP_MS at least, so a click is a press the
+// firmware counts (its hold is 0.10 s), as a click on the screen is.
+const sw = { want: false, sent: false, since: 0, busy: false, keys: new Set() };
+
+function pumpSwitch() {
+  if (sw.busy || sw.want === sw.sent) return;
+  const down = sw.want;
+  sw.busy = true;
+  post('/api/switch', { down })
+    .then(() => { sw.sent = down; })
+    .catch((e) => { showResult(`switch: ${e.message}`, true); sw.sent = down; })
+    .finally(() => { sw.busy = false; pumpSwitch(); });
+}
+
+function setSwitch(down) {
+  const btn = $('btn-switch');
+  if (down) {
+    if (!sw.want) sw.since = performance.now();
+    sw.want = true;
+    btn.classList.add('held');
+    btn.setAttribute('aria-pressed', 'true');
+    pumpSwitch();
+    return;
+  }
+  if (!sw.want) return;
+  const wait = Math.max(0, MIN_TAP_MS - (performance.now() - sw.since));
+  setTimeout(() => {
+    // Still released (not pressed again meanwhile).
+    if (sw.keys.size || btn.dataset.pointer === 'down') return;
+    sw.want = false;
+    btn.classList.remove('held');
+    btn.setAttribute('aria-pressed', 'false');
+    pumpSwitch();
+  }, wait);
+}
+
+{
+  const btn = $('btn-switch');
+  btn.addEventListener('pointerdown', (ev) => {
+    if (ev.button !== 0) return;
+    ev.preventDefault();
+    btn.dataset.pointer = 'down';
+    setSwitch(true);
+  });
+  const up = () => {
+    if (btn.dataset.pointer !== 'down') return;
+    btn.dataset.pointer = '';
+    setSwitch(false);
+  };
+  btn.addEventListener('pointerup', up);
+  btn.addEventListener('pointerleave', up);
+  btn.addEventListener('pointercancel', up);
+  btn.addEventListener('keydown', (ev) => {
+    if (ev.key !== ' ' && ev.key !== 'Enter') return;
+    ev.preventDefault();
+    if (ev.repeat) return;
+    sw.keys.add(ev.key);
+    setSwitch(true);
+  });
+  btn.addEventListener('keyup', (ev) => {
+    if (ev.key !== ' ' && ev.key !== 'Enter') return;
+    ev.preventDefault();
+    sw.keys.delete(ev.key);
+    if (!sw.keys.size) setSwitch(false);
+  });
+  btn.addEventListener('blur', () => { sw.keys.clear(); up(); setSwitch(false); });
+  // A long touch on a touch screen would open the context menu.
+  btn.addEventListener('contextmenu', (ev) => ev.preventDefault());
+  // The window losing focus mid-press loses the pointer's and keys' ups.
+  window.addEventListener('blur', () => { sw.keys.clear(); up(); setSwitch(false); });
+}
+
 // ---- controls and console input ------------------------------------------------
 
 async function control(body, describe) {

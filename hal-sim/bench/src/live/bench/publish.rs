@@ -146,6 +146,7 @@ impl Bench {
             "slipped_s": self.pacer.slipped_s(),
             "behind": self.halted.is_none() && (lag > BEHIND_LAG_S || slow),
             "noise": self.noise,
+            "switch": self.switch_until.is_some(),
             "stalled": self.stalled_at.is_some(),
             "halted": self.halted,
             "power_ups": self.power_ups,
