@@ -7,6 +7,7 @@
 //! [`servo`] → [`config`] → [`protocol`] → [`ui`] → [`app`] → `board` (AVR
 //! only).
 #![no_std]
+#![cfg_attr(target_arch = "avr", feature(optimize_attribute))]
 #![warn(missing_docs)]
 // The fixed-point 16×16 multiply is inline assembly on the chip.
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]

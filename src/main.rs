@@ -11,6 +11,7 @@
 //! loaded and then the home pose.
 #![no_std]
 #![no_main]
+#![feature(optimize_attribute)]
 
 use core::mem::MaybeUninit;
 
@@ -254,6 +255,7 @@ fn report_boot(serial: &mut Usart0, cause: ResetCause) {
 /// controller the probe did not find makes it `warn lcd forced <name> …
 /// not detected`.
 #[inline(never)] // avr-trap: frame-size
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>, display: &LcdSettings) {
     let mut line: Line<72> = Line::new();
     match found {

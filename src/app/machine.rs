@@ -198,6 +198,7 @@ impl App {
         self.press_read(&step.read, now_ms, storage, serial);
     }
 
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn route_touch<E: Storage, U: SerialPort>(&mut self, p: &TouchPoint, storage: &mut E, serial: &mut U) {
         if self.params.screen {
             self.screen_touch(p, storage, serial);

@@ -245,6 +245,7 @@ impl AppParams {
 }
 
 /// The geometry of `arm` under `params`' scale and branch.
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn arm_geometry(params: &AppParams, arm: &ArmSettings) -> Result<ArmGeometry<f32>, LinksError> {
     let mm = |cmm: u16| f32::from(cmm) * 0.01;
     ArmGeometry::from_lengths(params.k, mm(arm.l2_cmm), mm(arm.l3_cmm), params.branch)

@@ -26,6 +26,7 @@ use crate::servo::map::ServoMap;
 impl App {
     /// Installs a valid configuration (see the module doc); returns the
     /// slew's duration in s when pulses move.
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn replace_config(&mut self, next: &Config, touch_changed: bool) -> Result<Option<f32>, Refusal> {
         if self.is_moving() {
             return Err(Refusal::Busy);

@@ -83,6 +83,7 @@ impl App {
 
     /// The frame's switch step (module doc), after the touch's.
     #[inline(never)] // avr-trap: frame-size
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn poll_switch<E: Storage, U: SerialPort>(&mut self, now_ms: u32, storage: &mut E, serial: &mut U) {
         if !self.carer.access.switch_on {
             self.switch = SwitchRun::IDLE;

@@ -101,6 +101,7 @@ impl App {
 
     /// Sends the next line of a multi-line reply, if one is pending.
     #[inline(never)] // avr-trap: frame-size
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn flush_pending<U: SerialPort>(&mut self, serial: &mut U) {
         let Some(Pending::CalShow(i)) = self.session.pending else { return };
         // Not in a busy frame: the line waits for the next.

@@ -175,6 +175,7 @@ impl Config {
     /// Parses and validates a record (version 8; 7 without a plate ratio; 6 also with `mode tap`; 5 also with the default arm
     /// settings; 4 also with the default touch hold, repeat and radius; 3 also with joint moves and no lift; 2 also
     /// without a wiring; 1 also with the default acceleration limits). Checks, in order: magic, version, CRC, field values.
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub fn decode(buf: &[u8; RECORD_LEN]) -> Result<Record, RecordError> {
         let mut r = Reader::at(buf, 0);
         if r.take::<2>() != MAGIC {
@@ -457,6 +458,7 @@ pub fn seq_newer(a: u16, b: u16) -> bool {
     (a.wrapping_sub(b) as i16) > 0
 }
 
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn read_slot<S: Storage>(storage: &mut S, addr: u16) -> Result<Record, RecordError> {
     let mut buf = [0u8; RECORD_LEN];
     storage.read(u32::from(addr), &mut buf).map_err(RecordError::Storage)?;

@@ -512,6 +512,7 @@ fn parse_joint(tok: &[u8]) -> Option<Joint> {
     Joint::ALL.iter().copied().find(|j| j.name().eq_ignore_case(tok))
 }
 
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn parse_cal_set(t: &mut Tokens) -> Result<CalSet, CmdError> {
     let target = t.arg()?;
     if is(target, t!("arm")) {
@@ -604,6 +605,7 @@ fn parse_access(t: &mut Tokens) -> Result<AccessCmd, CmdError> {
 }
 
 /// Parses one line (without or with its terminator).
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
     // A line from the buffer is at most LINE_LEN bytes; allow a caller that
     // passes its terminator too.

@@ -109,6 +109,7 @@ pub struct Scan {
 }
 
 /// `⌊(k·f + p mod k)·w / (k·n)⌋` for `k = ⌈w/n⌉` (module doc), below `w`.
+#[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn sweep_at(frame: u16, pass: u8, w: u16, n: u16) -> u16 {
     let n = u32::from(n.max(1));
     let w = u32::from(w);

@@ -359,3 +359,241 @@ fn path_moves_window() -> (Window, Vec<(u32, u32)>) {
 
 /// Periods between the path window's moves.
 const MOVE_EVERY: u32 = 220;
+
+/// The switch scan's line as the glass shows it in the map: the orange
+/// middle of the column line (`x`) where it crosses the map's second pixel
+/// row, of the row line (`y`) where it crosses the map's second column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Line {
+    Column(i32),
+    Row(i32),
+    /// No line in the map (Go, Cancel or the buttons' turn).
+    None,
+    /// Neither one column line nor one row line: a repaint caught half done.
+    Torn,
+}
+
+/// What the glass shows of the scan at the end of a frame: its line, and
+/// whether some pixel outside the map is scan orange (a button's highlight).
+fn glass_scan(s: &Session, lay: touch_arm::ui::Layout) -> (Line, bool) {
+    let fb = s.lcd.landscape();
+    let scan = touch_arm::ui::theme::SCAN;
+    let ws = lay.ws();
+    let (x0, y0, w, h) = (i32::from(ws.x), i32::from(ws.y), i32::from(ws.w), i32::from(ws.h));
+    let cols: Vec<i32> = (x0..x0 + w).filter(|&x| fb.pixel(x, y0 + 1) == Some(scan)).collect();
+    let rows: Vec<i32> = (y0..y0 + h).filter(|&y| fb.pixel(x0 + 1, y) == Some(scan)).collect();
+    let line = match (cols.len(), rows.len()) {
+        (0, 0) => Line::None,
+        (1, n) if n == 0 || n == h as usize => Line::Column(cols[0]),
+        (n, 1) if n == 0 || n == w as usize => Line::Row(rows[0]),
+        _ => Line::Torn,
+    };
+    let outside = (0..fb.height() as i32)
+        .flat_map(|y| (0..fb.width() as i32).map(move |x| (x, y)))
+        .filter(|&(x, y)| !(x >= x0 && x < x0 + w && y >= y0 && y < y0 + h))
+        .any(|(x, y)| fb.pixel(x, y) == Some(scan));
+    (line, outside)
+}
+
+/// The firmware's column at frame `f` of a sweep of `n` frames over `w`
+/// columns, in pass `p` (`ui::scan`'s `sweep_at`: `⌊(k·f + p mod k)·w / (k·n)⌋`,
+/// `k = ⌈w/n⌉`).
+fn sweep_at(f: u32, p: u32, w: u32, n: u32) -> u32 {
+    let k = w.div_ceil(n).max(1);
+    ((k * f + p % k) * w / (k * n)).min(w - 1)
+}
+
+/// `switch sweep 2`: a sweep of 100 frames.
+const FASTEST_SWEEP: u32 = 100;
+
+/// One sweep as the glass showed it: consecutive frames ending on the same
+/// kind of line.
+struct Run {
+    /// Index of its first sample (the end of period `start - 1`).
+    start: usize,
+    /// The line's position at each frame's end.
+    at: Vec<i32>,
+}
+
+impl Run {
+    /// Frames (after the first) whose end showed the line where the frame
+    /// before had left it: the scan moves at least a pixel a frame at the
+    /// fastest sweep on both axes, so each is a frame whose line was not
+    /// drawn.
+    fn stalls(&self) -> usize {
+        self.at.windows(2).filter(|p| p[0] == p[1]).count()
+    }
+}
+
+/// The runs of column lines and of row lines in `samples`, in order.
+fn runs(samples: &[Line], column: bool) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    let mut prev_in = false;
+    for (i, l) in samples.iter().enumerate() {
+        let v = match (l, column) {
+            (Line::Column(x), true) => Some(*x),
+            (Line::Row(y), false) => Some(*y),
+            _ => None,
+        };
+        match (v, prev_in) {
+            (Some(v), true) => out.last_mut().unwrap().at.push(v),
+            (Some(v), false) => out.push(Run { start: i, at: vec![v] }),
+            _ => {}
+        }
+        prev_in = v.is_some();
+    }
+    out
+}
+
+/// What the switch scan window measured on one panel.
+struct ScanWindow {
+    w: Window,
+    /// The first column sweep, the button turn's frames and the row sweep
+    /// after the press.
+    column: Run,
+    highlighted: usize,
+    row: Run,
+    /// Frames of the first column sweep by how many frames the glass's line
+    /// trailed the scan's (negative: ahead; `None`: a column the sweep does
+    /// not stand on).
+    column_lag: std::collections::BTreeMap<Option<i64>, usize>,
+    torn: usize,
+}
+
+/// The switch scan at the fastest sweep on the panel `chip`: `switch on`,
+/// a full column sweep unpressed, the buttons highlighted in turn (a dwell
+/// of 1 s each), the next column sweep pressed half way, a full row sweep
+/// and the start of the next; the glass read at every frame's end.
+fn switch_scan_window(chip: touch_arm_rig::lcd_bus::Chip) -> ScanWindow {
+    let mut s =
+        Session::start_with_lcd(&firmware::default_elf(), PanelWiring::A, chip, 23).expect("firmware ELF (cargo avr)");
+    s.run_for(1.5).unwrap();
+    s.run_until_ready(2.0).unwrap();
+    let lay = chip.layout();
+    let reply = s.command("switch sweep 2").unwrap();
+    assert!(reply.starts_with("ok switch sweep 2.00"), "{reply}");
+    let out0 = s.avr.uart_output().len();
+    let mut samples = Vec::new();
+    let mut outside = Vec::new();
+    let (mut col_runs, mut run_len, mut pressed) = (0, 0, None);
+    let w = measure(&mut s, 640, |s, k| {
+        if k == 0 {
+            s.avr.uart_send(b"switch on\n");
+        }
+        let (line, lit) = glass_scan(s, lay);
+        if matches!(line, Line::Column(_)) {
+            if !matches!(samples.last(), Some(Line::Column(_))) {
+                col_runs += 1;
+                run_len = 0;
+            }
+            run_len += 1;
+        }
+        samples.push(line);
+        outside.push(lit);
+        // Half way through the second column sweep, down for 0.2 s.
+        if col_runs == 2 && run_len == FASTEST_SWEEP / 2 && pressed.is_none() {
+            s.set_switch(true).unwrap();
+            pressed = Some(k);
+        }
+        if pressed.is_some_and(|p| k == p + 10) {
+            s.set_switch(false).unwrap();
+        }
+    });
+    assert_eq!(s.avr.resets(), 0);
+    {
+        let mut rle: Vec<(Line, bool, usize)> = Vec::new();
+        for (l, o) in samples.iter().zip(&outside) {
+            let kind = match l { Line::Column(_) => Line::Column(0), Line::Row(_) => Line::Row(0), x => *x };
+            match rle.last_mut() { Some((k, oo, n)) if *k == kind && oo == o => *n += 1, _ => rle.push((kind, *o, 1)) }
+        }
+        eprintln!("DEBUG {rle:?}");
+    }
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[out0..]).to_string();
+    let on_at = out.find("ok switch on sweep 2.00").unwrap_or_else(|| panic!("no switch on:\n{out}"));
+    assert!(out.contains("info switch column "), "no column press:\n{out}");
+    // The frame that answered `switch on` is the sweep's frame 0.
+    let k_on = w.out_len.iter().position(|&len| len > out0 + on_at).expect("the reply's frame");
+    let cols = runs(&samples, true);
+    let rows = runs(&samples, false);
+    assert!(cols.len() >= 2, "column sweeps: {}", cols.len());
+    let column = cols.into_iter().next().unwrap();
+    assert!(column.at.len() >= FASTEST_SWEEP as usize - 1, "the first column sweep: {} frames", column.at.len());
+    let row = rows.into_iter().next().expect("a row sweep");
+    assert!(row.at.len() >= FASTEST_SWEEP as usize, "the row sweep: {} frames", row.at.len());
+    let highlighted = outside[column.start + column.at.len()..row.start].iter().filter(|&&l| l).count();
+    assert!(highlighted >= 5 * 50, "buttons highlighted in {highlighted} frames");
+    // Sample i shows the end of period i − 1, frame i − 1 − k_on of the sweep.
+    let ws_w = u32::from(lay.ws().w);
+    let mut column_lag = std::collections::BTreeMap::new();
+    for (j, &x) in column.at.iter().enumerate() {
+        let f = (column.start + j) as i64 - 1 - k_on as i64;
+        let shown = (0..FASTEST_SWEEP).find(|&g| sweep_at(g, 0, ws_w, FASTEST_SWEEP) as i32 == x);
+        *column_lag.entry(shown.map(|g| f - i64::from(g))).or_insert(0) += 1;
+    }
+    let torn = samples.iter().filter(|&&l| l == Line::Torn).count();
+    ScanWindow { w, column, highlighted, row, column_lag, torn }
+}
+
+/// Switch access's scan (issue #20 §4) at its fastest sweep, 2 s, the
+/// heaviest repaint rate of the idle screen: every frame repaints the map's
+/// background under the old line and draws the new one, and the button
+/// highlights' frames in turn. No PWM period missed and no frame ending
+/// late, on the 320×240 and the 480×320 panel; how far the line on the
+/// glass trails the scan is printed.
+#[test]
+fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
+    use touch_arm_rig::lcd_bus::Chip;
+    let mut sentence = Vec::new();
+    for chip in [Chip::Ili9341, Chip::Ili9486] {
+        let sw = switch_scan_window(chip);
+        let st = &sw.w.stats;
+        let (w, h) = chip.landscape_size();
+        eprintln!(
+            "switch scan {} {w}x{h}: {} frames, {} periods, missed {}, late {} ({}), latest pulse {} app {} frame end {} cycles; \
+             column sweep {} frames from sample {} ({} without a move of the line, lag by frames {:?}), \
+             buttons lit in {} frames, row sweep {} frames from sample {} ({} without a move), {} torn samples",
+            chip.name(),
+            st.frames,
+            sw.w.periods,
+            sw.w.missed(),
+            st.overruns,
+            st.app_overruns,
+            cycles(st.worst_pulse_ticks),
+            cycles(st.worst_app_ticks),
+            cycles(st.worst_ticks),
+            sw.column.at.len(),
+            sw.column.start,
+            sw.column.stalls(),
+            sw.column_lag,
+            sw.highlighted,
+            sw.row.at.len(),
+            sw.row.start,
+            sw.row.stalls(),
+            sw.torn
+        );
+        assert_eq!(
+            sw.w.missed(),
+            0,
+            "switch scan on {}: missed PWM periods: {st:?}, {} periods",
+            chip.name(),
+            sw.w.periods
+        );
+        assert_eq!(st.overruns, 0, "switch scan on {}: frames ended late: {st:?}", chip.name());
+        sentence.push(format!(
+            "{w}×{h}: {} frames, {} missed periods, {} ending late, the latest frame end {} cycles; the line stood still in {} of the column sweep's {} frames and {} of the row sweep's {}",
+            st.frames,
+            sw.w.missed(),
+            st.overruns,
+            cycles(st.worst_ticks),
+            sw.column.stalls(),
+            sw.column.at.len(),
+            sw.row.stalls(),
+            sw.row.at.len()
+        ));
+    }
+    // One call: the two lines stay together among the other test's.
+    println!(
+        "md:\nmd: Switch scan at the fastest sweep (2 s; `switch on`, a column sweep, the buttons highlighted in turn, a column press, a row sweep, 12.8 s), each frame repainting the map under the old line: {}.",
+        sentence.join("; ")
+    );
+}
