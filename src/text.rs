@@ -48,6 +48,14 @@ impl Text {
         return self.s.len();
     }
 
+    /// The first `n` bytes (all of them when `n` is past the end).
+    pub fn prefix(self, n: usize) -> Text {
+        #[cfg(target_arch = "avr")]
+        return Text { ptr: self.ptr, len: (self.len as usize).min(n) as u16 };
+        #[cfg(not(target_arch = "avr"))]
+        return Text { s: self.s.get(..n).unwrap_or(self.s) };
+    }
+
     /// No bytes.
     #[inline]
     pub fn is_empty(&self) -> bool {

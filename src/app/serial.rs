@@ -315,10 +315,21 @@ impl App {
     /// The one reply line of a command (see [`Done`]).
     #[inline(never)] // avr-trap: frame-size
     pub(super) fn send_reply<U: SerialPort>(&mut self, serial: &mut U, done: &Done) {
+        if matches!(done, Done::Nothing | Done::GripDue) {
+            return;
+        }
         let mut reply = Line::new();
-        let r = &mut reply;
+        self.reply_line(done, &mut reply);
+        serial.write(reply.finish());
+    }
+
+    /// The text of [`App::send_reply`]'s line (not `Nothing` or `GripDue`).
+    // Out of line: its locals stay within `ldd`/`std`'s reach, the line's
+    // buffer in the caller's frame.
+    #[inline(never)] // reason: code-size
+    fn reply_line(&self, done: &Done, r: &mut Line) {
         match *done {
-            Done::Nothing | Done::GripDue => return,
+            Done::Nothing | Done::GripDue => {}
             Done::Bad(e) => {
                 r.str(t!("err ")).str(e.reason());
             }
@@ -447,7 +458,6 @@ impl App {
             Done::Pose(PoseDone::List) => self.pose_list(r),
             Done::Access(d) => self.access_reply(&d, r),
         }
-        serial.write(reply.finish());
     }
 }
 

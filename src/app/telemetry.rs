@@ -121,6 +121,9 @@ impl App {
 
     /// Line `i` of `cal show`: one per joint and one for the touch panel, in
     /// `cal set` units (so each value can be typed back), then `ok cal show`.
+    // Out of line: its locals stay within `ldd`/`std`'s reach, the line's
+    // buffer in the caller's frame.
+    #[inline(never)] // reason: code-size
     fn cal_show_line(&self, i: u8, line: &mut Line) {
         let joint = match i {
             0 => Some(Joint::Base),

@@ -13,7 +13,7 @@ use embedded_graphics::prelude::{Point, Size};
 use embedded_graphics::primitives::Rectangle;
 use embedded_graphics::Pixel;
 
-use super::flash::TextSource;
+use super::flash::{Chars, TextSource};
 use super::font::{glyph_row, CELL_H};
 
 /// A screen rectangle in pixels (8 bytes, cheap to pass by value).
@@ -376,10 +376,21 @@ fn glyph_ink<D: Canvas>(d: &mut D, x: i16, y: i16, ch: u8, style: &TextStyle) ->
 
 /// Draws `text` centred in `a` (horizontally and vertically), clipped to
 /// nothing: the caller sizes `a` to fit.
+#[inline]
 pub fn text_centered<D: Canvas, T: TextSource + ?Sized>(
     d: &mut D,
     a: Area,
     text_bytes: &T,
+    style: &TextStyle,
+) -> Result<(), D::Error> {
+    text_centered_chars(d, a, &text_bytes.chars(), style)
+}
+
+/// [`text_centered`] for either kind of text: one copy for both.
+fn text_centered_chars<D: Canvas>(
+    d: &mut D,
+    a: Area,
+    text_bytes: &Chars<'_>,
     style: &TextStyle,
 ) -> Result<(), D::Error> {
     let (w, h) = style.extent(text_bytes.len());

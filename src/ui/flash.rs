@@ -21,6 +21,39 @@ pub trait TextSource {
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
+    /// The text as either kind, so a drawing function has one copy for
+    /// both (`ui::draw::text_centered`, `ui::screen`'s text boxes).
+    fn chars(&self) -> Chars<'_>;
+}
+
+/// Text in flash or in RAM: what the drawing functions that take either
+/// kind are built for once.
+#[derive(Clone, Copy)]
+pub enum Chars<'a> {
+    /// Constant text.
+    Flash(Text),
+    /// Composed text.
+    Ram(&'a [u8]),
+}
+
+impl TextSource for Chars<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Chars::Flash(t) => t.len(),
+            Chars::Ram(b) => b.len(),
+        }
+    }
+
+    fn at(&self, i: usize) -> u8 {
+        match self {
+            Chars::Flash(t) => t.byte(i),
+            Chars::Ram(b) => b.get(i).copied().unwrap_or(0),
+        }
+    }
+
+    fn chars(&self) -> Chars<'_> {
+        *self
+    }
 }
 
 impl TextSource for [u8] {
@@ -31,6 +64,10 @@ impl TextSource for [u8] {
     fn at(&self, i: usize) -> u8 {
         self.get(i).copied().unwrap_or(0)
     }
+
+    fn chars(&self) -> Chars<'_> {
+        Chars::Ram(self)
+    }
 }
 
 impl TextSource for Text {
@@ -40,5 +77,9 @@ impl TextSource for Text {
 
     fn at(&self, i: usize) -> u8 {
         self.byte(i)
+    }
+
+    fn chars(&self) -> Chars<'_> {
+        Chars::Flash(*self)
     }
 }

@@ -11,7 +11,7 @@ use embedded_graphics::pixelcolor::Rgb565;
 use super::calibration::{self, CalView, CalibrationFlow};
 use super::degrees::{whole_deg, PushDeg};
 use super::draw::{fill, frame, text, Area, Canvas, TextStyle};
-use super::flash::TextSource;
+use super::flash::{Chars, TextSource};
 use super::layout::{Layout, SLOTS};
 use super::model::{warn, Page, Refusal, UiModel, UiState};
 use super::scan::{ScanShow, STOP_ITEM};
@@ -448,7 +448,13 @@ const SMALL_STYLE: TextStyle = TextStyle::opaque(1, theme::TEXT, theme::BG);
 
 /// Paints `a` exactly once: `s` at `(a.x + pad, vertically centred)`, the
 /// rest of `a` in `bg`. Text longer than `a` is cut at a whole character.
+#[inline]
 fn text_box<D: Canvas, T: TextSource + ?Sized>(d: &mut D, a: Area, s: &T, style: &TextStyle) -> Result<(), D::Error> {
+    text_box_chars(d, a, &s.chars(), style)
+}
+
+/// [`text_box`] for either kind of text: one copy for both.
+fn text_box_chars<D: Canvas>(d: &mut D, a: Area, s: &Chars<'_>, style: &TextStyle) -> Result<(), D::Error> {
     let pad: u16 = 4;
     let (cw, th) = style.extent(1);
     let fit = (a.w.saturating_sub(pad) / cw.max(1)) as usize;
@@ -475,6 +481,13 @@ impl<T: TextSource + ?Sized> TextSource for Prefix<'_, T> {
             self.s.at(i)
         } else {
             0
+        }
+    }
+
+    fn chars(&self) -> Chars<'_> {
+        match self.s.chars() {
+            Chars::Flash(t) => Chars::Flash(t.prefix(self.n)),
+            Chars::Ram(b) => Chars::Ram(b.get(..self.n).unwrap_or(b)),
         }
     }
 }
