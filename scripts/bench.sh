@@ -28,7 +28,7 @@ cargo test -q -p touch-arm-rig --test ui_firmware -- --nocapture >"$UI" 2>&1 || 
 echo "== the product firmware's stack in its busiest session (painted in simavr)"
 cargo test -q -p touch-arm-rig --test firmware_e2e stack_stays_within_budget -- --nocapture >>"$UI" 2>&1 || { echo "firmware_e2e failed:"; tail -20 "$UI"; exit 1; }
 echo "== the product firmware's frame budget in its busiest frames (simavr)"
-cargo test -q -p touch-arm-rig --test frame_budget -- --nocapture >>"$UI" 2>&1 || { echo "frame_budget failed:"; tail -20 "$UI"; exit 1; }
+cargo test -q -p touch-arm-rig --test frame_budget -- --nocapture --test-threads=1 >>"$UI" 2>&1 || { echo "frame_budget failed:"; tail -20 "$UI"; exit 1; }
 
 echo "== the live bench's pacing (60 s idle, 60 s moving)"
 PACING=$(mktemp)

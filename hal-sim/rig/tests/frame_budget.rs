@@ -360,39 +360,49 @@ fn path_moves_window() -> (Window, Vec<(u32, u32)>) {
 /// Periods between the path window's moves.
 const MOVE_EVERY: u32 = 220;
 
-/// The switch scan's line as the glass shows it in the map: the orange
-/// middle of the column line (`x`) where it crosses the map's second pixel
-/// row, of the row line (`y`) where it crosses the map's second column.
+/// `switch sweep 2`: a sweep of 100 frames.
+const FASTEST_SWEEP: u32 = 100;
+
+/// What the glass shows of the switch scan at a frame's end: the scan-orange
+/// pixels in the map (the line's middle) and whether some pixel outside it
+/// is scan orange (a button's highlight).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Line {
-    Column(i32),
-    Row(i32),
-    /// No line in the map (Go, Cancel or the buttons' turn).
-    None,
-    /// Neither one column line nor one row line: a repaint caught half done.
-    Torn,
+struct Glass {
+    /// One column (`Some((true, x))`) or one row (`Some((false, y))`) of
+    /// orange in the map; `None` when there is none, or several.
+    line: Option<(bool, i32)>,
+    /// Orange pixels in the map.
+    px: usize,
+    lit: bool,
 }
 
-/// What the glass shows of the scan at the end of a frame: its line, and
-/// whether some pixel outside the map is scan orange (a button's highlight).
-fn glass_scan(s: &Session, lay: touch_arm::ui::Layout) -> (Line, bool) {
+fn glass_scan(s: &Session, lay: touch_arm::ui::Layout) -> Glass {
     let fb = s.lcd.landscape();
     let scan = touch_arm::ui::theme::SCAN;
     let ws = lay.ws();
     let (x0, y0, w, h) = (i32::from(ws.x), i32::from(ws.y), i32::from(ws.w), i32::from(ws.h));
-    let cols: Vec<i32> = (x0..x0 + w).filter(|&x| fb.pixel(x, y0 + 1) == Some(scan)).collect();
-    let rows: Vec<i32> = (y0..y0 + h).filter(|&y| fb.pixel(x0 + 1, y) == Some(scan)).collect();
-    let line = match (cols.len(), rows.len()) {
-        (0, 0) => Line::None,
-        (1, n) if n == 0 || n == h as usize => Line::Column(cols[0]),
-        (n, 1) if n == 0 || n == w as usize => Line::Row(rows[0]),
-        _ => Line::Torn,
+    let in_map = |x: i32, y: i32| x >= x0 && x < x0 + w && y >= y0 && y < y0 + h;
+    let (mut xs, mut ys) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
+    let (mut px, mut lit) = (0, false);
+    for y in 0..fb.height() as i32 {
+        for x in 0..fb.width() as i32 {
+            if fb.pixel(x, y) == Some(scan) {
+                if in_map(x, y) {
+                    px += 1;
+                    xs.insert(x);
+                    ys.insert(y);
+                } else {
+                    lit = true;
+                }
+            }
+        }
+    }
+    let line = match (xs.len(), ys.len()) {
+        (1, n) if n > 1 => xs.first().map(|&x| (true, x)),
+        (n, 1) if n > 1 => ys.first().map(|&y| (false, y)),
+        _ => None,
     };
-    let outside = (0..fb.height() as i32)
-        .flat_map(|y| (0..fb.width() as i32).map(move |x| (x, y)))
-        .filter(|&(x, y)| !(x >= x0 && x < x0 + w && y >= y0 && y < y0 + h))
-        .any(|(x, y)| fb.pixel(x, y) == Some(scan));
-    (line, outside)
+    Glass { line, px, lit }
 }
 
 /// The firmware's column at frame `f` of a sweep of `n` frames over `w`
@@ -403,61 +413,62 @@ fn sweep_at(f: u32, p: u32, w: u32, n: u32) -> u32 {
     ((k * f + p % k) * w / (k * n)).min(w - 1)
 }
 
-/// `switch sweep 2`: a sweep of 100 frames.
-const FASTEST_SWEEP: u32 = 100;
-
-/// One sweep as the glass showed it: consecutive frames ending on the same
-/// kind of line.
-struct Run {
-    /// Index of its first sample (the end of period `start - 1`).
-    start: usize,
-    /// The line's position at each frame's end.
-    at: Vec<i32>,
+/// A sweep's frames as the glass showed them at their ends.
+#[derive(Debug, Default)]
+struct SweepSeen {
+    frames: usize,
+    /// Frames ending with the whole line on the glass.
+    whole: usize,
+    /// Frames ending with part of it (the rest repainted over).
+    part: usize,
+    /// Frames ending with no line in the map.
+    none: usize,
+    /// Times the line's position on the glass changed.
+    moves: usize,
 }
 
-impl Run {
-    /// Frames (after the first) whose end showed the line where the frame
-    /// before had left it: the scan moves at least a pixel a frame at the
-    /// fastest sweep on both axes, so each is a frame whose line was not
-    /// drawn.
-    fn stalls(&self) -> usize {
-        self.at.windows(2).filter(|p| p[0] == p[1]).count()
-    }
-}
-
-/// The runs of column lines and of row lines in `samples`, in order.
-fn runs(samples: &[Line], column: bool) -> Vec<Run> {
-    let mut out: Vec<Run> = Vec::new();
-    let mut prev_in = false;
-    for (i, l) in samples.iter().enumerate() {
-        let v = match (l, column) {
-            (Line::Column(x), true) => Some(*x),
-            (Line::Row(y), false) => Some(*y),
-            _ => None,
-        };
-        match (v, prev_in) {
-            (Some(v), true) => out.last_mut().unwrap().at.push(v),
-            (Some(v), false) => out.push(Run { start: i, at: vec![v] }),
-            _ => {}
+impl SweepSeen {
+    fn of(glass: &[Glass], column: bool, full: usize) -> SweepSeen {
+        let mut seen = SweepSeen { frames: glass.len(), ..SweepSeen::default() };
+        let mut last = None;
+        for g in glass {
+            match g.line {
+                Some((c, at)) if c == column => {
+                    if g.px == full {
+                        seen.whole += 1;
+                    } else {
+                        seen.part += 1;
+                    }
+                    if last.is_some_and(|l| l != at) {
+                        seen.moves += 1;
+                    }
+                    last = Some(at);
+                }
+                _ if g.px == 0 => seen.none += 1,
+                _ => seen.part += 1,
+            }
         }
-        prev_in = v.is_some();
+        seen
     }
-    out
+
+    /// Frames per change of the line's position on the glass.
+    fn frames_per_move(&self) -> f64 {
+        self.frames as f64 / self.moves.max(1) as f64
+    }
 }
 
 /// What the switch scan window measured on one panel.
 struct ScanWindow {
     w: Window,
-    /// The first column sweep, the button turn's frames and the row sweep
-    /// after the press.
-    column: Run,
+    /// The first column sweep (unpressed), the button turn's frames and the
+    /// row sweep after the column press.
+    column: SweepSeen,
     highlighted: usize,
-    row: Run,
-    /// Frames of the first column sweep by how many frames the glass's line
-    /// trailed the scan's (negative: ahead; `None`: a column the sweep does
-    /// not stand on).
-    column_lag: std::collections::BTreeMap<Option<i64>, usize>,
-    torn: usize,
+    row: SweepSeen,
+    /// The most frames by which the column on the glass trailed the scan's
+    /// in the first column sweep (the scan's frame minus the frame whose
+    /// column the glass showed, whole or in part).
+    column_lag: i64,
 }
 
 /// The switch scan at the fastest sweep on the panel `chip`: `switch on`,
@@ -473,25 +484,23 @@ fn switch_scan_window(chip: touch_arm_rig::lcd_bus::Chip) -> ScanWindow {
     let reply = s.command("switch sweep 2").unwrap();
     assert!(reply.starts_with("ok switch sweep 2.00"), "{reply}");
     let out0 = s.avr.uart_output().len();
-    let mut samples = Vec::new();
-    let mut outside = Vec::new();
-    let (mut col_runs, mut run_len, mut pressed) = (0, 0, None);
+    // Sample i: the glass at the end of period i − 1.
+    let mut glass: Vec<Glass> = Vec::new();
+    let (mut lit_end, mut pressed) = (None, None);
     let w = measure(&mut s, 640, |s, k| {
         if k == 0 {
             s.avr.uart_send(b"switch on\n");
         }
-        let (line, lit) = glass_scan(s, lay);
-        if matches!(line, Line::Column(_)) {
-            if !matches!(samples.last(), Some(Line::Column(_))) {
-                col_runs += 1;
-                run_len = 0;
-            }
-            run_len += 1;
+        let g = glass_scan(s, lay);
+        // The buttons' turn over: a column line at the map's left again
+        // after a highlight (the last sweep's line is still being
+        // repainted over when the first button lights).
+        if lit_end.is_none() && g.line.is_some_and(|(c, x)| c && x < 30) && glass.iter().any(|l| l.lit) {
+            lit_end = Some(k);
         }
-        samples.push(line);
-        outside.push(lit);
+        glass.push(g);
         // Half way through the second column sweep, down for 0.2 s.
-        if col_runs == 2 && run_len == FASTEST_SWEEP / 2 && pressed.is_none() {
+        if lit_end.is_some_and(|e| k == e + FASTEST_SWEEP / 2) {
             s.set_switch(true).unwrap();
             pressed = Some(k);
         }
@@ -500,46 +509,44 @@ fn switch_scan_window(chip: touch_arm_rig::lcd_bus::Chip) -> ScanWindow {
         }
     });
     assert_eq!(s.avr.resets(), 0);
-    {
-        let mut rle: Vec<(Line, bool, usize)> = Vec::new();
-        for (l, o) in samples.iter().zip(&outside) {
-            let kind = match l { Line::Column(_) => Line::Column(0), Line::Row(_) => Line::Row(0), x => *x };
-            match rle.last_mut() { Some((k, oo, n)) if *k == kind && oo == o => *n += 1, _ => rle.push((kind, *o, 1)) }
-        }
-        eprintln!("DEBUG {rle:?}");
-    }
     let out = String::from_utf8_lossy(&s.avr.uart_output()[out0..]).to_string();
     let on_at = out.find("ok switch on sweep 2.00").unwrap_or_else(|| panic!("no switch on:\n{out}"));
     assert!(out.contains("info switch column "), "no column press:\n{out}");
+    let pressed = pressed.expect("the buttons' turn ended") as usize;
     // The frame that answered `switch on` is the sweep's frame 0.
     let k_on = w.out_len.iter().position(|&len| len > out0 + on_at).expect("the reply's frame");
-    let cols = runs(&samples, true);
-    let rows = runs(&samples, false);
-    assert!(cols.len() >= 2, "column sweeps: {}", cols.len());
-    let column = cols.into_iter().next().unwrap();
-    assert!(column.at.len() >= FASTEST_SWEEP as usize - 1, "the first column sweep: {} frames", column.at.len());
-    let row = rows.into_iter().next().expect("a row sweep");
-    assert!(row.at.len() >= FASTEST_SWEEP as usize, "the row sweep: {} frames", row.at.len());
-    let highlighted = outside[column.start + column.at.len()..row.start].iter().filter(|&&l| l).count();
-    assert!(highlighted >= 5 * 50, "buttons highlighted in {highlighted} frames");
-    // Sample i shows the end of period i − 1, frame i − 1 − k_on of the sweep.
-    let ws_w = u32::from(lay.ws().w);
-    let mut column_lag = std::collections::BTreeMap::new();
-    for (j, &x) in column.at.iter().enumerate() {
-        let f = (column.start + j) as i64 - 1 - k_on as i64;
-        let shown = (0..FASTEST_SWEEP).find(|&g| sweep_at(g, 0, ws_w, FASTEST_SWEEP) as i32 == x);
-        *column_lag.entry(shown.map(|g| f - i64::from(g))).or_insert(0) += 1;
-    }
-    let torn = samples.iter().filter(|&&l| l == Line::Torn).count();
-    ScanWindow { w, column, highlighted, row, column_lag, torn }
+    let lit_start = glass.iter().position(|g| g.lit).expect("a button highlighted");
+    let ws = lay.ws();
+    let column = SweepSeen::of(&glass[k_on + 1..lit_start], true, ws.h.into());
+    assert!(column.frames >= FASTEST_SWEEP as usize - 1, "the first column sweep: {} frames", column.frames);
+    let highlighted = glass[lit_start..pressed].iter().filter(|g| g.lit).count();
+    // Five buttons, a dwell of 50 frames each (a frame between two may end
+    // with neither lit).
+    let lit_span = glass[..pressed].iter().rposition(|g| g.lit).unwrap() + 1 - lit_start;
+    assert!(lit_span >= 5 * 50 - 5, "buttons highlighted over {lit_span} frames ({highlighted} lit)");
+    let row_start =
+        pressed + glass[pressed..].iter().position(|g| g.line.is_some_and(|(c, _)| !c)).expect("a row line");
+    let row =
+        SweepSeen::of(&glass[row_start..(row_start + FASTEST_SWEEP as usize).min(glass.len())], false, ws.w.into());
+    assert_eq!(row.frames, FASTEST_SWEEP as usize, "the window ended in the row sweep");
+    let column_lag = (k_on + 1..lit_start)
+        .filter_map(|i| {
+            let (_, x) = glass[i].line.filter(|&(c, _)| c)?;
+            let f = (i - 1 - k_on) as i64;
+            let g = (0..FASTEST_SWEEP).find(|&g| sweep_at(g, 0, ws.w.into(), FASTEST_SWEEP) as i32 == x)?;
+            Some(f - i64::from(g))
+        })
+        .max()
+        .unwrap_or(i64::MAX);
+    ScanWindow { w, column, highlighted, row, column_lag }
 }
 
 /// Switch access's scan (issue #20 §4) at its fastest sweep, 2 s, the
-/// heaviest repaint rate of the idle screen: every frame repaints the map's
-/// background under the old line and draws the new one, and the button
-/// highlights' frames in turn. No PWM period missed and no frame ending
-/// late, on the 320×240 and the 480×320 panel; how far the line on the
-/// glass trails the scan is printed.
+/// heaviest repaint rate of the idle screen: every new line repaints the
+/// map's background under the old one, and the buttons' highlight frames
+/// follow in turn. No PWM period missed and no frame ending late, on the
+/// 320×240 and the 480×320 panel; how the line on the glass trails the
+/// scan is printed.
 #[test]
 fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
     use touch_arm_rig::lcd_bus::Chip;
@@ -550,8 +557,8 @@ fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
         let (w, h) = chip.landscape_size();
         eprintln!(
             "switch scan {} {w}x{h}: {} frames, {} periods, missed {}, late {} ({}), latest pulse {} app {} frame end {} cycles; \
-             column sweep {} frames from sample {} ({} without a move of the line, lag by frames {:?}), \
-             buttons lit in {} frames, row sweep {} frames from sample {} ({} without a move), {} torn samples",
+             column sweep {:?} ({:.1} frames per move on the glass, lag at most {} frames); buttons lit in {} frames; \
+             row sweep {:?} ({:.1} frames per move)",
             chip.name(),
             st.frames,
             sw.w.periods,
@@ -561,15 +568,12 @@ fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
             cycles(st.worst_pulse_ticks),
             cycles(st.worst_app_ticks),
             cycles(st.worst_ticks),
-            sw.column.at.len(),
-            sw.column.start,
-            sw.column.stalls(),
+            sw.column,
+            sw.column.frames_per_move(),
             sw.column_lag,
             sw.highlighted,
-            sw.row.at.len(),
-            sw.row.start,
-            sw.row.stalls(),
-            sw.torn
+            sw.row,
+            sw.row.frames_per_move()
         );
         assert_eq!(
             sw.w.missed(),
@@ -580,20 +584,26 @@ fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
         );
         assert_eq!(st.overruns, 0, "switch scan on {}: frames ended late: {st:?}", chip.name());
         sentence.push(format!(
-            "{w}×{h}: {} frames, {} missed periods, {} ending late, the latest frame end {} cycles; the line stood still in {} of the column sweep's {} frames and {} of the row sweep's {}",
+            "on {w}×{h} {} frames, {} missed periods, {} ending late, the latest frame end {} cycles; the line moved on the glass every {:.1} frames in the column sweep (at most {} frames behind the scan; whole at {} of its {} frame ends, in part at {}, absent at {}) and every {:.1} in the row sweep (whole at {} of {}, absent at {})",
             st.frames,
             sw.w.missed(),
             st.overruns,
             cycles(st.worst_ticks),
-            sw.column.stalls(),
-            sw.column.at.len(),
-            sw.row.stalls(),
-            sw.row.at.len()
+            sw.column.frames_per_move(),
+            sw.column_lag,
+            sw.column.whole,
+            sw.column.frames,
+            sw.column.part,
+            sw.column.none,
+            sw.row.frames_per_move(),
+            sw.row.whole,
+            sw.row.frames,
+            sw.row.none
         ));
     }
     // One call: the two lines stay together among the other test's.
     println!(
-        "md:\nmd: Switch scan at the fastest sweep (2 s; `switch on`, a column sweep, the buttons highlighted in turn, a column press, a row sweep, 12.8 s), each frame repainting the map under the old line: {}.",
+        "md:\nmd: Switch scan at the fastest sweep (2 s; `switch on`, a column sweep, the buttons highlighted in turn, a column press half way through the next, a row sweep; 12.8 s, then 1 s without input), each new line repainting the map under the old: {}.",
         sentence.join("; ")
     );
 }
