@@ -90,6 +90,7 @@ impl App {
     /// `ok pose list` and each slot: `<n> <base> <shoulder> <elbow> grip
     /// <gripper>` in degrees with two decimals (no `grip …` for a pose saved
     /// before the gripper existed), or `<n> empty`.
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn pose_list(&self, r: &mut Line) {
         r.str(t!("ok pose list"));
         for (k, slot) in self.poses.slots.iter().enumerate() {

@@ -199,6 +199,7 @@ impl App {
     /// reset <cause> home`. Its line is in this frame, not in
     /// [`App::restart`]'s, whose locals would then sit beyond `ldd`'s reach.
     #[inline(never)] // reason: code-size
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     fn report_restart<U: SerialPort>(&mut self, serial: &mut U, kind: ResetKind, pulses: Option<&[u16]>) {
         let mut line = Line::new();
         line.str(t!("info reset ")).str(kind.name());

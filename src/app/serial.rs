@@ -327,6 +327,7 @@ impl App {
     // Out of line: its locals stay within `ldd`/`std`'s reach, the line's
     // buffer in the caller's frame.
     #[inline(never)] // reason: code-size
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     fn reply_line(&self, done: &Done, r: &mut Line) {
         match *done {
             Done::Nothing | Done::GripDue => {}

@@ -264,15 +264,6 @@ impl Calibration {
     /// switch's presses); within one count of it (`tests::
     /// unmap_pixel_is_unmap_at_the_pixel_centre`).
     pub fn unmap_pixel(&self, gx: i16, gy: i16, w: u16, h: u16) -> RawPoint {
-        let along = |from: u16, to: u16, g: i16, n: u16| -> u16 {
-            let (num, den) = (2 * u32::from(g.max(0) as u16) + 1, 2 * u32::from(n.max(1)));
-            let d = ((u32::from(from.abs_diff(to)) * num + den / 2) / den) as u16;
-            if to >= from {
-                from.saturating_add(d)
-            } else {
-                from.saturating_sub(d)
-            }
-        };
         // x_p = −1 at the left edge: x_min there (x_max if inverted); y_p
         // = 1 at the top: y_max there (y_min if inverted).
         let (x0, x1) = if self.invert_x { (self.x_max, self.x_min) } else { (self.x_min, self.x_max) };
@@ -390,6 +381,19 @@ impl Calibration {
 impl Default for Calibration {
     fn default() -> Self {
         Self::DEFAULT
+    }
+}
+
+/// The raw value `(2g + 1)/2n` of the way from `from` to `to`, rounded
+/// ([`Calibration::unmap_pixel`]). Out of line: one copy for both axes.
+#[inline(never)] // reason: code-size
+fn along(from: u16, to: u16, g: i16, n: u16) -> u16 {
+    let (num, den) = (2 * u32::from(g.max(0) as u16) + 1, 2 * u32::from(n.max(1)));
+    let d = ((u32::from(from.abs_diff(to)) * num + den / 2) / den) as u16;
+    if to >= from {
+        from.saturating_add(d)
+    } else {
+        from.saturating_sub(d)
     }
 }
 

@@ -573,6 +573,7 @@ impl Ui {
     }
 
     /// Redraws towards `target` until it is on the glass or the budget ends.
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     fn run<D: Canvas, B: DrawBudget>(&mut self, target: Shown, d: &mut D, budget: &mut B) -> Result<Drawn, D::Error> {
         let mut redrawn = 0u16;
         loop {
@@ -624,8 +625,16 @@ impl Ui {
             _ => return 1,
         };
         let bit = |changed: bool, k: u8| if changed { 1u64 << k } else { 0 };
-        let moved = old.touch != v.touch || old.target != v.target || old.candidate != v.candidate;
-        let markers = if moved || old.line != v.line { ((1 << 8) - 1) << S_MARKERS } else { 0 };
+        // One step per box that changed, no more: a step with no box still
+        // works out the list before it finds that out, between the budget's
+        // asks (with all eight steps every time, the busiest window's
+        // frames ran late).
+        let mut boxes = 0u64;
+        for _ in 0..self.marker_box(old, v, 0).1 {
+            // One-bit shifts: a variable one is a loop on the AVR anyway.
+            boxes = (boxes << 1) | 1;
+        }
+        let markers = boxes << S_MARKERS;
         // A new page: its row of buttons (STOP, the headline, the status
         // lines and the map as usual); so is a new scan highlight on it.
         let page = if !same_row(old, v) { PAGE_STEPS } else { 0 };
@@ -793,7 +802,7 @@ impl Ui {
     /// Repaints box `i` of the markers that changed ([`Self::marker_box`]).
     #[inline(never)] // avr-trap: frame-size
     fn marker_step<D: Canvas>(&self, old: &View, v: &View, i: usize, d: &mut D) -> Result<u16, D::Error> {
-        let Some(box_) = self.marker_box(old, v, i) else {
+        let (Some(box_), _) = self.marker_box(old, v, i) else {
             return Ok(0);
         };
         let (marks, k) = v.marks();
@@ -801,12 +810,13 @@ impl Ui {
         Ok(Redrawn::MARKERS)
     }
 
-    /// Box `i` of the markers that changed (old and new places of the
-    /// touch, the target and the candidate), unless an earlier box covers
-    /// it. Out of line, so its list of boxes is not on the stack while the
-    /// box is repainted: the draw chain is the UI's deepest (ui-demo).
+    /// Box `i` of the markers that changed (old and new places of the scan
+    /// line, the touch, the target and the candidate), unless an earlier
+    /// box covers it; and how many boxes there are. Out of line, so its
+    /// list of boxes is not on the stack while the box is repainted: the
+    /// draw chain is the UI's deepest (ui-demo).
     #[inline(never)] // avr-trap: frame-size
-    fn marker_box(&self, old: &View, v: &View, i: usize) -> Option<Area> {
+    fn marker_box(&self, old: &View, v: &View, i: usize) -> (Option<Area>, u8) {
         let lay = &self.layout;
         let mut dirty = [Area::new(0, 0, 0, 0); 8];
         let mut n = 0;
@@ -821,17 +831,19 @@ impl Ui {
                 }
             }
         }
-        let box_ = *dirty.get(..n).and_then(|b| b.get(i))?;
+        let count = n as u8;
+        let Some(&box_) = dirty.get(..n).and_then(|b| b.get(i)) else { return (None, count) };
         // A box already repainted (same place) needs no second pass.
         if dirty.get(..i).is_some_and(|prev| prev.contains(&box_)) {
-            return None;
+            return (None, count);
         }
-        Some(box_)
+        (Some(box_), count)
     }
 
     /// What a touch at screen pixel `(x, y)` means on the main screen as last
     /// drawn; `None` for guard bands, gaps and anything before the first draw
     /// (except STOP, which works from the start).
+    #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub fn hit(&self, x: i16, y: i16) -> Option<Hit> {
         let view = match self.shown {
             Shown::Main(v) => Some(v),
