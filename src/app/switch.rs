@@ -181,8 +181,7 @@ impl App {
             }
             ScanPress::Item(i) => {
                 self.say_switch(serial, t!("button"), Some(i16::from(i)), None);
-                let a = if i == STOP_ITEM { lay.stop() } else { lay.slot(i) };
-                let (cx, cy) = (a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16);
+                let (cx, cy) = if i == STOP_ITEM { lay.stop() } else { lay.slot(i) }.centre();
                 match self.screen.ui.hit(cx, cy) {
                     Some(Hit::Resume) => self.switch.resume = true,
                     Some(h) => {
@@ -204,8 +203,8 @@ impl App {
         let hidden = self.hidden_now();
         let mut items = if self.stopped { 1 << STOP_ITEM } else { 0 };
         for i in 0..STOP_ITEM {
-            let a = lay.slot(i);
-            match ui.hit(a.x + (a.w / 2) as i16, a.y + (a.h / 2) as i16) {
+            let (cx, cy) = lay.slot(i).centre();
+            match ui.hit(cx, cy) {
                 None | Some(Hit::Calibrate) => {}
                 Some(h) if hides(hidden, &h) => {}
                 Some(_) => items |= 1 << i,

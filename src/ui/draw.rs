@@ -98,6 +98,11 @@ impl Area {
         )
     }
 
+    /// The pixel at the middle (rounded up and left).
+    pub const fn centre(&self) -> (i16, i16) {
+        (self.x + (self.w / 2) as i16, self.y + (self.h / 2) as i16)
+    }
+
     /// A square of side `2r + 1` centred on `(cx, cy)`.
     pub fn around(cx: i16, cy: i16, r: u16) -> Area {
         Area::new(cx.saturating_sub(r as i16), cy.saturating_sub(r as i16), 2 * r + 1, 2 * r + 1)
