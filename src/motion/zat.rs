@@ -513,7 +513,10 @@ impl<R: Real> Shape<R> {
     /// assert!((shape.g(2.0) - 15.0 / 28.0).abs() < 1e-15);
     /// assert_eq!((shape.g(0.0), shape.g(4.0)), (0.0, 1.0));
     /// ```
-    #[inline]
+    ///
+    /// Not `#[inline]`: too large to be inlined anyway, and an inline
+    /// generic is instantiated again in each crate that calls it (the
+    /// firmware binary carried a second copy).
     pub fn g(&self, t: R) -> R {
         self.g_inline(t)
     }

@@ -806,7 +806,15 @@ impl Ui {
             return Ok(0);
         };
         let (marks, k) = v.marks();
-        ws_view::repaint(d, &self.layout, &self.reach, box_, marks.get(..k).unwrap_or(&[]))?;
+        let marks = marks.get(..k).unwrap_or(&[]);
+        // The new scan line is opaque over all of its box: the background
+        // under it would be painted over at once (for a column, a hundred
+        // map rows of it, and the line trailed the scan on the chip).
+        if line_mark(v.line).is_some_and(|m| m.area(&self.layout) == box_) {
+            ws_view::draw_overlays(d, &self.layout, box_, marks)?;
+        } else {
+            ws_view::repaint(d, &self.layout, &self.reach, box_, marks)?;
+        }
         Ok(Redrawn::MARKERS)
     }
 

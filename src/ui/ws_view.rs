@@ -216,38 +216,54 @@ pub fn background_at(lay: &Layout, reach: &Reach, x: i16, y: i16) -> Rgb565 {
     }
 }
 
-/// Column breakpoints of one map row (screen x), sorted, where the colour
-/// may change. At most 12.
-fn row_breaks(lay: &Layout, reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize {
+/// Breakpoints along one map row (`by_columns` false: screen x) or one
+/// map column (screen y), sorted, where the colour may change: the two
+/// diagonals' pixels, the vertical's edges and the reach circles. At
+/// most 10.
+fn line_breaks(lay: &Layout, reach: &Reach, at: i16, by_columns: bool, out: &mut [i16; 14]) -> usize {
     let ws = lay.ws();
-    let row = y - ws.y;
     let last = ws.w as i16 - 1;
     let mid = lay.ws_origin_x() - ws.x;
-    let (_, dy) = lay.ws_half_units(ws.x, y);
-    let dy2 = sq(dy) as i32;
+    // The line's index, where it starts, how long it is, the centre of the
+    // reach circles along it, and its half-unit coordinate across.
+    let (i, origin, len, centre, across) = if by_columns {
+        (at - ws.x, ws.y, ws.h, ws.h as i16, lay.ws_half_units(at, ws.y).0)
+    } else {
+        (at - ws.y, ws.x, ws.w, mid, lay.ws_half_units(ws.x, at).1)
+    };
+    let across2 = sq(across) as i32;
     let mut n = 0;
     let mut push = |v: i16, n: &mut usize| {
         if *n < out.len() {
-            out[*n] = v.clamp(0, ws.w as i16) + ws.x;
+            out[*n] = v.clamp(0, len as i16) + origin;
             *n += 1;
         }
     };
-    for v in [row, row + 1, last - row, last - row + 1, mid - 1, mid + 1] {
+    // A diagonal pixel has column = row or column = last − row, the same
+    // rule along either axis; along a column the vertical's edges are
+    // spare breaks (its two columns are one colour all the way).
+    for v in [i, i + 1, last - i, last - i + 1, mid - 1, mid + 1] {
         push(v, &mut n);
     }
-    // Columns with |dx| ≤ m, where dx = 2·col + 1 − 2·mid.
-    let span = |m: i16| ((2 * mid - 1 - m) / 2, (2 * mid - 1 + m) / 2 + 1);
-    if let Some(m) = largest_odd_root(reach.outer2 as i32 - dy2) {
+    // Pixels with |d| ≤ m, where d = 2·k + 1 − 2·centre at index k (dx
+    // along a row; −dy along a column, whose centre is the map's bottom).
+    let span = |m: i16| ((2 * centre - 1 - m) / 2, (2 * centre - 1 + m) / 2 + 1);
+    if let Some(m) = largest_odd_root(reach.outer2 as i32 - across2) {
         let (a, b) = span(m);
         push(a, &mut n);
         push(b, &mut n);
     }
-    if let Some(m) = largest_odd_root(reach.inner2 as i32 - dy2 - 1) {
+    if let Some(m) = largest_odd_root(reach.inner2 as i32 - across2 - 1) {
         let (a, b) = span(m);
         push(a, &mut n);
         push(b, &mut n);
     }
-    // Insertion sort: a dozen values.
+    sort(out, n);
+    n
+}
+
+/// Insertion sort of `out[..n]`: a dozen values.
+fn sort(out: &mut [i16; 14], n: usize) {
     let mut i = 1;
     while i < n {
         let v = out[i];
@@ -259,42 +275,53 @@ fn row_breaks(lay: &Layout, reach: &Reach, y: i16, out: &mut [i16; 14]) -> usize
         out[j] = v;
         i += 1;
     }
-    n
 }
 
+/// Widest area painted column by column: a scan line's box (3 pixels)
+/// takes three operations of a few runs each instead of one per map row
+/// (a hundred, and the column line trailed the scan on the chip:
+/// BENCHMARKS.md, frame budget).
+const COLUMNS_W: u16 = 3;
+
 /// Paints the map background over `area ∩` the map: one [`Canvas::fill_runs`]
-/// per row (a dozen runs each).
+/// per row (a dozen runs each), or per column for an area at most
+/// [`COLUMNS_W`] wide.
 pub fn draw_background<D: Canvas>(d: &mut D, lay: &Layout, reach: &Reach, area: Area) -> Result<(), D::Error> {
     let Some(a) = area.intersect(&lay.ws()) else {
         return Ok(());
     };
+    let by_columns = a.w <= COLUMNS_W;
+    let (lines, from, to) =
+        if by_columns { (a.x..a.right(), a.y, a.bottom()) } else { (a.y..a.bottom(), a.x, a.right()) };
     let mut breaks = [0i16; 14];
-    for y in a.y..a.bottom() {
+    for at in lines {
         if d.paused() {
             break;
         }
-        // One operation per row.
+        // One operation per line.
         if d.skip_op() {
             continue;
         }
-        let n = row_breaks(lay, reach, y, &mut breaks);
+        let n = line_breaks(lay, reach, at, by_columns, &mut breaks);
         let mut runs = [Run { len: 0, color: theme::ZONE_LINE }; 14];
         let mut count = 0usize;
-        let mut start = a.x;
+        let mut start = from;
         let mut k = 0;
-        while start < a.right() {
+        while start < to {
             // Next breakpoint after `start`.
             while k < n && breaks[k] <= start {
                 k += 1;
             }
-            let end = if k < n { breaks[k].min(a.right()) } else { a.right() };
+            let end = if k < n { breaks[k].min(to) } else { to };
+            let (x, y) = if by_columns { (at, start) } else { (start, at) };
             if let Some(slot) = runs.get_mut(count) {
-                *slot = Run { len: (end - start) as u16, color: background_at(lay, reach, start, y) };
+                *slot = Run { len: (end - start) as u16, color: background_at(lay, reach, x, y) };
                 count += 1;
             }
             start = end;
         }
-        d.fill_runs(&Area::new(a.x, y, a.w, 1).to_rect(), runs.get(..count).unwrap_or(&[]))?;
+        let line = if by_columns { Area::new(at, a.y, 1, a.h) } else { Area::new(a.x, at, a.w, 1) };
+        d.fill_runs(&line.to_rect(), runs.get(..count).unwrap_or(&[]))?;
     }
     Ok(())
 }

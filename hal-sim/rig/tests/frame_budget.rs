@@ -467,7 +467,8 @@ struct ScanWindow {
     row: SweepSeen,
     /// The most frames by which the column on the glass trailed the scan's
     /// in the first column sweep (the scan's frame minus the frame whose
-    /// column the glass showed, whole or in part).
+    /// column the glass showed, whole or in part; negative: the glass
+    /// shows the next frame's column, drawn before the frame's end).
     column_lag: i64,
 }
 
@@ -529,7 +530,9 @@ fn switch_scan_window(chip: touch_arm_rig::lcd_bus::Chip) -> ScanWindow {
     let row =
         SweepSeen::of(&glass[row_start..(row_start + FASTEST_SWEEP as usize).min(glass.len())], false, ws.w.into());
     assert_eq!(row.frames, FASTEST_SWEEP as usize, "the window ended in the row sweep");
-    let column_lag = (k_on + 1..lit_start)
+    // Over the sweep's own frames (after them the last line stays on the
+    // glass until the first highlight's frame has been drawn).
+    let column_lag = (k_on + 1..lit_start.min(k_on + 1 + FASTEST_SWEEP as usize))
         .filter_map(|i| {
             let (_, x) = glass[i].line.filter(|&(c, _)| c)?;
             let f = (i - 1 - k_on) as i64;
@@ -545,8 +548,10 @@ fn switch_scan_window(chip: touch_arm_rig::lcd_bus::Chip) -> ScanWindow {
 /// heaviest repaint rate of the idle screen: every new line repaints the
 /// map's background under the old one, and the buttons' highlight frames
 /// follow in turn. No PWM period missed and no frame ending late, on the
-/// 320×240 and the 480×320 panel; how the line on the glass trails the
-/// scan is printed.
+/// 320×240 and the 480×320 panel, and the column line on the glass at
+/// most a frame behind the scan (a press takes the line the glass shows:
+/// every column is pickable only if the glass shows every column the scan
+/// passes).
 #[test]
 fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
     use touch_arm_rig::lcd_bus::Chip;
@@ -583,6 +588,12 @@ fn the_switch_scan_at_its_fastest_sweep_misses_no_pwm_period() {
             sw.w.periods
         );
         assert_eq!(st.overruns, 0, "switch scan on {}: frames ended late: {st:?}", chip.name());
+        assert!(
+            sw.column_lag <= 1,
+            "switch scan on {}: the column line {} frames behind the scan",
+            chip.name(),
+            sw.column_lag
+        );
         sentence.push(format!(
             "on {w}×{h} {} frames, {} missed periods, {} ending late, the latest frame end {} cycles; the line moved on the glass every {:.1} frames in the column sweep (at most {} frames behind the scan; whole at {} of its {} frame ends, in part at {}, absent at {}) and every {:.1} in the row sweep (whole at {} of {}, absent at {})",
             st.frames,

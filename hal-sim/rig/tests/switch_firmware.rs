@@ -43,13 +43,6 @@ const MAP_H: f64 = 112.0;
 /// frames either way, 1.5 px at 0.75 px a frame (224 columns in 300
 /// frames; rows move half as fast), plus the floor's rounding: within 2 px.
 const TOLERANCE_PX: i64 = 2;
-/// How far the column the press takes may trail the scan's: a press takes
-/// the line as the glass shows it (`Ui::scan_shown`), and the column line's
-/// repaint, 112 map rows sliced over frames, trails the scan by several
-/// frames (frame_budget.rs measures it at the fastest sweep; BENCHMARKS.md):
-/// at the default 6 s sweep the line moves 0.75 columns a frame, so 6
-/// columns is 8 frames behind.
-const COLUMN_LAG_PX: i64 = 6;
 
 fn boot() -> Session {
     Session::boot_product(None).expect("firmware ELF (cargo avr)")
@@ -134,10 +127,7 @@ fn three_presses_pick_the_pixel_under_the_lines_and_the_arm_goes_there() {
     let x = values(&col_line, "info switch column ")[0];
     let f = (t_down - t_on) / FRAME_S;
     let want_x = (f * MAP_W / SWEEP_FRAMES).floor() as i64;
-    assert!(
-        (-TOLERANCE_PX..=COLUMN_LAG_PX).contains(&(want_x - x)),
-        "{col_line}: column {x}, expected {want_x} or up to {COLUMN_LAG_PX} behind (frame {f:.1})"
-    );
+    assert!((want_x - x).abs() <= TOLERANCE_PX, "{col_line}: column {x}, expected {want_x} (frame {f:.1})");
 
     // Row: down 3.0 s after the column press let go; the row sweep starts
     // once that release counts.

@@ -454,6 +454,48 @@ fn map_colours_follow_workspace_conditions_and_reach() {
     }
 }
 
+/// The background painted row by row (a large area) and column by column
+/// (a scan line's box, up to 3 pixels wide, anywhere across the map and
+/// past its edges) gives every pixel `background_at`'s colour, and paints
+/// nothing outside the map and the box, on both layouts, for reaches
+/// from everything to a thin ring.
+#[test]
+fn the_map_background_is_exact_by_rows_and_by_columns() {
+    use touch_arm::ui::ws_view::{background_at, draw_background, Reach};
+    const NONE: Rgb565 = Rgb565::new(1, 2, 3);
+    let mut checked = 0usize;
+    for lay in [Layout::QVGA, Layout::HVGA] {
+        let ws = lay.ws();
+        for (min, max) in [(0.0, 2.0), (0.2, 1.0), (0.4, 0.9), (0.05, 0.6), (0.7, 0.72)] {
+            let reach = Reach::new(min, max, lay.scale());
+            let mut boxes = vec![Area::new(ws.x - 5, ws.y - 5, ws.w + 10, ws.h + 10)];
+            for w in 1..=3u16 {
+                boxes.extend((ws.x - 2..ws.right() + 1).map(|x| Area::new(x, ws.y, w, ws.h)));
+            }
+            for a in boxes {
+                let mut fb = Framebuffer::new(lay.width().into(), lay.height().into(), NONE);
+                draw_background(&mut fb, &lay, &reach, a).unwrap();
+                // The box, a margin round it and the map's edges.
+                let seen = a.inflate(4).intersect(&lay.screen()).unwrap();
+                for y in seen.y..seen.bottom() {
+                    for x in seen.x..seen.right() {
+                        let want = if a.contains(x, y) && ws.contains(x, y) {
+                            background_at(&lay, &reach, x, y)
+                        } else {
+                            NONE
+                        };
+                        assert_eq!(fb.pixel(x.into(), y.into()), Some(want), "({x}, {y}) of {a:?}, reach {min}..{max}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    // Per reach: both maps with margins (26 136 + 53 700 pixels), and
+    // 229 + 325 column boxes of each width with their margins.
+    assert!(checked > 5 * (26_136 + 53_700 + 3 * 229 * 9 * 120), "checked {checked} pixels");
+}
+
 #[test]
 fn markers_sit_on_the_pixels_the_mapping_predicts() {
     let m = moving_model();
