@@ -34,7 +34,7 @@
 use super::refusal::Refusal;
 use super::text::Line;
 use super::App;
-use crate::config::access::{self, item, Access, ACCESS_DEFAULT};
+use crate::config::access::{self, item, Access, SwitchUse, ACCESS_DEFAULT};
 use crate::config::settings::CalSet;
 use crate::config::settings::SpeedPreset;
 use crate::config::store::SaveError;
@@ -115,8 +115,8 @@ pub(super) enum AccessSet {
     /// An item bit hidden (true) or shown.
     Hide(u8, bool),
     Cap(SpeedPreset),
-    /// The switch turned on (true) or off.
-    Switch(bool),
+    /// The switch's use set.
+    Switch(SwitchUse),
     /// The switch's sweep, tenths of a second.
     Sweep(u8),
 }
@@ -242,9 +242,9 @@ impl App {
                 next.cap = p;
                 AccessSet::Cap(p)
             }
-            AccessCmd::Switch(on) => {
-                next.switch_on = on;
-                AccessSet::Switch(on)
+            AccessCmd::Switch(u) => {
+                next.switch = u;
+                AccessSet::Switch(u)
             }
             AccessCmd::Sweep(ds) => {
                 next.sweep_ds = ds;
@@ -345,7 +345,7 @@ impl App {
             line.word(t!("none"));
         }
         line.word(t!("cap")).word(a.cap.name());
-        line.word(t!("switch")).word(if a.switch_on { t!("on") } else { t!("off") });
+        line.word(t!("switch")).word(a.switch.name());
         line.word(t!("sweep")).bytes(b" ").centi(i32::from(a.sweep_ds) * 10);
     }
 
@@ -373,11 +373,11 @@ impl App {
         let switch = matches!(set, AccessSet::Switch(_) | AccessSet::Sweep(_));
         r.str(if switch { t!("ok switch ") } else { t!("ok access ") });
         match set {
-            AccessSet::Switch(false) => {
+            AccessSet::Switch(SwitchUse::Off) => {
                 r.str(t!("off"));
             }
-            AccessSet::Switch(true) => {
-                r.str(t!("on sweep ")).centi(i32::from(self.carer.access.sweep_ds) * 10);
+            AccessSet::Switch(u) => {
+                r.str(u.name()).str(t!(" sweep ")).centi(i32::from(self.carer.access.sweep_ds) * 10);
             }
             AccessSet::Sweep(ds) => {
                 r.str(t!("sweep ")).centi(i32::from(ds) * 10);

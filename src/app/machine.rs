@@ -195,6 +195,13 @@ impl App {
         let step = self.filter.update(read);
         // Anything but a clean "not touched" may be a finger joining the plates.
         self.contact = !matches!(step.read, Read::NotTouched(_));
+        // The whole glass as the switch: a contact closes it, and no
+        // contact acts on the screen (nor is left half judged for later).
+        self.switch.glass = self.contact && self.glass_is_switch();
+        if self.glass_is_switch() {
+            self.press = super::press::Press::IDLE;
+            return;
+        }
         self.press_read(&step.read, now_ms, storage, serial);
     }
 

@@ -5,6 +5,11 @@
 //! ([`App::set_switch`]); [`crate::touch::switch`] debounces it with the
 //! touch's `hold` and `repeat`; [`crate::ui::scan`] is the scan. Here:
 //! - **Off** (`switch off`, the default): the level is ignored.
+//! - **The glass as a switch** (`switch glass`): as `switch on`, and any
+//!   contact on the glass (the touch filter's, anything but a clean "not
+//!   touched") is the switch closed too, for a user who can touch but not
+//!   aim; no touch reaches the screen's buttons or map then (the
+//!   calibration's crosshairs excepted, which need the glass).
 //! - **While the arm moves** (or a path is checked): any press is STOP
 //!   (`info switch stop`). In `mode hold` a move the switch started runs
 //!   while the switch stays down instead, and letting go brings it to rest
@@ -28,6 +33,7 @@
 use super::press::{RESUME_MS, RING_STEPS};
 use super::text::Line;
 use super::{App, State};
+use crate::config::access::SwitchUse;
 use crate::seam::{SerialPort, Storage};
 use crate::text::Text;
 use crate::touch::filter::TouchPoint;
@@ -42,6 +48,8 @@ pub(super) struct SwitchRun {
     scan: Scan,
     /// The level the board read for the next frame (true: closed).
     level: bool,
+    /// The glass had a contact in this frame's read (`switch glass`).
+    pub(super) glass: bool,
     /// A press not acted on yet (a frame without room for a plan).
     due: bool,
     /// The down that pressed on RESUME: it resumes at [`RESUME_MS`].
@@ -51,8 +59,15 @@ pub(super) struct SwitchRun {
 }
 
 impl SwitchRun {
-    pub(super) const IDLE: SwitchRun =
-        SwitchRun { input: Switch::IDLE, scan: Scan::START, level: false, due: false, resume: false, shown: false };
+    pub(super) const IDLE: SwitchRun = SwitchRun {
+        input: Switch::IDLE,
+        scan: Scan::START,
+        level: false,
+        glass: false,
+        due: false,
+        resume: false,
+        shown: false,
+    };
 }
 
 /// Frames of a sweep of `ds` tenths of a second.
@@ -65,6 +80,12 @@ impl App {
     /// once a frame: `true` while the contact is closed).
     pub fn set_switch(&mut self, down: bool) {
         self.switch.level = down;
+    }
+
+    /// The glass is a switch now (`switch glass`, the main screen up): the
+    /// touch's read closes it instead of reaching the screen.
+    pub(super) fn glass_is_switch(&self) -> bool {
+        self.carer.access.switch == SwitchUse::Glass && self.params.screen && self.screen.calibration.is_none()
     }
 
     /// What the screen shows of the scan (`None`: no scan now).
@@ -85,7 +106,7 @@ impl App {
     #[inline(never)] // avr-trap: frame-size
     #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
     pub(super) fn poll_switch<E: Storage, U: SerialPort>(&mut self, now_ms: u32, storage: &mut E, serial: &mut U) {
-        if !self.carer.access.switch_on {
+        if self.carer.access.switch == SwitchUse::Off {
             self.switch = SwitchRun::IDLE;
             self.hold_switch(false);
             return;
@@ -96,7 +117,7 @@ impl App {
             release_confirm: self.params.filter.release_confirm,
         };
         let sw = &mut self.switch;
-        match sw.input.update(sw.level, now_ms, &rules) {
+        match sw.input.update(sw.level || sw.glass, now_ms, &rules) {
             Some(SwitchEvent::Pressed) => sw.due = true,
             Some(SwitchEvent::Repeat) => self.say_switch(serial, t!("ignored repeat"), None, None),
             Some(SwitchEvent::Released) if core::mem::take(&mut self.switch.resume) => {

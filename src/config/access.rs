@@ -1,8 +1,9 @@
 //! The access settings: the carer's (issue #20 §3: the PIN that locks the
 //! user's pages, which items a locked screen hides, and the speed cap; the
 //! carer decides what the user may change, as a clinician profile does on a
-//! powered wheelchair's controls) and the assistive switch's (§4: on or
-//! off, and the scan's sweep time).
+//! powered wheelchair's controls) and the assistive switch's (§4: off, on,
+//! or on with the whole glass as a second switch, and the scan's sweep
+//! time).
 //!
 //! Stored in their own small EEPROM record, beside the display overrides
 //! and in the same way: two copies with a sequence number and the CRC-16 of
@@ -26,7 +27,7 @@
 //! | 6 | 1 | speed cap ([`SpeedPreset::id`]) |
 //! | 7 | 1 | PIN length: 0 (no PIN) or [`PIN_MIN`]..=[`PIN_MAX`] |
 //! | 8 | 8 | PIN digits, ASCII, then zeros |
-//! | 16 | 1 | switch flags: bit 0 on (other bits 0) (version 2) |
+//! | 16 | 1 | switch flags ([`SwitchUse`]): bit 0 on, bit 1 the glass as a switch too (only with bit 0; other bits 0) (version 2) |
 //! | 17 | 1 | switch sweep per axis, tenths of a second, [`SWEEP_MIN_DS`]..=[`SWEEP_MAX_DS`] (version 2) |
 //! | 18 | 2 | CRC-16/CCITT-FALSE of bytes 0..18 |
 //!
@@ -145,16 +146,46 @@ pub struct Access {
     pub cap: SpeedPreset,
     /// The PIN of `access unlock` ([`Pin::NONE`]: the screen never locks).
     pub pin: Pin,
-    /// The assistive switch is used (`switch on`).
-    pub switch_on: bool,
+    /// Whether the assistive switch is used, and the glass as one.
+    pub switch: SwitchUse,
     /// The switch scan's sweep per axis, tenths of a second.
     pub sweep_ds: u8,
 }
 
 /// No PIN, everything hideable hidden (once a PIN locks), no cap; the
 /// switch off, with a 6 s sweep.
-pub const ACCESS_DEFAULT: Access =
-    Access { hide: item::ALL, cap: SpeedPreset::Fast, pin: Pin::NONE, switch_on: false, sweep_ds: SWEEP_DEFAULT_DS };
+pub const ACCESS_DEFAULT: Access = Access {
+    hide: item::ALL,
+    cap: SpeedPreset::Fast,
+    pin: Pin::NONE,
+    switch: SwitchUse::Off,
+    sweep_ds: SWEEP_DEFAULT_DS,
+};
+
+/// How the assistive switch is used; the discriminant is the record's
+/// switch flags byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum SwitchUse {
+    /// Not used: the pin is not looked at (`switch off`).
+    Off = 0,
+    /// The switch on its pin, and the scan (`switch on`).
+    On = 1,
+    /// As `On`, and any touch on the glass is a press of the switch too,
+    /// for a user who can touch but not aim (`switch glass`).
+    Glass = 3,
+}
+
+impl SwitchUse {
+    /// The word of `switch off|on|glass` and `cal access`.
+    pub fn name(self) -> Text {
+        match self {
+            SwitchUse::Off => t!("off"),
+            SwitchUse::On => t!("on"),
+            SwitchUse::Glass => t!("glass"),
+        }
+    }
+}
 
 impl Access {
     /// `s`, or the cap if `s` is faster.
@@ -179,7 +210,7 @@ pub fn encode(a: &Access, seq: u16) -> [u8; ACCESS_RECORD_LEN] {
         copy(dst, &a.pin.digits);
     }
     if let Some(dst) = buf.get_mut(SWITCH_AT..CRC_AT) {
-        copy(dst, &[u8::from(a.switch_on), a.sweep_ds]);
+        copy(dst, &[a.switch as u8, a.sweep_ds]);
     }
     seal(&mut buf);
     buf
@@ -204,10 +235,17 @@ pub fn decode(buf: &[u8; ACCESS_RECORD_LEN]) -> Result<(u16, Access), RecordErro
         return Err(RecordError::Crc);
     }
     let cap = SpeedPreset::from_id(cap).ok_or(RecordError::Invalid)?;
-    let (switch_on, sweep_ds) = match body.get(SWITCH_AT..) {
-        Some(&[0, d]) if (SWEEP_MIN_DS..=SWEEP_MAX_DS).contains(&d) => (false, d),
-        Some(&[1, d]) if (SWEEP_MIN_DS..=SWEEP_MAX_DS).contains(&d) => (true, d),
-        Some(&[]) | None => (false, SWEEP_DEFAULT_DS),
+    let (switch, sweep_ds) = match body.get(SWITCH_AT..) {
+        Some(&[f, d]) if (SWEEP_MIN_DS..=SWEEP_MAX_DS).contains(&d) => (
+            match f {
+                0 => SwitchUse::Off,
+                1 => SwitchUse::On,
+                3 => SwitchUse::Glass,
+                _ => return Err(RecordError::Invalid),
+            },
+            d,
+        ),
+        Some(&[]) | None => (SwitchUse::Off, SWEEP_DEFAULT_DS),
         _ => return Err(RecordError::Invalid),
     };
     let stored = body.get(PIN_AT..SWITCH_AT).unwrap_or(&[]);
@@ -216,7 +254,7 @@ pub fn decode(buf: &[u8; ACCESS_RECORD_LEN]) -> Result<(u16, Access), RecordErro
     let pin = if pin_len == 0 { Some(Pin::NONE) } else { Pin::parse(digits) };
     match pin {
         Some(pin) if pin.len == pin_len && hide & !item::ALL == 0 && rest.iter().all(|&b| b == 0) => {
-            Ok((u16::from_le_bytes([q0, q1]), Access { hide, cap, pin, switch_on, sweep_ds }))
+            Ok((u16::from_le_bytes([q0, q1]), Access { hide, cap, pin, switch, sweep_ds }))
         }
         _ => Err(RecordError::Invalid),
     }
@@ -255,15 +293,18 @@ mod tests {
         hide: item::LINE | item::FAST,
         cap: SpeedPreset::Normal,
         pin: Pin { len: 4, digits: *b"2580\0\0\0\0" },
-        switch_on: true,
+        switch: SwitchUse::On,
         sweep_ds: 35,
     };
 
     #[test]
     fn a_record_reads_back_as_written() {
         assert_eq!(decode(&encode(&SET, 7)), Ok((7, SET)));
-        let off = Access { switch_on: false, sweep_ds: SWEEP_MAX_DS, ..SET };
+        let off = Access { switch: SwitchUse::Off, sweep_ds: SWEEP_MAX_DS, ..SET };
         assert_eq!(decode(&encode(&off, 8)), Ok((8, off)));
+        let glass = Access { switch: SwitchUse::Glass, sweep_ds: SWEEP_MIN_DS, ..SET };
+        assert_eq!(encode(&glass, 9)[16], 3);
+        assert_eq!(decode(&encode(&glass, 9)), Ok((9, glass)));
     }
 
     #[test]
@@ -276,13 +317,15 @@ mod tests {
         v1[17] = crc[1];
         v1[18] = 0xFF;
         v1[19] = 0xFF;
-        let want = Access { switch_on: false, sweep_ds: SWEEP_DEFAULT_DS, ..SET };
+        let want = Access { switch: SwitchUse::Off, sweep_ds: SWEEP_DEFAULT_DS, ..SET };
         assert_eq!(decode(&v1), Ok((3, want)));
     }
 
     #[test]
     fn unknown_switch_bytes_are_refused() {
-        for (flags, sweep) in [(2u8, 60u8), (1, SWEEP_MIN_DS - 1), (0, SWEEP_MAX_DS + 1)] {
+        // The glass without the switch (2), unknown bits, sweeps out of range.
+        for (flags, sweep) in [(2u8, 60u8), (4, 60), (7, 60), (0x81, 60), (1, SWEEP_MIN_DS - 1), (3, SWEEP_MAX_DS + 1)]
+        {
             let mut b = encode(&SET, 1);
             b[16] = flags;
             b[17] = sweep;

@@ -39,7 +39,7 @@
 //! | `mode <tap\|hold>` | how a map touch moves the arm: on its commit after the hold (`tap`, the default), or only while it stays held (`hold`: a lift brings the arm to rest along its path) |
 //! | `access lock` / `access unlock <pin>` | the carer lock: lock the user's pages (a PIN must be set), or open carer mode; see [`AccessCmd`] |
 //! | `access pin <4-8 digits>\|off`, `access hide\|show <cal\|line\|lift\|fast\|touch>`, `access cap <slow\|normal\|fast>` | the carer's settings, stored at once (carer mode only) |
-//! | `switch on\|off`, `switch sweep <s>` | the assistive switch: used or not, and its scan's sweep per axis, 2.00..=20.00 s (kept to the tenth); stored at once (carer mode only) |
+//! | `switch on\|off\|glass`, `switch sweep <s>` | the assistive switch: used or not (`glass`: the whole glass is one too), and its scan's sweep per axis, 2.00..=20.00 s (kept to the tenth); stored at once (carer mode only) |
 //! | `circle <r>` | one turn of radius r (workspace units, 0.01..=0.50) in the arm's vertical plane, starting and ending where the effector is |
 //!
 //! # Numbers
@@ -51,7 +51,7 @@
 //! [`CmdError::OutOfRange`]. Arguments are checked left to right and the first
 //! error is reported.
 
-use crate::config::access::{item_nth, Pin, SWEEP_MAX_DS, SWEEP_MIN_DS};
+use crate::config::access::{item_nth, Pin, SwitchUse, SWEEP_MAX_DS, SWEEP_MIN_DS};
 use crate::config::lcd::{LcdChoice, LcdSet};
 use crate::config::poses::{POSES, POSE_MAX_CENTIDEG};
 #[cfg(doc)]
@@ -159,8 +159,9 @@ pub enum AccessCmd {
     Hide(u8, bool),
     /// `access cap <preset>`: the fastest preset any move uses.
     Cap(SpeedPreset),
-    /// `switch on` (true) / `switch off`: the assistive switch is used.
-    Switch(bool),
+    /// `switch on|off|glass`: whether the assistive switch is used, and
+    /// the glass as one.
+    Switch(SwitchUse),
     /// `switch sweep <s>`: the scan's sweep per axis, tenths of a second.
     Sweep(u8),
 }
@@ -691,8 +692,9 @@ pub fn parse(line: &[u8]) -> Result<Command, CmdError> {
         Verb::Undo => Command::Undo,
         Verb::Access => Command::Access(parse_access(&mut t)?),
         Verb::Switch => Command::Access(match t.arg()? {
-            w if is(w, t!("on")) => AccessCmd::Switch(true),
-            w if is(w, t!("off")) => AccessCmd::Switch(false),
+            w if is(w, t!("on")) => AccessCmd::Switch(SwitchUse::On),
+            w if is(w, t!("off")) => AccessCmd::Switch(SwitchUse::Off),
+            w if is(w, t!("glass")) => AccessCmd::Switch(SwitchUse::Glass),
             w if is(w, t!("sweep")) => {
                 let centi = parse_centi(t.arg()?, i32::from(SWEEP_MIN_DS) * 10, i32::from(SWEEP_MAX_DS) * 10)?;
                 // Kept to the nearest tenth; the reply says what is kept.

@@ -201,3 +201,50 @@ fn a_press_while_the_arm_moves_is_stop_and_the_pulses_freeze() {
     assert!(status.starts_with("ok status stopped"), "{status}");
     assert_within_limits(&s);
 }
+
+/// `switch glass` on the real ELF: a touch anywhere is the switch's press,
+/// not the screen's. A touch on the map while the arm moves is STOP (not a
+/// new target), and once stopped a touch on the map sends no move.
+#[test]
+fn with_the_glass_as_the_switch_a_touch_while_the_arm_moves_is_stop() {
+    let mut s = boot();
+    let from = s.avr.uart_output().len();
+    let reply = s.command("switch glass").unwrap();
+    assert!(reply.starts_with("ok switch glass sweep 6.00"), "{reply}");
+    let reply = s.command("goto 20 150 -30").unwrap();
+    assert!(reply.starts_with("ok goto "), "{reply}");
+    let t_move = s.avr.time_s();
+    s.run_for(0.8).unwrap();
+    s.press_xy(0.5, 0.5).unwrap();
+    s.run_for(PRESS_S).unwrap();
+    s.release();
+    let (stop, t_stop) = line(&mut s, from, "info switch stop", 0.5);
+    assert_eq!(stop, "info switch stop");
+    // Counted a hold after the touch landed, within a frame or two.
+    let after = t_stop - (t_move + 0.8);
+    assert!((HOLD_S..HOLD_S + 3.0 * FRAME_S).contains(&after), "STOP {after:.3} s after the touch");
+    s.run_for(2.0 * FRAME_S).unwrap();
+    let frozen = s.last_pulses();
+    // Stopped: another touch on the map is a press of the scan (the
+    // buttons light in turn while stopped: this one presses the lit
+    // one), never a move.
+    s.run_for(0.5).unwrap();
+    s.press_xy(-0.4, 0.6).unwrap();
+    s.run_for(PRESS_S).unwrap();
+    s.release();
+    s.run_for(1.0).unwrap();
+    assert_eq!(s.last_pulses(), frozen, "the pulses moved after {stop}");
+    let out = String::from_utf8_lossy(&s.avr.uart_output()[from..]).to_string();
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(!out.contains("info touch"), "{out}");
+    // The screen acted only for the scan's button press.
+    for (i, l) in lines.iter().enumerate() {
+        if l.starts_with("info screen") {
+            assert!(i > 0 && lines[i - 1].starts_with("info switch button "), "the glass reached the screen:\n{out}");
+        }
+    }
+    assert!(lines.iter().any(|l| l.starts_with("info switch button ")), "{out}");
+    let status = s.command("status").unwrap();
+    assert!(status.starts_with("ok status stopped"), "{status}");
+    assert_within_limits(&s);
+}

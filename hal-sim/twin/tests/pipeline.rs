@@ -1535,6 +1535,12 @@ mod command {
             ("grip 45.5", C::Grip(GripCmd::Centideg(4550))),
             ("grip -360", C::Grip(GripCmd::Centideg(-36_000))),
             ("cal reset grip", C::CalResetGrip),
+            // The assistive switch (issue #20 §4), the glass as one too.
+            ("switch on", C::Access(AccessCmd::Switch(touch_arm::config::access::SwitchUse::On))),
+            ("switch off", C::Access(AccessCmd::Switch(touch_arm::config::access::SwitchUse::Off))),
+            ("SWITCH Glass", C::Access(AccessCmd::Switch(touch_arm::config::access::SwitchUse::Glass))),
+            ("switch sweep 2", C::Access(AccessCmd::Sweep(20))),
+            ("switch sweep 12.34", C::Access(AccessCmd::Sweep(123))),
             // The display overrides (issue #21 §3).
             ("cal set lcd auto", C::CalLcd(LcdSet::Controller(LcdChoice::Auto))),
             ("cal set lcd ili9341", C::CalLcd(LcdSet::Controller(LcdChoice::Ili9341))),

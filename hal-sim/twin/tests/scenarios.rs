@@ -77,6 +77,7 @@ scenarios!(
     touch_cancel,
     stop_slide,
     switch_scan,
+    switch_glass,
     stop_bounce,
     hold_boundaries,
     palm,

@@ -126,7 +126,7 @@ fn a_power_loss_at_any_byte_of_an_access_save_loads_the_old_or_the_new_settings(
         hide: item::LINE | item::TOUCH,
         cap: SpeedPreset::Slow,
         pin: Pin::parse(b"13579864").unwrap(),
-        switch_on: true,
+        switch: touch_arm::config::access::SwitchUse::On,
         sweep_ds: 45,
     };
     let sets = [ACCESS_DEFAULT, locked, other_pin, custom];
@@ -146,7 +146,7 @@ fn the_access_record_round_trips_and_refuses_what_it_should() {
         hide: item::CAL | item::FAST,
         cap: SpeedPreset::Normal,
         pin: Pin::parse(b"07734").unwrap(),
-        switch_on: false,
+        switch: touch_arm::config::access::SwitchUse::Off,
         sweep_ds: 200,
     };
     let r = access::encode(&a, 0x1234);
