@@ -285,7 +285,7 @@ const COLUMNS_W: u16 = 3;
 
 /// Paints the map background over `area ∩` the map: one [`Canvas::fill_runs`]
 /// per row (a dozen runs each), or per column for an area at most
-/// [`COLUMNS_W`] wide.
+/// 3 pixels wide (a scan line's box).
 pub fn draw_background<D: Canvas>(d: &mut D, lay: &Layout, reach: &Reach, area: Area) -> Result<(), D::Error> {
     let Some(a) = area.intersect(&lay.ws()) else {
         return Ok(());
