@@ -5,6 +5,7 @@
 use core::f64::consts::PI;
 
 use proptest::prelude::*;
+use touch_arm::app::{CHECK_REFINE, CHECK_SAMPLES};
 use touch_arm::geometry::ik::{fk3, ik3, Branch, Links};
 use touch_arm::geometry::path::{ik_jet, JetError, Path, PathShapeError, Vec3};
 use touch_arm::motion::path::{Pace, PathArm, PathCheck, PathError, PathLimits, PathPlan, PathRequest, REFINE_FULL};
@@ -307,14 +308,16 @@ proptest! {
 }
 
 /// A check decides within a known number of units whatever the path
-/// (`HALVING_BUDGET`): the app's check (24 samples, 24 refinement steps,
-/// f32) of the trapezoid on links of 69 and 100 mm (0.81657 and 1.18343
-/// arm units), a line folding the elbow from −127.42° to −169.9°, halved its
-/// bounds for 18 195 units before the budget (minutes on the chip); now
-/// its 256 halvings end it in 743 units, and the plan it accepts, slower
-/// than the unbudgeted 1.081 s, keeps every limit on a scan 50 times as
-/// dense (the bounds stay sound, only looser). The smooth laws on the same
-/// line spend 39–43 halvings.
+/// (`HALVING_BUDGET`): the app's check (its 24 samples and the critical
+/// instants, f32) of the trapezoid on links of 69 and 100 mm (0.81657 and
+/// 1.18343 arm units), a line folding the elbow from −127.42° to −169.9°,
+/// halved its bounds for 18 195 units before the budget (minutes on the
+/// chip); now its 256 halvings end it in 575 units (25 grid visits, 3 per
+/// critical point and end, the step to the bounds, the instant 0, 24
+/// stretches and 2 per halving: the most any path takes), and the plan it
+/// accepts, 1.33 s, slower than the unbudgeted 1.081 s, keeps every limit
+/// on a scan 50 times as dense (the bounds stay sound, only looser). The
+/// smooth laws on the same line spend 43–49 halvings.
 #[test]
 fn the_scan_decides_within_its_halving_budget() {
     use touch_arm::geometry::ik::fk3_pose;
@@ -332,7 +335,14 @@ fn the_scan_decides_within_its_halving_budget() {
     };
     let arm = PathArm { links, branch: Branch::Minus };
     for law in [LawKind::Trapezoid, LawKind::Zat, LawKind::Quintic] {
-        let r = PathRequest { path: line, law, ts: 0.5, pace: Pace::SlowDown, samples: 24, refine: 24 };
+        let r = PathRequest {
+            path: line,
+            law,
+            ts: 0.5,
+            pace: Pace::SlowDown,
+            samples: CHECK_SAMPLES,
+            refine: CHECK_REFINE,
+        };
         let mut c = PathCheck::new(&r, &arm, &lim).unwrap();
         let mut units = 0u32;
         let plan = loop {
@@ -345,6 +355,7 @@ fn the_scan_decides_within_its_halving_budget() {
         assert!(c.halvings() <= HALVING_BUDGET);
         if law == LawKind::Trapezoid {
             assert_eq!(c.halvings(), HALVING_BUDGET, "the case spends the whole budget");
+            assert_eq!(units, 25 + 4 * 3 + 1 + 1 + 24 + 2 * u32::from(HALVING_BUDGET), "{units} units");
             assert!(plan.ts() > 1.08, "{}", plan.ts());
         } else {
             assert!(c.halvings() < 64, "{law:?}: {}", c.halvings());

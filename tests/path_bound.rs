@@ -8,6 +8,7 @@
 use core::f64::consts::PI;
 
 use proptest::prelude::*;
+use touch_arm::app::{CHECK_REFINE, CHECK_SAMPLES};
 use touch_arm::geometry::ik::{Branch, Links};
 use touch_arm::geometry::jet_bound::jet_bound;
 use touch_arm::geometry::path::{ik_jet, Path, Vec3};
@@ -197,7 +198,7 @@ proptest! {
         law in prop_oneof![Just(LawKind::Zat), Just(LawKind::Quintic), Just(LawKind::Cubic), Just(LawKind::Trapezoid)]) {
         let arm = PathArm { links: Links::new(1.0, 1.0).unwrap(), branch: if minus { Branch::Minus } else { Branch::Plus } };
         let lim = PathLimits { min: [-10.0; 3], max: [10.0; 3], speed: [1.0; 3], accel: [1.0; 3], ts_max: 1e9 };
-        let req = PathRequest { path: p, law, ts: 1.0, pace: Pace::SlowDown, samples: 24, refine: 24 };
+        let req = PathRequest { path: p, law, ts: 1.0, pace: Pace::SlowDown, samples: CHECK_SAMPLES, refine: CHECK_REFINE };
         let Ok(mut check) = PathCheck::new(&req, &arm, &lim) else { return Ok(()) };
         let Some(Ok(plan)) = check.step(u16::MAX) else { return Ok(()) };
         let (pk, ts) = (*plan.peaks(), plan.ts());

@@ -150,6 +150,7 @@ use crate::servo::map::{ServoMap, ELBOW_BRANCH};
 use crate::servo::track::ServoTrack;
 use crate::touch::filter::{FilterConfig, FilterConfigError, TouchFilter, TouchPoint};
 
+pub use path_move::{CHECK_REFINE, CHECK_SAMPLES};
 pub use refusal::Refusal;
 pub use telemetry::status_line;
 

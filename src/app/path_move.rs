@@ -93,10 +93,18 @@ pub const LIFT_UNIT_MAX_TICKS: u16 = 1_400;
 /// moves' latency).
 pub const HOST_LIFT_UNITS_PER_FRAME: u16 = 48;
 /// Scan intervals of the chip's check: the bench's `path_check_unit` scan.
-const CHECK_SAMPLES: u16 = 24;
-/// Refinement steps around each critical point: offsets down to
-/// tₛ·2^(−6) on each side.
-const CHECK_REFINE: u16 = 24;
+pub const CHECK_SAMPLES: u16 = 24;
+/// Refinement steps around each critical point and end: none, the
+/// critical instant alone (`PathRequest::refine` 3). Since the stretches'
+/// bounds decide the duration (issue #24, F4), visits around the critical
+/// instants only raised the floor a bound is measured against, and the
+/// halving next to a spike finds it as well: with 24 steps (offsets down to
+/// tₛ·2^(−6) each side, 43 visits per point) the check took about twice as
+/// many cycles for the same verdicts and durations no shorter (issue #22
+/// §1; BENCHMARKS.md, the checked moves' latency). The angle, reach and
+/// base-axis extremes lie at the critical instants and the ends, which are
+/// still visited.
+pub const CHECK_REFINE: u16 = 3;
 
 /// A check spread over frames.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -435,7 +435,7 @@ fn a_line_from_the_rim_is_slowed_to_its_acceleration_limit() {
     eprintln!("md: rim line check decided in {decided:.3} s ({:.0} frames)", decided / FRAME_S);
     // The host's check of the same line: the default calibration's windows,
     // the fast preset's 98 % of 3 rad/s and 98 % of max_accel, the chip's
-    // scan (24 intervals, 24 refinement steps).
+    // scan (its intervals and refinement).
     let maps = firmware::default_servo_maps().unwrap();
     let (mut min, mut max, mut speed, mut accel) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
     for j in 0..3 {
@@ -451,8 +451,8 @@ fn a_line_from_the_rim_is_slowed_to_its_acceleration_limit() {
         law: LawKind::Zat,
         ts: 0.5,
         pace: Pace::SlowDown,
-        samples: 24,
-        refine: 24,
+        samples: touch_arm::app::CHECK_SAMPLES,
+        refine: touch_arm::app::CHECK_REFINE,
     };
     let host = PathPlan::new(&req, &PathArm { links: links(), branch: Branch::Minus }, &lim).unwrap();
     eprintln!("md: rim line on the chip: {reply}; host f64 ts {:.4} s", host.ts());
