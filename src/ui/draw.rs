@@ -128,15 +128,28 @@ pub fn fill<D: Canvas>(d: &mut D, a: Area, c: Rgb565) -> Result<(), D::Error> {
 
 /// A `t`-pixel frame just inside `a`.
 pub fn frame<D: Canvas>(d: &mut D, a: Area, t: u16, c: Rgb565) -> Result<(), D::Error> {
+    for side in frame_sides(a, t).iter().flatten() {
+        fill(d, *side, c)?;
+    }
+    Ok(())
+}
+
+/// The four sides of [`frame`] in drawing order (top, bottom, left,
+/// right), none when the frame is empty. Not generic and out of line: one
+/// copy for every canvas type that draws frames.
+#[inline(never)] // reason: code-size
+fn frame_sides(a: Area, t: u16) -> Option<[Area; 4]> {
     let t = t.min(a.w / 2).min(a.h / 2);
     if t == 0 {
-        return Ok(());
+        return None;
     }
     let ti = t as i16;
-    fill(d, Area::new(a.x, a.y, a.w, t), c)?;
-    fill(d, Area::new(a.x, a.bottom() - ti, a.w, t), c)?;
-    fill(d, Area::new(a.x, a.y + ti, t, a.h - 2 * t), c)?;
-    fill(d, Area::new(a.right() - ti, a.y + ti, t, a.h - 2 * t), c)
+    Some([
+        Area::new(a.x, a.y, a.w, t),
+        Area::new(a.x, a.bottom() - ti, a.w, t),
+        Area::new(a.x, a.y + ti, t, a.h - 2 * t),
+        Area::new(a.right() - ti, a.y + ti, t, a.h - 2 * t),
+    ])
 }
 
 /// How text is drawn: `scale` ≥ 1 multiplies the 5×8 glyphs, `gap` is the
