@@ -18,6 +18,7 @@ use core::mem::MaybeUninit;
 use avr_device::atmega2560 as pac;
 use embedded_hal::digital::InputPin;
 use touch_arm::app::resume::{ResetKind, Restart};
+use touch_arm::app::text::Line;
 use touch_arm::app::{App, AppParams, Io};
 use touch_arm::board::adc::Adc;
 use touch_arm::board::eeprom::Eeprom;
@@ -35,7 +36,6 @@ use touch_arm::board::watchdog::{ResetCause, Timeout, Watchdog};
 use touch_arm::config::lcd::{LcdSettings, LCD_DEFAULT};
 use touch_arm::config::settings::Config;
 use touch_arm::seam::SerialPort;
-use touch_arm::text::line::Line;
 use touch_arm::touch::wiring::Probe;
 use ufmt::uwriteln;
 
@@ -241,7 +241,7 @@ fn probe_wiring(app: &mut App, b: &mut Board) {
 /// this function's frame only.
 #[inline(never)] // avr-trap: frame-size
 fn report_boot(serial: &mut Usart0, cause: ResetCause) {
-    let mut line: Line<72> = Line::new();
+    let mut line = Line::new();
     line.str(touch_arm::t!("info touch-arm ")).str(touch_arm::t!(touch_arm::VERSION));
     line.str(touch_arm::t!(" commit ")).str(touch_arm::t!(touch_arm::COMMIT));
     line.str(touch_arm::t!(" reset ")).str(reset_name(cause));
@@ -257,7 +257,7 @@ fn report_boot(serial: &mut Usart0, cause: ResetCause) {
 #[inline(never)] // avr-trap: frame-size
 #[cfg_attr(target_arch = "avr", optimize(size))] // reason: cold
 fn report_lcd(serial: &mut Usart0, ids: &IdReads, found: Option<Controller>, display: &LcdSettings) {
-    let mut line: Line<72> = Line::new();
+    let mut line = Line::new();
     match found {
         Some(c) => {
             let (w, h) = c.size();
