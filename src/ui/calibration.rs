@@ -457,7 +457,7 @@ fn line_centered<D: Canvas, T: TextSource + ?Sized>(
 }
 
 fn draw_step<D: Canvas>(d: &mut D, lay: &Layout, index: u8) -> Result<(), D::Error> {
-    let mut line: Line<16> = Line::new();
+    let mut line: Line<26> = Line::new();
     line.str(t!("Point ")).i32(i32::from(index) + 1).str(t!(" of ")).i32(CAL_COUNT as i32);
     fill(d, step_area(lay), BG)?;
     line_centered(d, lay, 146, line.as_bytes(), &style(lay))
@@ -502,13 +502,13 @@ fn draw_review<D: Canvas>(d: &mut D, lay: &Layout, result: &Result<Calibration, 
     match result {
         Ok(c) => {
             line_centered(d, lay, 16, &t!("Calibration result"), &style)?;
-            let mut l: Line<24> = Line::new();
+            let mut l: Line<26> = Line::new();
             l.str(t!("X ")).i32(i32::from(c.x_min)).str(t!(" - ")).i32(i32::from(c.x_max));
             line_centered(d, lay, 48, l.as_bytes(), &style)?;
-            let mut l: Line<24> = Line::new();
+            let mut l: Line<26> = Line::new();
             l.str(t!("Y ")).i32(i32::from(c.y_min)).str(t!(" - ")).i32(i32::from(c.y_max));
             line_centered(d, lay, 72, l.as_bytes(), &style)?;
-            let mut l: Line<24> = Line::new();
+            let mut l: Line<26> = Line::new();
             l.str(t!("Swap X/Y: ")).str(yes_no(c.swap_xy));
             line_centered(d, lay, 96, l.as_bytes(), &style)?;
             let mut l: Line<26> = Line::new();
@@ -557,7 +557,7 @@ fn draw_setting<D: Canvas>(d: &mut D, lay: &Layout, field: Setting, value: u8, r
         Setting::Repeat => t!("Ignore repeat"),
         Setting::Radius => t!("Wander limit"),
     };
-    let mut l: Line<16> = Line::new();
+    let mut l: Line<26> = Line::new();
     match field {
         Setting::Hold | Setting::Repeat => {
             l.centi(i32::from(value)).str(t!(" s"));

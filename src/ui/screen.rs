@@ -1032,10 +1032,10 @@ fn update_progress<D: Canvas>(d: &mut D, lay: &Layout, old_px: u16, new_px: u16)
 }
 
 fn draw_percent<D: Canvas>(d: &mut D, lay: &Layout, percent: u8) -> Result<(), D::Error> {
-    let mut line: Line<5> = Line::new();
+    let mut line: Line<26> = Line::new();
     line.i32(i32::from(percent)).bytes(b"%");
     // Right-aligned in a 4-character field so the digits do not jump.
-    let mut padded: Line<5> = Line::new();
+    let mut padded: Line<26> = Line::new();
     for _ in line.as_bytes().len()..4 {
         padded.bytes(b" ");
     }
