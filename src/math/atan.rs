@@ -17,7 +17,9 @@
 //! a result below π/4, the fixed-point core under 0.1 ulp, the final rounding
 //! ½ ulp. Special values follow IEEE 754 / C99 `atan2`.
 
-use crate::math::fixed::{flash_u32, mul16, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK};
+use crate::math::fixed::{
+    flash_u32, leading_zeros, mul16, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK,
+};
 
 /// π/2, π/4, 3π/4 and π in Q2.30 (rounded).
 const PI_2_Q30: u32 = 1_686_629_713;
@@ -144,7 +146,7 @@ fn from_fixed(v: u32, frac: u32, sign: u32) -> f32 {
     } else if v >= 1 << 27 {
         4
     } else {
-        v.leading_zeros()
+        leading_zeros(v)
     };
     // v·2^−frac = (top/2³¹)·2^(31 − lz − frac).
     pack(sign, 158 - lz - frac, round_mant(shl(v, lz)))
@@ -219,7 +221,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
             // t·P(t²) = h·2^(et − 157), h ∈ [0.49, 1)·2³¹.
             let h = mul_hi(mt << 8, atan_small_ratio(et, mt));
             if direct {
-                let lz = h.leading_zeros();
+                let lz = leading_zeros(h);
                 return pack(sign, et + 1 - lz, round_mant(shl(h, lz)));
             }
             (h, 126 - et)

@@ -24,7 +24,9 @@
 //! the chip: ~800 cycles for `exp`, ~870–1 000 for `expm1`, ~900–1 150 for
 //! `ln` (BENCHMARKS.md).
 
-use super::fixed::{flash_u32, mul16, mul_full, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK};
+use super::fixed::{
+    flash_u32, leading_zeros, mul16, mul_full, mul_hi, mul_hi_approx, pack, round_mant, shl, shr, HIDDEN, MANT_MASK,
+};
 
 /// log₂e in Q1.31.
 const LOG2E_Q31: u32 = 0xB8AA_3B29;
@@ -177,7 +179,7 @@ pub fn expm1(x: f32) -> f32 {
             return -1.0;
         }
         let d = 0u32.wrapping_sub(v);
-        let lz = d.leading_zeros();
+        let lz = leading_zeros(d);
         pack(1 << 31, 126 - lz, round_mant(shl(d, lz)))
     }
 }
@@ -263,7 +265,7 @@ fn ln_s(rho: u32, neg: bool) -> u32 {
 #[cold]
 #[inline(never)] // reason: cold
 fn normalize_subnormal(m: u32) -> (i16, u32) {
-    let sh = m.leading_zeros() - 8;
+    let sh = leading_zeros(m) - 8;
     (1 - sh as i16, shl(m, sh) & MANT_MASK)
 }
 
@@ -346,7 +348,7 @@ fn ln_near_one(rho: u32, neg: bool) -> f32 {
     // ln(1 + r) = r·P, P = 1 − r·|S| in Q1.31 (P ∈ [0.97, 1.02]).
     let rs = mul_hi(rho, s) >> 1;
     let p = if neg { (1u32 << 31) + rs } else { (1u32 << 31) - rs };
-    let lz = rho.leading_zeros();
+    let lz = leading_zeros(rho);
     // r·P = h·2^(−31 − lz) with h ∈ [0.48, 1.02)·2³¹.
     let mut h = mul_hi(shl(rho, lz), p);
     let mut sh = lz;
