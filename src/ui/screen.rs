@@ -250,10 +250,14 @@ fn progress_of(p: f32, bar_w: u16) -> (u16, u8) {
 /// The highest set warning bit.
 fn top_warning(bits: u8) -> u8 {
     if bits == 0 {
-        0
-    } else {
-        1 << (7 - bits.leading_zeros() as u8)
+        return 0;
     }
+    // A bit at a time: `leading_zeros` is a long inline expansion on the AVR.
+    let mut top = 0x80;
+    while bits & top == 0 {
+        top >>= 1;
+    }
+    top
 }
 
 /// The warning line the screen shows for [`warn`] bits (the most important
@@ -1134,4 +1138,17 @@ fn draw_speed<D: Canvas>(d: &mut D, lay: &Layout, speed: SpeedPreset, hide: u8) 
         button(d, a, label, &style)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::top_warning;
+
+    #[test]
+    fn top_warning_is_the_highest_set_bit() {
+        assert_eq!(top_warning(0), 0);
+        for bits in 1..=u8::MAX {
+            assert_eq!(top_warning(bits), 1 << (7 - bits.leading_zeros()), "{bits:#04x}");
+        }
+    }
 }
